@@ -1,0 +1,240 @@
+"""The associative (dilatant) limit-analysis LP, Eq. 10, and its static dual.
+
+Kinematic form (Eq. 10, written on contact-point generators)::
+
+    α_c = min  -f_0ᵀ u      s.t.  f_Lᵀ u = 1,   Hᵀ u ≥ 0      (flow rule, Eq. 6)
+
+Static form (its dual)::
+
+    α_c = max  α            s.t.  H μ + f_0 + α f_L = 0,  μ ≥ 0  (Eqs. 3–5)
+
+Clarabel solves the kinematic form as a primal–dual pair: ``x`` is the
+mechanism u and the dual ``z`` gives (−α, μ).  After the interior-point solve
+both fields are repaired to admissibility (a minimum-norm projection on their
+active sets), which turns them into an upper bound (the mechanism) and a lower
+bound (the stress field) that certify each other.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import clarabel
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from .model import Model
+
+
+#: Certified results have relative gap and admissibility residuals below these.
+GAP_TOLERANCE = 1e-7
+RESIDUAL_TOLERANCE = 1e-9
+
+
+@dataclass(frozen=True)
+class LPSolution:
+    """Raw dimensionless solution of the associative LP (see ``alma.result``)."""
+
+    status: str  # optimal | no_collapse | no_equilibrium | not_converged
+    message: str
+    alpha: float
+    lower: float
+    upper: float
+    mechanism: np.ndarray  # (3 n_free,) u, v, θ per free block, f_Lᵀu = 1
+    multipliers: np.ndarray  # (4 m,) μ ≥ 0
+    static_residual: float  # ‖H μ + f_0 + α_lower f_L‖_∞, loads per mean block weight
+    kinematic_residual: float  # max(0, −min Hᵀu) / max(|Hᵀ| |u|): relative flow-rule violation
+    iterations: int
+    solve_time: float
+    certify_time: float
+
+
+def solve_lp(model: Model, *, tolerance: float = 1e-11, max_iter: int = 200,
+             equilibrium: sp.csc_matrix | None = None) -> LPSolution:
+    """Solve Eq. 10 with Clarabel and certify the value from both sides."""
+    H = model.equilibrium if equilibrium is None else equilibrium
+    n, k = H.shape
+    start = time.perf_counter()
+    if k == 0:
+        # No joint: any motion is free, no load can be carried.
+        return _trivial(model, "no_equilibrium", "no joint carries the free blocks")
+    P = sp.csc_matrix((n, n))
+    A = sp.vstack([sp.csr_matrix(model.live), -H.T]).tocsc()
+    b = np.zeros(1 + k)
+    b[0] = float(model.n_free)  # velocities of order one (loads are per mean block weight)
+    cones = [clarabel.ZeroConeT(1), clarabel.NonnegativeConeT(k)]
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    settings.tol_gap_abs = tolerance
+    settings.tol_gap_rel = tolerance
+    settings.tol_feas = tolerance
+    settings.max_iter = max_iter
+    solver = clarabel.DefaultSolver(P, -model.dead, A, b, cones, settings)
+    sol = solver.solve()
+    solve_time = time.perf_counter() - start
+    status = str(sol.status)
+    iterations = int(sol.iterations)
+
+    if status == "PrimalInfeasible":  # no mechanism lets the live load do positive work
+        return _trivial(model, "no_collapse", "no kinematically admissible mechanism with positive live-load work",
+                        iterations=iterations, solve_time=solve_time)
+    if status == "DualInfeasible":  # dead-load work unbounded below: no equilibrium for any α
+        return _trivial(model, "no_equilibrium", "no statically admissible stress field for any load multiplier",
+                        iterations=iterations, solve_time=solve_time)
+
+    t0 = time.perf_counter()
+    u = np.asarray(sol.x, dtype=float)
+    z = np.asarray(sol.z, dtype=float)
+    u, mu, alpha_static, static_residual, kinematic_residual = _certify(H, model, u, z[1:].copy(), -z[0])
+    upper = float(-model.dead @ u / (model.live @ u))
+    lower = alpha_static
+    certify_time = time.perf_counter() - t0
+
+    # The certificate, not the solver's flag, decides: both fields admissible and the bounds close.
+    gap = (upper - lower) / max(1.0, abs(upper))
+    certified = (gap <= GAP_TOLERANCE and static_residual <= RESIDUAL_TOLERANCE
+                 and kinematic_residual <= RESIDUAL_TOLERANCE)
+    if status in ("Solved", "AlmostSolved") and certified:
+        result_status = "optimal"
+        message = f"certified: relative gap {gap:.1e} (Clarabel: {status})"
+    else:
+        result_status = "not_converged"
+        message = (f"Clarabel status {status}; relative gap {gap:.2e}, residuals static "
+                   f"{static_residual:.1e}, kinematic {kinematic_residual:.1e}")
+    if result_status == "optimal" and upper < 0:
+        result_status, message = "no_equilibrium", "the structure cannot carry its dead load (α_c < 0)"
+    return LPSolution(status=result_status, message=message, alpha=upper, lower=lower, upper=upper,
+                      mechanism=u, multipliers=mu, static_residual=static_residual,
+                      kinematic_residual=kinematic_residual, iterations=iterations,
+                      solve_time=solve_time, certify_time=certify_time)
+
+
+def _certify(H: sp.csc_matrix, model: Model, u: np.ndarray, mu: np.ndarray,
+             alpha: float) -> tuple[np.ndarray, np.ndarray, float, float, float]:
+    """Repair the interior-point pair into admissible fields (the two bounds).
+
+    Both repairs are minimum-norm corrections solved with a sparse factorisation:
+
+    - static: on the support S of μ and on α, (μ_S, α) += [H_S f_L]ᵀ y with
+      (H_S H_Sᵀ + f_L f_Lᵀ) y = −r removes the equilibrium residual
+      r = H μ + f_0 + α f_L (the rank-one term by Sherman–Morrison); μ stays ≥ 0
+      because the step is far below the support threshold, and α moves by the
+      matching amount;
+    - kinematic: the flow-rule rows V that the interior point violates
+      (Hᵀu < 0, by round-off) are closed by u += H_V w with (H_Vᵀ H_V) w = −H_Vᵀu;
+      rows that the step pushes below zero join V; a step that does not reduce
+      the largest violation is rejected; finally f_Lᵀu = 1 by scaling.
+
+    Returns (u, μ, α_lower, static residual, kinematic residual).
+    """
+    mu = np.maximum(mu, 0.0)
+    live = model.live
+    best_static = None
+    top = max(float(mu.max(initial=0.0)), 1e-300)
+    # Two correction spaces: the plain support of μ, then an affine-scaled one (column j moves
+    # in proportion to μ_j, so every positive multiplier can take part and μ stays ≥ 0).
+    for affine in (False, True):
+        if affine:
+            support = np.flatnonzero(mu > 1e-14 * top)
+            weight = np.sqrt(mu[support] / top)
+        else:
+            support = np.flatnonzero(mu > 1e-9 * top)
+            weight = np.ones(support.size)
+        trial = _static_correction(H, model, mu.copy(), alpha, support, weight)
+        if best_static is None or _better(trial, best_static):
+            best_static = trial
+    mu, alpha, static_residual = best_static
+
+    HT = H.T.tocsr()
+    norm = float(model.n_free)
+    u = u * (norm / (live @ u))
+    violated = np.zeros(HT.shape[0], dtype=bool)
+
+    abs_HT = abs(HT)
+
+    def violation(x: np.ndarray) -> float:
+        """Largest flow-rule violation relative to the size of its terms, max(0, −Hᵀu) / (|Hᵀ| |u|)."""
+        power = HT @ x
+        size = float((abs_HT @ np.abs(x)).max(initial=0.0))
+        return max(0.0, -float(power.min(initial=0.0))) / max(size, 1e-300)
+
+    best = violation(u)
+    for _ in range(4):
+        if best <= 0.1 * RESIDUAL_TOLERANCE:
+            break
+        power = HT @ u
+        # Violated rows are closed; nearly active rows are held where they are (target 0 change).
+        violated |= power < 1e-8 * float(np.abs(power).max(initial=0.0))
+        rows = np.flatnonzero(violated)
+        HV = HT[rows]
+        solve_v = _regularised_solver(HV @ HV.T)
+        candidate = u.copy()
+        for _ in range(3):
+            target = np.maximum(-(HV @ candidate), 0.0)
+            candidate = candidate + HV.T @ solve_v(target)
+        candidate = candidate * (norm / (live @ candidate))
+        value = violation(candidate)
+        if value < best:
+            u, best = candidate, value
+    return u / norm, mu, float(alpha), static_residual, best
+
+
+def _better(trial: tuple, best: tuple) -> bool:
+    """Prefer an admissible field (residual below tolerance) with the larger α, else the smaller residual."""
+    ok_t, ok_b = trial[2] <= 0.1 * RESIDUAL_TOLERANCE, best[2] <= 0.1 * RESIDUAL_TOLERANCE
+    if ok_t and ok_b:
+        return trial[1] > best[1]
+    return ok_t or (not ok_b and trial[2] < best[2])
+
+
+def _static_correction(H: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float,
+                       support: np.ndarray, weight: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """Minimum-norm correction of (μ_S, α) removing the equilibrium residual (Eq. 3)."""
+    live = model.live
+    HS = H[:, support] @ sp.diags(weight)
+    solve_g = _regularised_solver(HS @ HS.T)
+    g_live = solve_g(live)
+    # α takes part with a small weight first: the correction goes to the stresses, and α only
+    # absorbs what they cannot (the "matching reduction" of the multiplier) when the weight grows.
+    for alpha_weight in (1e-6, 1e-3, 1.0):
+        denom = 1.0 / alpha_weight**2 + live @ g_live
+        for _ in range(4):  # iterative refinement of the regularised solve
+            residual = H @ mu + model.dead + alpha * live
+            if np.abs(residual).max(initial=0.0) <= 1e-15:
+                break
+            x = solve_g(-residual)
+            y = x - g_live * (live @ x) / denom  # (G + w² f_L f_Lᵀ)⁻¹(−r), Sherman–Morrison
+            candidate = mu.copy()
+            candidate[support] += weight * (HS.T @ y)
+            np.maximum(candidate, 0.0, out=candidate)
+            new_alpha = alpha + float(live @ y) * alpha_weight**2
+            if np.abs(H @ candidate + model.dead + new_alpha * live).max() >= np.abs(residual).max():
+                break
+            mu, alpha = candidate, new_alpha
+        if np.abs(H @ mu + model.dead + alpha * live).max(initial=0.0) <= 1e-13:
+            break
+    residual = H @ mu + model.dead + alpha * live
+    return mu, float(alpha), float(np.abs(residual).max(initial=0.0))
+
+
+def _regularised_solver(gram: sp.spmatrix):
+    """A solver for (G + ε I) x = b, G a Gram matrix; ε only guards against rank deficiency."""
+    gram = gram.tocsc()
+    diag = gram.diagonal()
+    eps = 1e-12 * max(float(diag.max(initial=1.0)), 1.0)
+    gram = gram + sp.diags(np.where(diag > 0, eps, 1.0))
+    return spla.splu(gram, permc_spec="COLAMD").solve
+
+
+def _trivial(model: Model, status: str, message: str, iterations: int = 0, solve_time: float = 0.0) -> LPSolution:
+    k = 4 * model.n_joints
+    nan = float("nan")
+    if status == "no_collapse":
+        lower, upper = float("inf"), float("inf")
+    else:
+        lower, upper = -float("inf"), -float("inf")
+    return LPSolution(status=status, message=message, alpha=upper, lower=lower, upper=upper,
+                      mechanism=np.zeros(3 * model.n_free), multipliers=np.zeros(k),
+                      static_residual=nan, kinematic_residual=nan, iterations=iterations,
+                      solve_time=solve_time, certify_time=0.0)

@@ -1,0 +1,196 @@
+"""The mechanical model of Eqs. 1–8, dimensionless and sparse.
+
+Each joint k is represented by its two end points (the contact points of the
+yield surface of Eq. 5).  At every contact point the admissible contact forces
+on block ``b`` form the Coulomb cone spanned by the two generators
+``n ± f t``; with non-negative multipliers ``μ`` this is exactly the yield
+domain ``Nᵀσ ≤ 0`` of Eq. 5 (no tension, |M| ≤ N l/2, |T| ≤ f N).
+
+Equilibrium (Eq. 3) reads ``H μ + f_0 + α f_L = 0`` with ``H = -Bᵀ N``-type
+matrix of shape (3 n_free, 4 m); its transpose maps block velocities to the
+generators' power, so the associative flow rule (Eq. 6) is ``Hᵀ u ≥ 0``.
+
+Units: lengths are divided by ``reference_length`` (√ mean block area) and
+forces by the mean weight of a free block, so every number the solver sees is
+of order one (with the total weight as unit, one block's equilibrium in a wall
+of 1000 blocks would be resolved 1000 times less accurately).
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from .contacts import Joints, find_joints, reference_length
+from .scene import Scene, SceneError
+
+#: kN per (mm³ · kN/m³)
+_MM3_TO_M3 = 1e-9
+
+
+@dataclass(frozen=True)
+class Model:
+    """Dimensionless limit-analysis model of a scene (Eqs. 1–8).
+
+    Attributes carry the paper's notation: ``equilibrium`` is the matrix of
+    Eq. 3 written on cone generators, ``dead``/``live`` are f_0 and f_L.
+    """
+
+    scene: Scene
+    joints: Joints
+    free_index: np.ndarray  # (n_blocks,) position of each block among the free ones, -1 if fixed
+    free_blocks: np.ndarray  # (n_free,) scene index of each free block
+    length_scale: float  # mm per model length unit
+    force_scale: float  # kN per model force unit (mean weight of a free block)
+    origin: np.ndarray  # (2,) mm, subtracted before scaling
+    centroid: np.ndarray  # (n_free, 2) dimensionless
+    weight: np.ndarray  # (n_free,) kN
+    friction: np.ndarray  # (m,) tan φ per joint
+    normal_part: sp.csc_matrix  # generator columns with f = 0 (the n part)
+    tangent_part: sp.csc_matrix  # the ±t part, multiplied by the joint friction
+    dead: np.ndarray  # (3 n_free,) f_0, dimensionless
+    live: np.ndarray  # (3 n_free,) f_L, dimensionless
+
+    @property
+    def n_free(self) -> int:
+        return int(self.free_blocks.shape[0])
+
+    @property
+    def n_joints(self) -> int:
+        return self.joints.count
+
+    @property
+    def equilibrium(self) -> sp.csc_matrix:
+        """H of ``H μ + f_0 + α f_L = 0`` (columns: joint k, point p, sign ±)."""
+        scale = np.repeat(self.friction, 4)
+        return (self.normal_part + self.tangent_part @ sp.diags(scale)).tocsc()
+
+    def with_friction(self, friction: float) -> "Model":
+        """The same geometry and joints with a uniform friction coefficient."""
+        if not (np.isfinite(friction) and friction >= 0):
+            raise SceneError(f"friction must be a finite number >= 0, got {friction}")
+        return dataclasses.replace(self, scene=self.scene.with_friction(friction),
+                                   friction=np.full(self.n_joints, float(friction)))
+
+    def point_velocities(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Relative velocity (b minus a) at the two end points of every joint, dimensionless.
+
+        ``u`` is (3 n_free,) = (u, v, θ) per free block.  Returns arrays (m, 2, 2):
+        [joint, point, (normal, tangential)].
+        """
+        joints = self.joints
+        uu = np.vstack([u.reshape(-1, 3), np.zeros((1, 3))])  # last row: fixed blocks
+        ia = np.where(self.free_index[joints.block_a] >= 0, self.free_index[joints.block_a], -1)
+        ib = np.where(self.free_index[joints.block_b] >= 0, self.free_index[joints.block_b], -1)
+        cent = np.vstack([self.centroid, np.zeros((1, 2))])
+        points = np.stack([self._scaled(joints.start), self._scaled(joints.end)], axis=1)  # (m, 2, 2)
+        out = np.empty((joints.count, 2, 2))
+        tangent = joints.tangent
+        for p in range(2):
+            ra = points[:, p] - cent[ia]
+            rb = points[:, p] - cent[ib]
+            va = uu[ia, :2] + uu[ia, 2:3] * np.column_stack([-ra[:, 1], ra[:, 0]])
+            vb = uu[ib, :2] + uu[ib, 2:3] * np.column_stack([-rb[:, 1], rb[:, 0]])
+            rel = vb - va
+            out[:, p, 0] = (rel * joints.normal).sum(axis=1)
+            out[:, p, 1] = (rel * tangent).sum(axis=1)
+        return out
+
+    def _scaled(self, xy: np.ndarray) -> np.ndarray:
+        return (xy - self.origin) / self.length_scale
+
+
+def build_model(scene: Scene, joints: Joints | None = None) -> Model:
+    """Assemble the sparse model of a validated scene (vectorised, no loop over joints)."""
+    if scene.cohesion != 0 or any(o.cohesion for o in scene.joint_overrides):
+        raise SceneError("scene: cohesion > 0 is not supported yet by the solvers (set it to 0)")
+    joints = find_joints(scene) if joints is None else joints
+    blocks = scene.blocks
+    fixed = np.array([b.fixed for b in blocks])
+    free_blocks = np.flatnonzero(~fixed)
+    free_index = np.full(len(blocks), -1)
+    free_index[free_blocks] = np.arange(free_blocks.size)
+
+    length_scale = reference_length(scene)
+    all_vertices = np.concatenate([b.vertices for b in blocks])
+    origin = 0.5 * (all_vertices.min(axis=0) + all_vertices.max(axis=0))
+    centroid_mm = np.array([blocks[i].centroid for i in free_blocks])
+    weight = np.array([
+        blocks[i].weight if blocks[i].weight is not None
+        else blocks[i].area * scene.thickness * scene.unit_weight * _MM3_TO_M3
+        for i in free_blocks
+    ])
+    # Forces in units of the mean block weight: every block's load is of order one, so the
+    # solver's absolute tolerances act on each block's equilibrium, not on the whole wall's.
+    force_scale = float(weight.mean())
+    if not force_scale > 0:
+        raise SceneError("scene: the free blocks weigh nothing; the load multiplier is undefined")
+    centroid = (centroid_mm - origin) / length_scale
+
+    friction = _joint_friction(scene, joints)
+    normal_part, tangent_part = _generator_matrices(joints, free_index, centroid, origin, length_scale)
+
+    share = weight / force_scale
+    dead = np.zeros(3 * free_blocks.size)
+    live = np.zeros(3 * free_blocks.size)
+    dead[0::3], dead[1::3] = share * scene.gravity[0], share * scene.gravity[1]
+    live[0::3], live[1::3] = share * scene.live_load_direction[0], share * scene.live_load_direction[1]
+    return Model(scene=scene, joints=joints, free_index=free_index, free_blocks=free_blocks,
+                 length_scale=length_scale, force_scale=force_scale, origin=origin,
+                 centroid=centroid, weight=weight, friction=friction,
+                 normal_part=normal_part, tangent_part=tangent_part, dead=dead, live=live)
+
+
+def _joint_friction(scene: Scene, joints: Joints) -> np.ndarray:
+    friction = np.full(joints.count, float(scene.friction))
+    if scene.joint_overrides:
+        index = {b.id: i for i, b in enumerate(scene.blocks)}
+        lo, hi = np.minimum(joints.block_a, joints.block_b), np.maximum(joints.block_a, joints.block_b)
+        for override in scene.joint_overrides:  # a handful of user overrides, not a hot path
+            if override.friction is None:
+                continue
+            i, j = sorted(index[k] for k in override.blocks)
+            hit = (lo == i) & (hi == j)
+            if not hit.any():
+                raise SceneError(f"joint {list(override.blocks)}: these blocks do not touch")
+            friction[hit] = override.friction
+    return friction
+
+
+def _generator_matrices(joints: Joints, free_index: np.ndarray, centroid: np.ndarray,
+                        origin: np.ndarray, length_scale: float) -> tuple[sp.csc_matrix, sp.csc_matrix]:
+    """Columns of the normal part n and tangential part ±t of the generators n ± f t.
+
+    Column 4k + 2p + s is joint k, end point p (0 start, 1 end), sign s (0: +t, 1: -t).
+    Each column holds the force on block b and its opposite on block a, with moments
+    about the block centroids (Eq. 3 written on contact points).
+    """
+    m = joints.count
+    n_free = centroid.shape[0]
+    points = np.stack([joints.start, joints.end], axis=1)  # (m, 2, 2)
+    points = (points - origin) / length_scale
+    col_point = np.repeat(points.reshape(-1, 2), 2, axis=0)  # (4m, 2)
+    col_joint = np.repeat(np.arange(m), 4)
+    sign = np.tile([1.0, -1.0], 2 * m)
+    normal = joints.normal[col_joint]
+    tangent = joints.tangent[col_joint] * sign[:, None]
+
+    rows, cols, vals_n, vals_t = [], [], [], []
+    columns = np.arange(4 * m)
+    for side, block in ((1.0, joints.block_b), (-1.0, joints.block_a)):
+        free = free_index[block[col_joint]]
+        mask = free >= 0
+        c = columns[mask]
+        r = col_point[mask] - centroid[free[mask]]
+        for vec, vals in ((normal[mask], vals_n), (tangent[mask], vals_t)):
+            moment = r[:, 0] * vec[:, 1] - r[:, 1] * vec[:, 0]
+            vals.append(side * np.concatenate([vec[:, 0], vec[:, 1], moment]))
+        rows.append(np.concatenate([3 * free[mask], 3 * free[mask] + 1, 3 * free[mask] + 2]))
+        cols.append(np.tile(c, 3))
+    rows_a, cols_a = np.concatenate(rows), np.concatenate(cols)
+    shape = (3 * n_free, 4 * m)
+    normal_part = sp.csc_matrix((np.concatenate(vals_n), (rows_a, cols_a)), shape=shape)
+    tangent_part = sp.csc_matrix((np.concatenate(vals_t), (rows_a, cols_a)), shape=shape)
+    return normal_part, tangent_part

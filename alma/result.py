@@ -1,0 +1,185 @@
+"""Results: the collapse multiplier, its certified bounds, the mechanism and joint forces.
+
+A :class:`Result` is plain, frozen data in physical units (mm, rad, kN,
+kN·mm) and serialises to the JSON object of SPEC §3 with :meth:`Result.to_dict`.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .associative import LPSolution
+from .model import Model
+
+#: Relative velocity below this fraction of the largest one counts as zero.
+MOTION_TOLERANCE = 1e-6
+
+JOINT_STATES = ("rest", "hinging", "sliding", "separating")
+
+
+@dataclass(frozen=True)
+class Bounds:
+    """Proven interval of the collapse multiplier: lower (static) ≤ α_c ≤ upper (kinematic)."""
+
+    lower: float
+    upper: float
+
+    @property
+    def gap(self) -> float:
+        """Relative gap (upper − lower) / max(1, |upper|)."""
+        if not (math.isfinite(self.lower) and math.isfinite(self.upper)):
+            return float("nan")
+        return (self.upper - self.lower) / max(1.0, abs(self.upper))
+
+
+@dataclass(frozen=True)
+class BlockMotion:
+    """Collapse velocity of a free block: (u, v) at its centroid in mm, θ in rad."""
+
+    id: str
+    u: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class JointResult:
+    """Generalised stresses of a joint (N compression > 0 and T in kN, M in kN·mm about its centre)."""
+
+    blocks: tuple[str, str]
+    N: float
+    T: float
+    M: float
+    state: str
+    length: float
+    slip: float  # tangential relative velocity, mm per unit mechanism
+    opening: tuple[float, float]  # normal relative velocity at the two ends
+
+
+@dataclass(frozen=True)
+class Result:
+    """The outcome of an analysis, shaped like ``scipy.optimize.OptimizeResult``."""
+
+    model: str
+    status: str
+    message: str
+    alpha: float
+    bounds: Bounds
+    alpha_associative: float
+    blocks: tuple[BlockMotion, ...]
+    joints: tuple[JointResult, ...]
+    mechanism_class: str
+    residuals: dict[str, float]
+    timings: dict[str, float]
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def success(self) -> bool:
+        return self.status == "optimal"
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON object of SPEC §3 (non-finite numbers become null)."""
+        out: dict[str, Any] = {
+            "model": self.model,
+            "status": self.status,
+            "message": self.message,
+            "alpha": _finite(self.alpha),
+            "bounds": {"lower": _finite(self.bounds.lower), "upper": _finite(self.bounds.upper),
+                       "gap": _finite(self.bounds.gap)},
+            "alpha_associative": _finite(self.alpha_associative),
+            "mechanism_class": self.mechanism_class,
+            "blocks": [{"id": b.id, "u": [float(x) for x in b.u]} for b in self.blocks],
+            "joints": [{"blocks": list(j.blocks), "N": j.N, "T": j.T, "M": j.M, "state": j.state,
+                        "length": j.length, "slip": j.slip, "opening": list(j.opening)}
+                       for j in self.joints],
+            "residuals": {k: _finite(v) for k, v in self.residuals.items()},
+            "timings": dict(self.timings),
+        }
+        for key, value in self.extra.items():
+            out[key] = _finite(value) if isinstance(value, float) else value
+        return out
+
+
+def _finite(value: float) -> float | None:
+    return float(value) if value is not None and math.isfinite(value) else None
+
+
+def joint_states(model: Model, mechanism: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """State of every joint under a mechanism, and the relative velocities (m, 2, 2).
+
+    sliding: tangential slip; hinging: one end opens, the other stays closed;
+    separating: both ends open; rest: no relative motion.
+    """
+    rel = model.point_velocities(mechanism)
+    scale = max(float(np.abs(rel).max(initial=0.0)), float(np.abs(mechanism).max(initial=0.0)), 1e-300)
+    tol = MOTION_TOLERANCE * scale
+    slip = rel[:, :, 1].mean(axis=1)
+    opening = rel[:, :, 0]
+    state = np.full(model.n_joints, "rest", dtype=object)
+    open_ends = (opening > tol).sum(axis=1)
+    state[open_ends == 1] = "hinging"
+    state[open_ends == 2] = "separating"
+    state[np.abs(slip) > tol] = "sliding"
+    return state, rel
+
+
+def mechanism_class(model: Model, mechanism: np.ndarray, states: np.ndarray) -> str:
+    """'sliding' (translations only, joints slide or separate), 'rocking' (no joint slides), 'mixed', 'none'."""
+    if not np.any(states != "rest"):
+        return "none"
+    rel_scale = max(float(np.abs(mechanism.reshape(-1, 3)[:, :2]).max(initial=0.0)), 1e-300)
+    rotation = np.abs(mechanism.reshape(-1, 3)[:, 2]).max(initial=0.0)  # dimensionless: per length unit
+    sliding = np.any(states == "sliding")
+    if not sliding:
+        return "rocking"
+    if not np.any(states == "hinging") and rotation <= MOTION_TOLERANCE * rel_scale:
+        return "sliding"
+    return "mixed"
+
+
+def build_result(model: Model, lp: LPSolution, timings: dict[str, float], name: str = "associative") -> Result:
+    """Turn a dimensionless LP solution into a physical :class:`Result`."""
+    scene = model.scene
+    ids = scene.block_ids
+    mech = lp.mechanism
+    # f_Lᵀu = 1 in solver units (loads per mean block weight); reported so that the
+    # weight-averaged displacement along the live load is 1 mm: Σ (w_i / W) d·u_i = 1.
+    motion = mech.reshape(-1, 3) * model.n_free
+    motion[:, 2] /= model.length_scale
+    blocks = tuple(BlockMotion(id=ids[i], u=(float(a), float(b), float(c)))
+                   for i, (a, b, c) in zip(model.free_blocks, motion))
+    joints = model.joints
+    if lp.status in ("optimal", "not_converged") and model.n_joints:
+        states, rel = joint_states(model, mech)
+        klass = mechanism_class(model, mech, states)
+    else:
+        states = np.full(model.n_joints, "rest", dtype=object)
+        rel = np.zeros((model.n_joints, 2, 2))
+        klass = "none"
+    mu = lp.multipliers.reshape(-1, 2, 2) * model.force_scale  # (m, point, ±) in kN
+    normal_force = mu.sum(axis=2)  # (m, 2)
+    tangent_force = (mu[:, :, 0] - mu[:, :, 1]) * model.friction[:, None]
+    centre = joints.centre
+    moment = np.zeros(model.n_joints)
+    tangent = joints.tangent
+    for p, point in enumerate((joints.start, joints.end)):
+        r = point - centre
+        force = normal_force[:, p, None] * joints.normal + tangent_force[:, p, None] * tangent
+        moment += r[:, 0] * force[:, 1] - r[:, 1] * force[:, 0]
+    length = joints.length
+    joint_results = tuple(
+        JointResult(blocks=(ids[a], ids[b]), N=float(n), T=float(t), M=float(mo), state=str(s),
+                    length=float(le), slip=float(sl), opening=(float(o0), float(o1)))
+        for a, b, n, t, mo, s, le, sl, o0, o1 in zip(
+            joints.block_a, joints.block_b, normal_force.sum(axis=1), tangent_force.sum(axis=1), moment,
+            states, length, rel[:, :, 1].mean(axis=1), rel[:, 0, 0], rel[:, 1, 0])
+    )
+    return Result(
+        model=name, status=lp.status, message=lp.message, alpha=lp.alpha,
+        bounds=Bounds(lower=lp.lower, upper=lp.upper), alpha_associative=lp.alpha,
+        blocks=blocks, joints=joint_results, mechanism_class=klass,
+        residuals={"static_equilibrium": lp.static_residual, "kinematic_flow_rule": lp.kinematic_residual},
+        timings=timings,
+        extra={"iterations": lp.iterations, "n_blocks": model.n_free, "n_joints": model.n_joints},
+    )

@@ -1,0 +1,343 @@
+"""Scenes: assemblies of convex polygonal rigid blocks (SPEC §2).
+
+A scene holds geometry and material data only; joints are found from it
+(``alma.contacts``) and the mechanical model is built downstream
+(``alma.model``).  Lengths in mm, unit weight in kN/m³.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Iterable, Mapping, Sequence
+
+import numpy as np
+
+
+class SceneError(ValueError):
+    """A scene broke a rule of SPEC §2; the message names the block and the rule."""
+
+
+_SCENE_KEYS = {"name", "thickness", "unit_weight", "friction", "cohesion", "blocks",
+               "live_load", "gravity", "joints"}
+_BLOCK_KEYS = {"id", "vertices", "fixed", "weight"}
+_LIVE_KEYS = {"direction"}
+_JOINT_KEYS = {"blocks", "friction", "cohesion"}
+
+
+@dataclass(frozen=True)
+class Block:
+    """A rigid convex block; ``vertices`` counter-clockwise, shape (k, 2), in mm."""
+
+    id: str
+    vertices: np.ndarray
+    fixed: bool = False
+    weight: float | None = None  # kN, overrides area × thickness × unit weight
+
+    @property
+    def area(self) -> float:
+        return float(polygon_area(self.vertices))
+
+    @property
+    def centroid(self) -> np.ndarray:
+        return polygon_centroid(self.vertices)
+
+
+@dataclass(frozen=True)
+class JointOverride:
+    """Per-joint material (SPEC §2): friction/cohesion of the joint between two blocks."""
+
+    blocks: tuple[str, str]
+    friction: float | None = None
+    cohesion: float | None = None
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated assembly of blocks with its material and load data."""
+
+    blocks: tuple[Block, ...]
+    thickness: float = 120.0
+    unit_weight: float = 18.0
+    friction: float = 0.6
+    cohesion: float = 0.0
+    name: str = ""
+    gravity: tuple[float, float] = (0.0, -1.0)
+    live_load_direction: tuple[float, float] = (1.0, 0.0)
+    joint_overrides: tuple[JointOverride, ...] = field(default=())
+
+    # ------------------------------------------------------------------ I/O
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], *, validate: bool = True) -> "Scene":
+        """Build a scene from the JSON object of SPEC §2 and validate it."""
+        if not isinstance(data, Mapping):
+            raise SceneError("scene: the top level must be a JSON object")
+        unknown = set(data) - _SCENE_KEYS
+        if unknown:
+            raise SceneError(f"scene: unknown key(s) {sorted(unknown)}; allowed: {sorted(_SCENE_KEYS)}")
+        if "blocks" not in data:
+            raise SceneError("scene: missing 'blocks'")
+        raw_blocks = data["blocks"]
+        if not isinstance(raw_blocks, list) or not raw_blocks:
+            raise SceneError("scene: 'blocks' must be a non-empty list")
+        blocks = []
+        for index, raw in enumerate(raw_blocks):
+            blocks.append(_block_from_dict(raw, index))
+        live = data.get("live_load", {}) or {}
+        if not isinstance(live, Mapping):
+            raise SceneError("scene: 'live_load' must be an object")
+        unknown = set(live) - _LIVE_KEYS
+        if unknown:
+            raise SceneError(f"live_load: unknown key(s) {sorted(unknown)}")
+        overrides = tuple(_joint_override(raw, i) for i, raw in enumerate(data.get("joints", []) or []))
+        scene = cls(
+            blocks=tuple(blocks),
+            thickness=_number(data.get("thickness", 120.0), "scene: thickness"),
+            unit_weight=_number(data.get("unit_weight", 18.0), "scene: unit_weight"),
+            friction=_number(data.get("friction", 0.6), "scene: friction"),
+            cohesion=_number(data.get("cohesion", 0.0), "scene: cohesion"),
+            name=str(data.get("name", "")),
+            gravity=_direction(data.get("gravity", (0.0, -1.0)), "scene: gravity"),
+            live_load_direction=_direction(live.get("direction", (1.0, 0.0)), "live_load: direction"),
+            joint_overrides=overrides,
+        )
+        if validate:
+            scene.validate()
+        return scene
+
+    def to_dict(self) -> dict[str, Any]:
+        """The scene as the JSON object of SPEC §2."""
+        out: dict[str, Any] = {
+            "name": self.name,
+            "thickness": self.thickness,
+            "unit_weight": self.unit_weight,
+            "friction": self.friction,
+            "cohesion": self.cohesion,
+            "gravity": list(self.gravity),
+            "blocks": [],
+            "live_load": {"direction": list(self.live_load_direction)},
+        }
+        for block in self.blocks:
+            entry: dict[str, Any] = {"id": block.id, "vertices": block.vertices.tolist()}
+            if block.fixed:
+                entry["fixed"] = True
+            if block.weight is not None:
+                entry["weight"] = block.weight
+            out["blocks"].append(entry)
+        if self.joint_overrides:
+            out["joints"] = [
+                {k: v for k, v in (("blocks", list(o.blocks)), ("friction", o.friction),
+                                   ("cohesion", o.cohesion)) if v is not None}
+                for o in self.joint_overrides
+            ]
+        return out
+
+    def with_friction(self, friction: float) -> "Scene":
+        """The same geometry with another friction coefficient (no re-validation needed)."""
+        import dataclasses
+
+        if not (math.isfinite(friction) and friction >= 0):
+            raise SceneError(f"scene: friction must be a finite number >= 0, got {friction}")
+        return dataclasses.replace(self, friction=float(friction))
+
+    # ----------------------------------------------------------- validation
+    def validate(self) -> None:
+        """Refuse every bad input of SPEC §2 with a message naming block and rule."""
+        from .contacts import find_overlaps, find_joints  # downstream helpers, geometry only
+
+        if not self.thickness > 0:
+            raise SceneError(f"scene: thickness must be > 0, got {self.thickness}")
+        if not self.unit_weight > 0:
+            raise SceneError(f"scene: unit_weight must be > 0, got {self.unit_weight}")
+        if self.friction < 0:
+            raise SceneError(f"scene: friction must be >= 0, got {self.friction}")
+        if self.cohesion < 0:
+            raise SceneError(f"scene: cohesion must be >= 0, got {self.cohesion}")
+        ids = [b.id for b in self.blocks]
+        seen: set[str] = set()
+        for block_id in ids:
+            if block_id in seen:
+                raise SceneError(f"block '{block_id}': duplicate id")
+            seen.add(block_id)
+        for override in self.joint_overrides:
+            for block_id in override.blocks:
+                if block_id not in seen:
+                    raise SceneError(f"joint {list(override.blocks)}: unknown block '{block_id}'")
+        for block in self.blocks:
+            _check_polygon(block)
+        if not any(b.fixed for b in self.blocks):
+            raise SceneError("scene: no support — at least one block must be 'fixed': true")
+        if all(b.fixed for b in self.blocks):
+            raise SceneError("scene: no free block — every block is fixed")
+        overlaps = find_overlaps(self)
+        if overlaps:
+            i, j = overlaps[0]
+            raise SceneError(
+                f"blocks '{self.blocks[i].id}' and '{self.blocks[j].id}' overlap: blocks may touch "
+                f"but not interpenetrate ({len(overlaps)} overlapping pair(s) in all)")
+        joints = find_joints(self)
+        touched = np.zeros(len(self.blocks), dtype=bool)
+        touched[joints.block_a] = True
+        touched[joints.block_b] = True
+        for index, block in enumerate(self.blocks):
+            if not block.fixed and not touched[index]:
+                raise SceneError(f"block '{block.id}': touches nothing — a free block needs at least one joint")
+
+    # --------------------------------------------------------------- helpers
+    @property
+    def block_ids(self) -> list[str]:
+        return [b.id for b in self.blocks]
+
+    def transformed(self, matrix: np.ndarray, offset: Sequence[float] = (0.0, 0.0),
+                    rotate_loads: bool = True) -> "Scene":
+        """Apply x -> matrix @ x + offset to every block (and to gravity/live load directions)."""
+        import dataclasses
+
+        matrix = np.asarray(matrix, dtype=float)
+        offset = np.asarray(offset, dtype=float)
+        blocks = tuple(dataclasses.replace(b, vertices=_ccw(b.vertices @ matrix.T + offset)) for b in self.blocks)
+        gravity, live = self.gravity, self.live_load_direction
+        if rotate_loads:
+            gravity = tuple(float(x) for x in matrix @ np.asarray(gravity))
+            live = tuple(float(x) for x in matrix @ np.asarray(live))
+        return dataclasses.replace(self, blocks=blocks, gravity=gravity, live_load_direction=live)
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read and validate a JSON scene file (SPEC §2)."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise SceneError(f"scene file '{path}': cannot be read ({exc.strerror})") from exc
+    try:
+        data = json.loads(text, parse_constant=_reject_constant)
+    except json.JSONDecodeError as exc:
+        raise SceneError(f"scene file '{path}': not valid JSON ({exc.msg} at line {exc.lineno})") from exc
+    return Scene.from_dict(data)
+
+
+# ---------------------------------------------------------------- geometry
+def polygon_area(vertices: np.ndarray) -> float:
+    """Signed area (positive when counter-clockwise), shoelace formula."""
+    x, y = vertices[:, 0], vertices[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def polygon_centroid(vertices: np.ndarray) -> np.ndarray:
+    """Centroid of a simple polygon, computed about its first vertex for accuracy."""
+    origin = vertices[0]
+    local = vertices - origin
+    x, y = local[:, 0], local[:, 1]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    cross = x * yn - xn * y
+    area = 0.5 * cross.sum()
+    cx = ((x + xn) * cross).sum() / (6 * area)
+    cy = ((y + yn) * cross).sum() / (6 * area)
+    return origin + np.array([cx, cy])
+
+
+def _ccw(vertices: np.ndarray) -> np.ndarray:
+    return vertices if polygon_area(vertices) >= 0 else vertices[::-1].copy()
+
+
+def _check_polygon(block: Block) -> None:
+    v = block.vertices
+    k = len(v)
+    edges = np.roll(v, -1, axis=0) - v
+    lengths = np.hypot(edges[:, 0], edges[:, 1])
+    scale = max(float(np.ptp(v[:, 0])), float(np.ptp(v[:, 1])))
+    if scale == 0 or np.any(lengths <= 1e-12 * scale):
+        raise SceneError(f"block '{block.id}': degenerate polygon — repeated vertices or zero size")
+    area = polygon_area(v)
+    if not area > 1e-9 * scale * scale:
+        raise SceneError(f"block '{block.id}': degenerate polygon — zero area")
+    cross = edges[:, 0] * np.roll(edges[:, 1], -1) - edges[:, 1] * np.roll(edges[:, 0], -1)
+    if np.any(cross < -1e-12 * scale * scale):
+        raise SceneError(f"block '{block.id}': polygon is not convex (a reflex corner)")
+    # A star polygon has all left turns but winds more than once.
+    turning = np.arctan2(cross, (edges * np.roll(edges, -1, axis=0)).sum(axis=1)).sum()
+    if abs(turning - 2 * np.pi) > 1e-6:
+        raise SceneError(f"block '{block.id}': polygon is not convex (self-intersecting)")
+    if k < 3:  # pragma: no cover — caught above, kept for clarity
+        raise SceneError(f"block '{block.id}': a polygon needs at least 3 vertices")
+
+
+def _block_from_dict(raw: Any, index: int) -> Block:
+    if not isinstance(raw, Mapping):
+        raise SceneError(f"block #{index}: must be an object")
+    block_id = str(raw.get("id", f"b{index}"))
+    unknown = set(raw) - _BLOCK_KEYS
+    if unknown:
+        raise SceneError(f"block '{block_id}': unknown key(s) {sorted(unknown)}; allowed: {sorted(_BLOCK_KEYS)}")
+    if "vertices" not in raw:
+        raise SceneError(f"block '{block_id}': missing 'vertices'")
+    try:
+        vertices = np.array(raw["vertices"], dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise SceneError(f"block '{block_id}': vertices must be a list of [x, y] numbers") from exc
+    if vertices.ndim != 2 or vertices.shape[1] != 2:
+        raise SceneError(f"block '{block_id}': vertices must be a list of [x, y] pairs")
+    if len(vertices) < 3:
+        raise SceneError(f"block '{block_id}': a polygon needs at least 3 vertices, got {len(vertices)}")
+    if not np.all(np.isfinite(vertices)):
+        raise SceneError(f"block '{block_id}': vertices contain NaN or inf")
+    fixed = raw.get("fixed", False)
+    if not isinstance(fixed, bool):
+        raise SceneError(f"block '{block_id}': 'fixed' must be true or false")
+    weight = raw.get("weight")
+    if weight is not None:
+        weight = _number(weight, f"block '{block_id}': weight")
+        if weight < 0:
+            raise SceneError(f"block '{block_id}': weight must be >= 0")
+    return Block(id=block_id, vertices=_ccw(vertices), fixed=fixed, weight=weight)
+
+
+def _joint_override(raw: Any, index: int) -> JointOverride:
+    if not isinstance(raw, Mapping):
+        raise SceneError(f"joint #{index}: must be an object")
+    unknown = set(raw) - _JOINT_KEYS
+    if unknown:
+        raise SceneError(f"joint #{index}: unknown key(s) {sorted(unknown)}")
+    pair = raw.get("blocks")
+    if not isinstance(pair, list) or len(pair) != 2:
+        raise SceneError(f"joint #{index}: 'blocks' must name two blocks")
+    friction = raw.get("friction")
+    cohesion = raw.get("cohesion")
+    if friction is not None:
+        friction = _number(friction, f"joint {pair}: friction")
+        if friction < 0:
+            raise SceneError(f"joint {pair}: friction must be >= 0, got {friction}")
+    if cohesion is not None:
+        cohesion = _number(cohesion, f"joint {pair}: cohesion")
+        if cohesion < 0:
+            raise SceneError(f"joint {pair}: cohesion must be >= 0, got {cohesion}")
+    return JointOverride(blocks=(str(pair[0]), str(pair[1])), friction=friction, cohesion=cohesion)
+
+
+def _number(value: Any, what: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise SceneError(f"{what} must be a number, got {value!r}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise SceneError(f"{what} is NaN or inf")
+    return value
+
+
+def _direction(value: Iterable[Any], what: str) -> tuple[float, float]:
+    try:
+        items = list(value)
+    except TypeError as exc:
+        raise SceneError(f"{what} must be a pair [x, y]") from exc
+    if len(items) != 2:
+        raise SceneError(f"{what} must be a pair [x, y]")
+    x, y = (_number(v, what) for v in items)
+    norm = math.hypot(x, y)
+    if norm == 0:
+        raise SceneError(f"{what} must be a non-zero vector")
+    return (x / norm, y / norm)
+
+
+def _reject_constant(name: str) -> float:
+    raise SceneError(f"scene: {name} is not allowed (NaN or inf)")

@@ -1,0 +1,48 @@
+"""Statistics of the paper's 108-panel design of experiments (Appendix A, Table 2).
+
+``anova`` fits main effects and interactions of the four factors (panel ratio, block ratio,
+bond type, friction) and returns the ANOVA table of Table 2; ``figures`` (imported on demand,
+it needs matplotlib) draws Figures 5 to 10.
+"""
+
+from alma.stats.anova import (
+    FACTOR_LEVELS,
+    FACTORS,
+    RESULT_COLUMNS,
+    AnovaResult,
+    AnovaRow,
+    StandardizedEffect,
+    TukeyComparison,
+    TukeyResult,
+    anova,
+    equivalent_t,
+    fit_model,
+    load_results,
+    pareto_reference,
+    press_balanced,
+    press_from_leverage,
+    r2_pred_balanced,
+    standardized_effects,
+    tukey_bond,
+)
+
+__all__ = [
+    "FACTOR_LEVELS",
+    "FACTORS",
+    "RESULT_COLUMNS",
+    "AnovaResult",
+    "AnovaRow",
+    "StandardizedEffect",
+    "TukeyComparison",
+    "TukeyResult",
+    "anova",
+    "equivalent_t",
+    "fit_model",
+    "load_results",
+    "pareto_reference",
+    "press_balanced",
+    "press_from_leverage",
+    "r2_pred_balanced",
+    "standardized_effects",
+    "tukey_bond",
+]

@@ -1,0 +1,547 @@
+"""ANOVA of the paper's full-factorial design of experiments (Appendix A, Table 2).
+
+The study is a single-replicate general full factorial: panel ratio (3 levels) x block ratio
+(3) x bond type (4) x friction (3) = 108 panels (paper, Table 1 and Appendix B, Table 5).
+The paper fits main effects plus all two-way interactions with Minitab and pools the higher
+order interactions into the error term (Appendix A, Table 4: DoF_Error = DoF_Total -
+DoF_Model = 107 - 39 = 68).
+
+Everything here is plain data in, frozen dataclasses out; no plotting (see ``figures.py``).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import re
+from dataclasses import dataclass
+from os import PathLike
+from typing import Any, Iterable, Sequence
+
+import numpy as np
+import pandas as pd
+import scipy.stats
+import statsmodels.formula.api as smf
+from statsmodels.regression.linear_model import RegressionResultsWrapper
+from statsmodels.stats.anova import anova_lm
+from statsmodels.stats.multicomp import pairwise_tukeyhsd
+
+__all__ = [
+    "AnovaRow",
+    "AnovaResult",
+    "StandardizedEffect",
+    "TukeyComparison",
+    "TukeyResult",
+    "FACTORS",
+    "FACTOR_LEVELS",
+    "RESULT_COLUMNS",
+    "PANEL_LENGTH_MM",
+    "PANEL_HEIGHT_MM",
+    "BLOCK_LENGTH_MM",
+    "anova",
+    "fit_model",
+    "load_results",
+    "press_balanced",
+    "press_from_leverage",
+    "r2_pred_balanced",
+    "equivalent_t",
+    "pareto_reference",
+    "standardized_effects",
+    "tukey_bond",
+]
+
+# CSV column -> source name used in Table 2, in the paper's order (Table 1: A, B, C, D).
+FACTORS: tuple[tuple[str, str], ...] = (
+    ("panel_ratio", "Panel"),
+    ("block_ratio", "Block"),
+    ("bond", "Bond"),
+    ("friction", "Friction"),
+)
+
+# Levels of Table 1, in the paper's order (used for validation and for plot axes).
+FACTOR_LEVELS: dict[str, tuple[Any, ...]] = {
+    "panel_ratio": ("2:1", "1:1", "1:2"),
+    "block_ratio": ("4:1", "2:1", "1:1"),
+    "bond": ("running", "flemish", "english", "stack"),
+    "friction": (0.27, 0.60, 1.00),
+}
+
+RESULT_COLUMNS: tuple[str, ...] = ("panel_ratio", "block_ratio", "bond", "friction", "alpha_c")
+
+# Geometry of Table 1 (SPEC section 4): B fixed, H from the panel ratio B:H, b from the block
+# ratio b:h with h = 60 mm. Used for the scale factors H/b and B/b of Figures 9 and 10.
+PANEL_LENGTH_MM: float = 1440.0
+PANEL_HEIGHT_MM: dict[str, float] = {"2:1": 720.0, "1:1": 1440.0, "1:2": 2880.0}
+BLOCK_LENGTH_MM: dict[str, float] = {"4:1": 240.0, "2:1": 120.0, "1:1": 60.0}
+
+_GROUP_NAMES = {1: "Linear", 2: "Two-Way Interactions", 3: "Three-Way Interactions"}
+_TERM_SEP = "*"
+_MAX_ORDER = 3  # order 4 is saturated for a single replicate: no error DoF left
+
+
+# --------------------------------------------------------------------------------------------
+# Result types
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class AnovaRow:
+    """One line of the ANOVA table (Table 2); ``None`` where the published table is blank."""
+
+    source: str
+    dof: int
+    adj_ss: float
+    adj_ms: float | None
+    f_value: float | None
+    p_value: float | None
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "source": self.source,
+            "dof": int(self.dof),
+            "adj_ss": _plain(self.adj_ss),
+            "adj_ms": _plain(self.adj_ms),
+            "f_value": _plain(self.f_value),
+            "p_value": _plain(self.p_value),
+        }
+
+
+@dataclass(frozen=True)
+class AnovaResult:
+    """ANOVA table plus model summary (R-sq, R-sq(adj), R-sq(pred)) as in the paper.
+
+    ``rows`` are in the order of Table 2: Model, Linear, main effects, interaction group(s)
+    and their terms, Error, Total. ``r2``, ``r2_adj`` and ``r2_pred`` are fractions (0..1);
+    ``press`` is the prediction error sum of squares behind ``r2_pred``. ``fitted``,
+    ``residuals``, ``leverage`` and ``std_residuals`` follow the row order of the input
+    frame (the "observation order" of Figure 8).
+    """
+
+    response: str
+    order: int
+    n: int
+    rows: tuple[AnovaRow, ...]
+    r2: float
+    r2_adj: float
+    r2_pred: float
+    press: float
+    dfe: int
+    mse: float
+    n_params: int
+    fitted: tuple[float, ...]
+    residuals: tuple[float, ...]
+    leverage: tuple[float, ...]
+    std_residuals: tuple[float, ...]
+
+    def row(self, source: str) -> AnovaRow:
+        """The row named ``source`` (e.g. ``"Panel*Friction"``)."""
+        for r in self.rows:
+            if r.source == source:
+                return r
+        raise KeyError(f"no ANOVA row named {source!r}")
+
+    @property
+    def terms(self) -> tuple[AnovaRow, ...]:
+        """Rows of the individual model terms (main effects and interactions)."""
+        skip = {"Model", "Error", "Total", *_GROUP_NAMES.values()}
+        return tuple(r for r in self.rows if r.source not in skip)
+
+    @property
+    def s(self) -> float:
+        """Standard deviation of the error, S = sqrt(MSE) (Minitab's model summary)."""
+        return math.sqrt(self.mse)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON object of ``alma anova --json`` (SPEC section 3)."""
+        return {
+            "rows": [r.to_dict() for r in self.rows],
+            "r2": float(self.r2),
+            "r2_adj": float(self.r2_adj),
+            "r2_pred": float(self.r2_pred),
+        }
+
+    def format_table(self) -> str:
+        """Text table in the layout and rounding of Table 2 plus the R-sq lines (percent).
+
+        Rounding as printed by the paper/Minitab: 4 decimals for Adj SS and Adj MS,
+        2 for F-Value, 3 for P-Value.
+        """
+        width = max(len("Source"), *(len(r.source) for r in self.rows))
+        head = (
+            f"{'Source':<{width}}  {'DoF':>4}  {'Adj SS':>8}  {'Adj MS':>8}"
+            f"  {'F-Value':>8}  {'P-Value':>7}"
+        )
+        lines = [head]
+        for r in self.rows:
+            lines.append(
+                f"{r.source:<{width}}  {r.dof:>4d}  {_fmt(r.adj_ss, 4):>8}  {_fmt(r.adj_ms, 4):>8}"
+                f"  {_fmt(r.f_value, 2):>8}  {_fmt(r.p_value, 3):>7}".rstrip()
+            )
+        lines.append("")
+        lines.append(f"S          = {self.s:.6f}")
+        lines.append(f"R-sq       = {100.0 * self.r2:.2f}%")
+        lines.append(f"R-sq(adj)  = {100.0 * self.r2_adj:.2f}%")
+        lines.append(f"R-sq(pred) = {100.0 * self.r2_pred:.2f}%")
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class StandardizedEffect:
+    """One bar of the Pareto chart of standardized effects (Figure 7)."""
+
+    source: str
+    dof: int
+    effect: float
+    p_value: float
+    significant: bool
+
+
+@dataclass(frozen=True)
+class TukeyComparison:
+    """One pairwise comparison of Tukey's HSD (family-wise confidence level 1 - alpha)."""
+
+    group1: str
+    group2: str
+    mean_diff: float
+    p_adj: float
+    lower: float
+    upper: float
+    reject: bool
+
+
+@dataclass(frozen=True)
+class TukeyResult:
+    """Tukey's simultaneous comparisons of the bond means (paper, Results and discussion)."""
+
+    factor: str
+    alpha: float
+    means: tuple[tuple[str, float], ...]
+    comparisons: tuple[TukeyComparison, ...]
+
+    def significant_pairs(self) -> tuple[tuple[str, str], ...]:
+        return tuple((c.group1, c.group2) for c in self.comparisons if c.reject)
+
+
+# --------------------------------------------------------------------------------------------
+# Input
+# --------------------------------------------------------------------------------------------
+
+
+def load_results(path: str | PathLike[str]) -> pd.DataFrame:
+    """Read a results CSV with (at least) the columns of Table 5.
+
+    Extra columns are kept. Raises ``ValueError`` naming the missing column, the bad level or
+    the bad value (first offending row, 1-based data row as in a spreadsheet without header).
+    """
+    try:
+        raw = pd.read_csv(path, dtype={"panel_ratio": str, "block_ratio": str, "bond": str})
+    except pd.errors.EmptyDataError as exc:
+        raise ValueError(f"{path}: empty results file") from exc
+    missing = [c for c in RESULT_COLUMNS if c not in raw.columns]
+    if missing:
+        raise ValueError(
+            f"{path}: missing column {missing[0]!r} (a results CSV needs columns "
+            f"{', '.join(RESULT_COLUMNS)})"
+        )
+    if len(raw) == 0:
+        raise ValueError(f"{path}: no data rows")
+    df = raw.copy()
+    for col in ("panel_ratio", "block_ratio", "bond"):
+        values = df[col].astype("string").str.strip()
+        if col == "bond":
+            values = values.str.lower()  # Table 5 prints "Running", the CSV "running"
+        allowed = FACTOR_LEVELS[col]
+        bad = ~values.isin(allowed) | values.isna()
+        if bad.any():
+            i = int(np.flatnonzero(bad.to_numpy())[0])
+            raise ValueError(
+                f"{path}: bad level {raw[col].iloc[i]!r} in column {col!r} (row {i + 1}); "
+                f"allowed: {', '.join(map(str, allowed))}"
+            )
+        df[col] = values.astype(str)
+    for col in ("friction", "alpha_c"):
+        num = pd.to_numeric(df[col], errors="coerce")
+        bad = ~np.isfinite(num.to_numpy(dtype=float)) | (num.to_numpy(dtype=float) < 0)
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            what = "bad level" if col == "friction" else "bad value"
+            raise ValueError(
+                f"{path}: {what} {raw[col].iloc[i]!r} in column {col!r} (row {i + 1}); "
+                "expected a finite, non-negative number"
+            )
+        df[col] = num.astype(float)
+    return df
+
+
+# --------------------------------------------------------------------------------------------
+# ANOVA
+# --------------------------------------------------------------------------------------------
+
+
+def _sources(order: int) -> list[tuple[str, ...]]:
+    """Model terms up to ``order`` as tuples of source names, in Table 2 order."""
+    names = [name for _, name in FACTORS]
+    terms: list[tuple[str, ...]] = []
+    for k in range(1, order + 1):
+        terms.extend(itertools.combinations(names, k))
+    return terms
+
+
+def _patsy_term(term: tuple[str, ...]) -> str:
+    # Sum (effect) coding: each term's coefficients are orthogonal to lower-order terms in a
+    # balanced design, and the Wald tests are Minitab's "adjusted" (Type III) tests.
+    return ":".join(f"C({name}, Sum)" for name in term)
+
+
+def _prepare(df: pd.DataFrame, response: str) -> pd.DataFrame:
+    missing = [c for c, _ in FACTORS if c not in df.columns]
+    if response not in df.columns:
+        missing.append(response)
+    if missing:
+        raise ValueError(f"missing column {missing[0]!r}")
+    data = pd.DataFrame({name: df[col].to_numpy() for col, name in FACTORS})
+    for col, name in FACTORS:
+        if data[name].isna().any():
+            raise ValueError(f"column {col!r} has missing values")
+        if data[name].nunique() < 2:
+            raise ValueError(f"column {col!r} has a single level; it cannot be a factor")
+    # Friction is a factor (3 levels), not a covariate: make it categorical explicitly.
+    data["Friction"] = [format(float(v), ".10g") for v in data["Friction"]]
+    y = pd.to_numeric(df[response], errors="coerce").to_numpy(dtype=float)
+    if not np.all(np.isfinite(y)):
+        raise ValueError(f"column {response!r} has missing or non-finite values")
+    data["y"] = y
+    return data
+
+
+def fit_model(
+    df: pd.DataFrame, response: str = "alpha_c", order: int = 2
+) -> RegressionResultsWrapper:
+    """OLS fit of the ANOVA model (main effects + interactions up to ``order``)."""
+    if order not in range(1, _MAX_ORDER + 1):
+        raise ValueError(
+            f"order must be 1, 2 or 3 (got {order!r}); order 4 leaves no error DoF "
+            "in a single-replicate design"
+        )
+    data = _prepare(df, response)
+    formula = "y ~ " + " + ".join(_patsy_term(t) for t in _sources(order))
+    return smf.ols(formula, data=data).fit()
+
+
+def anova(df: pd.DataFrame, response: str = "alpha_c", order: int = 2) -> AnovaResult:
+    """ANOVA table of Table 2 (paper, Appendix A, Eqs. 14-16) via statsmodels.
+
+    Factors are categorical with sum contrasts; terms are tested with adjusted (Type III)
+    sums of squares — for the balanced 108-panel design identical to the sequential ones and
+    to the closed forms of Eq. 16. Interactions above ``order`` are pooled into Error.
+    Group rows (Linear, Two-Way Interactions, ...) and Model are joint tests of all their
+    coefficients, as Minitab reports them.
+    """
+    res = fit_model(df, response, order)
+    n = int(res.nobs)
+    dfe = int(round(res.df_resid))
+    if dfe <= 0:
+        raise ValueError(f"no error degrees of freedom left (n = {n}, order = {order})")
+    sse = float(res.ssr)
+    mse = sse / dfe
+    sst = float(res.centered_tss)
+
+    table = anova_lm(res, typ=3)
+    columns = _term_columns(res.model.exog_names)
+
+    def term_row(term: tuple[str, ...]) -> AnovaRow:
+        key = _patsy_term(term)
+        dof = int(round(table.loc[key, "df"]))
+        ss = float(table.loc[key, "sum_sq"])
+        return _row(_TERM_SEP.join(term), dof, ss, mse, dfe)
+
+    def group_row(name: str, terms: Sequence[tuple[str, ...]]) -> AnovaRow:
+        # Joint Wald test of all coefficients of the group = extra SS of dropping the group.
+        cols = np.concatenate([columns[t] for t in terms])
+        restriction = np.zeros((len(cols), len(res.params)))
+        restriction[np.arange(len(cols)), cols] = 1.0
+        test = res.f_test(restriction)
+        dof = int(round(float(test.df_num)))
+        ss = float(np.squeeze(test.fvalue)) * dof * mse
+        return _row(name, dof, ss, mse, dfe)
+
+    terms = _sources(order)
+    df_model = int(round(res.df_model))
+    rows: list[AnovaRow] = [_row("Model", df_model, sst - sse, mse, dfe)]
+    for k in range(1, order + 1):
+        group = [t for t in terms if len(t) == k]
+        rows.append(group_row(_GROUP_NAMES[k], group))
+        rows.extend(term_row(t) for t in group)
+    rows.append(AnovaRow("Error", dfe, sse, mse, None, None))
+    rows.append(AnovaRow("Total", n - 1, sst, None, None, None))
+
+    influence = res.get_influence()
+    leverage = np.asarray(influence.hat_matrix_diag, dtype=float)
+    resid = np.asarray(res.resid, dtype=float)
+    press = press_from_leverage(resid, leverage)
+    std_resid = np.asarray(influence.resid_studentized_internal, dtype=float)
+
+    return AnovaResult(
+        response=response,
+        order=order,
+        n=n,
+        rows=tuple(rows),
+        r2=1.0 - sse / sst,
+        r2_adj=1.0 - mse / (sst / (n - 1)),
+        r2_pred=1.0 - press / sst,
+        press=press,
+        dfe=dfe,
+        mse=mse,
+        n_params=int(round(res.df_model)) + 1,
+        fitted=tuple(float(v) for v in np.asarray(res.fittedvalues)),
+        residuals=tuple(float(v) for v in resid),
+        leverage=tuple(float(v) for v in leverage),
+        std_residuals=tuple(float(v) for v in std_resid),
+    )
+
+
+_COLUMN_FACTOR = re.compile(r"C\((\w+), Sum\)")
+
+
+def _term_columns(exog_names: Sequence[str]) -> dict[tuple[str, ...], np.ndarray]:
+    """Design-matrix columns of each term, keyed by the term's factor names.
+
+    Parsed from the column names (e.g. ``C(Panel, Sum)[S.1:1]:C(Block, Sum)[S.2:1]``) rather
+    than from the formula engine's term metadata, which differs between patsy and formulaic.
+    """
+    out: dict[tuple[str, ...], list[int]] = {}
+    for i, name in enumerate(exog_names):
+        factors = tuple(_COLUMN_FACTOR.findall(name))
+        if factors:
+            out.setdefault(factors, []).append(i)
+    return {k: np.asarray(v, dtype=int) for k, v in out.items()}
+
+
+def _row(source: str, dof: int, ss: float, mse: float, dfe: int) -> AnovaRow:
+    ms = ss / dof
+    f = ms / mse
+    # sf, not 1 - cdf: keeps tiny p-values (needed by the Pareto chart's equivalent t).
+    p = float(scipy.stats.f.sf(f, dof, dfe))
+    return AnovaRow(source, dof, ss, ms, f, p)
+
+
+# --------------------------------------------------------------------------------------------
+# Prediction: PRESS and R-sq(pred)
+# --------------------------------------------------------------------------------------------
+
+
+def press_from_leverage(residuals: Iterable[float], leverage: Iterable[float]) -> float:
+    """PRESS = sum (e_i / (1 - h_ii))^2, the leave-one-out prediction error sum of squares."""
+    e = np.asarray(list(residuals), dtype=float)
+    h = np.asarray(list(leverage), dtype=float)
+    if np.any(h >= 1.0 - 1e-12):
+        # A point with leverage 1 is fitted exactly and cannot be predicted from the others.
+        return math.inf
+    return float(np.sum((e / (1.0 - h)) ** 2))
+
+
+def press_balanced(sse: float, n: int, p: int) -> float:
+    """Closed-form PRESS of a balanced design, where every leverage equals p/n.
+
+    PRESS = SSE / (1 - p/n)^2 = SSE * (n / (n - p))^2; for Table 2, p = 40, n = 108.
+    """
+    if not 0 < p < n:
+        raise ValueError(f"need 0 < p < n (got p = {p}, n = {n})")
+    return sse * (n / (n - p)) ** 2
+
+
+def r2_pred_balanced(sse: float, sst: float, n: int, p: int) -> float:
+    """R-sq(pred) = 1 - PRESS/SST with the balanced-design PRESS of :func:`press_balanced`."""
+    return 1.0 - press_balanced(sse, n, p) / sst
+
+
+# --------------------------------------------------------------------------------------------
+# Pareto chart of standardized effects (Figure 7)
+# --------------------------------------------------------------------------------------------
+
+
+def equivalent_t(p_value: float, dfe: int) -> float:
+    """The |t| whose two-sided p-value with ``dfe`` DoF equals ``p_value``.
+
+    Uses the inverse survival function: ``t.ppf(1 - p/2)`` would round 1 - p/2 to 1.0 for
+    p below ~1e-16 and return inf.
+    """
+    if not 0.0 <= p_value <= 1.0:
+        raise ValueError(f"p-value must lie in [0, 1] (got {p_value!r})")
+    return float(scipy.stats.t.isf(p_value / 2.0, dfe))
+
+
+def pareto_reference(dfe: int, alpha: float = 0.05) -> float:
+    """Reference line of the Pareto chart: t_{1-alpha/2, DFE} (1.995 for DFE = 68)."""
+    return float(scipy.stats.t.isf(alpha / 2.0, dfe))
+
+
+def standardized_effects(
+    result: AnovaResult, alpha: float = 0.05
+) -> tuple[StandardizedEffect, ...]:
+    """Standardized effects of the model terms for the Pareto chart (Figure 7).
+
+    One-DoF terms: |t| of the coefficient, which equals sqrt(F). Several-DoF terms: the t
+    value with the same two-sided p-value as the term's F-test (Minitab's convention for
+    categorical terms). Sorted by decreasing effect.
+    """
+    ref = pareto_reference(result.dfe, alpha)
+    effects = []
+    for r in result.terms:
+        assert r.f_value is not None and r.p_value is not None
+        if r.dof == 1:
+            eff = math.sqrt(r.f_value)
+        else:
+            eff = equivalent_t(r.p_value, result.dfe)
+        effects.append(StandardizedEffect(r.source, r.dof, eff, r.p_value, eff > ref))
+    return tuple(sorted(effects, key=lambda e: e.effect, reverse=True))
+
+
+# --------------------------------------------------------------------------------------------
+# Tukey's multiple comparisons of the bond types (Results and discussion)
+# --------------------------------------------------------------------------------------------
+
+
+def tukey_bond(df: pd.DataFrame, response: str = "alpha_c", alpha: float = 0.05) -> TukeyResult:
+    """Tukey's HSD pairwise comparisons of the mean response of the bond types.
+
+    The paper finds stack differs from every other bond and running/english/flemish do not
+    differ from one another.
+    """
+    for col in ("bond", response):
+        if col not in df.columns:
+            raise ValueError(f"missing column {col!r}")
+    groups = df["bond"].astype(str).str.strip().str.lower().to_numpy()
+    y = pd.to_numeric(df[response], errors="coerce").to_numpy(dtype=float)
+    if not np.all(np.isfinite(y)):
+        raise ValueError(f"column {response!r} has missing or non-finite values")
+    hsd = pairwise_tukeyhsd(endog=y, groups=groups, alpha=alpha)
+    g1, g2 = np.triu_indices(len(hsd.groupsunique), 1)
+    names = [str(g) for g in hsd.groupsunique]
+    comparisons = tuple(
+        TukeyComparison(
+            group1=names[i],
+            group2=names[j],
+            mean_diff=float(hsd.meandiffs[k]),
+            p_adj=float(hsd.pvalues[k]),
+            lower=float(hsd.confint[k, 0]),
+            upper=float(hsd.confint[k, 1]),
+            reject=bool(hsd.reject[k]),
+        )
+        for k, (i, j) in enumerate(zip(g1, g2))
+    )
+    means = tuple((g, float(y[groups == g].mean())) for g in names)
+    return TukeyResult(factor="bond", alpha=alpha, means=means, comparisons=comparisons)
+
+
+# --------------------------------------------------------------------------------------------
+# Helpers
+# --------------------------------------------------------------------------------------------
+
+
+def _plain(x: float | None) -> float | None:
+    return None if x is None else float(x)
+
+
+def _fmt(x: float | None, decimals: int) -> str:
+    return "" if x is None else f"{x:.{decimals}f}"
