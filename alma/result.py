@@ -14,8 +14,9 @@ import numpy as np
 from .associative import LPSolution
 from .model import Model
 
-#: Relative velocity below this fraction of the largest one counts as zero.
-MOTION_TOLERANCE = 1e-6
+#: Relative velocity below this fraction of the largest one counts as zero (the interior-point
+#: mechanism carries traces of the other optimal mechanisms at about this level).
+MOTION_TOLERANCE = 1e-4
 
 JOINT_STATES = ("rest", "hinging", "sliding", "separating")
 
@@ -55,6 +56,8 @@ class JointResult:
     length: float
     slip: float  # tangential relative velocity, mm per unit mechanism
     opening: tuple[float, float]  # normal relative velocity at the two ends
+    start: tuple[float, float]  # end points of the contact segment, mm
+    end: tuple[float, float]
 
 
 @dataclass(frozen=True)
@@ -168,12 +171,15 @@ def build_result(model: Model, lp: LPSolution, timings: dict[str, float], name: 
         force = normal_force[:, p, None] * joints.normal + tangent_force[:, p, None] * tangent
         moment += r[:, 0] * force[:, 1] - r[:, 1] * force[:, 0]
     length = joints.length
+    scale_u = model.n_free  # relative velocities in the reported mechanism's units (mm)
     joint_results = tuple(
         JointResult(blocks=(ids[a], ids[b]), N=float(n), T=float(t), M=float(mo), state=str(s),
-                    length=float(le), slip=float(sl), opening=(float(o0), float(o1)))
-        for a, b, n, t, mo, s, le, sl, o0, o1 in zip(
+                    length=float(le), slip=float(sl), opening=(float(o0), float(o1)),
+                    start=(float(p[0]), float(p[1])), end=(float(q[0]), float(q[1])))
+        for a, b, n, t, mo, s, le, sl, o0, o1, p, q in zip(
             joints.block_a, joints.block_b, normal_force.sum(axis=1), tangent_force.sum(axis=1), moment,
-            states, length, rel[:, :, 1].mean(axis=1), rel[:, 0, 0], rel[:, 1, 0])
+            states, length, rel[:, :, 1].mean(axis=1) * scale_u, rel[:, 0, 0] * scale_u, rel[:, 1, 0] * scale_u,
+            joints.start, joints.end)
     )
     return Result(
         model=name, status=lp.status, message=lp.message, alpha=lp.alpha,

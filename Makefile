@@ -1,0 +1,31 @@
+# Two commands do everything on a fresh machine:
+#   make demo   — set up .venv, then solve a paper panel and draw its mechanism
+#   make test   — set up .venv, then run pytest tests/ verification/
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed
+
+.PHONY: demo test bench venv clean
+
+venv: $(STAMP)
+
+$(STAMP): pyproject.toml constraints.txt
+	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet -c constraints.txt -e ".[test]"
+	touch $(STAMP)
+
+demo: $(STAMP)
+	mkdir -p demo
+	$(BIN)/alma panel --bond english --panel-ratio 1:1 --block-ratio 2:1 --friction 0.6 --plot demo/mechanism.png
+	@echo "picture written to demo/mechanism.png"
+
+test: $(STAMP)
+	$(BIN)/python -m pytest tests/ verification/ -q
+
+bench: $(STAMP)
+	$(BIN)/python benchmarks/bench_lp.py
+
+clean:
+	rm -rf $(VENV) demo .pytest_cache .hypothesis

@@ -1,0 +1,109 @@
+"""Command line (SPEC §3): ``alma solve``, ``alma panel`` and the study commands."""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from .panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, paper_panel
+from .scene import Scene, SceneError, load_scene
+from .solve import MODELS, solve
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="alma", description="Limit analysis of masonry block structures.")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    p_solve = sub.add_parser("solve", help="solve a scene file (SPEC §2)")
+    p_solve.add_argument("scene", help="scene JSON file")
+    _add_common(p_solve)
+    p_solve.set_defaults(func=_cmd_solve)
+
+    p_panel = sub.add_parser("panel", help="solve one of the paper's panels")
+    p_panel.add_argument("--bond", required=True, choices=BONDS)
+    p_panel.add_argument("--panel-ratio", required=True, choices=sorted(PANEL_HEIGHTS))
+    p_panel.add_argument("--block-ratio", required=True, choices=sorted(BLOCK_LENGTHS))
+    p_panel.add_argument("--friction", required=True, type=float)
+    p_panel.add_argument("--export-scene", metavar="OUT.json", help="write the panel as a scene file")
+    _add_common(p_panel)
+    p_panel.set_defaults(func=_cmd_panel)
+
+    try:
+        from . import study_cli
+    except ImportError:  # pragma: no cover — the study commands are optional extras
+        study_cli = None
+    if study_cli is not None:
+        study_cli.register(sub)
+
+    args = parser.parse_args(argv)
+    return int(args.func(args) or 0)
+
+
+def _add_common(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--model", default="associative", choices=MODELS)
+    p.add_argument("--certify", action="store_true", help="global certification (non-associative model)")
+    p.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
+    p.add_argument("--plot", metavar="OUT.png", help="write a picture of the collapse mechanism")
+
+
+def _cmd_solve(args: argparse.Namespace) -> int:
+    try:
+        scene = load_scene(args.scene)
+    except SceneError as exc:
+        return _invalid(exc, args)
+    return _run(scene, args)
+
+
+def _cmd_panel(args: argparse.Namespace) -> int:
+    try:
+        scene = paper_panel(args.bond, args.panel_ratio, args.block_ratio, args.friction)
+    except SceneError as exc:
+        return _invalid(exc, args)
+    if args.export_scene:
+        Path(args.export_scene).write_text(json.dumps(scene.to_dict(), indent=1))
+    return _run(scene, args)
+
+
+def _run(scene: Scene, args: argparse.Namespace) -> int:
+    if args.model != "associative" or args.certify:
+        what = f"--model {args.model}" if args.model != "associative" else "--certify"
+        print(f"alma: {what}: the non-associative solver (Eq. 9) is not available in this version",
+              file=sys.stderr)
+        return 2
+    try:
+        result = solve(scene, model=args.model)
+    except SceneError as exc:
+        return _invalid(exc, args)
+    if args.plot:
+        from .plot import plot_mechanism
+
+        plot_mechanism(scene, result, args.plot, title=scene.name or None)
+    if args.json:
+        print(json.dumps(result.to_dict()))
+    else:
+        b = result.bounds
+        print(f"{scene.name or 'scene'}")
+        print(f"  model      {result.model}")
+        print(f"  status     {result.status} — {result.message}")
+        print(f"  alpha      {result.alpha:.6f}")
+        print(f"  bounds     [{b.lower:.9f}, {b.upper:.9f}]  relative gap {b.gap:.1e}")
+        print(f"  mechanism  {result.mechanism_class}  ({result.extra['n_blocks']} blocks, "
+              f"{result.extra['n_joints']} joints)")
+        t = result.timings
+        print(f"  time       joints {t['joints_s']:.3f} s, build {t['build_s']:.3f} s, "
+              f"solve {t['solve_s']:.3f} s, certify {t['certify_s']:.3f} s")
+        if args.plot:
+            print(f"  picture    {args.plot}")
+    return 0
+
+
+def _invalid(exc: Exception, args: argparse.Namespace) -> int:
+    print(f"alma: invalid input: {exc}", file=sys.stderr)
+    if getattr(args, "json", False):
+        print(json.dumps({"status": "invalid_input", "message": str(exc)}))
+    return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,84 @@
+"""Pictures of collapse mechanisms: blocks in their displaced position, coloured by velocity."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .result import Result
+from .scene import Scene
+
+STATE_COLOURS = {"rest": None, "hinging": "tab:orange", "sliding": "tab:red", "separating": "tab:blue"}
+
+
+def plot_mechanism(scene: Scene, result: Result, path: str | Path, *, title: str | None = None,
+                   displacement: float = 0.08, ax=None) -> Path:
+    """Draw the mechanism of ``result`` on ``scene`` and save it as PNG.
+
+    Blocks are drawn displaced by the collapse velocity field scaled so that
+    the largest displacement is ``displacement`` × the scene size; face colour
+    is the block's speed, joint segments are coloured by state; α is in the title.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection, PolyCollection
+
+    path = Path(path)
+    motions = {b.id: np.array(b.u) for b in result.blocks}
+    all_xy = np.concatenate([b.vertices for b in scene.blocks])
+    size = float(np.ptp(all_xy, axis=0).max())
+    centroids = {b.id: b.centroid for b in scene.blocks}
+
+    def velocity(block_id: str, xy: np.ndarray) -> np.ndarray:
+        u = motions.get(block_id)
+        if u is None:
+            return np.zeros_like(xy)
+        r = xy - centroids[block_id]
+        return u[:2] + u[2] * np.column_stack([-r[:, 1], r[:, 0]])
+
+    speeds = [np.abs(velocity(b.id, b.vertices)).max() for b in scene.blocks]
+    peak = max(max(speeds), 1e-300)
+    scale = displacement * size / peak if result.status in ("optimal", "not_converged") else 0.0
+
+    polygons, colours = [], []
+    for block, speed in zip(scene.blocks, speeds):
+        polygons.append(block.vertices + scale * velocity(block.id, block.vertices))
+        colours.append(speed / peak if not block.fixed else np.nan)
+
+    own_figure = ax is None
+    if own_figure:
+        width = 7.0
+        extent = np.ptp(all_xy, axis=0)
+        fig, ax = plt.subplots(figsize=(width, max(3.0, min(12.0, width * extent[1] / max(extent[0], 1e-9)))))
+    cmap = matplotlib.colormaps["viridis"].copy()
+    cmap.set_bad("0.75")
+    collection = PolyCollection(polygons, array=np.ma.masked_invalid(colours), cmap=cmap, edgecolors="k",
+                                linewidths=0.3)
+    collection.set_clim(0, 1)
+    ax.add_collection(collection)
+    lines, line_colours = [], []
+    for joint in result.joints:
+        colour = STATE_COLOURS.get(joint.state)
+        if colour is None:
+            continue
+        lines.append(np.array([joint.start, joint.end]))
+        line_colours.append(colour)
+    if lines:
+        ax.add_collection(LineCollection(lines, colors=line_colours, linewidths=1.2))
+    ax.autoscale_view()
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+    alpha_text = f"α = {result.alpha:.4f}" if np.isfinite(result.alpha) else f"status: {result.status}"
+    ax.set_title((title + "\n" if title else "") + f"{alpha_text} ({result.model}, {result.mechanism_class})",
+                 fontsize=10)
+    if own_figure:
+        fig.colorbar(collection, ax=ax, label="relative speed", shrink=0.7)
+        handles = [plt.Line2D([], [], color=c, label=s) for s, c in STATE_COLOURS.items() if c]
+        ax.legend(handles=handles, loc="upper left", fontsize=7, title="joints", title_fontsize=7)
+        fig.tight_layout()
+        fig.savefig(path, dpi=130)
+        plt.close(fig)
+    return path
