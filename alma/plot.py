@@ -52,8 +52,7 @@ def plot_mechanism(scene: Scene, result: Result, path: str | Path, *, title: str
         width = 7.0
         extent = np.ptp(all_xy, axis=0)
         fig, ax = plt.subplots(figsize=(width, max(3.0, min(12.0, width * extent[1] / max(extent[0], 1e-9)))))
-    cmap = matplotlib.colormaps["viridis"].copy()
-    cmap.set_bad("0.75")
+    cmap = matplotlib.colormaps["viridis"].with_extremes(bad="0.75")  # fixed blocks in grey
     collection = PolyCollection(polygons, array=np.ma.masked_invalid(colours), cmap=cmap, edgecolors="k",
                                 linewidths=0.3)
     collection.set_clim(0, 1)
