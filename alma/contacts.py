@@ -66,8 +66,20 @@ class Joints:
 
 def reference_length(scene: "Scene") -> float:
     """√(mean block area): the length that makes the model dimensionless."""
-    areas = np.array([b.area for b in scene.blocks])
-    return float(np.sqrt(areas.mean()))
+    return float(np.sqrt(block_areas_and_centroids(scene)[0].mean()))
+
+
+def block_areas_and_centroids(scene: "Scene") -> tuple[np.ndarray, np.ndarray]:
+    """Areas (n,) and centroids (n, 2) of all blocks, vectorised over the flattened edges."""
+    edges = scene_edges(scene)
+    first = np.concatenate([[0], np.flatnonzero(np.diff(edges.block)) + 1])
+    origin = edges.start[first][edges.block]  # each polygon about its first vertex, for accuracy
+    p, q = edges.start - origin, edges.end - origin
+    cross = p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]
+    area = 0.5 * np.add.reduceat(cross, first)
+    cx = np.add.reduceat((p[:, 0] + q[:, 0]) * cross, first) / (6 * area)
+    cy = np.add.reduceat((p[:, 1] + q[:, 1]) * cross, first) / (6 * area)
+    return area, origin[first] + np.column_stack([cx, cy])
 
 
 def scene_edges(scene: "Scene") -> Edges:
@@ -93,11 +105,9 @@ def find_joints(scene: "Scene") -> Joints:
     outward = np.column_stack([direction[:, 1], -direction[:, 0]])  # CCW polygon: outward = right of edge
 
     # Canonical line: unit normal d with angle in [0, π); its sign s relates to the outward normal.
-    angle = np.arctan2(outward[:, 1], outward[:, 0])
-    sign = np.where(angle >= 0, 1.0, -1.0)
-    angle = np.where(angle >= 0, angle, angle + np.pi)
-    angle = np.where(angle >= np.pi, angle - np.pi, angle)  # arctan2 may return exactly π
-    d = outward * sign[:, None]
+    angle = np.mod(np.arctan2(outward[:, 1], outward[:, 0]), np.pi)
+    angle = np.where(angle >= np.pi, 0.0, angle)  # mod may round up to π
+    d = np.column_stack([np.cos(angle), np.sin(angle)])  # ±outward
     midpoint = 0.5 * (edges.start + edges.end)
     offset = (midpoint * d).sum(axis=1)
     along = midpoint[:, 0] * -d[:, 1] + midpoint[:, 1] * d[:, 0]

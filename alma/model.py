@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .contacts import Joints, find_joints, reference_length
+from .contacts import Joints, block_areas_and_centroids, find_joints
 from .scene import Scene, SceneError
 
 #: kN per (mm³ · kN/m³)
@@ -113,15 +113,15 @@ def build_model(scene: Scene, joints: Joints | None = None) -> Model:
     free_index = np.full(len(blocks), -1)
     free_index[free_blocks] = np.arange(free_blocks.size)
 
-    length_scale = reference_length(scene)
+    areas, centroids = block_areas_and_centroids(scene)
+    length_scale = float(np.sqrt(areas.mean()))
     all_vertices = np.concatenate([b.vertices for b in blocks])
     origin = 0.5 * (all_vertices.min(axis=0) + all_vertices.max(axis=0))
-    centroid_mm = np.array([blocks[i].centroid for i in free_blocks])
-    weight = np.array([
-        blocks[i].weight if blocks[i].weight is not None
-        else blocks[i].area * scene.thickness * scene.unit_weight * _MM3_TO_M3
-        for i in free_blocks
-    ])
+    centroid_mm = centroids[free_blocks]
+    weight = areas[free_blocks] * (scene.thickness * scene.unit_weight * _MM3_TO_M3)
+    overrides = [(k, blocks[i].weight) for k, i in enumerate(free_blocks) if blocks[i].weight is not None]
+    for k, value in overrides:
+        weight[k] = value
     # Forces in units of the mean block weight: every block's load is of order one, so the
     # solver's absolute tolerances act on each block's equilibrium, not on the whole wall's.
     force_scale = float(weight.mean())
