@@ -93,18 +93,25 @@ def solve_lp(model: Model, *, tolerance: float = 1e-11, max_iter: int = 200,
 
     # The certificate, not the solver's flag, decides: both fields admissible and the bounds close.
     gap = (upper - lower) / max(1.0, abs(upper))
-    certified = (gap <= GAP_TOLERANCE and static_residual <= RESIDUAL_TOLERANCE
-                 and kinematic_residual <= RESIDUAL_TOLERANCE)
-    if status in ("Solved", "AlmostSolved") and certified:
+    static_ok = static_residual <= RESIDUAL_TOLERANCE
+    kinematic_ok = kinematic_residual <= RESIDUAL_TOLERANCE
+    if not static_ok:
+        lower = -float("inf")  # the stress field proves nothing
+    if not kinematic_ok:
+        upper = float("inf")  # the mechanism proves nothing
+    zero = GAP_TOLERANCE * max(1.0, abs(upper) if np.isfinite(upper) else 1.0)
+    if kinematic_ok and upper < -zero:
+        # An admissible mechanism in which the dead load alone does positive work: α_c < 0.
+        result_status, message = "no_equilibrium", "the structure cannot carry its dead load (α_c < 0)"
+    elif static_ok and kinematic_ok and gap <= GAP_TOLERANCE and status in ("Solved", "AlmostSolved"):
         result_status = "optimal"
         message = f"certified: relative gap {gap:.1e} (Clarabel: {status})"
     else:
         result_status = "not_converged"
         message = (f"Clarabel status {status}; relative gap {gap:.2e}, residuals static "
                    f"{static_residual:.1e}, kinematic {kinematic_residual:.1e}")
-    if result_status == "optimal" and upper < 0:
-        result_status, message = "no_equilibrium", "the structure cannot carry its dead load (α_c < 0)"
-    return LPSolution(status=result_status, message=message, alpha=upper, lower=lower, upper=upper,
+    alpha = float(-model.dead @ u / (model.live @ u))
+    return LPSolution(status=result_status, message=message, alpha=alpha, lower=lower, upper=upper,
                       mechanism=u, multipliers=mu, static_residual=static_residual,
                       kinematic_residual=kinematic_residual, iterations=iterations,
                       solve_time=solve_time, certify_time=certify_time)

@@ -42,7 +42,11 @@ def main(argv: list[str] | None = None) -> int:
 
 def _add_common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--model", default="associative", choices=MODELS)
-    p.add_argument("--certify", action="store_true", help="global certification (non-associative model)")
+    p.add_argument("--certify", action="store_true",
+                   help="prove a lower bound of the non-associative α by mixed-integer LP")
+    p.add_argument("--effort", default="auto", choices=("auto", "fast", "thorough"),
+                   help="non-associative search effort (auto: thorough up to 200 blocks)")
+    p.add_argument("--time-limit", type=float, default=60.0, help="certification time limit, s")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p.add_argument("--plot", metavar="OUT.png", help="write a picture of the collapse mechanism")
 
@@ -66,13 +70,13 @@ def _cmd_panel(args: argparse.Namespace) -> int:
 
 
 def _run(scene: Scene, args: argparse.Namespace) -> int:
-    if args.model != "associative" or args.certify:
-        what = f"--model {args.model}" if args.model != "associative" else "--certify"
-        print(f"alma: {what}: the non-associative solver (Eq. 9) is not available in this version",
+    if args.certify and args.model == "associative":
+        print("alma: --certify applies to the non-associative model (--model nonassociative|both)",
               file=sys.stderr)
         return 2
     try:
-        result = solve(scene, model=args.model)
+        result = solve(scene, model=args.model, effort=args.effort, certify=args.certify,
+                       time_limit=args.time_limit)
     except SceneError as exc:
         return _invalid(exc, args)
     if args.plot:
@@ -87,6 +91,10 @@ def _run(scene: Scene, args: argparse.Namespace) -> int:
         print(f"  model      {result.model}")
         print(f"  status     {result.status} — {result.message}")
         print(f"  alpha      {result.alpha:.6f}")
+        if result.model != "associative":
+            print(f"  assoc. α   {result.alpha_associative:.6f}  (start: {result.extra.get('start')})")
+            if "certificate" in result.extra:
+                print(f"  certified  {result.extra['certificate']['message']}")
         print(f"  bounds     [{b.lower:.9f}, {b.upper:.9f}]  relative gap {b.gap:.1e}")
         print(f"  mechanism  {result.mechanism_class}  ({result.extra['n_blocks']} blocks, "
               f"{result.extra['n_joints']} joints)")

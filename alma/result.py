@@ -189,3 +189,49 @@ def build_result(model: Model, lp: LPSolution, timings: dict[str, float], name: 
         timings=timings,
         extra={"iterations": lp.iterations, "n_blocks": model.n_free, "n_joints": model.n_joints},
     )
+
+
+def build_nonassociative_result(model: Model, lp: LPSolution, solution, timings: dict[str, float],
+                                certificate=None, name: str = "nonassociative") -> Result:
+    """A :class:`Result` for the non-associative model (Eq. 9) from its best verified state.
+
+    ``bounds.upper`` is the α of the best verified collapse state (never above the
+    associative α); ``bounds.lower`` is the certified lower bound, 0 when not certified.
+    """
+    from dataclasses import replace
+
+    from .nonassociative import NonAssociativeSolution  # noqa: F401 (type only)
+
+    best = solution.best
+    if best is None:
+        base = build_result(model, lp, timings, name=name)
+        return replace(base, status=solution.status if solution.status != "optimal" else "not_converged",
+                       message=solution.message, alpha=float("nan"),
+                       bounds=Bounds(lower=certificate.lower if certificate else 0.0, upper=lp.alpha),
+                       extra=dict(base.extra, start=None, candidates=_candidates(solution)))
+    # Express the state in the LP's generator form so the shared joint/force code applies:
+    # N n + T t = μ⁺ (n + f t) + μ⁻ (n − f t) with μ± = (N ± T/f)/2 (f > 0).
+    friction = np.repeat(model.friction, 2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        plus = np.where(friction > 0, 0.5 * (best.normal + best.shear / friction), 0.5 * best.normal)
+        minus = np.where(friction > 0, 0.5 * (best.normal - best.shear / friction), 0.5 * best.normal)
+    multipliers = np.column_stack([plus, minus]).ravel()
+    lower = certificate.lower if certificate is not None else 0.0
+    state_lp = LPSolution(status=solution.status, message=solution.message, alpha=best.alpha,
+                          lower=lower, upper=best.alpha, mechanism=best.mechanism / model.n_free,
+                          multipliers=multipliers, static_residual=best.residuals.get("equilibrium", np.nan),
+                          kinematic_residual=best.residuals.get("interpenetration", np.nan),
+                          iterations=0, solve_time=0.0, certify_time=0.0)
+    base = build_result(model, state_lp, timings, name=name)
+    extra = dict(base.extra, start=best.start, candidates=_candidates(solution))
+    if certificate is not None:
+        extra["certificate"] = {"status": certificate.status, "message": certificate.message,
+                                "lower": certificate.lower, "upper": _finite(certificate.upper),
+                                "gap": _finite(certificate.gap), "time_s": certificate.time_s,
+                                "velocity_bound": _finite(certificate.velocity_bound),
+                                "velocity_bound_active": certificate.velocity_bound_active}
+    return replace(base, alpha_associative=lp.alpha, residuals=dict(best.residuals), extra=extra)
+
+
+def _candidates(solution) -> list[dict[str, Any]]:
+    return [{"start": c.start, "alpha": _finite(c.alpha), "verified": c.verified} for c in solution.candidates]

@@ -183,6 +183,14 @@ class Scene:
         for index, block in enumerate(self.blocks):
             if not block.fixed and not touched[index]:
                 raise SceneError(f"block '{block.id}': touches nothing — a free block needs at least one joint")
+        if self.joint_overrides:
+            index = {b.id: i for i, b in enumerate(self.blocks)}
+            pairs = set(zip(np.minimum(joints.block_a, joints.block_b).tolist(),
+                            np.maximum(joints.block_a, joints.block_b).tolist()))
+            for override in self.joint_overrides:
+                i, j = sorted(index[k] for k in override.blocks)
+                if (i, j) not in pairs:
+                    raise SceneError(f"joint {list(override.blocks)}: these blocks do not touch")
 
     # --------------------------------------------------------------- helpers
     @property
@@ -199,8 +207,8 @@ class Scene:
         blocks = tuple(dataclasses.replace(b, vertices=_ccw(b.vertices @ matrix.T + offset)) for b in self.blocks)
         gravity, live = self.gravity, self.live_load_direction
         if rotate_loads:
-            gravity = tuple(float(x) for x in matrix @ np.asarray(gravity))
-            live = tuple(float(x) for x in matrix @ np.asarray(live))
+            gravity = _direction(matrix @ np.asarray(gravity), "transformed gravity")
+            live = _direction(matrix @ np.asarray(live), "transformed live load direction")
         return dataclasses.replace(self, blocks=blocks, gravity=gravity, live_load_direction=live)
 
 
@@ -212,10 +220,13 @@ def load_scene(path: str | Path) -> Scene:
     except OSError as exc:
         raise SceneError(f"scene file '{path}': cannot be read ({exc.strerror})") from exc
     try:
-        data = json.loads(text, parse_constant=_reject_constant)
+        data = json.loads(text)  # NaN/Infinity parse to floats; validation names the block
     except json.JSONDecodeError as exc:
         raise SceneError(f"scene file '{path}': not valid JSON ({exc.msg} at line {exc.lineno})") from exc
-    return Scene.from_dict(data)
+    try:
+        return Scene.from_dict(data)
+    except SceneError as exc:
+        raise SceneError(f"scene file '{path}': {exc}") from exc
 
 
 # ---------------------------------------------------------------- geometry
@@ -337,7 +348,3 @@ def _direction(value: Iterable[Any], what: str) -> tuple[float, float]:
     if norm == 0:
         raise SceneError(f"{what} must be a non-zero vector")
     return (x / norm, y / norm)
-
-
-def _reject_constant(name: str) -> float:
-    raise SceneError(f"scene: {name} is not allowed (NaN or inf)")

@@ -3,28 +3,36 @@ from __future__ import annotations
 
 import time
 
+from dataclasses import replace
+
+import numpy as np
+
 from .associative import solve_lp
+from .certify import certify as certify_milp
+from .nonassociative import solve_nonassociative
 from .contacts import Joints, find_joints
 from .model import Model, build_model
-from .result import Result, build_result
+from .result import Result, build_nonassociative_result, build_result
 from .scene import Scene
 
 MODELS = ("associative", "nonassociative", "both")
 
 
 def solve(scene: Scene | Model, model: str = "associative", *, tolerance: float = 1e-11,
-          joints: Joints | None = None) -> Result:
+          joints: Joints | None = None, effort: str = "auto", certify: bool = False,
+          time_limit: float = 60.0) -> Result:
     """Collapse multiplier and mechanism of a scene.
 
     ``model="associative"`` solves the dilatant LP (Eq. 10) with certified
-    bounds.  A prebuilt :class:`~alma.model.Model` may be passed instead of a
-    scene to skip joint detection and assembly (e.g. when only friction changes).
+    bounds; ``"nonassociative"`` searches the collapse states of Eq. 9 (see
+    :mod:`alma.nonassociative`) from the LP solution, ``effort`` "fast",
+    "thorough" or "auto" (thorough up to 200 blocks), and with ``certify`` proves
+    a lower bound by MILP under ``time_limit`` seconds; ``"both"`` reports both
+    multipliers and their ratio.  A prebuilt :class:`~alma.model.Model` may be
+    passed instead of a scene to skip joint detection and assembly.
     """
     if model not in MODELS:
         raise ValueError(f"model must be one of {MODELS}, got {model!r}")
-    if model != "associative":
-        raise NotImplementedError(
-            f"model={model!r}: the non-associative solver (Eq. 9) is not available in this version")
     timings: dict[str, float] = {}
     if isinstance(scene, Model):
         built = scene
@@ -41,4 +49,26 @@ def solve(scene: Scene | Model, model: str = "associative", *, tolerance: float 
     lp = solve_lp(built, tolerance=tolerance)
     timings["solve_s"] = lp.solve_time
     timings["certify_s"] = lp.certify_time
-    return build_result(built, lp, timings)
+    if model == "associative":
+        return build_result(built, lp, timings)
+
+    if effort == "auto":
+        effort = "thorough" if built.n_free <= 200 else "fast"
+    t0 = time.perf_counter()
+    lp_ok = lp.status in ("optimal", "not_converged")
+    solution = solve_nonassociative(built, lp.mechanism if lp_ok else None,
+                                    lp.multipliers if lp_ok else None, effort=effort)
+    timings["nonassociative_s"] = time.perf_counter() - t0
+    timings.update({k: v for k, v in solution.timings.items()})
+    certificate = None
+    if certify:
+        mechanisms = [c.mechanism for c in solution.candidates] + ([lp.mechanism] if lp_ok else [])
+        certificate = certify_milp(built, lp.alpha, mechanisms, time_limit=time_limit)
+        timings["certification_s"] = certificate.time_s
+    result = build_nonassociative_result(built, lp, solution, timings, certificate,
+                                         name="both" if model == "both" else "nonassociative")
+    if model == "both":
+        extra = dict(result.extra, alpha_nonassociative=result.alpha,
+                     ratio=result.alpha / lp.alpha if lp.alpha not in (0.0,) and np.isfinite(lp.alpha) else None)
+        result = replace(result, extra=extra)
+    return result

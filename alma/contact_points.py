@@ -1,0 +1,36 @@
+"""Contact-point form of the model: normal and tangential force columns per point.
+
+Every joint has two contact points (its end points).  At point p the force on
+block b is ``N_p n + T_p t`` (and its opposite on block a).  The columns of
+``normal`` and ``tangent`` are the corresponding equilibrium contributions, so
+that Eq. 3 reads ``normal N + tangent T + f_0 + α f_L = 0``, and their
+transposes give the relative velocities at the points:
+``opening = normalᵀ u`` (ξ of Eq. 2, ≥ 0: no interpenetration) and
+``slip = tangentᵀ u`` (γ of Eq. 2).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from .model import Model
+
+
+@dataclass(frozen=True)
+class ContactPoints:
+    normal: sp.csc_matrix  # (3 n_free, P)
+    tangent: sp.csc_matrix  # (3 n_free, P)
+    friction: np.ndarray  # (P,)
+    joint: np.ndarray  # (P,) joint index of each point
+
+    @property
+    def count(self) -> int:
+        return int(self.friction.shape[0])
+
+    @classmethod
+    def from_model(cls, model: Model) -> "ContactPoints":
+        # Generator columns are ordered (joint, point, ±); the "+" columns carry n and +t.
+        return cls(normal=model.normal_part[:, 0::2].tocsc(), tangent=model.tangent_part[:, 0::2].tocsc(),
+                   friction=np.repeat(model.friction, 2), joint=np.repeat(np.arange(model.n_joints), 2))

@@ -1,0 +1,85 @@
+"""IPOPT polish of the non-associative problem (Eq. 9) with CasADi.
+
+Unknowns: α, contact forces (N, T) at every contact point, the mechanism u and
+the slip split γ = γ⁺ − γ⁻ (γ± ≥ 0).  Constraints: equilibrium (Eq. 3), yield
+|T| ≤ f N (Eq. 5), no interpenetration ξ = normalᵀu ≥ 0, f_Lᵀu = n_free
+(Eq. 8), and the complementarity of Eq. 7 with a Scholtes relaxation driven to
+zero: N ξ ≤ ε, (f N + T) γ⁺ ≤ ε, (f N − T) γ⁻ ≤ ε.  A tiny regularisation of
+the slips keeps multipliers of unloaded points bounded.  Sparse Jacobians and
+exact Hessians come from CasADi.  The result is only a start: its mechanism is
+turned into an exact, verified state by :func:`alma.nonassociative.exact_state`.
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from .contact_points import ContactPoints
+from .model import Model
+
+
+def _dm(matrix: sp.spmatrix):
+    import casadi as ca
+
+    m = sp.csc_matrix(matrix)
+    m.sort_indices()
+    return ca.DM(ca.Sparsity(m.shape[0], m.shape[1], m.indptr.tolist(), m.indices.tolist()), m.data.tolist())
+
+
+def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, seed=None,
+                 relaxations: tuple[float, ...] = (1e-2, 1e-4, 1e-6, 1e-8), max_iter: int = 300):
+    """A candidate collapse state from IPOPT started at ``mechanism`` (and the seed's forces)."""
+    import casadi as ca
+
+    from .nonassociative import exact_state
+
+    P, n = points.count, model.dead.shape[0]
+    alpha = ca.SX.sym("alpha")
+    N = ca.SX.sym("N", P)
+    T = ca.SX.sym("T", P)
+    u = ca.SX.sym("u", n)
+    gp = ca.SX.sym("gp", P)
+    gm = ca.SX.sym("gm", P)
+    eps = ca.SX.sym("eps")
+    An, At = _dm(points.normal), _dm(points.tangent)
+    f = ca.DM(points.friction)
+    opening = ca.mtimes(An.T, u)
+    g = ca.vertcat(
+        ca.mtimes(An, N) + ca.mtimes(At, T) + ca.DM(model.dead) + alpha * ca.DM(model.live),  # = 0
+        ca.mtimes(At.T, u) - gp + gm,                                                        # = 0
+        ca.dot(ca.DM(model.live), u) - model.n_free,                                          # = 0
+        f * N - T,                                                                            # ≥ 0
+        f * N + T,                                                                            # ≥ 0
+        opening,                                                                              # ≥ 0
+        N * opening - eps,                                                                    # ≤ 0
+        (f * N + T) * gp - eps,                                                               # ≤ 0
+        (f * N - T) * gm - eps,                                                               # ≤ 0
+    )
+    x = ca.vertcat(alpha, N, T, u, gp, gm)
+    objective = alpha + 1e-8 * (ca.sumsqr(gp) + ca.sumsqr(gm))
+    solver = ca.nlpsol("alma_nlncp", "ipopt", {"x": x, "p": eps, "f": objective, "g": g},
+                       {"ipopt.print_level": 0, "print_time": False, "ipopt.max_iter": max_iter,
+                        "ipopt.sb": "yes"})
+    n_eq = n + P + 1
+    lbg = np.concatenate([np.zeros(n_eq), np.zeros(3 * P), np.full(3 * P, -np.inf)])
+    ubg = np.concatenate([np.zeros(n_eq), np.full(3 * P, np.inf), np.zeros(3 * P)])
+    lbx = np.concatenate([[-np.inf], np.zeros(P), np.full(P, -np.inf), np.full(n, -np.inf), np.zeros(2 * P)])
+    ubx = np.full(lbx.shape, np.inf)
+
+    work = float(model.live @ mechanism)
+    u0 = mechanism * (model.n_free / work) if work > 0 else mechanism
+    slip = points.tangent.T @ u0
+    if seed is not None:
+        x0 = np.concatenate([[seed.alpha], seed.normal, seed.shear, u0, np.maximum(slip, 0), np.maximum(-slip, 0)])
+    else:
+        x0 = np.concatenate([[0.0], np.zeros(2 * P), u0, np.maximum(slip, 0), np.maximum(-slip, 0)])
+    best_u = None
+    for epsilon in relaxations:
+        sol = solver(x0=x0, p=epsilon, lbg=lbg, ubg=ubg, lbx=lbx, ubx=ubx)
+        if not solver.stats().get("success", False):
+            break
+        x0 = np.asarray(sol["x"]).ravel()
+        best_u = x0[1 + 2 * P:1 + 2 * P + n]
+    if best_u is None:
+        return None
+    return exact_state(model, points, best_u, "ipopt")

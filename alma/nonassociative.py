@@ -1,0 +1,284 @@
+"""Non-associative friction: the collapse states of Eq. 9 and the search for the lowest one.
+
+A *collapse state* is a load multiplier α, contact forces (N, T) at every
+contact point and a mechanism u (f_Lᵀu > 0) such that
+
+- equilibrium holds (Eq. 3) and forces are admissible (Eq. 4/5: N ≥ 0, |T| ≤ f N);
+- the mechanism is compatible (Eq. 2) with no interpenetration (opening ξ ≥ 0);
+- the non-associative flow rule and complementarity (Eqs. 6–7 with a slip that
+  does not dilate): an open point carries no force (N ξ = 0), and a point that
+  slips has its friction fully mobilised against the slip (T = −f N sign γ).
+
+Then α f_Lᵀu = −f_0ᵀu + Σ f N |γ| (virtual work: lifting plus friction
+dissipation).  Eq. 9 asks for the smallest such α; the problem is non-convex,
+so the answer here is the lowest *verified* state found from several starts:
+
+- ``lp``: the active set of the associative mechanism (Eq. 10);
+- ``gilbert``: the iterative LP of Gilbert, Casapulla & Ahmed (2006): Coulomb's
+  friction slope is driven to zero while the shear capacity is carried as a
+  fictitious cohesion f N̄ from the previous normal forces, until N = N̄;
+  started from several initial shear caps;
+- ``ipopt``: a CasADi/IPOPT polish of Eq. 9 with a Scholtes relaxation of the
+  complementarity (see ``alma.nlp``), on small scenes.
+
+Every candidate is turned into an exact point — its active set fixed, the
+smallest α of a static LP with that active set — and verified before it can be
+reported.  ``alma.certify`` proves lower bounds by mixed-integer programming.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import linprog
+
+from .contact_points import ContactPoints
+from .model import Model
+
+#: Verification tolerances (forces in mean block weights, velocities with f_Lᵀu = n_free).
+EQUILIBRIUM_TOLERANCE = 1e-7
+YIELD_TOLERANCE = 1e-7
+KINEMATIC_TOLERANCE = 1e-7
+ENERGY_TOLERANCE = 1e-6
+#: Relative velocity below this fraction of the largest counts as zero when reading an active set.
+ACTIVE_TOLERANCE = 1e-6
+#: HiGHS method for the static LPs (vertex solutions: simplex, or IPM with crossover).
+LP_METHOD = "highs"
+
+
+@dataclass(frozen=True)
+class CollapseState:
+    """A candidate collapse state and its verification residuals (all dimensionless)."""
+
+    alpha: float
+    normal: np.ndarray  # N at each contact point
+    shear: np.ndarray  # T at each contact point
+    mechanism: np.ndarray  # u (3 n_free), f_Lᵀu = n_free
+    start: str
+    residuals: dict[str, float] = field(default_factory=dict)
+    verified: bool = False
+
+
+@dataclass(frozen=True)
+class StaticLP:
+    status: str  # optimal | unbounded | infeasible | error
+    alpha: float
+    normal: np.ndarray
+    shear: np.ndarray
+    mechanism: np.ndarray | None
+
+
+def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np.ndarray,
+              maximise: bool = True, open_points: np.ndarray | None = None,
+              slip_sign: np.ndarray | None = None) -> StaticLP:
+    """The static problem on contact points, solved with HiGHS.
+
+    Yield: |T_p| ≤ slope_p N_p + cap_p (Coulomb: slope = f, cap = 0; Gilbert: slope
+    → 0, cap = (f − slope) N̄).  With an active set: N_p = 0 at ``open_points`` and
+    T_p = −slip_sign_p f_p N_p where ``slip_sign`` ≠ 0.
+    Variables (α, N, T); the mechanism is read from the equality duals.
+    """
+    P = points.count
+    n = model.dead.shape[0]
+    A_eq = sp.hstack([sp.csc_matrix(model.live[:, None]), points.normal, points.tangent]).tocsr()
+    b_eq = -model.dead
+    eye = sp.identity(P, format="csr")
+    rows = [sp.hstack([sp.csr_matrix((P, 1)), -sp.diags(slope), eye]),
+            sp.hstack([sp.csr_matrix((P, 1)), -sp.diags(slope), -eye])]
+    A_ub = sp.vstack(rows).tocsr()
+    b_ub = np.concatenate([cap, cap])
+    bounds = np.zeros((1 + 2 * P, 2))
+    bounds[0] = (-np.inf, np.inf)
+    bounds[1:1 + P] = (0, np.inf)
+    bounds[1 + P:] = (-np.inf, np.inf)
+    if open_points is not None and open_points.any():
+        bounds[1 + np.flatnonzero(open_points), 1] = 0.0
+    if slip_sign is not None and np.any(slip_sign != 0):
+        sliding = np.flatnonzero(slip_sign != 0)
+        extra = sp.csr_matrix((np.concatenate([slip_sign[sliding] * points.friction[sliding], np.ones(sliding.size)]),
+                               (np.tile(np.arange(sliding.size), 2), np.concatenate([1 + sliding, 1 + P + sliding]))),
+                              shape=(sliding.size, 1 + 2 * P))
+        A_eq = sp.vstack([A_eq, extra]).tocsr()
+        b_eq = np.concatenate([b_eq, np.zeros(sliding.size)])
+    c = np.zeros(1 + 2 * P)
+    c[0] = -1.0 if maximise else 1.0
+    res = linprog(c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq, bounds=bounds, method=LP_METHOD)
+    if res.status == 3:
+        return StaticLP("unbounded", np.inf if maximise else -np.inf, np.zeros(P), np.zeros(P), None)
+    if res.status == 2:
+        return StaticLP("infeasible", np.nan, np.zeros(P), np.zeros(P), None)
+    if res.status != 0:
+        return StaticLP("error", np.nan, np.zeros(P), np.zeros(P), None)
+    x = res.x
+    mechanism = None
+    if maximise and res.eqlin is not None:
+        y = -np.asarray(res.eqlin.marginals)[:n]  # ∂(−α)/∂b: f_Lᵀu = 1 at the optimum
+        work = model.live @ y
+        if work > 0:
+            mechanism = y * (model.n_free / work)
+    return StaticLP("optimal", float(x[0]), x[1:1 + P], x[1 + P:], mechanism)
+
+
+def active_set(model: Model, points: ContactPoints, mechanism: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Open points and slip signs of a mechanism (relative velocities below a threshold are zero)."""
+    opening = points.normal.T @ mechanism
+    slip = points.tangent.T @ mechanism
+    scale = max(float(np.abs(opening).max(initial=0.0)), float(np.abs(slip).max(initial=0.0)), 1e-300)
+    tol = ACTIVE_TOLERANCE * scale
+    open_points = opening > tol
+    slip_sign = np.where(slip > tol, 1.0, np.where(slip < -tol, -1.0, 0.0))
+    return open_points, slip_sign
+
+
+def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray, shear: np.ndarray,
+           mechanism: np.ndarray) -> tuple[dict[str, float], bool]:
+    """Residuals of a collapse state (equilibrium, yield, kinematics, complementarity, energy)."""
+    force_scale = max(1.0, float(np.abs(normal).max(initial=0.0)))
+    equilibrium = float(np.abs(points.normal @ normal + points.tangent @ shear + model.dead
+                               + alpha * model.live).max(initial=0.0))
+    yield_violation = float(max(np.maximum(-normal, 0).max(initial=0.0),
+                                np.maximum(np.abs(shear) - points.friction * normal, 0).max(initial=0.0)))
+    work = float(model.live @ mechanism)
+    u = mechanism * (model.n_free / work) if work > 0 else mechanism
+    opening = points.normal.T @ u
+    slip = points.tangent.T @ u
+    vel_scale = max(float(np.abs(opening).max(initial=0.0)), float(np.abs(slip).max(initial=0.0)), 1e-300)
+    penetration = float(np.maximum(-opening, 0).max(initial=0.0)) / vel_scale
+    open_force = float((np.maximum(normal, 0) * np.maximum(opening, 0)).max(initial=0.0)) / (force_scale * vel_scale)
+    # friction fully mobilised against the slip: f N |γ| + T γ = 0
+    slip_gap = float(np.abs(points.friction * np.maximum(normal, 0) * np.abs(slip) + shear * slip).max(initial=0.0)) \
+        / (force_scale * vel_scale)
+    dissipation = float(np.sum(points.friction * np.maximum(normal, 0) * np.abs(slip)))
+    energy = abs(alpha * (model.live @ u) + model.dead @ u - dissipation) / max(1.0, abs(model.dead @ u), dissipation)
+    residuals = {"equilibrium": equilibrium / force_scale, "yield": yield_violation / force_scale,
+                 "interpenetration": penetration, "open_with_force": open_force, "slip_not_mobilised": slip_gap,
+                 "energy_balance": float(energy), "live_load_work": work}
+    ok = (work > 0 and residuals["equilibrium"] <= EQUILIBRIUM_TOLERANCE
+          and residuals["yield"] <= YIELD_TOLERANCE
+          and penetration <= KINEMATIC_TOLERANCE and open_force <= KINEMATIC_TOLERANCE
+          and slip_gap <= KINEMATIC_TOLERANCE and energy <= ENERGY_TOLERANCE)
+    return residuals, bool(ok)
+
+
+def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, start: str) -> CollapseState | None:
+    """Fix the active set of a mechanism and take the smallest α of its static LP; verify it."""
+    work = float(model.live @ mechanism)
+    if not work > 0:
+        return None
+    mechanism = mechanism * (model.n_free / work)
+    open_points, slip_sign = active_set(model, points, mechanism)
+    lp = static_lp(model, points, slope=points.friction, cap=np.zeros(points.count), maximise=False,
+                   open_points=open_points, slip_sign=slip_sign)
+    if lp.status != "optimal":
+        return None
+    residuals, ok = verify(model, points, lp.alpha, lp.normal, lp.shear, mechanism)
+    return CollapseState(alpha=lp.alpha, normal=lp.normal, shear=lp.shear, mechanism=mechanism, start=start,
+                         residuals=residuals, verified=ok)
+
+
+def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, start: str = "gilbert",
+            relaxation: float = 0.5, slope_steps: int = 4, max_iter: int = 40,
+            tolerance: float = 1e-7) -> tuple[CollapseState | None, int]:
+    """Iterative LP of Gilbert, Casapulla & Ahmed (2006).
+
+    The friction slope is halved each step down to zero while the rest of the
+    shear capacity is a fictitious cohesion (f − slope) N̄ from the previous
+    normal forces; at slope zero the sliding flow rule has no dilatancy, and
+    the loop stops when N = N̄ (then |T| ≤ f N and the state is Coulomb's).
+    Returns the exact, verified state of the last mechanism, and the iterations used.
+    """
+    f = points.friction
+    n_bar = np.maximum(initial_normal, 0.0)
+    last = None
+    previous_set = None
+    for iteration in range(max_iter):
+        ratio = 0.5 ** (iteration + 1) if iteration < slope_steps else 0.0
+        slope = f * ratio
+        lp = static_lp(model, points, slope=slope, cap=(f - slope) * n_bar, maximise=True)
+        if lp.status != "optimal" or lp.mechanism is None:
+            return None, iteration + 1
+        last = lp
+        change = float(np.abs(lp.normal - n_bar).max(initial=0.0))
+        if ratio == 0.0 and change <= tolerance * max(1.0, float(np.abs(lp.normal).max(initial=0.0))):
+            break
+        if ratio == 0.0:
+            # Once the mechanism's active set repeats, its exact state usually verifies: stop early.
+            open_points, slip_sign = active_set(model, points, lp.mechanism)
+            current = (open_points.tobytes(), slip_sign.tobytes())
+            if current == previous_set:
+                state = exact_state(model, points, lp.mechanism, start)
+                if state is not None and state.verified:
+                    return state, iteration + 1
+            previous_set = current
+        n_bar = n_bar + relaxation * (lp.normal - n_bar)
+    if last is None:
+        return None, max_iter
+    return exact_state(model, points, last.mechanism, start), iteration + 1
+
+
+@dataclass(frozen=True)
+class NonAssociativeSolution:
+    status: str  # optimal (a verified state) | not_converged | no_collapse | no_equilibrium
+    message: str
+    best: CollapseState | None
+    candidates: tuple[CollapseState, ...]
+    timings: dict[str, float]
+
+
+def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
+                         associative_multipliers: np.ndarray | None, *, effort: str = "fast",
+                         polish: bool | None = None) -> NonAssociativeSolution:
+    """Lowest verified collapse state of Eq. 9 over several starts (see module docstring)."""
+    if effort not in ("fast", "thorough"):
+        raise ValueError(f"effort must be 'fast' or 'thorough', got {effort!r}")
+    points = ContactPoints.from_model(model)
+    timings: dict[str, float] = {}
+    candidates: list[CollapseState] = []
+
+    def add(state: CollapseState | None) -> None:
+        if state is not None:
+            candidates.append(state)
+
+    t0 = time.perf_counter()
+    if associative_mechanism is not None:
+        add(exact_state(model, points, associative_mechanism, "lp"))
+    timings["lp_start_s"] = time.perf_counter() - t0
+
+    # Normal forces of the associative static field (the two generators of each point).
+    if associative_multipliers is not None and associative_multipliers.size:
+        n_lp = associative_multipliers.reshape(-1, 2).sum(axis=1)
+    else:
+        n_lp = np.zeros(points.count)
+    scales = (1.0,) if effort == "fast" else (1.0, 0.5, 0.1, 0.0, 2.0)
+    t0 = time.perf_counter()
+    iterations = 0
+    for s in scales:
+        state, used = gilbert(model, points, s * n_lp, start=f"gilbert(N̄={s:g}·N_LP)")
+        iterations += used
+        add(state)
+    timings["gilbert_s"] = time.perf_counter() - t0
+    timings["gilbert_iterations"] = float(iterations)
+
+    if polish is None:
+        polish = effort == "thorough" and model.n_free <= 60
+    if polish:
+        from .nlp import ipopt_polish
+
+        t0 = time.perf_counter()
+        verified = [c for c in candidates if c.verified]
+        seed = min(verified, key=lambda c: c.alpha) if verified else None
+        mech = seed.mechanism if seed is not None else associative_mechanism
+        if mech is not None:
+            add(ipopt_polish(model, points, mech, seed))
+        timings["ipopt_s"] = time.perf_counter() - t0
+
+    verified = [c for c in candidates if c.verified]
+    if not verified:
+        return NonAssociativeSolution("not_converged", "no verified collapse state was found",
+                                      None, tuple(candidates), timings)
+    best = min(verified, key=lambda c: c.alpha)
+    status = "optimal" if best.alpha >= 0 else "no_equilibrium"
+    return NonAssociativeSolution(status, f"lowest verified collapse state from start '{best.start}'",
+                                  best, tuple(candidates), timings)

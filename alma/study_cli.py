@@ -1,0 +1,215 @@
+"""Command-line subcommands of the design of experiments: ``alma doe``, ``alma anova``, ``alma paper``.
+
+``register(subparsers)`` adds them to the ``alma`` parser (``parser.add_subparsers()``); each
+subparser's ``func`` is a handler ``handler(args) -> int`` returning the exit code:
+
+- 0: done; 1: some panels failed (rows with status ``error``, or panels lost to a crashed
+  worker) or the paper run failed; 2: bad input (design file, results CSV, options);
+  130: interrupted with Ctrl-C (everything finished is on disk; rerun to resume).
+"""
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import io
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+__all__ = ["register", "doe_handler", "anova_handler", "paper_handler", "paper_tables_dir"]
+
+
+def register(subparsers: Any) -> None:
+    """Add ``doe``, ``anova`` and ``paper`` to an argparse ``add_subparsers()`` object."""
+    p = subparsers.add_parser(
+        "doe", help="run (or resume) the paper's 108-panel full-factorial study",
+        description="Run the full-factorial design of Table 1 (108 panels by default). Every "
+                    "finished panel is appended to OUT/results.csv at once; panels already "
+                    "there are skipped, so an interrupted study resumes where it stopped.")
+    p.add_argument("--out", default="doe_results", metavar="DIR",
+                   help="output folder holding results.csv (default: doe_results)")
+    p.add_argument("--model", default="associative",
+                   choices=("associative", "nonassociative", "both"),
+                   help="contact model(s) (default: associative)")
+    p.add_argument("--workers", type=_positive_int, default=None, metavar="N",
+                   help="local worker processes (default: all cores)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="address of an existing Dask distributed scheduler, e.g. tcp://host:8786 "
+                        "(alma must be installed on its workers)")
+    p.add_argument("--design", default=None, metavar="FILE",
+                   help="TOML or JSON file of factor levels (panel_ratio, block_ratio, bond, "
+                        "friction); default: the paper's Table 1")
+    p.add_argument("--retry-errors", action="store_true",
+                   help="solve again the panels whose stored status is 'error'")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=doe_handler)
+
+    p = subparsers.add_parser(
+        "anova", help="ANOVA of a results CSV (Table 2 of the paper)",
+        description="ANOVA (main effects and interactions up to --order) of a results CSV with "
+                    "columns panel_ratio, block_ratio, bond, friction, alpha_c.")
+    p.add_argument("results", metavar="RESULTS.csv")
+    p.add_argument("--order", type=int, default=2, choices=(1, 2, 3),
+                   help="highest interaction order in the model (default: 2, as in Table 2)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--model", default=None,
+                   help="rows of this contact model only, when the CSV holds several")
+    p.set_defaults(func=anova_handler)
+
+    p = subparsers.add_parser(
+        "paper", help="regenerate the paper's tables and figures beside the published ones",
+        description="Run the associative study (resumable) and write Table 5, Table 2, the R² "
+                    "of Table 3, Figures 5-15 and comparison.md into DIR.")
+    p.add_argument("--out", required=True, metavar="DIR")
+    p.add_argument("--workers", type=_positive_int, default=None, metavar="N",
+                   help="local worker processes for the study (default: all cores)")
+    p.set_defaults(func=paper_handler)
+
+
+def _positive_int(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
+    return n
+
+
+def _error(message: str) -> None:
+    print(f"alma: error: {message}", file=sys.stderr)
+
+
+# ------------------------------------------------------------------------------------------
+# alma doe
+# ------------------------------------------------------------------------------------------
+
+
+def doe_handler(args: argparse.Namespace) -> int:
+    from alma.study import RESULTS_FILE, load_design, run_doe
+
+    design = None
+    if getattr(args, "design", None):
+        try:
+            design = load_design(args.design)
+        except ValueError as exc:
+            _error(str(exc))
+            return 2
+    try:
+        df = run_doe(args.out, model=args.model, workers=args.workers,
+                     scheduler=args.scheduler, design=design,
+                     progress=not getattr(args, "quiet", False),
+                     retry_errors=getattr(args, "retry_errors", False))
+    except KeyboardInterrupt:
+        return 130
+    except ValueError as exc:
+        _error(str(exc))
+        return 2
+    except (RuntimeError, OSError) as exc:
+        _error(str(exc))
+        return 1
+    path = Path(args.out) / RESULTS_FILE
+    failed = int((df["status"] == "error").sum())
+    counts = ", ".join(f"{n} {s}" for s, n in df["status"].value_counts().items())
+    print(f"{len(df)} results in {path} ({counts})")
+    if failed:
+        first = df.loc[df["status"] == "error", "message"].iloc[0]
+        print(f"{failed} failed, e.g.: {first}", file=sys.stderr)
+        return 1
+    return 0
+
+
+# ------------------------------------------------------------------------------------------
+# alma anova
+# ------------------------------------------------------------------------------------------
+
+
+def anova_handler(args: argparse.Namespace) -> int:
+    import pandas as pd
+
+    from alma.stats.anova import anova, load_results
+
+    path = Path(args.results)
+    if not path.is_file():
+        _error(f"{path}: no such file")
+        return 2
+    try:
+        df = _load_for_anova(path, getattr(args, "model", None), pd, load_results)
+        result = anova(df, order=args.order)
+    except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as exc:
+        _error(str(exc))
+        return 2
+    if args.json:
+        print(json.dumps(result.to_dict()))
+    else:
+        print(result.format_table())
+    return 0
+
+
+def _load_for_anova(path: Path, model: str | None, pd: Any, load_results: Any) -> Any:
+    """Table-5-like frame of one contact model (a doe results.csv may hold two)."""
+    try:
+        head = pd.read_csv(path, nrows=0)
+    except pd.errors.EmptyDataError:
+        raise ValueError(f"{path}: empty results file") from None
+    if "model" not in head.columns:
+        if model is not None:
+            raise ValueError(f"{path}: no 'model' column, --model cannot select rows")
+        return load_results(path)
+    raw = pd.read_csv(path, dtype=str, keep_default_na=False)
+    models = [m for m in dict.fromkeys(raw["model"].str.strip()) if m]
+    if model is None:
+        if len(models) > 1:
+            raise ValueError(f"{path}: rows of several models ({', '.join(models)}); "
+                             "choose one with --model")
+        return load_results(path)
+    if model not in models:
+        raise ValueError(f"{path}: no rows of model {model!r} (found: {', '.join(models) or 'none'})")
+    if "key" in raw.columns:
+        raw = raw.drop_duplicates("key", keep="last")
+    buf = io.StringIO(raw[raw["model"].str.strip() == model].to_csv(index=False))
+    try:
+        return load_results(buf)
+    except ValueError as exc:
+        raise ValueError(str(exc).replace(str(buf), f"{path} (model {model})")) from None
+
+
+# ------------------------------------------------------------------------------------------
+# alma paper
+# ------------------------------------------------------------------------------------------
+
+
+def paper_tables_dir() -> Path:
+    """The repository's ``paper_tables/`` folder, next to the ``alma`` package."""
+    import alma
+
+    return Path(alma.__file__).resolve().parents[1] / "paper_tables"
+
+
+def paper_handler(args: argparse.Namespace) -> int:
+    folder = paper_tables_dir()
+    script = folder / "make_paper.py"
+    if not script.is_file():
+        _error(f"paper_tables/make_paper.py not found (looked in {folder}); `alma paper` runs "
+               "from a source checkout of alma, where paper_tables/ sits next to the package")
+        return 2
+    spec = importlib.util.spec_from_file_location("alma_paper_tables_make_paper", script)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    try:
+        summary = module.make_paper(args.out, workers=getattr(args, "workers", None))
+    except KeyboardInterrupt:
+        return 130
+    except (RuntimeError, ValueError, OSError) as exc:
+        _error(str(exc))
+        return 1
+    if isinstance(summary, dict) and summary.get("report"):
+        s = summary
+        if "table5_match" in s:
+            print(f"Table 5: {s['table5_match']}/{s['table5_rows']} agree to 4 decimals; "
+                  f"Table 2: {s['table2_match']}/{s['table2_cells']} cells; "
+                  f"R² = {100 * s['r2']:.2f} %, R²(pred) = {100 * s['r2_pred']:.2f} %")
+        print(f"report: {s['report']}")
+    return 0
