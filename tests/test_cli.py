@@ -65,9 +65,20 @@ def test_panel_export_scene_round_trip(tmp_path, capsys):
     assert second["alpha"] == pytest.approx(first["alpha"], abs=1e-9)
 
 
-def test_nonassociative_refused_clearly(capsys):
+def test_model_both_reports_ratio(capsys):
     code = main(["panel", "--bond", "stack", "--panel-ratio", "2:1", "--block-ratio", "4:1",
-                 "--friction", "0.6", "--model", "nonassociative"])
+                 "--friction", "0.6", "--model", "both", "--json", "--effort", "fast"])
+    assert code == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["model"] == "both"
+    assert out["alpha_nonassociative"] == out["alpha"] <= out["alpha_associative"] + 1e-7
+    assert out["ratio"] == pytest.approx(out["alpha"] / out["alpha_associative"])
+    assert out["start"] and out["candidates"]
+
+
+def test_certify_needs_nonassociative_model(capsys):
+    code = main(["panel", "--bond", "stack", "--panel-ratio", "2:1", "--block-ratio", "4:1",
+                 "--friction", "0.6", "--certify"])
     assert code == 2
     assert "non-associative" in capsys.readouterr().err
 
