@@ -21,6 +21,9 @@ active at the optimum.
 """
 from __future__ import annotations
 
+import contextlib
+import os
+import sys
 import time
 from dataclasses import dataclass
 
@@ -30,6 +33,20 @@ from scipy.optimize import Bounds, LinearConstraint, linprog, milp
 
 from .contact_points import ContactPoints
 from .model import Model
+
+
+@contextlib.contextmanager
+def _stdout_to_stderr():
+    """Redirect the process's file descriptor 1 (C-level prints) to 2 for the duration."""
+    sys.stdout.flush()
+    saved = os.dup(1)
+    try:
+        os.dup2(2, 1)
+        yield
+    finally:
+        sys.stdout.flush()
+        os.dup2(saved, 1)
+        os.close(saved)
 
 
 @dataclass(frozen=True)
@@ -142,8 +159,9 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     c = np.zeros(nvar)
     c[i_alpha] = 1.0
     remaining = max(1.0, time_limit - (time.perf_counter() - t0))
-    res = milp(c, constraints=constraints, integrality=integrality, bounds=Bounds(lower, upper),
-               options={"time_limit": remaining, "mip_rel_gap": 1e-9})
+    with _stdout_to_stderr():  # HiGHS' MIP code prints debug lines on fd 1; keep --json stdout clean
+        res = milp(c, constraints=constraints, integrality=integrality, bounds=Bounds(lower, upper),
+                   options={"time_limit": remaining, "mip_rel_gap": 1e-9})
     elapsed = time.perf_counter() - t0
     dual = getattr(res, "mip_dual_bound", None)
     dual = float(dual) if dual is not None and np.isfinite(dual) else 0.0

@@ -89,3 +89,17 @@ def test_console_script_entry_point(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "alma.cli", "solve", str(path), "--json"],
                           capture_output=True, text=True, check=True)
     assert json.loads(proc.stdout)["status"] == "optimal"
+
+
+def test_certify_json_stdout_is_one_object(tmp_path):
+    """HiGHS' MIP prints on the C-level stdout; --json must still print exactly one object."""
+    blocks = [{"id": "g", "vertices": [[-1, -1], [4, -1], [4, 0], [-1, 0]], "fixed": True}]
+    blocks += [{"id": f"b{i}", "vertices": [[i, 0], [i + 1, 0], [i + 1, 2], [i, 2]]} for i in range(3)]
+    path = tmp_path / "three.json"
+    path.write_text(json.dumps({"friction": 1.0, "blocks": blocks}))
+    proc = subprocess.run([sys.executable, "-m", "alma.cli", "solve", str(path), "--model", "nonassociative",
+                           "--certify", "--json"], capture_output=True, text=True, check=True)
+    out = json.loads(proc.stdout)
+    assert out["alpha"] == pytest.approx(0.5, abs=1e-7)
+    assert out["certificate"]["status"] == "proven"
+    assert out["bounds"]["lower"] == pytest.approx(0.5, abs=1e-6)
