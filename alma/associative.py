@@ -87,7 +87,10 @@ def solve_lp(model: Model, *, tolerance: float = 1e-11, max_iter: int = 200,
     u = np.asarray(sol.x, dtype=float)
     z = np.asarray(sol.z, dtype=float)
     u, mu, alpha_static, static_residual, kinematic_residual = _certify(H, model, u, z[1:].copy(), -z[0])
-    upper = float(-model.dead @ u / (model.live @ u))
+    # A mechanism that breaks the flow rule by v_j only proves α ≤ (−f_0ᵀu + Σ v_j μ*_j) / f_Lᵀu:
+    # the violation work is charged with the certified stress field's multipliers.
+    violation_work = float(np.maximum(-(H.T @ u), 0.0) @ mu)
+    upper = float((-model.dead @ u + violation_work) / (model.live @ u))
     lower = alpha_static
     certify_time = time.perf_counter() - t0
 
@@ -110,7 +113,7 @@ def solve_lp(model: Model, *, tolerance: float = 1e-11, max_iter: int = 200,
         result_status = "not_converged"
         message = (f"Clarabel status {status}; relative gap {gap:.2e}, residuals static "
                    f"{static_residual:.1e}, kinematic {kinematic_residual:.1e}")
-    alpha = float(-model.dead @ u / (model.live @ u))
+    alpha = upper if np.isfinite(upper) else float(-model.dead @ u / (model.live @ u))
     return LPSolution(status=result_status, message=message, alpha=alpha, lower=lower, upper=upper,
                       mechanism=u, multipliers=mu, static_residual=static_residual,
                       kinematic_residual=kinematic_residual, iterations=iterations,

@@ -62,15 +62,19 @@ class Certificate:
     mechanism: np.ndarray | None
 
 
-def normal_force_bound(model: Model, points: ContactPoints, alpha_max: float) -> float | None:
-    """max Σ N over statically admissible fields with 0 ≤ α ≤ alpha_max (None if unbounded)."""
+def normal_force_bound(model: Model, points: ContactPoints, alpha_max: float,
+                       weights: np.ndarray | None = None) -> float | None:
+    """max wᵀN over statically admissible fields with 0 ≤ α ≤ alpha_max (None if unbounded).
+
+    With w = 1 this bounds every N_p at once; with w = e_p it is the tight bound of point p.
+    """
     P = points.count
     A_eq = sp.hstack([sp.csc_matrix(model.live[:, None]), points.normal, points.tangent]).tocsr()
     eye = sp.identity(P, format="csr")
     f = sp.diags(points.friction)
     A_ub = sp.vstack([sp.hstack([sp.csr_matrix((P, 1)), -f, eye]),
                       sp.hstack([sp.csr_matrix((P, 1)), -f, -eye])]).tocsr()
-    c = np.concatenate([[0.0], -np.ones(P), np.zeros(P)])
+    c = np.concatenate([[0.0], -(np.ones(P) if weights is None else weights), np.zeros(P)])
     bounds = [(0.0, alpha_max)] + [(0, None)] * P + [(None, None)] * P
     res = linprog(c, A_ub=A_ub, b_ub=np.zeros(2 * P), A_eq=A_eq, b_eq=-model.dead, bounds=bounds, method="highs")
     if res.status != 0:
@@ -79,7 +83,8 @@ def normal_force_bound(model: Model, points: ContactPoints, alpha_max: float) ->
 
 
 def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray], *,
-            time_limit: float = 60.0, velocity_factor: float = 10.0) -> Certificate:
+            time_limit: float = 60.0, velocity_factor: float = 10.0, alpha_best: float | None = None,
+            per_point_bounds: int = 400) -> Certificate:
     """Proven lower bound of the non-associative collapse multiplier (see module docstring)."""
     t0 = time.perf_counter()
     points = ContactPoints.from_model(model)
@@ -91,8 +96,15 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     if m_n is None:
         return Certificate("failed", "normal forces are unbounded (self-stress): no big-M bound exists",
                            0.0, np.inf, np.inf, time.perf_counter() - t0, np.nan, False, None)
-    m_n = 1.01 * m_n + 1e-9
-    m_t = float(points.friction.max(initial=0.0)) * m_n + m_n
+    # Tighter big-M per point (one small LP each) on scenes with few contact points.
+    alpha_cap = alpha_associative if alpha_best is None else min(alpha_associative, alpha_best)
+    if P <= per_point_bounds:
+        per_point = np.array([normal_force_bound(model, points, alpha_cap, np.eye(1, P, p).ravel()) or m_n
+                              for p in range(P)])
+    else:
+        per_point = np.full(P, m_n)
+    m_n = 1.01 * per_point + 1e-9
+    m_t = (points.friction + 1.0) * m_n
     size = max([float(np.abs(u).max()) for u in mechanisms if u is not None] + [1.0])
     U = velocity_factor * size
     row_norm_n = np.asarray(abs(points.normal).sum(axis=0)).ravel()
@@ -140,16 +152,17 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     add({i_u: points.tangent.T, i_sp: -I, i_sm: I}, P, 0.0, 0.0)
     add({i_u: model.live[None, :]}, 1, float(model.n_free), float(model.n_free))
     # complementarity by big-M
-    add({i_N: I, i_z: -m_n * I}, P, -np.inf, 0.0)
+    add({i_N: I, i_z: -sp.diags(m_n)}, P, -np.inf, 0.0)
     add({i_sp: I, i_yp: -m_v * I}, P, -np.inf, 0.0)
     add({i_sm: I, i_ym: -m_v * I}, P, -np.inf, 0.0)
-    add({i_N: F, i_T: I, i_yp: m_t * I}, P, -np.inf, m_t)
-    add({i_N: F, i_T: -I, i_ym: m_t * I}, P, -np.inf, m_t)
+    add({i_N: F, i_T: I, i_yp: sp.diags(m_t)}, P, -np.inf, m_t)
+    add({i_N: F, i_T: -I, i_ym: sp.diags(m_t)}, P, -np.inf, m_t)
     add({i_yp: I, i_ym: I}, P, 0.0, 1.0)
 
     lower = np.zeros(nvar)
     upper = np.full(nvar, np.inf)
-    lower[i_alpha], upper[i_alpha] = 0.0, alpha_associative
+    # α above the best verified state cannot be the minimum: cap it there (prunes the search).
+    lower[i_alpha], upper[i_alpha] = 0.0, alpha_cap
     upper[i_N:i_N + P] = m_n
     lower[i_T:i_T + P], upper[i_T:i_T + P] = -m_t, m_t
     lower[i_u:i_u + n], upper[i_u:i_u + n] = -U, U
@@ -181,9 +194,9 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
         gap = best - lower_bound
         status = "time_limit"
         message = f"time limit {time_limit:g} s reached; proven lower bound {lower_bound:.6g}"
-    elif res.status == 2:  # infeasible: no collapse state with α ≤ α_LP within the bounds
-        lower_bound, gap, status = alpha_associative, 0.0, "proven"
-        message = "no collapse state below the associative bound within the velocity bound"
+    elif res.status == 2:  # infeasible: no collapse state with α ≤ the cap within the bounds
+        lower_bound, gap, status = alpha_cap, 0.0, "proven"
+        message = "no collapse state below the cap (best verified state / associative bound)"
     else:
         lower_bound, gap, status = 0.0, np.inf, "failed"
         message = f"MILP failed: {res.message}"

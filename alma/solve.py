@@ -63,7 +63,8 @@ def solve(scene: Scene | Model, model: str = "associative", *, tolerance: float 
     certificate = None
     if certify:
         mechanisms = [c.mechanism for c in solution.candidates] + ([lp.mechanism] if lp_ok else [])
-        certificate = certify_milp(built, lp.alpha, mechanisms, time_limit=time_limit)
+        best = solution.best.alpha if solution.best is not None else None
+        certificate = certify_milp(built, lp.alpha, mechanisms, time_limit=time_limit, alpha_best=best)
         timings["certification_s"] = certificate.time_s
     result = build_nonassociative_result(built, lp, solution, timings, certificate,
                                          name="both" if model == "both" else "nonassociative")
