@@ -113,24 +113,28 @@ def find_joints(scene: "Scene") -> Joints:
     along = midpoint[:, 0] * -d[:, 1] + midpoint[:, 1] * d[:, 0]
 
     tol_len = DISTANCE_TOLERANCE * lref
+    facing_sign = np.where((outward * d).sum(axis=1) > 0, 1.0, -1.0)  # outward = ±d
     # Lines near angle 0 ≡ π are duplicated on the other side of the wrap so the tree sees them close.
     wrap = angle > np.pi - 1e3 * ANGLE_TOLERANCE
     ids = np.concatenate([np.arange(len(angle)), np.flatnonzero(wrap)])
     key_angle = np.concatenate([angle, angle[wrap] - np.pi])
     key_offset = np.concatenate([offset, -offset[wrap]])
     key_along = np.concatenate([along, -along[wrap]])
+    key_sign = np.concatenate([facing_sign, -facing_sign[wrap]])
     reach = float(length.max())
     points = np.column_stack([
         key_angle * (reach / ANGLE_TOLERANCE),
         key_offset * (reach / tol_len),
         key_along,
     ])
-    pairs = cKDTree(points).query_pairs(reach, p=np.inf, output_type="ndarray")
-    if pairs.size == 0:
+    # Facing edges have opposite outward normals: query only across the two orientations.
+    plus, minus = np.flatnonzero(key_sign > 0), np.flatnonzero(key_sign < 0)
+    found = cKDTree(points[plus]).sparse_distance_matrix(cKDTree(points[minus]), reach, p=np.inf,
+                                                           output_type="ndarray")
+    if found.size == 0:
         return _empty_joints()
-    i, j = ids[pairs[:, 0]], ids[pairs[:, 1]]
-    keep = (i != j) & (edges.block[i] != edges.block[j])
-    keep &= (outward[i] * outward[j]).sum(axis=1) < 0  # facing each other
+    i, j = ids[plus[found["i"]]], ids[minus[found["j"]]]
+    keep = edges.block[i] != edges.block[j]
     i, j = i[keep], j[keep]
     # dedupe pairs created by the wrap duplicates
     lo, hi = np.minimum(i, j), np.maximum(i, j)
