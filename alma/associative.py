@@ -132,9 +132,9 @@ def _certify(H: sp.csc_matrix, model: Model, u: np.ndarray, mu: np.ndarray,
       because the step is far below the support threshold, and α moves by the
       matching amount;
     - kinematic: the flow-rule rows V that the interior point violates
-      (Hᵀu < 0, by round-off) are closed by u += H_V w with (H_Vᵀ H_V) w = −H_Vᵀu;
-      rows that the step pushes below zero join V; a step that does not reduce
-      the largest violation is rejected; finally f_Lᵀu = 1 by scaling.
+      (Hᵀu < 0, by round-off) are closed by u += H_V w with (H_Vᵀ H_V) w = −H_Vᵀu
+      while nearly active rows are held; a step that does not reduce the largest
+      violation is rejected; finally f_Lᵀu is restored by scaling.
 
     Returns (u, μ, α_lower, static residual, kinematic residual).
     """

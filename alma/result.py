@@ -200,8 +200,6 @@ def build_nonassociative_result(model: Model, lp: LPSolution, solution, timings:
     """
     from dataclasses import replace
 
-    from .nonassociative import NonAssociativeSolution  # noqa: F401 (type only)
-
     best = solution.best
     if best is None:
         base = build_result(model, lp, timings, name=name)
