@@ -203,9 +203,13 @@ def build_nonassociative_result(model: Model, lp: LPSolution, solution, timings:
     best = solution.best
     if best is None:
         base = build_result(model, lp, timings, name=name)
-        return replace(base, status=solution.status if solution.status != "optimal" else "not_converged",
-                       message=solution.message, alpha=float("nan"),
-                       bounds=Bounds(lower=certificate.lower if certificate else 0.0, upper=lp.alpha),
+        status, message = "not_converged", solution.message
+        lower = certificate.lower if certificate else 0.0
+        if lp.status == "no_equilibrium":
+            # Radenkovic: α_NL ≤ α_LP, and the associative structure already cannot stand.
+            status, message, lower = "no_equilibrium", "α_nonassociative ≤ α_associative < 0 (Radenkovic)", -np.inf
+        return replace(base, status=status, message=message, alpha=float("nan"),
+                       bounds=Bounds(lower=lower, upper=lp.upper), alpha_associative=lp.alpha,
                        extra=dict(base.extra, start=None, candidates=_candidates(solution)))
     # Express the state in the LP's generator form so the shared joint/force code applies:
     # N n + T t = μ⁺ (n + f t) + μ⁻ (n − f t) with μ± = (N ± T/f)/2 (f > 0).

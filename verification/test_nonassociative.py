@@ -99,3 +99,13 @@ def test_rocking_without_sliding_models_agree():
     result = alma.solve(scene, model="nonassociative", certify=True, time_limit=10)
     assert result.alpha == pytest.approx(lp.alpha, rel=1e-7)
     assert result.bounds.lower == pytest.approx(lp.alpha, rel=1e-6)
+
+
+def test_structure_that_cannot_stand_is_no_equilibrium_in_both_models():
+    """A block held only by friction against a wall: α_LP < 0, hence α_NL ≤ α_LP < 0 (Radenkovic)."""
+    leaning = alma.Scene.from_dict({"blocks": [
+        {"id": "wall", "vertices": [[-10, 0], [0, 0], [0, 100], [-10, 100]], "fixed": True},
+        {"id": "b", "vertices": [[0, 10], [20, 10], [20, 30], [0, 30]]}]})
+    result = alma.solve(leaning, model="both")
+    assert result.status == "no_equilibrium"
+    assert result.bounds.upper < 0 and result.bounds.lower <= result.bounds.upper
