@@ -46,6 +46,8 @@ ENERGY_TOLERANCE = 1e-6
 ACTIVE_TOLERANCE = 1e-6
 #: HiGHS method for the static LPs (vertex solutions: simplex, or IPM with crossover).
 LP_METHOD = "highs"
+#: Seconds allowed to one static LP; a stalled LP counts as a failed start, not a hang.
+LP_TIME_LIMIT = 60.0
 
 
 @dataclass(frozen=True)
@@ -104,7 +106,9 @@ def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np
         b_eq = np.concatenate([b_eq, np.zeros(sliding.size)])
     c = np.zeros(1 + 2 * P)
     c[0] = -1.0 if maximise else 1.0
-    res = linprog(c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq, bounds=bounds, method=LP_METHOD)
+    # A time limit: HiGHS simplex was seen to stall for minutes on degenerate cap LPs of large walls.
+    res = linprog(c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq, bounds=bounds, method=LP_METHOD,
+                  options={"time_limit": LP_TIME_LIMIT})
     if res.status == 3:
         return StaticLP("unbounded", np.inf if maximise else -np.inf, np.zeros(P), np.zeros(P), None)
     if res.status == 2:
