@@ -69,14 +69,10 @@ def normal_force_bound(model: Model, points: ContactPoints, alpha_max: float,
     With w = 1 this bounds every N_p at once; with w = e_p it is the tight bound of point p.
     """
     P = points.count
-    A_eq = sp.hstack([sp.csc_matrix(model.live[:, None]), points.normal, points.tangent]).tocsr()
-    eye = sp.identity(P, format="csr")
-    f = sp.diags(points.friction)
-    A_ub = sp.vstack([sp.hstack([sp.csr_matrix((P, 1)), -f, eye]),
-                      sp.hstack([sp.csr_matrix((P, 1)), -f, -eye])]).tocsr()
+    A_eq, b_eq, A_ub = points.static_constraints(model, points.friction)
     c = np.concatenate([[0.0], -(np.ones(P) if weights is None else weights), np.zeros(P)])
     bounds = [(0.0, alpha_max)] + [(0, None)] * P + [(None, None)] * P
-    res = linprog(c, A_ub=A_ub, b_ub=np.zeros(2 * P), A_eq=A_eq, b_eq=-model.dead, bounds=bounds, method="highs")
+    res = linprog(c, A_ub=A_ub, b_ub=np.zeros(2 * P), A_eq=A_eq, b_eq=b_eq, bounds=bounds, method="highs")
     if res.status != 0:
         return None
     return float(-res.fun)

@@ -29,6 +29,21 @@ class ContactPoints:
     def count(self) -> int:
         return int(self.friction.shape[0])
 
+    def relative_velocities(self, u: np.ndarray) -> np.ndarray:
+        """(m, 2, 2) array [joint, end point, (opening ξ, slip γ)] of a mechanism u (Eq. 2)."""
+        return np.stack([self.normal.T @ u, self.tangent.T @ u], axis=1).reshape(-1, 2, 2)
+
+    def static_constraints(self, model: Model, slope: np.ndarray) -> tuple[sp.csr_matrix, np.ndarray, sp.csr_matrix]:
+        """Rows over x = (α, N, T): equilibrium A_eq x = b_eq (Eq. 3) and the yield rows
+        A_ub x ≤ cap of |T| ≤ slope N + cap (first T − sN, then −T − sN; Eq. 5 with cap = 0)."""
+        P = self.count
+        A_eq = sp.hstack([sp.csc_matrix(model.live[:, None]), self.normal, self.tangent]).tocsr()
+        eye = sp.identity(P, format="csr")
+        zero = sp.csr_matrix((P, 1))
+        A_ub = sp.vstack([sp.hstack([zero, -sp.diags(slope), eye]),
+                          sp.hstack([zero, -sp.diags(slope), -eye])]).tocsr()
+        return A_eq, -model.dead, A_ub
+
     @classmethod
     def from_model(cls, model: Model) -> "ContactPoints":
         # Generator columns are ordered (joint, point, ±); the "+" columns carry n and +t.

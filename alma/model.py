@@ -74,33 +74,6 @@ class Model:
         return dataclasses.replace(self, scene=self.scene.with_friction(friction),
                                    friction=np.full(self.n_joints, float(friction)))
 
-    def point_velocities(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Relative velocity (b minus a) at the two end points of every joint, dimensionless.
-
-        ``u`` is (3 n_free,) = (u, v, θ) per free block.  Returns arrays (m, 2, 2):
-        [joint, point, (normal, tangential)].
-        """
-        joints = self.joints
-        uu = np.vstack([u.reshape(-1, 3), np.zeros((1, 3))])  # last row: fixed blocks
-        ia = np.where(self.free_index[joints.block_a] >= 0, self.free_index[joints.block_a], -1)
-        ib = np.where(self.free_index[joints.block_b] >= 0, self.free_index[joints.block_b], -1)
-        cent = np.vstack([self.centroid, np.zeros((1, 2))])
-        points = np.stack([self._scaled(joints.start), self._scaled(joints.end)], axis=1)  # (m, 2, 2)
-        out = np.empty((joints.count, 2, 2))
-        tangent = joints.tangent
-        for p in range(2):
-            ra = points[:, p] - cent[ia]
-            rb = points[:, p] - cent[ib]
-            va = uu[ia, :2] + uu[ia, 2:3] * np.column_stack([-ra[:, 1], ra[:, 0]])
-            vb = uu[ib, :2] + uu[ib, 2:3] * np.column_stack([-rb[:, 1], rb[:, 0]])
-            rel = vb - va
-            out[:, p, 0] = (rel * joints.normal).sum(axis=1)
-            out[:, p, 1] = (rel * tangent).sum(axis=1)
-        return out
-
-    def _scaled(self, xy: np.ndarray) -> np.ndarray:
-        return (xy - self.origin) / self.length_scale
-
 
 def build_model(scene: Scene, joints: Joints | None = None) -> Model:
     """Assemble the sparse model of a validated scene (vectorised, no loop over joints)."""

@@ -84,12 +84,7 @@ def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np
     """
     P = points.count
     n = model.dead.shape[0]
-    A_eq = sp.hstack([sp.csc_matrix(model.live[:, None]), points.normal, points.tangent]).tocsr()
-    b_eq = -model.dead
-    eye = sp.identity(P, format="csr")
-    rows = [sp.hstack([sp.csr_matrix((P, 1)), -sp.diags(slope), eye]),
-            sp.hstack([sp.csr_matrix((P, 1)), -sp.diags(slope), -eye])]
-    A_ub = sp.vstack(rows).tocsr()
+    A_eq, b_eq, A_ub = points.static_constraints(model, slope)
     b_ub = np.concatenate([cap, cap])
     bounds = np.zeros((1 + 2 * P, 2))
     bounds[0] = (-np.inf, np.inf)
@@ -137,15 +132,10 @@ def static_lp_clarabel(model: Model, points: ContactPoints, *, slope: np.ndarray
 
     P = points.count
     n = model.dead.shape[0]
-    eye = sp.identity(P, format="csc")
-    zero_col = sp.csc_matrix((P, 1))
-    A = sp.vstack([
-        sp.hstack([sp.csc_matrix(model.live[:, None]), points.normal, points.tangent]),  # equilibrium
-        sp.hstack([zero_col, -sp.diags(slope), eye]),                                  # T − sN ≤ c
-        sp.hstack([zero_col, -sp.diags(slope), -eye]),                                 # −T − sN ≤ c
-        sp.hstack([zero_col, -eye, sp.csc_matrix((P, P))]),                            # −N ≤ 0
-    ]).tocsc()
-    b = np.concatenate([-model.dead, cap, cap, np.zeros(P)])
+    A_eq, b_eq, A_ub = points.static_constraints(model, slope)
+    non_negative = sp.hstack([sp.csr_matrix((P, 1)), -sp.identity(P), sp.csr_matrix((P, P))])  # −N ≤ 0
+    A = sp.vstack([A_eq, A_ub, non_negative]).tocsc()
+    b = np.concatenate([b_eq, cap, cap, np.zeros(P)])
     q = np.zeros(1 + 2 * P)
     q[0] = -1.0
     settings = clarabel.DefaultSettings()

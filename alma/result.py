@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from .associative import LPSolution
+from .contact_points import ContactPoints
 from .model import Model
 
 #: Relative velocity below this fraction of the largest one counts as zero (the interior-point
@@ -114,7 +115,7 @@ def joint_states(model: Model, mechanism: np.ndarray) -> tuple[np.ndarray, np.nd
     sliding: tangential slip; hinging: one end opens, the other stays closed;
     separating: both ends open; rest: no relative motion.
     """
-    rel = model.point_velocities(mechanism)
+    rel = ContactPoints.from_model(model).relative_velocities(mechanism)
     scale = max(float(np.abs(rel).max(initial=0.0)), float(np.abs(mechanism).max(initial=0.0)), 1e-300)
     tol = MOTION_TOLERANCE * scale
     slip = rel[:, :, 1].mean(axis=1)

@@ -38,7 +38,6 @@ import time
 import warnings
 from pathlib import Path
 
-import clarabel
 import numpy as np
 import pandas as pd
 import scipy.sparse as sp
@@ -51,6 +50,7 @@ if str(ROOT) not in sys.path:
 import alma  # noqa: E402
 from alma.associative import solve_lp  # noqa: E402
 from alma.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS  # noqa: E402
+from bench_lp import plain_clarabel  # noqa: E402  (same directory: the shared baseline)
 
 DEFAULT_TOLERANCE = 1e-11
 TOLERANCES = (1e-6, 1e-8, 1e-10, 1e-11)
@@ -62,21 +62,6 @@ def alma_method(tol: float):
         r = alma.solve(model, tolerance=tol)
         return r.alpha, r.status
     return run
-
-
-def clarabel_plain(model, time_limit):
-    """The kinematic LP straight into Clarabel, default settings, no certification."""
-    H = model.equilibrium
-    n, k = H.shape
-    A = sp.vstack([sp.csr_matrix(model.live), -H.T]).tocsc()
-    b = np.zeros(1 + k)
-    b[0] = 1.0
-    settings = clarabel.DefaultSettings()
-    settings.verbose = False
-    settings.time_limit = float(time_limit)
-    sol = clarabel.DefaultSolver(sp.csc_matrix((n, n)), -model.dead, A, b,
-                                 [clarabel.ZeroConeT(1), clarabel.NonnegativeConeT(k)], settings).solve()
-    return float(sol.obj_val), str(sol.status)
 
 
 def _static_arrays(model):
@@ -129,7 +114,7 @@ def method_table():
     for tol in TOLERANCES:
         name = f"alma tol={tol:.0e}" + (" (default)" if tol == DEFAULT_TOLERANCE else "")
         methods[name] = alma_method(tol)
-    methods["clarabel plain"] = clarabel_plain
+    methods["clarabel plain"] = plain_clarabel
     methods["highs-ipm"] = highs_static("highs-ipm")
     methods["highs-ipm no crossover"] = highs_static("highs-ipm", crossover=False)
     methods["highs-ds"] = highs_static("highs-ds")

@@ -26,8 +26,10 @@ from alma.model import build_model
 from alma.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, wall
 
 
-def plain_clarabel(model) -> float:
-    """Baseline: the kinematic LP straight into Clarabel, default settings, no certification."""
+def plain_clarabel(model, time_limit: float | None = None) -> tuple[float, str]:
+    """Baseline: the kinematic LP straight into Clarabel, default settings, no certification.
+
+    Returns (α, Clarabel status)."""
     H = model.equilibrium
     n, k = H.shape
     A = sp.vstack([sp.csr_matrix(model.live), -H.T]).tocsc()
@@ -35,9 +37,11 @@ def plain_clarabel(model) -> float:
     b[0] = 1.0
     settings = clarabel.DefaultSettings()
     settings.verbose = False
+    if time_limit is not None:
+        settings.time_limit = float(time_limit)
     sol = clarabel.DefaultSolver(sp.csc_matrix((n, n)), -model.dead, A, b,
                                  [clarabel.ZeroConeT(1), clarabel.NonnegativeConeT(k)], settings).solve()
-    return float(sol.obj_val)
+    return float(sol.obj_val), str(sol.status)
 
 
 def median_time(fn, repeat: int) -> tuple[float, object]:

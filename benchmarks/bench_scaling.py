@@ -105,7 +105,6 @@ def main() -> None:
         print(json.dumps(worker(args.worker, args.repeat, args.solve_runs)))
         return
 
-    import numpy as np
     import pandas as pd
 
     out = Path(args.out)

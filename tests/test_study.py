@@ -25,7 +25,7 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 import alma  # noqa: E402
-from alma import study, study_cli  # noqa: E402
+from alma import study_cli  # noqa: E402
 from alma.study import COLUMNS, PAPER_DESIGN, Design, load_design, panel_key, read_results, run_doe  # noqa: E402
 
 TABLE5 = ROOT / "verification" / "data" / "table5_collapse_multipliers.csv"

@@ -28,7 +28,6 @@ import math
 import warnings
 
 import numpy as np
-import pytest
 import scipy.sparse as sp
 from hypothesis import HealthCheck, example, given, reject, settings
 from hypothesis import strategies as st
