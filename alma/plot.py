@@ -81,3 +81,45 @@ def plot_mechanism(scene: Scene, result: Result, path: str | Path, *, title: str
         fig.savefig(path, dpi=130)
         plt.close(fig)
     return path
+
+
+def plot_side_by_side(scene: Scene, results: "list[Result] | tuple[Result, ...]", path: str | Path, *,
+                      titles: "list[str | None] | None" = None, suptitle: str | None = None,
+                      displacement: float = 0.08) -> Path:
+    """Draw the mechanisms of several results of the same scene side by side and save a PNG.
+
+    Typically the associative and the non-associative solution of one panel; each panel of
+    the figure is :func:`plot_mechanism` (α, model and mechanism class in its title, after
+    the optional entry of ``titles``), with one shared speed colour bar and joint legend.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    results = list(results)
+    if not results:
+        raise ValueError("no result to draw")
+    titles = list(titles) if titles is not None else [None] * len(results)
+    if len(titles) != len(results):
+        raise ValueError(f"{len(titles)} titles for {len(results)} results")
+    path = Path(path)
+    all_xy = np.concatenate([b.vertices for b in scene.blocks])
+    extent = np.ptp(all_xy, axis=0)
+    width = 5.5
+    height = max(3.0, min(10.0, width * extent[1] / max(extent[0], 1e-9)))
+    fig, axes = plt.subplots(1, len(results), figsize=(width * len(results) + 1.2, height + 0.8),
+                             squeeze=False)
+    for ax, result, title in zip(axes[0], results, titles):
+        plot_mechanism(scene, result, path, title=title, displacement=displacement, ax=ax)
+    collection = axes[0][-1].collections[0] if axes[0][-1].collections else None
+    if collection is not None:
+        fig.colorbar(collection, ax=list(axes[0]), label="relative speed", shrink=0.7)
+    handles = [plt.Line2D([], [], color=c, label=s) for s, c in STATE_COLOURS.items() if c]
+    axes[0][0].legend(handles=handles, loc="upper left", fontsize=7, title="joints", title_fontsize=7)
+    if suptitle:
+        fig.suptitle(suptitle, fontsize=11)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    return path

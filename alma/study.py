@@ -63,7 +63,16 @@ COLUMNS: tuple[str, ...] = (
     "panel_ratio", "block_ratio", "bond", "friction", "alpha_c",
     "model", "status", "alpha_lower", "alpha_upper", "gap", "mechanism_class",
     "joints_s", "build_s", "solve_s", "certify_s", "message", "alma_version", "key",
+    # Added for the model comparison (``alma compare``); older files are migrated on open.
+    "alpha_associative", "ratio", "start", "alpha_lp_start", "lp_start_verified",
+    "n_candidates", "n_verified", "nonassociative_s", "n_blocks", "effort",
 )
+#: The columns of results files written before the comparison columns were added.
+_LEGACY_COLUMNS = COLUMNS[:18]
+#: Numeric columns of ``results.csv``.
+_NUMERIC = ("friction", "alpha_c", "alpha_lower", "alpha_upper", "gap", "joints_s", "build_s",
+            "solve_s", "certify_s", "alpha_associative", "ratio", "alpha_lp_start",
+            "n_candidates", "n_verified", "nonassociative_s", "n_blocks")
 RESULTS_FILE = "results.csv"
 
 _PANEL_RATIOS = ("2:1", "1:1", "1:2")
@@ -247,6 +256,7 @@ class _Task:
     bond: str
     items: tuple[tuple[float, str, str], ...]  # (friction, model, key) still to do
     version: str
+    effort: str | None = None  # non-associative search effort (None: alma.solve's default)
 
     @property
     def size(self) -> float:
@@ -270,6 +280,7 @@ def _row(task: _Task, friction: float, model: str, key: str, *, result: Any = No
         "friction": float(friction), "model": model, "alma_version": task.version, "key": key,
     }
     t = dict(timings or {})
+    row["effort"] = "" if model == "associative" else (task.effort or "auto")
     if result is not None:
         t.update({k: v for k, v in result.timings.items() if k in ("solve_s", "certify_s")})
         row.update({
@@ -278,6 +289,7 @@ def _row(task: _Task, friction: float, model: str, key: str, *, result: Any = No
             "gap": _num(result.bounds.gap), "mechanism_class": str(result.mechanism_class or ""),
             "message": str(getattr(result, "message", "") or ""),
         })
+        row.update(_comparison_fields(result, model))
     else:
         row.update({"alpha_c": math.nan, "status": "error", "alpha_lower": math.nan,
                     "alpha_upper": math.nan, "gap": math.nan, "mechanism_class": "",
@@ -285,6 +297,33 @@ def _row(task: _Task, friction: float, model: str, key: str, *, result: Any = No
     for name in ("joints_s", "build_s", "solve_s", "certify_s"):
         row[name] = float(t.get(name, 0.0))
     return row
+
+
+def _comparison_fields(result: Any, model: str) -> dict[str, Any]:
+    """Columns of the model comparison: the associative α beside the non-associative one,
+    their ratio, the winning start, the α of the start from the LP mechanism ("lp"; NaN
+    when the search has no such candidate), candidate counts and the search time."""
+    extra = getattr(result, "extra", None) or {}
+    alpha_lp = _num(getattr(result, "alpha_associative", math.nan))
+    n_blocks = extra.get("n_blocks")
+    out: dict[str, Any] = {"alpha_associative": alpha_lp,
+                           "n_blocks": int(n_blocks) if isinstance(n_blocks, (int, float)) else math.nan}
+    if model == "associative":
+        return out
+    alpha = _num(result.alpha)
+    ratio = alpha / alpha_lp if math.isfinite(alpha) and math.isfinite(alpha_lp) and alpha_lp > 0 else math.nan
+    candidates = [c for c in extra.get("candidates") or [] if isinstance(c, dict)]
+    lp = [c for c in candidates if c.get("start") == "lp"]
+    out.update({
+        "ratio": ratio,
+        "start": str(extra.get("start") or ""),
+        "alpha_lp_start": _num(lp[0].get("alpha")) if lp else math.nan,
+        "lp_start_verified": str(bool(lp[0].get("verified"))) if lp else "",
+        "n_candidates": len(candidates),
+        "n_verified": sum(bool(c.get("verified")) for c in candidates),
+        "nonassociative_s": _num(result.timings.get("nonassociative_s", math.nan)),
+    })
+    return out
 
 
 def _error_text(exc: BaseException) -> str:
@@ -333,7 +372,8 @@ def _solve_task(task: _Task, emit: Callable[[dict[str, Any]], None] | None = Non
                 t0 = time.perf_counter()
                 built[friction] = base.with_friction(friction)
                 timings["build_s"] += time.perf_counter() - t0
-            result = alma.solve(built[friction], model=model)
+            kwargs = {"effort": task.effort} if task.effort and model != "associative" else {}
+            result = alma.solve(built[friction], model=model, **kwargs)
         except Exception as exc:
             out(_row(task, friction, model, key, error=_error_text(exc), timings=timings))
         else:
@@ -408,6 +448,10 @@ class _ResultsFile:
         text = data.decode("utf-8")
         reader = csv.reader(text.splitlines())
         header = next(reader, None)
+        if header is not None and header != list(COLUMNS) and _is_legacy_header(header):
+            text = self._migrate(text, header)
+            reader = csv.reader(text.splitlines())
+            header = next(reader, None)
         if header != list(COLUMNS):
             raise ValueError(
                 f"{path}: not a results file of this alma version (columns {header}); "
@@ -418,6 +462,26 @@ class _ResultsFile:
             row = dict(zip(COLUMNS, fields))
             if row["key"]:
                 self.rows[row["key"]] = row
+
+    def _migrate(self, text: str, header: list[str]) -> str:
+        """Rewrite a file of an older column set with the current header (new columns empty).
+
+        Written to a temporary file and renamed over the old one, so a kill leaves either
+        the old or the new file, never a mix.
+        """
+        buf = _LineBuffer()
+        writer = csv.writer(buf, lineterminator="\n")
+        writer.writerow(COLUMNS)
+        for fields in csv.reader(text.splitlines()[1:]):
+            if len(fields) == len(header):
+                writer.writerow(fields + [""] * (len(COLUMNS) - len(header)))
+        tmp = self.path.with_name(self.path.name + ".migrating")
+        with open(tmp, "w", encoding="utf-8", newline="") as fh:
+            fh.write(buf.text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, self.path)
+        return buf.text
 
     def append(self, row: dict[str, Any]) -> None:
         buf = _LineBuffer()
@@ -431,6 +495,12 @@ class _ResultsFile:
         self._fh.close()
 
 
+def _is_legacy_header(header: list[str]) -> bool:
+    """A header of an older alma: a proper prefix of :data:`COLUMNS`, at least the legacy ones."""
+    n = len(header)
+    return len(_LEGACY_COLUMNS) <= n < len(COLUMNS) and header == list(COLUMNS[:n])
+
+
 class _LineBuffer:
     def __init__(self) -> None:
         self.text = ""
@@ -441,15 +511,19 @@ class _LineBuffer:
 
 def read_results(path: str | os.PathLike[str]) -> pd.DataFrame:
     """Read a ``results.csv`` written by :func:`run_doe` (last row per key wins)."""
+    text_columns = ("message", "mechanism_class", "start", "lp_start_verified", "effort")
     df = pd.read_csv(path, dtype={"panel_ratio": str, "block_ratio": str, "bond": str,
                                   "model": str, "status": str, "mechanism_class": str,
-                                  "message": str, "alma_version": str, "key": str},
+                                  "message": str, "alma_version": str, "key": str,
+                                  "start": str, "lp_start_verified": str, "effort": str},
                      keep_default_na=False, na_values={c: [""] for c in COLUMNS
-                                                       if c not in ("message", "mechanism_class")})
-    for col in ("friction", "alpha_c", "alpha_lower", "alpha_upper", "gap",
-                "joints_s", "build_s", "solve_s", "certify_s"):
+                                                       if c not in text_columns})
+    for col in _NUMERIC:
         if col in df.columns:
             df[col] = pd.to_numeric(df[col], errors="coerce")
+    for col in COLUMNS:  # a file of an older alma: the newer columns are empty
+        if col not in df.columns and "key" in df.columns:
+            df[col] = math.nan if col in _NUMERIC else ""
     if "key" in df.columns:
         df = df.drop_duplicates("key", keep="last")
     return df.reset_index(drop=True)
@@ -552,7 +626,8 @@ def _models(model: str) -> tuple[str, ...]:
 
 def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
             workers: int | None = None, scheduler: Any = None, design: Design | str | os.PathLike[str] | None = None,
-            progress: bool = True, retry_errors: bool = False) -> pd.DataFrame:
+            progress: bool = True, retry_errors: bool = False,
+            effort: str | None = None) -> pd.DataFrame:
     """Run (or resume) the full-factorial study and return its rows in Table 5 order.
 
     ``out_dir/results.csv`` receives one line per finished panel and model. Panels whose key
@@ -562,10 +637,16 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
     ``scheduler`` (an address or a ``distributed.Client``). Ctrl-C stops the workers; every
     row finished before it is on disk, and ``KeyboardInterrupt`` is raised again.
 
+    ``effort`` ("auto", "fast" or "thorough") is passed to :func:`alma.solve` for the
+    non-associative model and is part of those rows' keys (``None``: ``alma.solve``'s default,
+    the same key as "auto"); associative rows do not depend on it.
+
     The returned frame has the columns :data:`COLUMNS`, one row per panel of ``design`` and
     model, ``friction`` and the α columns as floats.
     """
     models = _models(model)
+    if effort is not None and effort not in ("auto", "fast", "thorough"):
+        raise ValueError(f"effort must be auto, fast or thorough, got {effort!r}")
     if design is None:
         design = PAPER_DESIGN
     elif not isinstance(design, Design):
@@ -580,18 +661,21 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
     try:
         version = _alma_version()
         settings = _solver_settings()
+        na_settings = dict(settings, effort=effort) if effort is not None else settings
         wanted: list[str] = []
         todo: dict[tuple[str, str, str], list[tuple[float, str, str]]] = {}
         for friction in design.friction:
             for geometry in design.geometries:
                 for m in models:
-                    key = panel_key(*geometry, friction, m, version=version, settings=settings)
+                    key = panel_key(*geometry, friction, m, version=version,
+                                    settings=settings if m == "associative" else na_settings)
                     wanted.append(key)
                     done = results.rows.get(key)
                     if done is not None and not (retry_errors and done["status"] == "error"):
                         continue
                     todo.setdefault(geometry, []).append((friction, m, key))
-        tasks = [_Task(p, b, bond, tuple(items), version) for (p, b, bond), items in todo.items()]
+        tasks = [_Task(p, b, bond, tuple(items), version, effort)
+                 for (p, b, bond), items in todo.items()]
         tasks.sort(key=lambda t: t.size, reverse=True)  # largest first: better load balance
 
         remaining = sum(len(t.items) for t in tasks)

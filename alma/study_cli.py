@@ -1,4 +1,5 @@
-"""Command-line subcommands of the design of experiments: ``alma doe``, ``alma anova``, ``alma paper``.
+"""Command-line subcommands of the design of experiments: ``alma doe``, ``alma anova``,
+``alma paper`` and ``alma compare``.
 
 ``register(subparsers)`` adds them to the ``alma`` parser (``parser.add_subparsers()``); each
 subparser's ``func`` is a handler ``handler(args) -> int`` returning the exit code:
@@ -17,11 +18,12 @@ import sys
 from pathlib import Path
 from typing import Any
 
-__all__ = ["register", "doe_handler", "anova_handler", "paper_handler", "paper_tables_dir"]
+__all__ = ["register", "doe_handler", "anova_handler", "paper_handler", "compare_handler",
+           "paper_tables_dir"]
 
 
 def register(subparsers: Any) -> None:
-    """Add ``doe``, ``anova`` and ``paper`` to an argparse ``add_subparsers()`` object."""
+    """Add ``doe``, ``anova``, ``paper`` and ``compare`` to an argparse ``add_subparsers()`` object."""
     p = subparsers.add_parser(
         "doe", help="run (or resume) the paper's 108-panel full-factorial study",
         description="Run the full-factorial design of Table 1 (108 panels by default). Every "
@@ -64,7 +66,35 @@ def register(subparsers: Any) -> None:
     p.add_argument("--out", required=True, metavar="DIR")
     p.add_argument("--workers", type=_positive_int, default=None, metavar="N",
                    help="local worker processes for the study (default: all cores)")
+    p.add_argument("--nonassociative", action="store_true",
+                   help="also run the non-associative model on the same panels and write the "
+                        "comparison report of `alma compare` into DIR/nonassociative/")
+    p.add_argument("--effort", default=None, choices=("auto", "fast", "thorough"),
+                   help="non-associative search effort with --nonassociative (default: auto)")
     p.set_defaults(func=paper_handler)
+
+    p = subparsers.add_parser(
+        "compare", help="associative against non-associative α on the paper's panels, with ANOVA",
+        description="Run the study with both contact models (resumable, like `alma doe`: "
+                    "DIR/results.csv) and write DIR/compare.csv, DIR/compare.md (gaps, "
+                    "multi-start, failures, times, the two-way ANOVA of α_NL and of "
+                    "α_NL/α_LP) and DIR/figures/ (mechanisms side by side where the models "
+                    "differ most, main-effects plots).")
+    p.add_argument("--out", required=True, metavar="DIR")
+    p.add_argument("--design", default=None, metavar="FILE",
+                   help="TOML or JSON file of factor levels (default: the paper's 108 panels)")
+    p.add_argument("--workers", type=_positive_int, default=None, metavar="N",
+                   help="local worker processes (default: all cores)")
+    p.add_argument("--effort", default=None, choices=("auto", "fast", "thorough"),
+                   help="non-associative search effort (default: auto = thorough up to 200 blocks)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="address of an existing Dask distributed scheduler")
+    p.add_argument("--figures", type=int, default=6, metavar="N",
+                   help="draw the N panels where the models differ most (default: 6; 0: none)")
+    p.add_argument("--retry-errors", action="store_true",
+                   help="solve again the panels whose stored status is 'error'")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=compare_handler)
 
 
 def _positive_int(text: str) -> int:
@@ -198,8 +228,11 @@ def paper_handler(args: argparse.Namespace) -> int:
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
+    kwargs: dict[str, Any] = {}
+    if getattr(args, "nonassociative", False):
+        kwargs = {"nonassociative": True, "effort": getattr(args, "effort", None)}
     try:
-        summary = module.make_paper(args.out, workers=getattr(args, "workers", None))
+        summary = module.make_paper(args.out, workers=getattr(args, "workers", None), **kwargs)
     except KeyboardInterrupt:
         return 130
     except (RuntimeError, ValueError, OSError) as exc:
@@ -212,4 +245,50 @@ def paper_handler(args: argparse.Namespace) -> int:
                   f"Table 2: {s['table2_match']}/{s['table2_cells']} cells; "
                   f"R² = {100 * s['r2']:.2f} %, R²(pred) = {100 * s['r2_pred']:.2f} %")
         print(f"report: {s['report']}")
+        if s.get("compare_report"):
+            print(f"non-associative comparison: {s['compare_report']}")
+    return 0
+
+
+# ------------------------------------------------------------------------------------------
+# alma compare
+# ------------------------------------------------------------------------------------------
+
+
+def compare_handler(args: argparse.Namespace) -> int:
+    from alma.compare import run_compare
+    from alma.study import load_design
+
+    design = None
+    if getattr(args, "design", None):
+        try:
+            design = load_design(args.design)
+        except ValueError as exc:
+            _error(str(exc))
+            return 2
+    if getattr(args, "figures", 6) < 0:
+        _error("--figures must be >= 0")
+        return 2
+    try:
+        report = run_compare(args.out, design=design, workers=args.workers, effort=args.effort,
+                             scheduler=getattr(args, "scheduler", None),
+                             progress=not getattr(args, "quiet", False),
+                             retry_errors=getattr(args, "retry_errors", False),
+                             n_figures=getattr(args, "figures", 6))
+    except KeyboardInterrupt:
+        return 130
+    except ValueError as exc:
+        _error(str(exc))
+        return 2
+    except (RuntimeError, OSError) as exc:
+        _error(str(exc))
+        return 1
+    t = report.table
+    ratio = t["ratio"].dropna()
+    gap = f", largest gap 1 - α_NL/α_LP = {1 - ratio.min():.4f}" if len(ratio) else ""
+    print(f"{len(t)} panels{gap}; table {report.csv}; report {report.markdown}; "
+          f"{len(report.figures)} figures in {report.out / 'figures'}")
+    if report.failed:
+        print(f"{report.failed} result(s) failed; see {report.markdown}", file=sys.stderr)
+        return 1
     return 0

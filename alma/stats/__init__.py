@@ -24,6 +24,7 @@ from alma.stats.anova import (
     r2_pred_balanced,
     standardized_effects,
     tukey_bond,
+    varying_factors,
 )
 
 __all__ = [
@@ -45,4 +46,5 @@ __all__ = [
     "r2_pred_balanced",
     "standardized_effects",
     "tukey_bond",
+    "varying_factors",
 ]

@@ -48,6 +48,7 @@ __all__ = [
     "pareto_reference",
     "standardized_effects",
     "tukey_bond",
+    "varying_factors",
 ]
 
 # CSV column -> source name used in Table 2, in the paper's order (Table 1: A, B, C, D).
@@ -278,9 +279,28 @@ def load_results(path: str | PathLike[str]) -> pd.DataFrame:
 # --------------------------------------------------------------------------------------------
 
 
-def _sources(order: int) -> list[tuple[str, ...]]:
+def _factor_pairs(factors: Sequence[str] | None) -> list[tuple[str, str]]:
+    """(column, source name) of the chosen factor columns, in Table 1 order (all by default)."""
+    if factors is None:
+        return list(FACTORS)
+    known = {col for col, _ in FACTORS}
+    unknown = [f for f in factors if f not in known]
+    if unknown:
+        raise ValueError(f"unknown factor {unknown[0]!r}; factors are {', '.join(sorted(known))}")
+    chosen = [(col, name) for col, name in FACTORS if col in set(factors)]
+    if not chosen:
+        raise ValueError("at least one factor is needed")
+    return chosen
+
+
+def varying_factors(df: pd.DataFrame) -> list[str]:
+    """Factor columns of ``df`` with at least two levels (a sub-design may fix some factors)."""
+    return [col for col, _ in FACTORS if col in df.columns and df[col].nunique() >= 2]
+
+
+def _sources(order: int, factors: Sequence[str] | None = None) -> list[tuple[str, ...]]:
     """Model terms up to ``order`` as tuples of source names, in Table 2 order."""
-    names = [name for _, name in FACTORS]
+    names = [name for _, name in _factor_pairs(factors)]
     terms: list[tuple[str, ...]] = []
     for k in range(1, order + 1):
         terms.extend(itertools.combinations(names, k))
@@ -293,20 +313,22 @@ def _patsy_term(term: tuple[str, ...]) -> str:
     return ":".join(f"C({name}, Sum)" for name in term)
 
 
-def _prepare(df: pd.DataFrame, response: str) -> pd.DataFrame:
-    missing = [c for c, _ in FACTORS if c not in df.columns]
+def _prepare(df: pd.DataFrame, response: str, factors: Sequence[str] | None = None) -> pd.DataFrame:
+    pairs = _factor_pairs(factors)
+    missing = [c for c, _ in pairs if c not in df.columns]
     if response not in df.columns:
         missing.append(response)
     if missing:
         raise ValueError(f"missing column {missing[0]!r}")
-    data = pd.DataFrame({name: df[col].to_numpy() for col, name in FACTORS})
-    for col, name in FACTORS:
+    data = pd.DataFrame({name: df[col].to_numpy() for col, name in pairs})
+    for col, name in pairs:
         if data[name].isna().any():
             raise ValueError(f"column {col!r} has missing values")
         if data[name].nunique() < 2:
             raise ValueError(f"column {col!r} has a single level; it cannot be a factor")
     # Friction is a factor (3 levels), not a covariate: make it categorical explicitly.
-    data["Friction"] = [format(float(v), ".10g") for v in data["Friction"]]
+    if "Friction" in data.columns:
+        data["Friction"] = [format(float(v), ".10g") for v in data["Friction"]]
     y = pd.to_numeric(df[response], errors="coerce").to_numpy(dtype=float)
     if not np.all(np.isfinite(y)):
         raise ValueError(f"column {response!r} has missing or non-finite values")
@@ -315,29 +337,35 @@ def _prepare(df: pd.DataFrame, response: str) -> pd.DataFrame:
 
 
 def fit_model(
-    df: pd.DataFrame, response: str = "alpha_c", order: int = 2
+    df: pd.DataFrame, response: str = "alpha_c", order: int = 2,
+    factors: Sequence[str] | None = None,
 ) -> RegressionResultsWrapper:
-    """OLS fit of the ANOVA model (main effects + interactions up to ``order``)."""
+    """OLS fit of the ANOVA model (main effects + interactions up to ``order``) of the
+    ``factors`` columns (default: the four of Table 1)."""
     if order not in range(1, _MAX_ORDER + 1):
         raise ValueError(
             f"order must be 1, 2 or 3 (got {order!r}); order 4 leaves no error DoF "
             "in a single-replicate design"
         )
-    data = _prepare(df, response)
-    formula = "y ~ " + " + ".join(_patsy_term(t) for t in _sources(order))
+    data = _prepare(df, response, factors)
+    formula = "y ~ " + " + ".join(_patsy_term(t) for t in _sources(order, factors))
     return smf.ols(formula, data=data).fit()
 
 
-def anova(df: pd.DataFrame, response: str = "alpha_c", order: int = 2) -> AnovaResult:
+def anova(df: pd.DataFrame, response: str = "alpha_c", order: int = 2,
+          factors: Sequence[str] | None = None) -> AnovaResult:
     """ANOVA table of Table 2 (paper, Appendix A, Eqs. 14-16) via statsmodels.
 
     Factors are categorical with sum contrasts; terms are tested with adjusted (Type III)
     sums of squares — for the balanced 108-panel design identical to the sequential ones and
     to the closed forms of Eq. 16. Interactions above ``order`` are pooled into Error.
     Group rows (Linear, Two-Way Interactions, ...) and Model are joint tests of all their
-    coefficients, as Minitab reports them.
+    coefficients, as Minitab reports them. ``factors`` restricts the model to some of the
+    factor columns (e.g. :func:`varying_factors` of a sub-design that fixes the others).
     """
-    res = fit_model(df, response, order)
+    if factors is not None and order > len(_factor_pairs(factors)):
+        raise ValueError(f"order {order} needs at least {order} factors (got {len(factors)})")
+    res = fit_model(df, response, order, factors)
     n = int(res.nobs)
     dfe = int(round(res.df_resid))
     if dfe <= 0:
@@ -365,7 +393,7 @@ def anova(df: pd.DataFrame, response: str = "alpha_c", order: int = 2) -> AnovaR
         ss = float(np.squeeze(test.fvalue)) * dof * mse
         return _row(name, dof, ss, mse, dfe)
 
-    terms = _sources(order)
+    terms = _sources(order, factors)
     df_model = int(round(res.df_model))
     rows: list[AnovaRow] = [_row("Model", df_model, sst - sse, mse, dfe)]
     for k in range(1, order + 1):

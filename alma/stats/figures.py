@@ -40,6 +40,7 @@ from alma.stats.anova import (  # noqa: E402
 __all__ = [
     "pareto_chart",
     "main_effects_plot",
+    "main_effects_overlay",
     "interaction_plot_matrix",
     "residual_plots",
     "scale_factor_plots",
@@ -149,25 +150,47 @@ def pareto_chart(result: AnovaResult, path: str | PathLike[str], alpha: float = 
 
 
 def main_effects_plot(
-    df: pd.DataFrame, path: str | PathLike[str], response: str = "alpha_c"
+    df: pd.DataFrame, path: str | PathLike[str], response: str = "alpha_c",
+    ylabel: str | None = None, title: str | None = None,
 ) -> Path:
     """Main effects plot (Figure 5): mean response at each level of each factor, the other
     factors averaged out (e.g. the 2:1 point is the mean of the 36 panels with ratio 2:1)."""
-    data = _normalized(df, response)
-    grand = float(data[response].mean())
+    return main_effects_overlay(df, path, {response: None}, ylabel=ylabel or _RESPONSE_LABEL,
+                                title=title or f"Main effects plot for {response}")
+
+
+def main_effects_overlay(
+    df: pd.DataFrame, path: str | PathLike[str], responses: dict[str, str | None],
+    ylabel: str = _RESPONSE_LABEL, title: str | None = None,
+) -> Path:
+    """Main effects of several responses of the same panels on shared axes (one line per
+    response, labelled by the values of ``responses``; e.g. the associative and the
+    non-associative α), each with its grand mean dashed."""
+    if not responses:
+        raise ValueError("no response to plot")
+    frames = {r: _normalized(df, r) for r in responses}
     factors = [c for c, _ in FACTORS]
     fig, axes = plt.subplots(1, len(factors), figsize=(3.2 * len(factors), 3.6), sharey=True)
-    for ax, col in zip(axes, factors):
-        levels = _levels(data, col)
-        means = _means(data, [col], response)
-        ax.plot(range(len(levels)), [means[v] for v in levels], "o-", color="tab:blue")
-        ax.axhline(grand, color="gray", linestyle="--", linewidth=0.8)
-        ax.set_xticks(range(len(levels)), [_level_label(col, v) for v in levels])
-        ax.set_xlim(-0.5, len(levels) - 0.5)
-        ax.set_title(_LABELS[col])
-        ax.grid(alpha=0.3)
-    axes[0].set_ylabel(_RESPONSE_LABEL)
-    fig.suptitle(f"Main effects plot for {response}")
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for k, (response, label) in enumerate(responses.items()):
+        data = frames[response]
+        grand = float(data[response].mean())
+        colour = colours[k % len(colours)]
+        for ax, col in zip(axes, factors):
+            levels = _levels(data, col)
+            means = _means(data, [col], response)
+            ax.plot(range(len(levels)), [means[v] for v in levels], "o-", color=colour,
+                    label=label if col == factors[0] else None)
+            ax.axhline(grand, color=colour if len(responses) > 1 else "gray", linestyle="--",
+                       linewidth=0.8)
+            ax.set_xticks(range(len(levels)), [_level_label(col, v) for v in levels])
+            ax.set_xlim(-0.5, len(levels) - 0.5)
+            ax.set_title(_LABELS[col])
+            ax.grid(alpha=0.3)
+    axes[0].set_ylabel(ylabel)
+    if any(label for label in responses.values()):
+        axes[0].legend(fontsize=8)
+    fig.suptitle(title or "Main effects plot for " + ", ".join(responses))
     fig.tight_layout()
     return _save(fig, path)
 

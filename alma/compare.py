@@ -1,0 +1,617 @@
+"""Associative against non-associative collapse multipliers: ``alma compare``.
+
+The report is built on the study of :mod:`alma.study`: the design (the paper's 108 panels or
+a design file) is run with ``model="both"`` into ``OUT/results.csv`` — append-only, keyed,
+resumable after a kill, parallel — and everything else is derived from that file:
+
+- ``OUT/compare.csv``: one row per panel, α of the associative LP (``alpha_lp``) and of the
+  non-associative search (``alpha_nl``), their ratio, the mechanism class and solve time of
+  each, the winning start of the search and the α of its start from the LP mechanism;
+- ``OUT/compare.md``: the summary (gaps, what the multi-start adds over the LP-started
+  candidate, failures, times), the two-way ANOVA (as Table 2 of the paper) of α_NL and of the
+  ratio α_NL/α_LP with R², R²(adj), R²(pred) and the Pareto ordering of the terms, a paragraph
+  on the factors whose effect changes without dilatancy (computed from those numbers), and
+  the table of all panels;
+- ``OUT/figures/``: the two mechanisms side by side for the panels where the models differ
+  most, and the main-effects plots of α_NL, of the ratio and of both α.
+
+A rerun solves nothing already in ``results.csv``; only the report and the figures of panels
+whose results changed are redrawn.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from .study import PAPER_DESIGN, RESULTS_FILE, Design, load_design, read_results, run_doe
+
+__all__ = ["COMPARE_COLUMNS", "CompareReport", "compare_table", "run_compare", "write_report"]
+
+FACTOR_COLUMNS = ("panel_ratio", "block_ratio", "bond", "friction")
+#: Columns of ``compare.csv``, in order.
+COMPARE_COLUMNS: tuple[str, ...] = (
+    "panel_ratio", "block_ratio", "bond", "friction", "n_blocks",
+    "alpha_lp", "alpha_nl", "ratio", "status_lp", "status_nl", "mechanism_lp", "mechanism_nl",
+    "time_lp_s", "time_nl_s", "start_nl", "alpha_lp_start", "lp_start_verified", "lp_start_gain",
+    "n_candidates", "n_verified", "effort", "message_nl", "key_lp", "key_nl",
+)
+#: α_NL below α_LP by more than this (relative) counts as "the models differ".
+DIFFER_TOLERANCE = 1e-6
+#: α_NL may exceed α_LP by this much (absolute) before it counts as a violation of α_NL ≤ α_LP.
+BOUND_TOLERANCE = 1e-7
+SIGNIFICANCE = 0.05
+_LABELS = {"panel_ratio": "Panel", "block_ratio": "Block", "bond": "Bond", "friction": "Friction"}
+
+
+@dataclass
+class CompareReport:
+    """What :func:`run_compare` wrote, and the numbers of its summary."""
+
+    out: Path
+    table: pd.DataFrame
+    csv: Path
+    markdown: Path
+    figures: list[Path] = field(default_factory=list)
+    failed: int = 0
+    notes: list[str] = field(default_factory=list)
+
+
+# ------------------------------------------------------------------------------------------
+# The table
+# ------------------------------------------------------------------------------------------
+
+
+def compare_table(results: pd.DataFrame) -> pd.DataFrame:
+    """One row per panel from the associative and non-associative rows of a study.
+
+    ``ratio`` is α_NL/α_LP (NaN unless both are finite and α_LP > 0); ``time_lp_s`` is the
+    LP solve and certification time of the associative row, ``time_nl_s`` the non-associative
+    search of the other row (which starts from its own LP solution); ``lp_start_gain`` is
+    α of the verified LP-started candidate minus α_NL (what the other starts added).
+    """
+    lp = results[results["model"] == "associative"].set_index(list(FACTOR_COLUMNS))
+    nl = results[results["model"] == "nonassociative"].set_index(list(FACTOR_COLUMNS))
+    order = list(dict.fromkeys(results.set_index(list(FACTOR_COLUMNS)).index))
+    rows = []
+    for idx in order:
+        a = lp.loc[idx] if idx in lp.index else None
+        n = nl.loc[idx] if idx in nl.index else None
+        a = a.iloc[-1] if isinstance(a, pd.DataFrame) else a
+        n = n.iloc[-1] if isinstance(n, pd.DataFrame) else n
+        alpha_lp = float(a["alpha_c"]) if a is not None else math.nan
+        alpha_nl = float(n["alpha_c"]) if n is not None else math.nan
+        ok = math.isfinite(alpha_lp) and math.isfinite(alpha_nl) and alpha_lp > 0
+        lp_alpha = float(n["alpha_lp_start"]) if n is not None else math.nan
+        lp_verified = str(n["lp_start_verified"]) if n is not None else ""
+        gain = lp_alpha - alpha_nl if lp_verified == "True" and math.isfinite(alpha_nl) else math.nan
+        n_blocks = next((float(r["n_blocks"]) for r in (a, n)
+                         if r is not None and math.isfinite(float(r["n_blocks"]))), math.nan)
+        rows.append({
+            **dict(zip(FACTOR_COLUMNS, idx)),
+            "n_blocks": n_blocks,
+            "alpha_lp": alpha_lp, "alpha_nl": alpha_nl,
+            "ratio": alpha_nl / alpha_lp if ok else math.nan,
+            "status_lp": a["status"] if a is not None else "missing",
+            "status_nl": n["status"] if n is not None else "missing",
+            "mechanism_lp": a["mechanism_class"] if a is not None else "",
+            "mechanism_nl": n["mechanism_class"] if n is not None else "",
+            "time_lp_s": float(a["solve_s"]) + float(a["certify_s"]) if a is not None else math.nan,
+            "time_nl_s": float(n["nonassociative_s"]) if n is not None else math.nan,
+            "start_nl": n["start"] if n is not None else "",
+            "alpha_lp_start": lp_alpha,
+            "lp_start_verified": lp_verified,
+            "lp_start_gain": gain,
+            "n_candidates": float(n["n_candidates"]) if n is not None else math.nan,
+            "n_verified": float(n["n_verified"]) if n is not None else math.nan,
+            "effort": n["effort"] if n is not None else "",
+            "message_nl": n["message"] if n is not None else "",
+            "key_lp": a["key"] if a is not None else "",
+            "key_nl": n["key"] if n is not None else "",
+        })
+    out = pd.DataFrame(rows, columns=list(COMPARE_COLUMNS))
+    for col in ("n_blocks", "n_candidates", "n_verified"):
+        out[col] = out[col].astype("Int64") if out[col].notna().all() else out[col]
+    return out
+
+
+# ------------------------------------------------------------------------------------------
+# Driver
+# ------------------------------------------------------------------------------------------
+
+
+def run_compare(out_dir: str | os.PathLike[str], design: Design | str | os.PathLike[str] | None = None,
+                workers: int | None = None, effort: str | None = None, *, scheduler: Any = None,
+                results_dir: str | os.PathLike[str] | None = None, progress: bool = True,
+                retry_errors: bool = False, n_figures: int = 6) -> CompareReport:
+    """Run (or resume) the study with both models and write the comparison report.
+
+    ``results_dir`` holds ``results.csv`` (default ``out_dir``; ``alma paper`` points it at
+    its associative study so that only the non-associative rows are new). ``n_figures``
+    panels with the largest α_NL/α_LP gap are drawn side by side.
+    """
+    start = time.perf_counter()
+    if design is None:
+        design = PAPER_DESIGN
+    elif not isinstance(design, Design):
+        design = load_design(design)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    rdir = Path(results_dir) if results_dir is not None else out
+    before: set[str] = set()
+    if (rdir / RESULTS_FILE).is_file():
+        try:
+            before = set(read_results(rdir / RESULTS_FILE)["key"])
+        except Exception:  # run_doe reports what is wrong with the file
+            before = set()
+    results = run_doe(rdir, model="both", workers=workers, scheduler=scheduler, design=design,
+                      progress=progress, retry_errors=retry_errors, effort=effort)
+    solve_wall = time.perf_counter() - start
+    resumed = int(results["key"].isin(before).sum())
+    table = compare_table(results)
+    csv_path = out / "compare.csv"
+    table.to_csv(csv_path, index=False)
+
+    report = CompareReport(out=out, table=table, csv=csv_path, markdown=out / "compare.md")
+    report.failed = int((results["status"] == "error").sum())
+    figures_dir = out / "figures"
+    stats = _statistics(table, figures_dir, report)
+    mech = _mechanism_figures(table, figures_dir, n_figures, effort, report)
+    wall = time.perf_counter() - start
+    write_report(report, design, stats, mech, effort=effort, wall=wall, solve_wall=solve_wall,
+                 resumed=resumed, n_results=len(results), results_path=rdir / RESULTS_FILE)
+    return report
+
+
+# ------------------------------------------------------------------------------------------
+# Statistics
+# ------------------------------------------------------------------------------------------
+
+
+@dataclass
+class _Anova:
+    response: str
+    label: str
+    result: Any = None
+    effects: tuple = ()
+    note: str = ""
+    order: int = 2
+
+
+def _balanced(table: pd.DataFrame) -> bool:
+    levels = [table[c].nunique() for c in FACTOR_COLUMNS]
+    return len(table) == int(np.prod(levels)) and not table.duplicated(list(FACTOR_COLUMNS)).any()
+
+
+def _run_anova(table: pd.DataFrame, response: str, label: str) -> _Anova:
+    from .stats.anova import anova, standardized_effects, varying_factors
+
+    out = _Anova(response, label)
+    y = table[response].to_numpy(dtype=float)
+    if not np.all(np.isfinite(y)):
+        bad = int((~np.isfinite(y)).sum())
+        out.note = f"not computed: {bad} panel(s) have no {label} (failed or unverified), the design is incomplete"
+        return out
+    if not _balanced(table):
+        out.note = "not computed: the panels do not form a full factorial"
+        return out
+    factors = varying_factors(table)
+    if not factors:
+        out.note = "not computed: every factor has a single level"
+        return out
+    if float(np.ptp(y)) <= 1e-12 * max(1.0, float(np.abs(y).max())):
+        out.note = f"not computed: {label} is the same on every panel ({y[0]:.6g}), nothing to explain"
+        return out
+    for order in range(min(2, len(factors)), 0, -1):
+        try:
+            out.result = anova(table, response=response, order=order, factors=factors)
+        except ValueError as exc:
+            out.note = f"not computed: {exc}"
+            continue
+        out.order = order
+        out.note = "" if order == 2 else "main effects only: too few panels for the two-way interactions"
+        if len(factors) < 4:
+            fixed = [_LABELS[c] for c in FACTOR_COLUMNS if c not in factors]
+            out.note = (out.note + "; " if out.note else "") + f"fixed by the design: {', '.join(fixed)}"
+        out.effects = standardized_effects(out.result, SIGNIFICANCE)
+        break
+    return out
+
+
+def _statistics(table: pd.DataFrame, figures_dir: Path, report: CompareReport) -> dict[str, Any]:
+    stats = {key: _run_anova(table, key, label) for key, label in
+             (("alpha_lp", "α_LP"), ("alpha_nl", "α_NL"), ("ratio", "α_NL/α_LP"))}
+    figures_dir.mkdir(parents=True, exist_ok=True)
+    valid = table[np.isfinite(table["ratio"].to_numpy(dtype=float))]
+    try:
+        from .stats import figures as F
+    except ImportError as exc:  # pragma: no cover - matplotlib is a dependency
+        report.notes.append(f"statistics figures skipped: {exc}")
+        return stats
+    if valid.empty:
+        report.notes.append("statistics figures skipped: no panel has both multipliers")
+        return stats
+    try:
+        report.figures.append(F.main_effects_plot(valid, figures_dir / "main_effects_alpha_nl.png",
+                                                  "alpha_nl", ylabel=r"mean $\alpha_{NL}$",
+                                                  title="Main effects plot for α_NL (non-associative)"))
+        report.figures.append(F.main_effects_plot(valid, figures_dir / "main_effects_ratio.png",
+                                                  "ratio", ylabel=r"mean $\alpha_{NL}/\alpha_{LP}$",
+                                                  title="Main effects plot for the ratio α_NL/α_LP"))
+        report.figures.append(F.main_effects_overlay(
+            valid, figures_dir / "main_effects_lp_vs_nl.png",
+            {"alpha_lp": "associative (LP)", "alpha_nl": "non-associative"},
+            ylabel=r"mean $\alpha_c$", title="Main effects of both contact models"))
+        for key in ("alpha_nl", "ratio"):
+            if stats[key].result is not None:
+                report.figures.append(F.pareto_chart(stats[key].result, figures_dir / f"pareto_{key}.png"))
+    except Exception as exc:  # a figure must not lose the report
+        report.notes.append(f"a statistics figure failed: {type(exc).__name__}: {exc}")
+    return stats
+
+
+# ------------------------------------------------------------------------------------------
+# Mechanism figures
+# ------------------------------------------------------------------------------------------
+
+
+def _panel_name(r: Any) -> str:
+    return f"{r.bond}, panel {r.panel_ratio}, blocks {r.block_ratio}, f = {float(r.friction):.2f}"
+
+
+def _mechanism_figures(table: pd.DataFrame, folder: Path, n: int, effort: str | None,
+                       report: CompareReport) -> pd.DataFrame:
+    """Side-by-side mechanisms of the ``n`` panels with the smallest ratio (ratio < 1 only)."""
+    valid = table[np.isfinite(table["ratio"].to_numpy(dtype=float))]
+    differ = valid[valid["ratio"] < 1.0 - DIFFER_TOLERANCE]
+    chosen = differ.sort_values(["ratio", "n_blocks"], kind="stable").head(max(0, n))
+    if chosen.empty:
+        return chosen.assign(png="")
+    folder.mkdir(parents=True, exist_ok=True)
+    index_path = folder / "mechanisms.json"
+    try:
+        index = json.loads(index_path.read_text()) if index_path.is_file() else {}
+    except (OSError, json.JSONDecodeError):
+        index = {}
+    pngs = []
+    for r in chosen.itertuples():
+        name = (f"mechanisms_{r.bond}_panel{r.panel_ratio}_blocks{r.block_ratio}_"
+                f"f{float(r.friction):.2f}.png").replace(":", "-")
+        path = folder / name
+        stamp = f"{r.key_lp}|{r.key_nl}"
+        if index.get(name) == stamp and path.is_file():
+            pngs.append(path)  # same results as when it was drawn
+            continue
+        try:
+            _draw_pair(r, path, effort, report)
+        except Exception as exc:  # a failed drawing must not lose the report
+            report.notes.append(f"mechanism figure of {_panel_name(r)} failed: {type(exc).__name__}: {exc}")
+            pngs.append(None)
+            continue
+        index[name] = stamp
+        pngs.append(path)
+    index_path.write_text(json.dumps(index, indent=1, sort_keys=True))
+    report.figures.extend(p for p in pngs if p is not None)
+    return chosen.assign(png=[str(p.relative_to(folder.parent)) if p is not None else "" for p in pngs])
+
+
+def _draw_pair(r: Any, path: Path, effort: str | None, report: CompareReport) -> None:
+    import alma
+    from alma.plot import plot_side_by_side
+
+    scene = alma.paper_panel(r.bond, r.panel_ratio, r.block_ratio, float(r.friction))
+    built = alma.build_model(scene, alma.find_joints(scene))
+    lp = alma.solve(built, model="associative")
+    kwargs = {"effort": effort} if effort else {}
+    nl = alma.solve(built, model="nonassociative", **kwargs)
+    for label, res, stored in (("α_LP", lp, r.alpha_lp), ("α_NL", nl, r.alpha_nl)):
+        if not (math.isfinite(res.alpha) and abs(res.alpha - stored) <= 1e-7 * max(1.0, abs(stored))):
+            report.notes.append(f"{_panel_name(r)}: re-solved {label} = {res.alpha:.9g} differs from "
+                                f"results.csv ({stored:.9g}); the figure shows the re-solved state")
+    ratio = nl.alpha / lp.alpha if lp.alpha > 0 else math.nan
+    plot_side_by_side(scene, [lp, nl], path,
+                      titles=["associative (dilatant sliding)", f"non-associative, start {nl.extra.get('start')}"],
+                      suptitle=f"{_panel_name(r)}: α_LP = {lp.alpha:.4f}, α_NL = {nl.alpha:.4f}, "
+                               f"α_NL/α_LP = {ratio:.3f}")
+
+
+# ------------------------------------------------------------------------------------------
+# Report
+# ------------------------------------------------------------------------------------------
+
+
+def _f(x: Any, fmt: str = ".4f") -> str:
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        return str(x) if x not in (None, "") else "–"
+    return format(v, fmt) if math.isfinite(v) else "–"
+
+
+def _md_table(header: list[str], rows: list[list[Any]]) -> list[str]:
+    out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    out += ["| " + " | ".join(str(x) for x in r) + " |" for r in rows]
+    return out
+
+
+def _anova_lines(a: _Anova) -> list[str]:
+    lines = [f"### ANOVA of {a.label}", ""]
+    if a.result is None:
+        lines += [f"ANOVA of {a.label} {a.note}.", ""]
+        return lines
+    res = a.result
+    if a.note:
+        lines += [f"Note: {a.note}.", ""]
+    lines += _md_table(["Source", "DoF", "Adj SS", "Adj MS", "F-Value", "P-Value"],
+                       [[r.source, r.dof, _f(r.adj_ss, ".6g"), _f(r.adj_ms, ".6g"),
+                         _f(r.f_value, ".2f"), _f(r.p_value, ".3f")] for r in res.rows])
+    lines.append("")
+    lines.append(f"R² = {100 * res.r2:.2f} %, R²(adj) = {100 * res.r2_adj:.2f} %, "
+                 f"R²(pred) = {100 * res.r2_pred:.2f} % (S = {res.s:.4g}, {res.n} panels, DFE = {res.dfe}).")
+    lines.append("")
+    from .stats.anova import pareto_reference
+
+    ref = pareto_reference(res.dfe, SIGNIFICANCE)
+    order = " > ".join(f"{e.source} ({e.effect:.2f}{'*' if e.significant else ''})" for e in a.effects)
+    lines.append(f"Pareto ordering of the standardized effects (* = beyond the reference "
+                 f"t = {ref:.3f}, α = {SIGNIFICANCE}): {order}.")
+    lines.append("")
+    return lines
+
+
+def _level_means(table: pd.DataFrame, col: str, response: str) -> pd.Series:
+    return table.groupby(col, sort=False)[response].mean()
+
+
+def _changes_paragraph(table: pd.DataFrame, stats: dict[str, _Anova]) -> list[str]:
+    """Which factors change their effect without dilatancy: from the ANOVAs and level means."""
+    a_lp, a_nl, a_ratio = stats["alpha_lp"], stats["alpha_nl"], stats["ratio"]
+    valid = table[np.isfinite(table["ratio"].to_numpy(dtype=float))]
+    if valid.empty:
+        return ["No panel has both multipliers: nothing to compare."]
+    factors = [c for c in FACTOR_COLUMNS if valid[c].nunique() >= 2]
+    if not factors:
+        return ["Every factor has a single level in this design: no factor effect to compare."]
+
+    def share(a: _Anova, name: str) -> float:
+        if a.result is None:
+            return math.nan
+        try:
+            row = a.result.row(name)
+        except KeyError:
+            return math.nan
+        total = a.result.row("Total").adj_ss
+        return row.adj_ss / total if total > 0 else math.nan
+
+    def rank(a: _Anova, name: str) -> int | None:
+        names = [e.source for e in a.effects]
+        return names.index(name) + 1 if name in names else None
+
+    def p_value(a: _Anova, name: str) -> float:
+        if a.result is None:
+            return math.nan
+        try:
+            return float(a.result.row(name).p_value)
+        except KeyError:
+            return math.nan
+
+    changed, unchanged = [], []
+    for col in factors:
+        name = _LABELS[col]
+        m_lp = _level_means(valid, col, "alpha_lp")
+        m_nl = _level_means(valid, col, "alpha_nl")
+        m_r = _level_means(valid, col, "ratio")
+        range_lp, range_nl = float(m_lp.max() - m_lp.min()), float(m_nl.max() - m_nl.min())
+        order_lp = [str(v) for v in m_lp.sort_values(ascending=False, kind="stable").index]
+        order_nl = [str(v) for v in m_nl.sort_values(ascending=False, kind="stable").index]
+        p_ratio = p_value(a_ratio, name)
+        reasons = []
+        if math.isfinite(p_ratio) and p_ratio < SIGNIFICANCE:
+            lo, hi = m_r.idxmin(), m_r.idxmax()
+            reasons.append(f"it is significant for the ratio (p = {p_ratio:.3g}; mean ratio "
+                           f"{m_r[lo]:.3f} at {_lvl(col, lo)} against {m_r[hi]:.3f} at {_lvl(col, hi)})")
+        sig_lp = math.isfinite(p_value(a_lp, name)) and p_value(a_lp, name) < SIGNIFICANCE
+        sig_nl = math.isfinite(p_value(a_nl, name)) and p_value(a_nl, name) < SIGNIFICANCE
+        tested = a_lp.result is not None and a_nl.result is not None
+        # The order of the level means of a factor without significant effect is noise.
+        if order_lp != order_nl and (sig_lp or sig_nl or not tested):
+            reasons.append(f"the order of its level means changes ({' > '.join(_lvl(col, v) for v in order_lp)} "
+                           f"with dilatancy, {' > '.join(_lvl(col, v) for v in order_nl)} without"
+                           + ("" if tested else "; no ANOVA to test it") + ")")
+        if a_lp.result is not None and a_nl.result is not None and sig_lp != sig_nl:
+            reasons.append("it is significant for α " + ("with dilatancy only" if sig_lp else "without dilatancy only"))
+        detail = (f"effect range (largest minus smallest level mean) {range_lp:.4f} → {range_nl:.4f}")
+        s_lp, s_nl = share(a_lp, name), share(a_nl, name)
+        if math.isfinite(s_lp) and math.isfinite(s_nl):
+            detail += f", share of the total sum of squares {100 * s_lp:.1f} % → {100 * s_nl:.1f} %"
+        r_lp, r_nl = rank(a_lp, name), rank(a_nl, name)
+        if r_lp and r_nl:
+            detail += f", Pareto rank {r_lp} → {r_nl}"
+        if reasons:
+            changed.append(f"**{name}** ({detail}): {'; '.join(reasons)}")
+        else:
+            unchanged.append(f"{name} ({detail})")
+
+    text = ("Without dilatancy, a factor changes its effect when it moves the ratio α_NL/α_LP (a "
+            "factor without effect on the ratio scales both multipliers alike), when the order of "
+            "its level means changes while it is significant (p < 0.05) in either model, or when it "
+            "is significant in one model only. ")
+    if changed:
+        text += "By these tests the effect changes for " + "; ".join(changed) + ". "
+    else:
+        text += "By these tests no factor changes its effect. "
+    if unchanged:
+        text += "It is unchanged for " + "; ".join(unchanged) + " (values: with dilatancy → without). "
+    inter = [e for e in a_ratio.effects if "*" in e.source and e.significant]
+    if inter:
+        text += ("Significant interactions for the ratio: "
+                 + ", ".join(f"{e.source} (p = {e.p_value:.3g})" for e in inter) + ".")
+    elif a_ratio.result is not None and a_ratio.order >= 2:
+        text += "No two-way interaction is significant for the ratio."
+    return [text.strip()]
+
+
+def _lvl(col: str, v: Any) -> str:
+    return f"f = {float(v):.2f}" if col == "friction" else str(v)
+
+
+def write_report(report: CompareReport, design: Design, stats: dict[str, Any], mech: pd.DataFrame, *,
+                 effort: str | None, wall: float, solve_wall: float, resumed: int, n_results: int,
+                 results_path: Path) -> Path:
+    import alma
+
+    t = report.table
+    out = report.out
+    ratio = t["ratio"].to_numpy(dtype=float)
+    valid = t[np.isfinite(ratio)]
+    gap = 1.0 - valid["ratio"]
+    lines = ["# Associative against non-associative collapse multipliers", ""]
+    lines.append(f"alma {getattr(alma, '__version__', '?')}; {len(t)} panels "
+                 f"({' × '.join(str(len(getattr(design, c))) for c in FACTOR_COLUMNS)} design: "
+                 + "; ".join(f"{c} {', '.join(_lvl(c, v) if c == 'friction' else str(v) for v in getattr(design, c))}"
+                             for c in FACTOR_COLUMNS)
+                 + f"); non-associative effort {effort or 'auto'} (auto: thorough up to 200 blocks, fast above). "
+                 f"Results: `{_rel(results_path, out)}` ({n_results} rows, {resumed} resumed from an earlier run); "
+                 f"table: `compare.csv`.")
+    lines.append("")
+    lines.append("α_LP: the associative LP (dilatant sliding, certified). α_NL: the lowest verified "
+                 "collapse state of the non-associative search (an upper bound of the frictional "
+                 "collapse multiplier, not proven global). Ratio = α_NL/α_LP ≤ 1.")
+    lines.append("")
+
+    # -- summary
+    lines += ["## Summary", ""]
+    summary: list[list[Any]] = []
+    summary.append(["Panels", len(t)])
+    summary.append(["Panels with both α (ratio defined)", len(valid)])
+    n_diff = int((valid["ratio"] < 1.0 - DIFFER_TOLERANCE).sum())
+    summary.append([f"Panels where α_NL < α_LP (relative gap > {DIFFER_TOLERANCE:g})", n_diff])
+    if not valid.empty:
+        i = gap.idxmax()
+        r = t.loc[i]
+        summary.append(["Largest gap 1 − α_NL/α_LP",
+                        f"{gap.max():.4f} ({_panel_name(r)}: α_LP = {r.alpha_lp:.4f}, α_NL = {r.alpha_nl:.4f})"])
+        summary.append(["Median gap (all panels with both α)", f"{float(gap.median()):.4f}"])
+        if n_diff:
+            summary.append(["Median gap (panels where the models differ)",
+                            f"{float(gap[valid['ratio'] < 1.0 - DIFFER_TOLERANCE].median()):.4f}"])
+        summary.append(["Mean ratio α_NL/α_LP", f"{float(valid['ratio'].mean()):.4f}"])
+    above = t[(t["alpha_nl"] > t["alpha_lp"] + BOUND_TOLERANCE)]
+    summary.append([f"Panels with α_NL > α_LP + {BOUND_TOLERANCE:g} (must be 0)", len(above)])
+    # multi-start against the LP-started candidate
+    has_lp = t[t["lp_start_verified"].isin(["True", "False"])]
+    lp_ok = t[t["lp_start_verified"] == "True"]
+    gains = lp_ok["lp_start_gain"].to_numpy(dtype=float)
+    tol = 1e-9 * np.maximum(1.0, np.abs(lp_ok["alpha_nl"].to_numpy(dtype=float)))
+    improved = lp_ok[gains > tol]
+    summary.append(["LP-started candidate ('lp') present / verified", f"{len(has_lp)} / {len(lp_ok)}"])
+    if len(improved):
+        g = improved["lp_start_gain"]
+        rel = g / improved["alpha_lp_start"]
+        summary.append(["Multi-start below the verified LP-started candidate",
+                        f"{len(improved)} panels; by up to {g.max():.4f} ({100 * rel.max():.2f} %), "
+                        f"median {g.median():.4f}"])
+    else:
+        summary.append(["Multi-start below the verified LP-started candidate", f"0 of {len(lp_ok)} panels"])
+    no_lp = t[(t["lp_start_verified"] != "True") & np.isfinite(t["alpha_nl"].to_numpy(dtype=float))]
+    summary.append(["Panels solved only by the other starts (no verified 'lp' candidate)", len(no_lp)])
+    starts = t["start_nl"].replace("", np.nan).dropna().value_counts()
+    summary.append(["Winning starts", ", ".join(f"{s} × {n}" for s, n in starts.items()) or "–"])
+    errors = t[(t["status_lp"] == "error") | (t["status_nl"] == "error")]
+    summary.append(["Failures (status error)", len(errors)])
+    unverified = t[t["status_nl"] == "not_converged"]
+    summary.append(["Non-associative not converged (no verified state)", len(unverified)])
+    other = t[~t["status_nl"].isin(["optimal", "not_converged", "error"])]
+    if len(other):
+        summary.append(["Other non-associative statuses",
+                        ", ".join(f"{s} × {n}" for s, n in other["status_nl"].value_counts().items())])
+    lp_not_opt = t[t["status_lp"] != "optimal"]
+    if len(lp_not_opt):
+        summary.append(["Associative status not optimal",
+                        ", ".join(f"{s} × {n}" for s, n in lp_not_opt["status_lp"].value_counts().items())])
+    summary.append(["Mechanism class changes (LP → NL)", _class_changes(t)])
+    tl, tn = t["time_lp_s"].to_numpy(dtype=float), t["time_nl_s"].to_numpy(dtype=float)
+    summary.append(["Solve time, associative LP (sum / median / max per panel)",
+                    f"{np.nansum(tl):.1f} s / {_f(np.nanmedian(tl) if np.isfinite(tl).any() else math.nan, '.3f')} s / "
+                    f"{_f(np.nanmax(tl) if np.isfinite(tl).any() else math.nan, '.3f')} s"])
+    summary.append(["Solve time, non-associative search (sum / median / max per panel)",
+                    f"{np.nansum(tn):.1f} s / {_f(np.nanmedian(tn) if np.isfinite(tn).any() else math.nan, '.3f')} s / "
+                    f"{_f(np.nanmax(tn) if np.isfinite(tn).any() else math.nan, '.3f')} s"])
+    summary.append(["Wall time of this run (study / report with figures)",
+                    f"{wall:.1f} s ({solve_wall:.1f} s / {wall - solve_wall:.1f} s)"])
+    lines += _md_table(["Item", "Value"], summary)
+    lines.append("")
+    for r in errors.itertuples():
+        lines.append(f"- error: {_panel_name(r)}: {r.message_nl or 'associative row failed'}")
+    for r in unverified.itertuples():
+        lines.append(f"- not converged: {_panel_name(r)}: {r.message_nl}")
+    for r in above.itertuples():
+        lines.append(f"- **α_NL > α_LP**: {_panel_name(r)}: α_LP = {r.alpha_lp:.9f}, α_NL = {r.alpha_nl:.9f}")
+    if report.notes:
+        lines.append("")
+        lines += [f"- note: {n}" for n in report.notes]
+    lines.append("")
+
+    # -- the panels that differ most
+    lines += ["## Where the two models differ most", ""]
+    if mech.empty:
+        lines.append("The two models give the same α (within the relative tolerance "
+                     f"{DIFFER_TOLERANCE:g}) on every panel: no mechanism figure.")
+    else:
+        lines += _md_table(["Panel", "α_LP", "α_NL", "Ratio", "Mechanism LP → NL", "Winning start", "Figure"],
+                           [[_panel_name(r), _f(r.alpha_lp), _f(r.alpha_nl), _f(r.ratio),
+                             f"{r.mechanism_lp} → {r.mechanism_nl}", r.start_nl,
+                             f"[png]({r.png})" if r.png else "–"] for r in mech.itertuples()])
+    lines.append("")
+
+    # -- statistics
+    lines += ["## Beyond the paper: ANOVA without dilatancy", "",
+              "The two-way ANOVA of Table 2 of the paper (main effects and two-way interactions, "
+              "adjusted sums of squares) on the non-associative α and on the ratio α_NL/α_LP; the "
+              "ANOVA of α_LP of the same panels is given for reference.", ""]
+    for key in ("alpha_nl", "ratio", "alpha_lp"):
+        lines += _anova_lines(stats[key])
+    lines += ["### Which factors change their effect when sliding has no dilatancy", ""]
+    lines += _changes_paragraph(t, stats)
+    lines.append("")
+    lines += ["Main effects plots (as Fig. 5 of the paper): `figures/main_effects_alpha_nl.png`, "
+              "`figures/main_effects_ratio.png`, both models on the same axes "
+              "`figures/main_effects_lp_vs_nl.png`; Pareto charts `figures/pareto_alpha_nl.png`, "
+              "`figures/pareto_ratio.png` (when the ANOVA is defined).", ""]
+
+    # -- all panels
+    lines += ["## All panels", ""]
+    lines += _md_table(
+        ["Panel", "Block", "Bond", "f", "Blocks", "α_LP", "α_NL", "Ratio", "Mech. LP", "Mech. NL",
+         "t_LP [s]", "t_NL [s]", "Winning start", "α 'lp' start", "Status NL"],
+        [[r.panel_ratio, r.block_ratio, r.bond, f"{float(r.friction):.2f}", _f(r.n_blocks, ".0f"),
+          _f(r.alpha_lp), _f(r.alpha_nl), _f(r.ratio), r.mechanism_lp, r.mechanism_nl,
+          _f(r.time_lp_s, ".3f"), _f(r.time_nl_s, ".2f"), r.start_nl or "–",
+          (_f(r.alpha_lp_start) + ("" if r.lp_start_verified == "True" else " (not verified)"))
+          if r.lp_start_verified else "none", r.status_nl] for r in t.itertuples()])
+    lines.append("")
+    report.markdown.write_text("\n".join(lines), encoding="utf-8")
+    return report.markdown
+
+
+def _class_changes(t: pd.DataFrame) -> str:
+    both = t[(t["mechanism_lp"] != "") & (t["mechanism_nl"] != "")]
+    changed = both[both["mechanism_lp"] != both["mechanism_nl"]]
+    if changed.empty:
+        return f"none ({len(both)} panels with both classes)"
+    counts = changed.groupby(["mechanism_lp", "mechanism_nl"]).size()
+    return f"{len(changed)} of {len(both)}: " + ", ".join(f"{a} → {b} × {n}" for (a, b), n in counts.items())
+
+
+def _rel(path: Path, base: Path) -> str:
+    try:
+        return str(Path(os.path.relpath(path, base)))
+    except ValueError:
+        return str(path)

@@ -1,0 +1,191 @@
+"""``alma compare``: the associative/non-associative report on top of the resumable study.
+
+A tiny design (stack bond, panel 2:1, blocks 4:1, three frictions: 72 blocks, well under a
+second per non-associative solve with ``--effort fast``) goes through the real command line;
+the ANOVA of the ratio and the "which factors change" paragraph are checked on a synthetic
+balanced 108-panel table whose answer is known by construction.
+"""
+from __future__ import annotations
+
+import csv
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+from alma import compare as compare_mod  # noqa: E402
+from alma.cli import main  # noqa: E402
+from alma.stats.anova import anova, varying_factors  # noqa: E402
+from alma.study import COLUMNS, PAPER_DESIGN, Design, read_results, run_doe  # noqa: E402
+
+TINY = 'panel_ratio = ["2:1"]\nblock_ratio = ["4:1"]\nbond = ["stack"]\nfriction = [0.27, 0.6, 1.0]\n'
+
+
+@pytest.fixture(scope="module")
+def tiny_run(tmp_path_factory):
+    base = tmp_path_factory.mktemp("compare")
+    design = base / "tiny.toml"
+    design.write_text(TINY)
+    out = base / "out"
+    argv = ["compare", "--out", str(out), "--design", str(design), "--workers", "2",
+            "--effort", "fast", "--quiet"]
+    code = main(argv)
+    return out, argv, code
+
+
+def test_compare_cli_writes_table_report_and_figures(tiny_run):
+    out, _, code = tiny_run
+    assert code == 0
+    table = pd.read_csv(out / "compare.csv", dtype={"panel_ratio": str, "block_ratio": str},
+                        keep_default_na=False, na_values={"alpha_lp_start": [""], "lp_start_gain": [""]})
+    assert list(table.columns) == list(compare_mod.COMPARE_COLUMNS)
+    assert len(table) == 3
+    assert sorted(table["friction"]) == [0.27, 0.6, 1.0]
+    assert (table["status_lp"] == "optimal").all() and (table["status_nl"] == "optimal").all()
+    for r in table.itertuples():
+        assert r.alpha_nl <= r.alpha_lp + 1e-7, r
+        assert r.ratio == pytest.approx(r.alpha_nl / r.alpha_lp, rel=1e-15)
+        assert r.mechanism_lp in ("sliding", "rocking", "mixed") and r.mechanism_nl in ("sliding", "rocking", "mixed")
+        assert r.time_lp_s > 0 and r.time_nl_s > 0
+        assert r.start_nl and r.effort == "fast" and r.n_blocks == 72
+        assert r.n_verified >= 1 and r.n_candidates >= r.n_verified
+        if r.lp_start_verified == "True":  # the LP-started candidate can only be above the best
+            assert r.alpha_lp_start >= r.alpha_nl - 1e-9 and r.lp_start_gain >= -1e-9
+    # The table agrees with the study rows it is built from.
+    rows = read_results(out / "results.csv")
+    assert list(rows.columns) == list(COLUMNS) and len(rows) == 6
+    lp = rows[rows["model"] == "associative"].set_index("friction")["alpha_c"]
+    nl = rows[rows["model"] == "nonassociative"].set_index("friction")
+    for r in table.itertuples():
+        assert r.alpha_lp == lp[r.friction] and r.alpha_nl == nl.loc[r.friction, "alpha_c"]
+        assert nl.loc[r.friction, "ratio"] == pytest.approx(r.ratio, rel=1e-12)
+        assert nl.loc[r.friction, "alpha_associative"] == r.alpha_lp
+    # Stack, f = 0.6: without dilatancy the panel is clearly weaker (0.4191 vs 1/3).
+    row = table[table["friction"] == 0.6].iloc[0]
+    assert row.ratio < 0.9
+
+    md = (out / "compare.md").read_text()
+    for text in ("## Summary", "| Panels | 3 |", "Largest gap", "Median gap", "LP-started candidate",
+                 "Failures (status error) | 0", "Wall time", "### ANOVA of α_NL", "### ANOVA of α_NL/α_LP",
+                 "Which factors change their effect", "## All panels"):
+        assert text in md, text
+    assert f"{1 - table['ratio'].min():.4f}" in md  # the largest gap, printed
+    figures = out / "figures"
+    for name in ("main_effects_alpha_nl.png", "main_effects_ratio.png", "main_effects_lp_vs_nl.png"):
+        assert (figures / name).stat().st_size > 5_000, name
+    pairs = sorted(figures.glob("mechanisms_*.png"))
+    differ = table[table["ratio"] < 1 - compare_mod.DIFFER_TOLERANCE]
+    assert len(pairs) == min(6, len(differ)) >= 1
+    assert all(p.stat().st_size > 10_000 for p in pairs)
+    assert "mechanisms_stack_panel2-1_blocks4-1_f0.60.png" in {p.name for p in pairs}
+
+
+def test_compare_resume_adds_no_rows(tiny_run, capsys):
+    out, argv, _ = tiny_run
+    before = (out / "results.csv").read_bytes()
+    table_before = pd.read_csv(out / "compare.csv")
+    assert main(argv) == 0
+    assert (out / "results.csv").read_bytes() == before
+    pd.testing.assert_frame_equal(pd.read_csv(out / "compare.csv"), table_before)
+    assert "(6 rows, 6 resumed" in (out / "compare.md").read_text()
+
+
+def test_legacy_results_file_is_migrated_not_refused(tmp_path):
+    design = Design(panel_ratio=("2:1",), block_ratio=("4:1",), bond=("stack",), friction=(0.6,))
+    first = run_doe(tmp_path, design=design, workers=1, progress=False)
+    path = tmp_path / "results.csv"
+    # Rewrite it as an alma without the comparison columns would have written it.
+    with open(path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    n_old = COLUMNS.index("key") + 1
+    with open(path, "w", newline="") as fh:
+        csv.writer(fh, lineterminator="\n").writerows(r[:n_old] for r in rows)
+    assert read_results(path)["alpha_c"].iloc[0] == first["alpha_c"].iloc[0]  # old files still read
+    again = run_doe(tmp_path, design=design, workers=1, progress=False)  # nothing to solve
+    header = path.read_text().splitlines()[0].split(",")
+    assert header == list(COLUMNS) and len(path.read_text().splitlines()) == 2
+    assert again["alpha_c"].iloc[0] == first["alpha_c"].iloc[0]
+    assert math.isnan(again["alpha_associative"].iloc[0])  # unknown for the old row, not invented
+
+
+def test_effort_is_part_of_the_nonassociative_key_only(tmp_path):
+    design = Design(panel_ratio=("2:1",), block_ratio=("4:1",), bond=("stack",), friction=(0.27,))
+    fast = run_doe(tmp_path, model="both", design=design, workers=1, progress=False, effort="fast")
+    auto = run_doe(tmp_path, model="both", design=design, workers=1, progress=False)
+    assert set(fast["model"]) == {"associative", "nonassociative"}
+    key = dict(zip(fast["model"], fast["key"]))
+    key_auto = dict(zip(auto["model"], auto["key"]))
+    assert key["associative"] == key_auto["associative"]
+    assert key["nonassociative"] != key_auto["nonassociative"]
+    assert list(auto["effort"]) == ["", "auto"] and list(fast["effort"]) == ["", "fast"]
+    with pytest.raises(ValueError, match="effort"):
+        run_doe(tmp_path, design=design, workers=1, progress=False, effort="quick")
+
+
+def test_compare_bad_design_exit_2(tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('bond = ["herringbone"]\n')
+    assert main(["compare", "--out", str(tmp_path / "o"), "--design", str(bad)]) == 2
+    assert "herringbone" in capsys.readouterr().err
+    assert not (tmp_path / "o" / "results.csv").exists()
+
+
+# ------------------------------------------------------------------- statistics (synthetic)
+
+
+def synthetic_table(seed: int = 7) -> pd.DataFrame:
+    """108 panels: α_LP from friction and panel ratio; α_NL = α_LP except stack (×0.7)."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    for p, b, bond, f in PAPER_DESIGN.panels():
+        a_lp = f * {"2:1": 0.9, "1:1": 0.7, "1:2": 0.5}[p] + rng.normal(0, 0.01)
+        a_nl = a_lp * (0.7 if bond == "stack" else 1.0) * (1 + rng.normal(0, 0.005))
+        rows.append({"panel_ratio": p, "block_ratio": b, "bond": bond, "friction": f,
+                     "alpha_lp": a_lp, "alpha_nl": a_nl, "ratio": a_nl / a_lp})
+    return pd.DataFrame(rows)
+
+
+def test_anova_of_the_ratio_on_a_balanced_table():
+    df = synthetic_table()
+    res = anova(df, response="ratio")
+    assert res.n == 108 and res.dfe == 68  # the model of Table 2
+    assert [r.source for r in res.rows][:6] == ["Model", "Linear", "Panel", "Block", "Bond", "Friction"]
+    assert res.row("Bond").p_value < 1e-20  # the only real effect on the ratio
+    for name in ("Panel", "Block", "Friction"):
+        assert res.row(name).f_value < res.row("Bond").f_value / 100
+    assert 0.9 < res.r2 <= 1 and res.r2_pred < res.r2_adj < res.r2
+    # A sub-design that fixes factors: only the varying ones enter the model.
+    sub = df[(df["panel_ratio"] == "2:1") & (df["block_ratio"] == "4:1")]
+    factors = varying_factors(sub)
+    assert factors == ["bond", "friction"]
+    r2 = anova(sub, response="ratio", order=1, factors=factors)
+    assert [r.source for r in r2.rows] == ["Model", "Linear", "Bond", "Friction", "Error", "Total"]
+    assert r2.dfe == 12 - 1 - 3 - 2
+    with pytest.raises(ValueError, match="single level"):
+        anova(sub, response="ratio", order=1)  # all four factors: panel ratio is constant
+
+
+def test_changes_paragraph_is_computed_from_the_numbers():
+    df = synthetic_table()
+    stats = {key: compare_mod._run_anova(df, key, label) for key, label in
+             (("alpha_lp", "α_LP"), ("alpha_nl", "α_NL"), ("ratio", "α_NL/α_LP"))}
+    assert all(a.result is not None and a.order == 2 for a in stats.values())
+    (text,) = compare_mod._changes_paragraph(df, stats)
+    changed, _, unchanged = text.partition("It is unchanged for")
+    assert "**Bond**" in changed and "significant for the ratio" in changed
+    for name in ("Panel (", "Block (", "Friction ("):
+        assert name in unchanged, name
+    # Same α in both models: the ratio ANOVA is undefined and no factor changes.
+    same = df.assign(alpha_nl=df["alpha_lp"], ratio=1.0)
+    stats = {key: compare_mod._run_anova(same, key, label) for key, label in
+             (("alpha_lp", "α_LP"), ("alpha_nl", "α_NL"), ("ratio", "α_NL/α_LP"))}
+    assert stats["ratio"].result is None and "same on every panel" in stats["ratio"].note
+    (text,) = compare_mod._changes_paragraph(same, stats)
+    assert "no factor changes its effect" in text
