@@ -247,6 +247,10 @@ def paper_handler(args: argparse.Namespace) -> int:
         print(f"report: {s['report']}")
         if s.get("compare_report"):
             print(f"non-associative comparison: {s['compare_report']}")
+        if s.get("compare_failed"):
+            print(f"{s['compare_failed']} non-associative result(s) failed; see {s['compare_report']}",
+                  file=sys.stderr)
+            return 1
     return 0
 
 

@@ -14,7 +14,10 @@ Runs the 108-panel associative study (resumable: ``DIR/doe/results.csv``) and wr
 - ``figures/fig11a.png`` … ``fig15d.png`` — the collapse mechanisms of Figures 11–15 (same
   panels and captions, α in the title) when ``alma.plot.plot_mechanism`` is available, and
   ``mechanisms.csv`` with the α printed in the paper, Table 5's and alma's;
-- ``comparison.md`` — every difference larger than the printed rounding, and why.
+- ``comparison.md`` — every difference larger than the printed rounding, and why;
+- with ``--nonassociative`` (``alma paper --nonassociative``): ``nonassociative/compare.md``,
+  ``compare.csv`` and ``figures/`` — the report of ``alma compare`` on the same 108 panels,
+  beyond the paper (the non-associative rows are added to ``doe/results.csv``, resumable).
 
 The published values live in ``paper_tables/data/`` (never in the alma package).
 """
@@ -375,8 +378,13 @@ def write_report(out: Path, t5cmp: pd.DataFrame, t2cmp: pd.DataFrame, r2: pd.Dat
 # ------------------------------------------------------------------------------------------
 
 
-def make_paper(out_dir: str | Path, workers: int | None = None, progress: bool = True) -> dict[str, Any]:
-    """Run the study (resumable) and write every comparison into ``out_dir``; returns a summary."""
+def make_paper(out_dir: str | Path, workers: int | None = None, progress: bool = True,
+               nonassociative: bool = False, effort: str | None = None) -> dict[str, Any]:
+    """Run the study (resumable) and write every comparison into ``out_dir``; returns a summary.
+
+    With ``nonassociative``, also the non-associative model on the same panels and the report
+    of :func:`alma.compare.run_compare` in ``out_dir/nonassociative/``.
+    """
     start = time.perf_counter()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -422,9 +430,23 @@ def make_paper(out_dir: str | Path, workers: int | None = None, progress: bool =
     mech.to_csv(out / "mechanisms.csv", index=False)
     if mech_note:
         print(mech_note, file=sys.stderr)
+    compare_report = None
+    if nonassociative:
+        from alma.compare import run_compare
+
+        compare_report = run_compare(out / "nonassociative", workers=workers, effort=effort,
+                                     results_dir=out / "doe", progress=progress)
     elapsed = time.perf_counter() - start
     report = write_report(out, t5cmp, t2cmp, r2, mech, mech_note, figs, elapsed)
+    if compare_report is not None:
+        with open(report, "a", encoding="utf-8") as fh:
+            fh.write("\n## Beyond the paper: non-associative friction\n\n"
+                     f"The same 108 panels without dilatancy: [nonassociative/compare.md]"
+                     f"({compare_report.markdown.relative_to(out)}) (α_NL against α_LP, ANOVA of "
+                     "α_NL and of α_NL/α_LP, mechanisms side by side).\n")
     return {
+        "compare_report": str(compare_report.markdown) if compare_report is not None else "",
+        "compare_failed": compare_report.failed if compare_report is not None else 0,
         "report": str(report),
         "table5_match": int(t5cmp["match"].sum()), "table5_rows": len(t5cmp),
         "table2_match": int(t2cmp["match"].sum()), "table2_cells": len(t2cmp),
@@ -437,9 +459,13 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", required=True, metavar="DIR")
     ap.add_argument("--workers", type=int, default=None, metavar="N")
+    ap.add_argument("--nonassociative", action="store_true",
+                    help="also the non-associative comparison report (DIR/nonassociative/)")
+    ap.add_argument("--effort", default=None, choices=("auto", "fast", "thorough"))
     args = ap.parse_args(argv)
     try:
-        s = make_paper(args.out, workers=args.workers)
+        s = make_paper(args.out, workers=args.workers, nonassociative=args.nonassociative,
+                       effort=args.effort)
     except KeyboardInterrupt:
         return 130
     except RuntimeError as exc:
@@ -450,6 +476,8 @@ def main(argv: list[str] | None = None) -> int:
           f"R² = {100 * s['r2']:.2f} %, R²(pred) = {100 * s['r2_pred']:.2f} %; "
           f"{s['mechanism_figures']} mechanism figures; {s['seconds']:.0f} s")
     print(f"report: {s['report']}")
+    if s["compare_report"]:
+        print(f"non-associative comparison: {s['compare_report']}")
     return 0
 
 

@@ -189,3 +189,22 @@ def test_changes_paragraph_is_computed_from_the_numbers():
     assert stats["ratio"].result is None and "same on every panel" in stats["ratio"].note
     (text,) = compare_mod._changes_paragraph(same, stats)
     assert "no factor changes its effect" in text
+
+
+def test_paper_nonassociative_option_reaches_make_paper(monkeypatch, tmp_path, capsys):
+    from alma import study_cli
+
+    fake = tmp_path / "paper_tables"
+    fake.mkdir()
+    (fake / "make_paper.py").write_text(
+        "def make_paper(out, workers=None, **kw):\n"
+        "    import json, pathlib\n"
+        "    pathlib.Path(out).mkdir(parents=True, exist_ok=True)\n"
+        "    pathlib.Path(out, 'kw.json').write_text(json.dumps(kw))\n"
+        "    return {'report': 'r.md', 'compare_report': 'c.md', 'compare_failed': kw.get('fail', 0)}\n")
+    monkeypatch.setattr(study_cli, "paper_tables_dir", lambda: fake)
+    assert main(["paper", "--out", str(tmp_path / "p"), "--nonassociative", "--effort", "fast"]) == 0
+    assert (tmp_path / "p" / "kw.json").read_text() == '{"nonassociative": true, "effort": "fast"}'
+    assert "non-associative comparison: c.md" in capsys.readouterr().out
+    assert main(["paper", "--out", str(tmp_path / "q")]) == 0
+    assert (tmp_path / "q" / "kw.json").read_text() == "{}"  # unchanged call without the option
