@@ -1,23 +1,34 @@
 """Global certification of the non-associative problem (Eq. 9) by mixed-integer LP.
 
-The complementarity of Eq. 9 is written with binaries (big-M, solved with HiGHS
-through ``scipy.optimize.milp``): at every contact point p
+The complementarity of Eq. 9 is written with binaries (big-M) and solved with
+HiGHS (``highspy``).  Every contact point p is in one of four states: open
+(o_p = 1), slipping +t (s⁺_p = 1), slipping −t (s⁻_p = 1) or sticking (none of
+them; o + s⁺ + s⁻ ≤ 1):
 
-- closed (z_p = 1) or open (z_p = 0):   N_p ≤ M_N z_p,   ξ_p ≤ M_v (1 − z_p);
-- slipping +t (y⁺_p = 1):   γ⁺_p ≤ M_v y⁺_p,   f N_p + T_p ≤ M_T (1 − y⁺_p);
-- slipping −t (y⁻_p = 1):   γ⁻_p ≤ M_v y⁻_p,   f N_p − T_p ≤ M_T (1 − y⁻_p);
+- N_p ≤ M_N,p (1 − o_p),            ξ_p ≤ M_ξ,p o_p;
+- γ⁺_p ≤ M_γ⁺,p (o_p + s⁺_p),       γ⁻_p ≤ M_γ⁻,p (o_p + s⁻_p);
+- f N_p + T_p ≤ 2 f M_N,p (1 − o_p − s⁺_p),   f N_p − T_p ≤ 2 f M_N,p (1 − o_p − s⁻_p);
 
 with equilibrium, yield |T| ≤ f N, no interpenetration ξ = normalᵀu ≥ 0, slip
-γ = tangentᵀu = γ⁺ − γ⁻ and f_Lᵀu = n_free; objective min α over α ∈ [0, α_LP]
-(Radenkovic: α_NL ≤ α_LP).
+γ = tangentᵀu = γ⁺ − γ⁻ and f_Lᵀu = n_free; objective min α over
+α ∈ [0, min(α_LP, α_best)] (Radenkovic: α_NL ≤ α_LP; α_best is a verified state).
 
-The big-M constants are derived per scene: M_N is the largest total normal force
-of any statically admissible field with α in [0, α_LP] (an LP; unbounded →
-no certificate), M_T = f M_N, and the mechanism is bounded by |u| ≤ U with U a
-multiple of the candidate mechanisms' size.  The proven statement is therefore:
-no collapse state with α below ``lower`` exists among mechanisms with
-|u|∞ ≤ U (f_Lᵀu = n_free); the bound on u is reported, and whether it was
-active at the optimum.
+Every integer-feasible point satisfies Nᵀξ = 0 and Tᵀγ = −Σ f N |γ| ≤ 0, so the
+virtual work of the equilibrium against u gives the valid inequality
+α n_free ≥ −f₀ᵀu (the dead load's lifting work is paid by the live load).
+
+The big-M constants are derived per scene: M_N,p is the largest N_p of any
+statically admissible field with α in [0, α_cap] (one LP per point, warm-started;
+unbounded → no certificate); the mechanism is bounded by |u|∞ ≤ U with U a
+multiple of the candidate mechanisms' size, and M_ξ,p, M_γ±,p are the largest
+opening and slips of p over {ξ ≥ 0, f_Lᵀu = n_free, |u|∞ ≤ U} (one LP each).
+Points that can carry no force (M_N,p = 0) need no binaries (they may open).  The proven
+statement is therefore: no collapse state with α below ``lower`` exists among
+mechanisms with |u|∞ ≤ U (f_Lᵀu = n_free); the bound on u is reported, and
+whether it was active at the optimum.
+
+``formulation="classic"`` keeps the first formulation (global big-M, binaries
+closed/slip⁺/slip⁻, ``scipy.optimize.milp``) for comparison.
 """
 from __future__ import annotations
 
@@ -33,6 +44,11 @@ from scipy.optimize import Bounds, LinearConstraint, linprog, milp
 
 from .contact_points import ContactPoints
 from .model import Model
+
+#: Relative safety margin on every derived big-M (bounds come from LPs solved to ~1e-9).
+BIG_M_MARGIN = 1.01
+#: Absolute MIP gap: the proven bound is within this of the best state found.
+MIP_ABSOLUTE_GAP = 1e-7
 
 
 @contextlib.contextmanager
@@ -60,6 +76,10 @@ class Certificate:
     velocity_bound: float
     velocity_bound_active: bool
     mechanism: np.ndarray | None
+    formulation: str = "tight"
+    binaries: int = 0
+    nodes: int = 0
+    bounds_s: float = 0.0  # time spent deriving the big-M constants
 
 
 def normal_force_bound(model: Model, points: ContactPoints, alpha_max: float,
@@ -78,21 +98,338 @@ def normal_force_bound(model: Model, points: ContactPoints, alpha_max: float,
     return float(-res.fun)
 
 
+# --------------------------------------------------------------------------- highspy helpers
+def _highs(quiet: bool = True):
+    import highspy
+
+    h = highspy.Highs()
+    h.setOptionValue("output_flag", not quiet)
+    return h
+
+
+def _pass_model(h, cost: np.ndarray, col_lo: np.ndarray, col_hi: np.ndarray, A: sp.spmatrix,
+                row_lo: np.ndarray, row_hi: np.ndarray, integrality: np.ndarray | None = None) -> None:
+    import highspy
+
+    A = sp.csc_matrix(A)
+    A.sort_indices()
+    lp = highspy.HighsLp()
+    lp.num_col_, lp.num_row_ = int(A.shape[1]), int(A.shape[0])
+    lp.col_cost_ = np.asarray(cost, dtype=float)
+    lp.col_lower_ = np.asarray(col_lo, dtype=float)
+    lp.col_upper_ = np.asarray(col_hi, dtype=float)
+    lp.row_lower_ = np.asarray(row_lo, dtype=float)
+    lp.row_upper_ = np.asarray(row_hi, dtype=float)
+    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+    lp.a_matrix_.start_ = A.indptr.astype(np.int32)
+    lp.a_matrix_.index_ = A.indices.astype(np.int32)
+    lp.a_matrix_.value_ = A.data.astype(float)
+    if integrality is not None:
+        lp.integrality_ = [highspy.HighsVarType.kInteger if v else highspy.HighsVarType.kContinuous
+                           for v in integrality]
+    h.passModel(lp)
+
+
+def _column_maxima(h, nvar: int, objectives: list[np.ndarray], deadline: float) -> np.ndarray | None:
+    """max cᵀx of a passed LP for each c (warm-started simplex); None on any failure or timeout."""
+    import highspy
+
+    out = np.empty(len(objectives))
+    idx = np.arange(nvar, dtype=np.int32)
+    for k, c in enumerate(objectives):
+        remaining = deadline - time.perf_counter()
+        if remaining <= 0:
+            return None
+        h.setOptionValue("time_limit", float(remaining))
+        h.changeColsCost(nvar, idx, -np.asarray(c, dtype=float))
+        h.run()
+        if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
+            return None
+        out[k] = -h.getInfo().objective_function_value
+    return out
+
+
+def static_point_bounds(model: Model, points: ContactPoints, alpha_max: float,
+                        deadline: float = np.inf) -> np.ndarray | None:
+    """max N_p over statically admissible fields with 0 ≤ α ≤ alpha_max, for every p (None if unbounded)."""
+    P = points.count
+    A_eq, b_eq, A_ub = points.static_constraints(model, points.friction)
+    A = sp.vstack([A_eq, A_ub])
+    lo = np.concatenate([b_eq, np.full(2 * P, -np.inf)])
+    hi = np.concatenate([b_eq, np.zeros(2 * P)])
+    col_lo = np.concatenate([[0.0], np.zeros(P), np.full(P, -np.inf)])
+    col_hi = np.concatenate([[alpha_max], np.full(2 * P, np.inf)])
+    h = _highs()
+    _pass_model(h, np.zeros(1 + 2 * P), col_lo, col_hi, A, lo, hi)
+    objectives = [np.eye(1, 1 + 2 * P, 1 + p).ravel() for p in range(P)]
+    return _column_maxima(h, 1 + 2 * P, objectives, deadline)
+
+
+def joint_normal_minima(model: Model, points: ContactPoints, first: np.ndarray, alpha_max: float,
+                        deadline: float = np.inf) -> np.ndarray | None:
+    """min N_a + N_b of every joint (points first[j] and first[j] + 1) over statically admissible
+    fields with 0 ≤ α ≤ alpha_max."""
+    P = points.count
+    A_eq, b_eq, A_ub = points.static_constraints(model, points.friction)
+    A = sp.vstack([A_eq, A_ub])
+    lo = np.concatenate([b_eq, np.full(2 * P, -np.inf)])
+    hi = np.concatenate([b_eq, np.zeros(2 * P)])
+    col_lo = np.concatenate([[0.0], np.zeros(P), np.full(P, -np.inf)])
+    col_hi = np.concatenate([[alpha_max], np.full(2 * P, np.inf)])
+    h = _highs()
+    _pass_model(h, np.zeros(1 + 2 * P), col_lo, col_hi, A, lo, hi)
+    ends = np.r_[first[1:], P]
+    objectives = []
+    for a, b in zip(first, ends):
+        c = np.zeros(1 + 2 * P)
+        c[1 + a:1 + b] = -1.0  # maximise −(N_a + N_b)
+        objectives.append(c)
+    values = _column_maxima(h, 1 + 2 * P, objectives, deadline)
+    return None if values is None else -values
+
+
+def kinematic_point_bounds(model: Model, points: ContactPoints, U: float,
+                           deadline: float = np.inf) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """Largest opening ξ_p and slips ±γ_p over {ξ ≥ 0, f_Lᵀu = n_free, |u|∞ ≤ U}."""
+    P, n = points.count, model.dead.shape[0]
+    A = sp.vstack([points.normal.T, sp.csr_matrix(model.live[None, :])])
+    lo = np.concatenate([np.zeros(P), [model.n_free]])
+    hi = np.concatenate([np.full(P, np.inf), [model.n_free]])
+    h = _highs()
+    _pass_model(h, np.zeros(n), np.full(n, -U), np.full(n, U), A, lo, hi)
+    normal = points.normal.tocsc()
+    tangent = points.tangent.tocsc()
+    objectives = ([normal[:, p].toarray().ravel() for p in range(P)]
+                  + [tangent[:, p].toarray().ravel() for p in range(P)]
+                  + [-tangent[:, p].toarray().ravel() for p in range(P)])
+    values = _column_maxima(h, n, objectives, deadline)
+    if values is None:
+        return None
+    values = np.maximum(values, 0.0)
+    return values[:P], values[P:2 * P], values[2 * P:]
+
+
+# --------------------------------------------------------------------------- the certificate
 def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray], *,
             time_limit: float = 60.0, velocity_factor: float = 10.0, alpha_best: float | None = None,
-            per_point_bounds: int = 400) -> Certificate:
+            per_point_bounds: int = 400, formulation: str = "tight", energy_cut: bool = True,
+            kinematic_bounds: bool = True, dissipation_cut: bool = True, cutoff: bool = True, quiet: bool = True) -> Certificate:
     """Proven lower bound of the non-associative collapse multiplier (see module docstring)."""
+    if formulation == "classic":
+        return _certify_classic(model, alpha_associative, mechanisms, time_limit=time_limit,
+                                velocity_factor=velocity_factor, alpha_best=alpha_best,
+                                per_point_bounds=per_point_bounds)
+    if formulation != "tight":
+        raise ValueError(f"formulation must be 'tight' or 'classic', got {formulation!r}")
+    import highspy
+
+    t0 = time.perf_counter()
+    deadline = t0 + time_limit
+    points = ContactPoints.from_model(model)
+    P, n = points.count, model.dead.shape[0]
+
+    def fail(message: str) -> Certificate:
+        return Certificate("failed", message, 0.0, np.inf, np.inf, time.perf_counter() - t0, np.nan, False, None)
+
+    if not np.isfinite(alpha_associative) or alpha_associative < 0:
+        return fail("the associative bound is not finite and non-negative")
+    alpha_cap = alpha_associative if alpha_best is None else min(alpha_associative, alpha_best)
+    if alpha_cap < 0:
+        return fail("the best verified state has α < 0 (no_equilibrium): nothing to certify")
+    # The cap itself must stay feasible (the verified state is at α_best, up to round-off).
+    alpha_hi = alpha_cap + 1e-9 * max(1.0, alpha_cap)
+
+    size = max([float(np.abs(u).max()) for u in mechanisms if u is not None] + [1.0])
+    U = velocity_factor * size
+    m_n = static_point_bounds(model, points, alpha_hi, deadline)
+    if m_n is None:
+        if time.perf_counter() >= deadline:
+            return _timeout(t0, time_limit, U, "tight")
+        return fail("normal forces are unbounded (self-stress): no big-M bound exists")
+    m_n = BIG_M_MARGIN * np.maximum(m_n, 0.0) + 1e-9
+    if kinematic_bounds:
+        kin = kinematic_point_bounds(model, points, U, deadline)
+        if kin is None:
+            if time.perf_counter() >= deadline:
+                return _timeout(t0, time_limit, U, "tight")
+            return fail("the mechanism bound LPs failed")
+        m_xi, m_gp, m_gm = (BIG_M_MARGIN * v + 1e-9 for v in kin)
+    else:
+        row_n = np.asarray(abs(points.normal).sum(axis=0)).ravel()
+        row_t = np.asarray(abs(points.tangent).sum(axis=0)).ravel()
+        m_xi, m_gp, m_gm = BIG_M_MARGIN * row_n * U, BIG_M_MARGIN * row_t * U, BIG_M_MARGIN * row_t * U
+
+    f = points.friction
+    # Points that can carry no force anywhere (M_N = 0 up to round-off) may always open: no binaries.
+    carries = m_n > 1e-7 * max(1.0, float(m_n.max(initial=0.0)))
+    B = np.flatnonzero(carries)
+    nb = B.size
+    # The slip γ = tangentᵀu is the same at both end points of a (straight) joint: one slip state per joint.
+    first = np.flatnonzero(np.r_[True, points.joint[1:] != points.joint[:-1]])
+    joint_of = np.searchsorted(first, np.arange(P), side="right") - 1  # joint (row of `first`) of each point
+    m = first.size
+    tangent_j = points.tangent[:, first]
+    same = abs(points.tangent - tangent_j[:, joint_of]).max() if P else 0.0
+    if same > 1e-12:
+        return fail("the two end points of a joint slip differently (curved joint?): not supported")
+    J = np.unique(joint_of[B])  # joints with a point that can carry force need slip binaries
+    mj = J.size
+    m_gp_j = np.maximum.reduceat(m_gp, first) if P else m_gp
+    m_gm_j = np.maximum.reduceat(m_gm, first) if P else m_gm
+    if dissipation_cut:
+        ell = joint_normal_minima(model, points, first, alpha_hi, deadline)
+        if ell is None:
+            if time.perf_counter() >= deadline:
+                return _timeout(t0, time_limit, U, "tight")
+            return fail("the joint normal force LPs failed")
+        ell = np.maximum(ell / BIG_M_MARGIN - 1e-9, 0.0)
+    bounds_s = time.perf_counter() - t0
+
+    # Variable layout: α | N | T | u | γ⁺ | γ⁻ (per joint) | o (points in B) | s⁺ | s⁻ (joints in J).
+    i_a, i_N, i_T, i_u = 0, 1, 1 + P, 1 + 2 * P
+    i_gp = i_u + n
+    i_gm = i_gp + m
+    i_o = i_gm + m
+    i_sp = i_o + nb
+    i_sm = i_sp + mj
+    nvar = i_sm + mj
+    I = sp.identity(P, format="csr")
+    Im = sp.identity(m, format="csr")
+    S = sp.csr_matrix((np.ones(nb), (np.arange(nb), B)), shape=(nb, P))  # selects the points in B
+    Sj = sp.csr_matrix((np.ones(mj), (np.arange(mj), J)), shape=(mj, m))  # selects the joints in J
+    # point in B → its joint's position in J
+    pos_in_J = np.searchsorted(J, joint_of[B])
+    Bj = sp.csr_matrix((np.ones(nb), (np.arange(nb), pos_in_J)), shape=(nb, mj))
+    Ib = sp.identity(nb, format="csr")
+    rows, lo, hi = [], [], []
+
+    def add(parts: dict[int, sp.spmatrix], count: int, low, high) -> None:
+        blocks, last = [], 0
+        for start in sorted(parts):
+            mat = sp.csr_matrix(parts[start])
+            if start > last:
+                blocks.append(sp.csr_matrix((count, start - last)))
+            blocks.append(mat)
+            last = start + mat.shape[1]
+        if last < nvar:
+            blocks.append(sp.csr_matrix((count, nvar - last)))
+        rows.append(sp.hstack(blocks).tocsr())
+        lo.append(np.broadcast_to(np.asarray(low, dtype=float), (count,)))
+        hi.append(np.broadcast_to(np.asarray(high, dtype=float), (count,)))
+
+    F = sp.diags(f)
+    add({i_a: model.live[:, None], i_N: points.normal, i_T: points.tangent}, n, -model.dead, -model.dead)
+    add({i_N: -F, i_T: I}, P, -np.inf, 0.0)  # T − fN ≤ 0
+    add({i_N: -F, i_T: -I}, P, -np.inf, 0.0)  # −T − fN ≤ 0
+    add({i_u: points.normal.T}, P, 0.0, np.inf)  # ξ ≥ 0
+    add({i_u: tangent_j.T, i_gp: -Im, i_gm: Im}, m, 0.0, 0.0)  # γ = γ⁺ − γ⁻
+    add({i_u: model.live[None, :]}, 1, float(model.n_free), float(model.n_free))
+    if energy_cut:
+        # α n_free = −f₀ᵀu + Σ_j f N_j |γ_j| with N_j ≥ ℓ_j (an LP bound) and |γ_j| = γ⁺_j + γ⁻_j.
+        fj = f[first]
+        diss = (fj * ell)[None, :] if dissipation_cut else np.zeros((1, m))
+        add({i_a: np.array([[float(model.n_free)]]), i_u: model.dead[None, :], i_gp: -diss, i_gm: -diss},
+            1, 0.0, np.inf)
+    if nb:
+        mn, mx = m_n[B], m_xi[B]
+        add({i_N: S, i_o: sp.diags(mn)}, nb, -np.inf, mn)  # N ≤ M_N (1 − o)
+        add({i_u: S @ points.normal.T, i_o: -sp.diags(mx)}, nb, -np.inf, 0.0)  # ξ ≤ M_ξ o
+        mgp, mgm = m_gp_j[J], m_gm_j[J]
+        add({i_gp: Sj, i_sp: -sp.diags(mgp)}, mj, -np.inf, 0.0)  # γ⁺ ≤ M s⁺
+        add({i_gm: Sj, i_sm: -sp.diags(mgm)}, mj, -np.inf, 0.0)  # γ⁻ ≤ M s⁻
+        mt = 2.0 * f[B] * mn
+        add({i_N: S @ F, i_T: S, i_sp: sp.diags(mt) @ Bj}, nb, -np.inf, mt)  # s⁺ ⇒ T = −fN
+        add({i_N: S @ F, i_T: -S, i_sm: sp.diags(mt) @ Bj}, nb, -np.inf, mt)  # s⁻ ⇒ T = +fN
+        add({i_sp: sp.identity(mj), i_sm: sp.identity(mj)}, mj, 0.0, 1.0)
+    A = sp.vstack(rows).tocsc()
+    row_lo, row_hi = np.concatenate(lo), np.concatenate(hi)
+
+    col_lo = np.zeros(nvar)
+    col_hi = np.full(nvar, np.inf)
+    col_hi[i_a] = alpha_hi
+    col_hi[i_N:i_N + P] = m_n
+    col_lo[i_T:i_T + P], col_hi[i_T:i_T + P] = -f * m_n, f * m_n
+    col_lo[i_u:i_u + n], col_hi[i_u:i_u + n] = -U, U
+    col_hi[i_gp:i_gp + m] = m_gp_j
+    col_hi[i_gm:i_gm + m] = m_gm_j
+    col_hi[i_o:] = 1.0
+    integrality = np.zeros(nvar, dtype=bool)
+    integrality[i_o:] = True
+    cost = np.zeros(nvar)
+    cost[i_a] = 1.0
+
+    h = _highs(quiet)
+    _pass_model(h, cost, col_lo, col_hi, A, row_lo, row_hi, integrality)
+    remaining = max(1.0, deadline - time.perf_counter())
+    h.setOptionValue("time_limit", float(remaining))
+    h.setOptionValue("mip_rel_gap", 1e-9)
+    h.setOptionValue("mip_abs_gap", MIP_ABSOLUTE_GAP)
+    if cutoff and alpha_best is not None:
+        # The verified state at α_best acts as an incumbent: nodes whose bound reaches it are pruned.
+        h.setOptionValue("objective_bound", float(alpha_hi))
+    with _stdout_to_stderr():
+        h.run()
+    status_code = h.getModelStatus()
+    info = h.getInfo()
+    elapsed = time.perf_counter() - t0
+    MS = highspy.HighsModelStatus
+    dual = float(info.mip_dual_bound) if np.isfinite(info.mip_dual_bound) else 0.0
+    has_solution = info.primal_solution_status == 2 or status_code == MS.kOptimal
+    if has_solution:
+        x = np.asarray(h.getSolution().col_value)
+        best = float(x[i_a])
+        u = x[i_u:i_u + n]
+        active = bool(np.abs(u).max() >= 0.999 * U)
+    else:
+        best, u, active = np.inf, None, False
+    nodes = int(info.mip_node_count)
+    common = dict(velocity_bound=U, velocity_bound_active=active, mechanism=u, formulation="tight",
+                  binaries=nb + 2 * mj, nodes=nodes, bounds_s=bounds_s)
+    if status_code == MS.kOptimal:
+        lower_bound = max(0.0, min(dual, best))
+        gap = best - lower_bound
+        return Certificate("proven", f"optimal within mip gap {gap:.1e} (|u|∞ ≤ {U:.3g}"
+                           f"{', bound active' if active else ''})", float(lower_bound), best, float(gap),
+                           elapsed, **common)
+    if status_code == MS.kInfeasible:
+        return Certificate("proven", f"no collapse state below the cap {alpha_cap:.9g} (best verified state / "
+                           f"associative bound) with |u|∞ ≤ {U:.3g}", float(alpha_cap), np.inf, 0.0, elapsed,
+                           **common)
+    if status_code in (MS.kTimeLimit, MS.kInterrupt, MS.kSolutionLimit, MS.kIterationLimit):
+        lower_bound = max(0.0, min(dual, alpha_cap))
+        return Certificate("time_limit", f"time limit {time_limit:g} s reached; proven lower bound "
+                           f"{lower_bound:.6g} (|u|∞ ≤ {U:.3g})", float(lower_bound), best,
+                           float(alpha_cap - lower_bound), elapsed, **common)
+    return Certificate("failed", f"MILP failed: {h.modelStatusToString(status_code)}", 0.0, np.inf, np.inf,
+                       elapsed, **common)
+
+
+def _timeout(t0: float, time_limit: float, U: float, formulation: str) -> Certificate:
+    return Certificate("time_limit", f"time limit {time_limit:g} s reached while deriving the big-M bounds; "
+                       "proven lower bound 0", 0.0, np.inf, np.inf, time.perf_counter() - t0, U, False, None,
+                       formulation=formulation)
+
+
+# --------------------------------------------------------------------------- first formulation
+def _certify_classic(model: Model, alpha_associative: float, mechanisms: list[np.ndarray], *,
+                     time_limit: float = 60.0, velocity_factor: float = 10.0, alpha_best: float | None = None,
+                     per_point_bounds: int = 400) -> Certificate:
+    """The first formulation (kept for comparison): closed/slip binaries, one velocity big-M, scipy milp.
+
+    - closed (z_p = 1) or open (z_p = 0):   N_p ≤ M_N z_p,   ξ_p ≤ M_v (1 − z_p);
+    - slipping +t (y⁺_p = 1):   γ⁺_p ≤ M_v y⁺_p,   f N_p + T_p ≤ M_T (1 − y⁺_p);
+    - slipping −t (y⁻_p = 1):   γ⁻_p ≤ M_v y⁻_p,   f N_p − T_p ≤ M_T (1 − y⁻_p).
+    """
     t0 = time.perf_counter()
     points = ContactPoints.from_model(model)
     P, n = points.count, model.dead.shape[0]
     if not np.isfinite(alpha_associative) or alpha_associative < 0:
         return Certificate("failed", "the associative bound is not finite and non-negative", 0.0, np.inf, np.inf,
-                           time.perf_counter() - t0, np.nan, False, None)
+                           time.perf_counter() - t0, np.nan, False, None, formulation="classic")
     m_n = normal_force_bound(model, points, alpha_associative)
     if m_n is None:
         return Certificate("failed", "normal forces are unbounded (self-stress): no big-M bound exists",
-                           0.0, np.inf, np.inf, time.perf_counter() - t0, np.nan, False, None)
-    # Tighter big-M per point (one small LP each) on scenes with few contact points.
+                           0.0, np.inf, np.inf, time.perf_counter() - t0, np.nan, False, None, formulation="classic")
     alpha_cap = alpha_associative if alpha_best is None else min(alpha_associative, alpha_best)
     if P <= per_point_bounds:
         per_point = np.array([normal_force_bound(model, points, alpha_cap, np.eye(1, P, p).ravel()) or m_n
@@ -106,8 +443,8 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     row_norm_n = np.asarray(abs(points.normal).sum(axis=0)).ravel()
     row_norm_t = np.asarray(abs(points.tangent).sum(axis=0)).ravel()
     m_v = float(max(row_norm_n.max(initial=0.0), row_norm_t.max(initial=0.0))) * U * 1.01
+    bounds_s = time.perf_counter() - t0
 
-    # Variable layout.
     i_alpha = 0
     i_N = 1
     i_T = i_N + P
@@ -137,17 +474,13 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
         constraints.append(LinearConstraint(sp.hstack(pieces).tocsr(), lo, hi))
 
     F = sp.diags(points.friction)
-    # equilibrium (Eq. 3)
     add({i_alpha: model.live[:, None], i_N: points.normal, i_T: points.tangent}, n, -model.dead, -model.dead)
-    # yield (Eq. 5): T − fN ≤ 0, −T − fN ≤ 0
     add({i_N: -F, i_T: I}, P, -np.inf, 0.0)
     add({i_N: -F, i_T: -I}, P, -np.inf, 0.0)
-    # kinematics: ξ = normalᵀu ≥ 0 and ≤ M_v (1 − z); γ = γ⁺ − γ⁻
     add({i_u: points.normal.T}, P, 0.0, np.inf)
     add({i_u: points.normal.T, i_z: m_v * I}, P, -np.inf, m_v)
     add({i_u: points.tangent.T, i_sp: -I, i_sm: I}, P, 0.0, 0.0)
     add({i_u: model.live[None, :]}, 1, float(model.n_free), float(model.n_free))
-    # complementarity by big-M
     add({i_N: I, i_z: -sp.diags(m_n)}, P, -np.inf, 0.0)
     add({i_sp: I, i_yp: -m_v * I}, P, -np.inf, 0.0)
     add({i_sm: I, i_ym: -m_v * I}, P, -np.inf, 0.0)
@@ -157,7 +490,6 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
 
     lower = np.zeros(nvar)
     upper = np.full(nvar, np.inf)
-    # α above the best verified state cannot be the minimum: cap it there (prunes the search).
     lower[i_alpha], upper[i_alpha] = 0.0, alpha_cap
     upper[i_N:i_N + P] = m_n
     lower[i_T:i_T + P], upper[i_T:i_T + P] = -m_t, m_t
@@ -168,7 +500,7 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     c = np.zeros(nvar)
     c[i_alpha] = 1.0
     remaining = max(1.0, time_limit - (time.perf_counter() - t0))
-    with _stdout_to_stderr():  # HiGHS' MIP code prints debug lines on fd 1; keep --json stdout clean
+    with _stdout_to_stderr():
         res = milp(c, constraints=constraints, integrality=integrality, bounds=Bounds(lower, upper),
                    options={"time_limit": remaining, "mip_rel_gap": 1e-9})
     elapsed = time.perf_counter() - t0
@@ -180,6 +512,8 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
         active = bool(np.abs(u).max() >= 0.999 * U)
     else:
         best, u, active = np.inf, None, False
+    common = dict(formulation="classic", binaries=3 * P, nodes=int(getattr(res, "mip_node_count", 0) or 0),
+                  bounds_s=bounds_s)
     if res.status == 0:
         lower_bound = max(0.0, min(dual, best)) if np.isfinite(best) else 0.0
         gap = best - lower_bound
@@ -190,10 +524,10 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
         gap = best - lower_bound
         status = "time_limit"
         message = f"time limit {time_limit:g} s reached; proven lower bound {lower_bound:.6g}"
-    elif res.status == 2:  # infeasible: no collapse state with α ≤ the cap within the bounds
+    elif res.status == 2:
         lower_bound, gap, status = alpha_cap, 0.0, "proven"
         message = "no collapse state below the cap (best verified state / associative bound)"
     else:
         lower_bound, gap, status = 0.0, np.inf, "failed"
         message = f"MILP failed: {res.message}"
-    return Certificate(status, message, float(lower_bound), best, float(gap), elapsed, U, active, u)
+    return Certificate(status, message, float(lower_bound), best, float(gap), elapsed, U, active, u, **common)
