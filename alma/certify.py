@@ -188,32 +188,94 @@ def joint_normal_minima(model: Model, points: ContactPoints, first: np.ndarray, 
     return None if values is None else -values
 
 
-def kinematic_point_bounds(model: Model, points: ContactPoints, U: float,
-                           deadline: float = np.inf) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
-    """Largest opening ξ_p and slips ±γ_p over {ξ ≥ 0, f_Lᵀu = n_free, |u|∞ ≤ U}."""
-    P, n = points.count, model.dead.shape[0]
-    A = sp.vstack([points.normal.T, sp.csr_matrix(model.live[None, :])])
-    lo = np.concatenate([np.zeros(P), [model.n_free]])
-    hi = np.concatenate([np.full(P, np.inf), [model.n_free]])
+def collinear_groups(model: Model) -> list[np.ndarray]:
+    """Sets (of two or more) of joints lying on one straight line, e.g. all bed joints of a course."""
+    joints = model.joints
+    if joints.count < 2:
+        return []
+    n = np.asarray(joints.normal, dtype=float)
+    flip = (n[:, 0] < -1e-12) | ((np.abs(n[:, 0]) <= 1e-12) & (n[:, 1] < 0))
+    n = np.where(flip[:, None], -n, n)
+    offset = np.einsum("ij,ij->i", n, np.asarray(joints.start, dtype=float))
+    scale = float(np.median(joints.length)) if joints.count else 1.0
+    angle = np.round(np.arctan2(n[:, 1], n[:, 0]) / 1e-9).astype(np.int64)
+    level = np.round(offset / (1e-7 * scale)).astype(np.int64)
+    groups: dict[tuple[int, int], list[int]] = {}
+    for j, key in enumerate(zip(angle.tolist(), level.tolist())):
+        groups.setdefault(key, []).append(j)
+    return [np.array(g) for g in groups.values() if len(g) >= 2]
+
+
+def group_normal_minima(model: Model, points: ContactPoints, groups: list[np.ndarray], alpha_max: float,
+                        deadline: float = np.inf) -> np.ndarray | None:
+    """min Σ_{j∈G} N_j (both end points of every joint of G) over statically admissible fields."""
+    P = points.count
+    A_eq, b_eq, A_ub = points.static_constraints(model, points.friction)
+    A = sp.vstack([A_eq, A_ub])
+    lo = np.concatenate([b_eq, np.full(2 * P, -np.inf)])
+    hi = np.concatenate([b_eq, np.zeros(2 * P)])
+    col_lo = np.concatenate([[0.0], np.zeros(P), np.full(P, -np.inf)])
+    col_hi = np.concatenate([[alpha_max], np.full(2 * P, np.inf)])
     h = _highs()
-    _pass_model(h, np.zeros(n), np.full(n, -U), np.full(n, U), A, lo, hi)
+    _pass_model(h, np.zeros(1 + 2 * P), col_lo, col_hi, A, lo, hi)
+    objectives = []
+    for g in groups:
+        c = np.zeros(1 + 2 * P)
+        c[1 + np.isin(points.joint, g).nonzero()[0]] = -1.0
+        objectives.append(c)
+    values = _column_maxima(h, 1 + 2 * P, objectives, deadline)
+    return None if values is None else -values
+
+
+def kinematic_point_bounds(model: Model, points: ContactPoints, U: float, deadline: float = np.inf, *,
+                           alpha_max: float | None = None, slip_cost: np.ndarray | None = None,
+                           first: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """Largest opening ξ_p and slips ±γ_p over {ξ ≥ 0, f_Lᵀu = n_free, |u|∞ ≤ U}.
+
+    With ``alpha_max`` the energy balance of a collapse state at α ≤ alpha_max is added:
+    −f₀ᵀu + Σ_j slip_cost_j |γ_j| ≤ alpha_max n_free (slip_cost_j = f ℓ_j ≤ f N_j, joints
+    starting at points ``first``), which bounds every mechanism that lifts weight or slips under load.
+    """
+    P, n = points.count, model.dead.shape[0]
+    first = np.arange(0, P, 2) if first is None else first
+    m = first.size
+    tangent_j = points.tangent[:, first]
+    # x = (u, γ⁺_j, γ⁻_j)
+    rows = [sp.hstack([points.normal.T, sp.csr_matrix((P, 2 * m))]),
+            sp.hstack([sp.csr_matrix(model.live[None, :]), sp.csr_matrix((1, 2 * m))]),
+            sp.hstack([tangent_j.T, -sp.identity(m), sp.identity(m)])]
+    lo = [np.zeros(P), [model.n_free], np.zeros(m)]
+    hi = [np.full(P, np.inf), [model.n_free], np.zeros(m)]
+    if alpha_max is not None:
+        cost = np.zeros(m) if slip_cost is None else slip_cost
+        rows.append(sp.csr_matrix(np.concatenate([-model.dead, cost, cost])[None, :]))
+        lo.append([-np.inf])
+        hi.append([alpha_max * model.n_free])
+    A = sp.vstack(rows)
+    h = _highs()
+    nv = n + 2 * m
+    col_lo = np.concatenate([np.full(n, -U), np.zeros(2 * m)])
+    col_hi = np.concatenate([np.full(n, U), np.full(2 * m, np.inf)])
+    _pass_model(h, np.zeros(nv), col_lo, col_hi, A, np.concatenate(lo), np.concatenate(hi))
     normal = points.normal.tocsc()
-    tangent = points.tangent.tocsc()
-    objectives = ([normal[:, p].toarray().ravel() for p in range(P)]
-                  + [tangent[:, p].toarray().ravel() for p in range(P)]
-                  + [-tangent[:, p].toarray().ravel() for p in range(P)])
-    values = _column_maxima(h, n, objectives, deadline)
+    objectives = [np.concatenate([normal[:, p].toarray().ravel(), np.zeros(2 * m)]) for p in range(P)]
+    tangent_j = tangent_j.tocsc()
+    objectives += [np.concatenate([tangent_j[:, j].toarray().ravel(), np.zeros(2 * m)]) for j in range(m)]
+    objectives += [np.concatenate([-tangent_j[:, j].toarray().ravel(), np.zeros(2 * m)]) for j in range(m)]
+    values = _column_maxima(h, nv, objectives, deadline)
     if values is None:
         return None
     values = np.maximum(values, 0.0)
-    return values[:P], values[P:2 * P], values[2 * P:]
+    # per point: ξ_p, and the slips of its joint
+    joint_of = np.searchsorted(first, np.arange(P), side="right") - 1
+    return values[:P], values[P:P + m][joint_of], values[P + m:][joint_of]
 
 
 # --------------------------------------------------------------------------- the certificate
 def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray], *,
             time_limit: float = 60.0, velocity_factor: float = 10.0, alpha_best: float | None = None,
             per_point_bounds: int = 400, formulation: str = "tight", energy_cut: bool = True,
-            kinematic_bounds: bool = True, dissipation_cut: bool = True, cutoff: bool = True, quiet: bool = True) -> Certificate:
+            kinematic_bounds: bool = True, dissipation_cut: bool = True, group_cut: bool = True, cutoff: bool = True, quiet: bool = True) -> Certificate:
     """Proven lower bound of the non-associative collapse multiplier (see module docstring)."""
     if formulation == "classic":
         return _certify_classic(model, alpha_associative, mechanisms, time_limit=time_limit,
@@ -247,8 +309,18 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
             return _timeout(t0, time_limit, U, "tight")
         return fail("normal forces are unbounded (self-stress): no big-M bound exists")
     m_n = BIG_M_MARGIN * np.maximum(m_n, 0.0) + 1e-9
+    first = np.flatnonzero(np.r_[True, points.joint[1:] != points.joint[:-1]])
+    ell = np.zeros(first.size)
+    if dissipation_cut:
+        ell = joint_normal_minima(model, points, first, alpha_hi, deadline)
+        if ell is None:
+            if time.perf_counter() >= deadline:
+                return _timeout(t0, time_limit, U, "tight")
+            return fail("the joint normal force LPs failed")
+        ell = np.maximum(ell / BIG_M_MARGIN - 1e-9, 0.0)
     if kinematic_bounds:
-        kin = kinematic_point_bounds(model, points, U, deadline)
+        kin = kinematic_point_bounds(model, points, U, deadline, alpha_max=alpha_hi,
+                                     slip_cost=points.friction[first] * ell, first=first)
         if kin is None:
             if time.perf_counter() >= deadline:
                 return _timeout(t0, time_limit, U, "tight")
@@ -265,7 +337,6 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     B = np.flatnonzero(carries)
     nb = B.size
     # The slip γ = tangentᵀu is the same at both end points of a (straight) joint: one slip state per joint.
-    first = np.flatnonzero(np.r_[True, points.joint[1:] != points.joint[:-1]])
     joint_of = np.searchsorted(first, np.arange(P), side="right") - 1  # joint (row of `first`) of each point
     m = first.size
     tangent_j = points.tangent[:, first]
@@ -276,13 +347,18 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     mj = J.size
     m_gp_j = np.maximum.reduceat(m_gp, first) if P else m_gp
     m_gm_j = np.maximum.reduceat(m_gm, first) if P else m_gm
-    if dissipation_cut:
-        ell = joint_normal_minima(model, points, first, alpha_hi, deadline)
-        if ell is None:
+    groups = collinear_groups(model) if group_cut else []
+    if groups:
+        ell_g = group_normal_minima(model, points, groups, alpha_hi, deadline)
+        if ell_g is None:
             if time.perf_counter() >= deadline:
                 return _timeout(t0, time_limit, U, "tight")
-            return fail("the joint normal force LPs failed")
-        ell = np.maximum(ell / BIG_M_MARGIN - 1e-9, 0.0)
+            return fail("the group normal force LPs failed")
+        ell_g = np.maximum(ell_g / BIG_M_MARGIN - 1e-9, 0.0)
+        keep = ell_g > 1e-9
+        groups = [g for g, k in zip(groups, keep) if k]
+        ell_g = ell_g[keep]
+    ng = len(groups)
     bounds_s = time.perf_counter() - t0
 
     # Variable layout: α | N | T | u | γ⁺ | γ⁻ (per joint) | o (points in B) | s⁺ | s⁻ (joints in J).
@@ -292,7 +368,8 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     i_o = i_gm + m
     i_sp = i_o + nb
     i_sm = i_sp + mj
-    nvar = i_sm + mj
+    i_g = i_sm + mj  # g_G ≤ |γ_j| for every joint j of collinear group G (the group's common slip)
+    nvar = i_g + ng
     I = sp.identity(P, format="csr")
     Im = sp.identity(m, format="csr")
     S = sp.csr_matrix((np.ones(nb), (np.arange(nb), B)), shape=(nb, P))  # selects the points in B
@@ -330,6 +407,20 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
         diss = (fj * ell)[None, :] if dissipation_cut else np.zeros((1, m))
         add({i_a: np.array([[float(model.n_free)]]), i_u: model.dead[None, :], i_gp: -diss, i_gm: -diss},
             1, 0.0, np.inf)
+        if ng:
+            # Σ_j f N_j |γ_j| ≥ Σ_G f_G g_G Σ_{j∈G} N_j + Σ_{j in no group} f N_j |γ_j|, with Σ_{j∈G} N_j ≥ ℓ_G.
+            in_group = np.zeros(m, dtype=bool)
+            for g in groups:
+                in_group[g] = True
+            diss_rest = np.where(in_group, 0.0, diss.ravel())[None, :]
+            fg = np.array([f[first[g]].min() for g in groups])
+            add({i_a: np.array([[float(model.n_free)]]), i_u: model.dead[None, :], i_gp: -diss_rest,
+                 i_gm: -diss_rest, i_g: -(fg * ell_g)[None, :]}, 1, 0.0, np.inf)
+            members = np.concatenate(groups)
+            owner = np.repeat(np.arange(ng), [len(g) for g in groups])
+            sel = sp.csr_matrix((np.ones(members.size), (np.arange(members.size), members)), shape=(members.size, m))
+            own = sp.csr_matrix((np.ones(members.size), (np.arange(members.size), owner)), shape=(members.size, ng))
+            add({i_gp: sel, i_gm: sel, i_g: -own}, members.size, 0.0, np.inf)  # g_G ≤ γ⁺_j + γ⁻_j
     if nb:
         mn, mx = m_n[B], m_xi[B]
         add({i_N: S, i_o: sp.diags(mn)}, nb, -np.inf, mn)  # N ≤ M_N (1 − o)
@@ -352,9 +443,9 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     col_lo[i_u:i_u + n], col_hi[i_u:i_u + n] = -U, U
     col_hi[i_gp:i_gp + m] = m_gp_j
     col_hi[i_gm:i_gm + m] = m_gm_j
-    col_hi[i_o:] = 1.0
+    col_hi[i_o:i_g] = 1.0
     integrality = np.zeros(nvar, dtype=bool)
-    integrality[i_o:] = True
+    integrality[i_o:i_g] = True
     cost = np.zeros(nvar)
     cost[i_a] = 1.0
 
