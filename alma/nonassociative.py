@@ -74,7 +74,7 @@ class StaticLP:
 
 def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np.ndarray,
               maximise: bool = True, open_points: np.ndarray | None = None,
-              slip_sign: np.ndarray | None = None) -> StaticLP:
+              slip_sign: np.ndarray | None = None, time_limit: float = LP_TIME_LIMIT) -> StaticLP:
     """The static problem on contact points, solved with HiGHS.
 
     Yield: |T_p| ≤ slope_p N_p + cap_p (Coulomb: slope = f, cap = 0; Gilbert: slope
@@ -103,7 +103,7 @@ def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np
     c[0] = -1.0 if maximise else 1.0
     # A time limit: HiGHS simplex was seen to stall for minutes on degenerate cap LPs of large walls.
     res = linprog(c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq, bounds=bounds, method=LP_METHOD,
-                  options={"time_limit": LP_TIME_LIMIT})
+                  options={"time_limit": time_limit})
     if res.status == 3:
         return StaticLP("unbounded", np.inf if maximise else -np.inf, np.zeros(P), np.zeros(P), None)
     if res.status == 2:
@@ -157,15 +157,51 @@ def static_lp_clarabel(model: Model, points: ContactPoints, *, slope: np.ndarray
     return StaticLP("optimal", float(x[0]), np.maximum(x[1:1 + P], 0.0), x[1 + P:], mechanism)
 
 
-def active_set(model: Model, points: ContactPoints, mechanism: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Open points and slip signs of a mechanism (relative velocities below a threshold are zero)."""
+def active_set(model: Model, points: ContactPoints, mechanism: np.ndarray, *,
+               dilatant: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Open points and slip signs of a mechanism (relative velocities below a threshold are zero).
+
+    ``dilatant``: the mechanism obeys the associative flow rule (Eq. 6), where a
+    sliding point opens by f |γ|; such a point is read as closed and slipping, and
+    only an opening beyond f |γ| as a separation.
+    """
     opening = points.normal.T @ mechanism
     slip = points.tangent.T @ mechanism
     scale = max(float(np.abs(opening).max(initial=0.0)), float(np.abs(slip).max(initial=0.0)), 1e-300)
     tol = ACTIVE_TOLERANCE * scale
+    if dilatant:
+        opening = opening - points.friction * np.abs(slip)
     open_points = opening > tol
     slip_sign = np.where(slip > tol, 1.0, np.where(slip < -tol, -1.0, 0.0))
     return open_points, slip_sign
+
+
+def kinematic_lp(model: Model, points: ContactPoints, open_points: np.ndarray, slip_sign: np.ndarray,
+                 *, time_limit: float = LP_TIME_LIMIT) -> np.ndarray | None:
+    """A mechanism with a prescribed active set (Eq. 2), or None if there is none.
+
+    Closed points do not open (ξ = 0), open points do not interpenetrate (ξ ≥ 0),
+    sticking points do not slip (γ = 0), slipping points slip only in their sign's
+    direction (s γ ≥ 0); f_Lᵀu = n_free.  Any such u complements every force field of
+    the same active set, so it removes the round-off of the candidate's small velocities.
+    """
+    closed = ~open_points
+    sticking = closed & (slip_sign == 0)
+    slipping = closed & (slip_sign != 0)
+    normal_t = points.normal.T.tocsr()
+    tangent_t = points.tangent.T.tocsr()
+    A_eq = sp.vstack([sp.csr_matrix(model.live[None, :]), normal_t[np.flatnonzero(closed)],
+                      tangent_t[np.flatnonzero(sticking)]]).tocsr()
+    b_eq = np.zeros(A_eq.shape[0])
+    b_eq[0] = float(model.n_free)
+    A_ub = sp.vstack([-normal_t[np.flatnonzero(open_points)],
+                      -sp.diags(slip_sign[slipping]) @ tangent_t[np.flatnonzero(slipping)]]).tocsr()
+    n = model.dead.shape[0]
+    res = linprog(np.zeros(n), A_ub=A_ub if A_ub.shape[0] else None, b_ub=np.zeros(A_ub.shape[0]) if A_ub.shape[0] else None,
+                  A_eq=A_eq, b_eq=b_eq, bounds=(None, None), method=LP_METHOD, options={"time_limit": time_limit})
+    if res.status != 0:
+        return None
+    return np.asarray(res.x)
 
 
 def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray, shear: np.ndarray,
@@ -198,77 +234,109 @@ def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray
     return residuals, bool(ok)
 
 
-def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, start: str) -> CollapseState | None:
-    """Fix the active set of a mechanism and take the smallest α of its static LP; verify it."""
+def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, start: str, *,
+                dilatant: bool = False, time_limit: float = LP_TIME_LIMIT) -> CollapseState | None:
+    """Turn a candidate mechanism into an exact collapse state and verify it.
+
+    Its active set is fixed (:func:`active_set`); one static LP takes the smallest
+    α with that set (N = 0 where open, T = −f N sign γ where slipping, |T| ≤ f N
+    elsewhere) and one kinematic LP (:func:`kinematic_lp`) a mechanism with the same
+    set.  The pair satisfies Eq. 9 by construction; :func:`verify` checks it.  When
+    the kinematic LP has no solution the candidate's own mechanism is verified.
+    """
     work = float(model.live @ mechanism)
     if not work > 0:
         return None
     mechanism = mechanism * (model.n_free / work)
-    open_points, slip_sign = active_set(model, points, mechanism)
+    open_points, slip_sign = active_set(model, points, mechanism, dilatant=dilatant)
     lp = static_lp(model, points, slope=points.friction, cap=np.zeros(points.count), maximise=False,
-                   open_points=open_points, slip_sign=slip_sign)
+                   open_points=open_points, slip_sign=slip_sign, time_limit=time_limit)
     if lp.status != "optimal":
         return None
-    residuals, ok = verify(model, points, lp.alpha, lp.normal, lp.shear, mechanism)
-    return CollapseState(alpha=lp.alpha, normal=lp.normal, shear=lp.shear, mechanism=mechanism, start=start,
-                         residuals=residuals, verified=ok)
+    clean = kinematic_lp(model, points, open_points, slip_sign, time_limit=time_limit)
+    best = None
+    for u in ((clean, mechanism) if clean is not None else (mechanism,)):
+        if dilatant and u is mechanism:
+            continue  # an associative mechanism opens where it slips: never a non-associative state
+        residuals, ok = verify(model, points, lp.alpha, lp.normal, lp.shear, u)
+        state = CollapseState(alpha=lp.alpha, normal=lp.normal, shear=lp.shear, mechanism=u, start=start,
+                              residuals=residuals, verified=ok)
+        if best is None or (ok and not best.verified):
+            best = state
+        if ok:
+            break
+    return best
 
 
 def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, start: str = "gilbert",
             relaxation: float = 0.5, slope_steps: int = 4, max_iter: int = 40,
-            tolerance: float = 1e-7, ipm_above: int = 2000) -> tuple[CollapseState | None, int]:
+            tolerance: float = 1e-7, ipm_above: int = 6000,
+            deadline: float | None = None) -> tuple[CollapseState | None, int]:
     """Iterative LP of Gilbert, Casapulla & Ahmed (2006).
 
     The friction slope is halved each step down to zero while the rest of the
     shear capacity is a fictitious cohesion (f − slope) N̄ from the previous
-    normal forces; at slope zero the sliding flow rule has no dilatancy, and
-    the loop stops when N = N̄ (then |T| ≤ f N and the state is Coulomb's).
-    Returns the exact, verified state of the last mechanism, and the iterations used.
+    normal forces; at slope zero the sliding flow rule has no dilatancy.  An
+    iterate whose own forces already satisfy Coulomb's law with its mechanism
+    (|T| ≤ f N, slipping points at T = −f N sign γ: checked by :func:`verify`)
+    is an exact collapse state and ends the loop; otherwise the loop stops
+    when N = N̄.  Scenes up to ``ipm_above`` contact points re-solve one
+    persistent HiGHS model from the previous basis (:class:`~alma.cap_lp.CapLP`);
+    larger ones use Clarabel's interior point.  ``deadline`` (perf_counter
+    seconds) bounds the time.  Returns the best verified state (or the exact
+    state of the last mechanism), and the iterations used.
     """
+    from .cap_lp import CapLP
+
     f = points.friction
     n_bar = np.maximum(initial_normal, 0.0)
     used = 0
-    if points.count > ipm_above:
-        # Large scenes: iterate the caps with the interior point (several times faster than
-        # simplex) until the normal forces settle, then finish with vertex solutions below.
-        for iteration in range(max_iter):
-            ratio = 0.5 ** (iteration + 1) if iteration < slope_steps else 0.0
-            slope = f * ratio
-            lp = static_lp_clarabel(model, points, slope=slope, cap=(f - slope) * n_bar)
-            used += 1
-            if lp.status != "optimal":
-                break
-            change = float(np.abs(lp.normal - n_bar).max(initial=0.0))
-            n_bar = n_bar + relaxation * (lp.normal - n_bar)
-            if ratio == 0.0 and change <= 1e-5 * max(1.0, float(np.abs(lp.normal).max(initial=0.0))):
-                break
-        slope_steps = 0
+    interior = points.count > ipm_above
+    cap_lp = None if interior else CapLP(model, points, time_limit=LP_TIME_LIMIT)
     last = None
+    best: CollapseState | None = None
     previous_set = None
     for iteration in range(max_iter):
+        if deadline is not None and time.perf_counter() > deadline:
+            break
         ratio = 0.5 ** (iteration + 1) if iteration < slope_steps else 0.0
         slope = f * ratio
-        lp = static_lp(model, points, slope=slope, cap=(f - slope) * n_bar, maximise=True)
+        if interior:
+            lp = static_lp_clarabel(model, points, slope=slope, cap=(f - slope) * n_bar)
+        else:
+            lp = cap_lp.solve(slope, (f - slope) * n_bar)
         used += 1
         if lp.status != "optimal" or lp.mechanism is None:
-            return None, used
+            break
         last = lp
+        if ratio == 0.0:
+            residuals, ok = verify(model, points, lp.alpha, lp.normal, lp.shear, lp.mechanism)
+            if ok and (best is None or lp.alpha < best.alpha):  # the iterate is itself a Coulomb collapse state
+                best = CollapseState(alpha=lp.alpha, normal=lp.normal, shear=lp.shear, mechanism=lp.mechanism,
+                                     start=start, residuals=residuals, verified=True)
         change = float(np.abs(lp.normal - n_bar).max(initial=0.0))
         if ratio == 0.0 and change <= tolerance * max(1.0, float(np.abs(lp.normal).max(initial=0.0))):
             break
-        if ratio == 0.0:
+        if ratio == 0.0 and not interior:
             # Once the mechanism's active set repeats, its exact state usually verifies: stop early.
             open_points, slip_sign = active_set(model, points, lp.mechanism)
             current = (open_points.tobytes(), slip_sign.tobytes())
             if current == previous_set:
                 state = exact_state(model, points, lp.mechanism, start)
                 if state is not None and state.verified:
-                    return state, used
+                    return _lower(state, best), used
             previous_set = current
         n_bar = n_bar + relaxation * (lp.normal - n_bar)
     if last is None:
-        return None, used
-    return exact_state(model, points, last.mechanism, start), used
+        return best, used
+    return _lower(exact_state(model, points, last.mechanism, start), best), used
+
+
+def _lower(state: CollapseState | None, other: CollapseState | None) -> CollapseState | None:
+    """The verified state with the smaller α (an unverified one only if neither is verified)."""
+    if state is None or (other is not None and other.verified and (not state.verified or other.alpha < state.alpha)):
+        return other
+    return state
 
 
 @dataclass(frozen=True)
@@ -282,8 +350,13 @@ class NonAssociativeSolution:
 
 def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
                          associative_multipliers: np.ndarray | None, *, effort: str = "fast",
-                         polish: bool | None = None) -> NonAssociativeSolution:
-    """Lowest verified collapse state of Eq. 9 over several starts (see module docstring)."""
+                         polish: bool | None = None, time_limit: float | None = None) -> NonAssociativeSolution:
+    """Lowest verified collapse state of Eq. 9 over several starts (see module docstring).
+
+    ``time_limit`` (s): no start begins, and no Gilbert iteration, after it has passed;
+    the states found by then are the answer (the timings say how far the search got).
+    """
+    deadline = None if time_limit is None else time.perf_counter() + time_limit
     if effort not in ("fast", "thorough"):
         raise ValueError(f"effort must be 'fast' or 'thorough', got {effort!r}")
     points = ContactPoints.from_model(model)
@@ -296,7 +369,7 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
 
     t0 = time.perf_counter()
     if associative_mechanism is not None:
-        add(exact_state(model, points, associative_mechanism, "lp"))
+        add(exact_state(model, points, associative_mechanism, "lp", dilatant=True))
     timings["lp_start_s"] = time.perf_counter() - t0
 
     # Normal forces of the associative static field (the two generators of each point).
@@ -308,7 +381,10 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
     t0 = time.perf_counter()
     iterations = 0
     for s in scales:
-        state, used = gilbert(model, points, s * n_lp, start=f"gilbert(N̄={s:g}·N_LP)")
+        if deadline is not None and time.perf_counter() > deadline:
+            timings["stopped_by_time_limit"] = 1.0
+            break
+        state, used = gilbert(model, points, s * n_lp, start=f"gilbert(N̄={s:g}·N_LP)", deadline=deadline)
         iterations += used
         add(state)
     timings["gilbert_s"] = time.perf_counter() - t0
@@ -316,7 +392,7 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
 
     if polish is None:
         polish = effort == "thorough" and model.n_free <= 60
-    if polish:
+    if polish and (deadline is None or time.perf_counter() < deadline):
         from .nlp import ipopt_polish
 
         t0 = time.perf_counter()

@@ -26,8 +26,9 @@ def solve(scene: Scene | Model, model: str = "associative", *, tolerance: float 
     ``model="associative"`` solves the dilatant LP (Eq. 10) with certified
     bounds; ``"nonassociative"`` searches the collapse states of Eq. 9 (see
     :mod:`alma.nonassociative`) from the LP solution, ``effort`` "fast",
-    "thorough" or "auto" (thorough up to 200 blocks), and with ``certify`` proves
-    a lower bound by MILP under ``time_limit`` seconds; ``"both"`` reports both
+    "thorough" or "auto" (thorough up to 200 blocks), within ``time_limit``
+    seconds, and with ``certify`` proves a lower bound by MILP under another
+    ``time_limit`` seconds; ``"both"`` reports both
     multipliers and their ratio.  A prebuilt :class:`~alma.model.Model` may be
     passed instead of a scene to skip joint detection and assembly.
     """
@@ -57,7 +58,7 @@ def solve(scene: Scene | Model, model: str = "associative", *, tolerance: float 
     t0 = time.perf_counter()
     lp_ok = lp.status in ("optimal", "not_converged")
     solution = solve_nonassociative(built, lp.mechanism if lp_ok else None,
-                                    lp.multipliers if lp_ok else None, effort=effort)
+                                    lp.multipliers if lp_ok else None, effort=effort, time_limit=time_limit)
     timings["nonassociative_s"] = time.perf_counter() - t0
     timings.update({k: v for k, v in solution.timings.items()})
     certificate = None
