@@ -1,34 +1,40 @@
 """Global certification of the non-associative problem (Eq. 9) by mixed-integer LP.
 
 The complementarity of Eq. 9 is written with binaries (big-M) and solved with
-HiGHS (``highspy``).  Every contact point p is in one of four states: open
-(o_p = 1), slipping +t (s⁺_p = 1), slipping −t (s⁻_p = 1) or sticking (none of
-them; o + s⁺ + s⁻ ≤ 1):
+HiGHS (``highspy``).  The slip γ = tangentᵀu is the same at both end points of a
+straight joint, so the slip state is one per joint j: slipping +t (s⁺_j = 1),
+slipping −t (s⁻_j = 1) or not (s⁺_j + s⁻_j ≤ 1); each contact point p of joint j
+is open (o_p = 1) or closed:
 
-- N_p ≤ M_N,p (1 − o_p),            ξ_p ≤ M_ξ,p o_p;
-- γ⁺_p ≤ M_γ⁺,p (o_p + s⁺_p),       γ⁻_p ≤ M_γ⁻,p (o_p + s⁻_p);
-- f N_p + T_p ≤ 2 f M_N,p (1 − o_p − s⁺_p),   f N_p − T_p ≤ 2 f M_N,p (1 − o_p − s⁻_p);
+- N_p ≤ M_N,p (1 − o_p),            ξ_p = normal_pᵀu ≤ M_ξ,p o_p;
+- γ⁺_j ≤ M_γ⁺,j s⁺_j,               γ⁻_j ≤ M_γ⁻,j s⁻_j,   γ_j = γ⁺_j − γ⁻_j;
+- f N_p + T_p ≤ 2 f M_N,p (1 − s⁺_j),   f N_p − T_p ≤ 2 f M_N,p (1 − s⁻_j)
+  (slipping: T = −f N sign γ; an open point carries nothing and satisfies both);
 
-with equilibrium, yield |T| ≤ f N, no interpenetration ξ = normalᵀu ≥ 0, slip
-γ = tangentᵀu = γ⁺ − γ⁻ and f_Lᵀu = n_free; objective min α over
-α ∈ [0, min(α_LP, α_best)] (Radenkovic: α_NL ≤ α_LP; α_best is a verified state).
+with equilibrium, yield |T| ≤ f N, no interpenetration ξ ≥ 0 and f_Lᵀu = n_free;
+objective min α over α ∈ [0, α_cap], α_cap = min(α_LP, α_best) (Radenkovic:
+α_NL ≤ α_LP; α_best is a verified collapse state, also given to HiGHS as the
+objective cutoff).
 
-Every integer-feasible point satisfies Nᵀξ = 0 and Tᵀγ = −Σ f N |γ| ≤ 0, so the
-virtual work of the equilibrium against u gives the valid inequality
-α n_free ≥ −f₀ᵀu (the dead load's lifting work is paid by the live load).
+Energy balance.  Every integer-feasible point has Nᵀξ = 0 and Tᵀγ = −Σ f N |γ|, so
+the equilibrium dotted with u gives α n_free = −f₀ᵀu + Σ_j f N_j |γ_j| (N_j the
+joint's total normal force).  With ℓ_j = min N_j over the admissible fields (an LP)
+this yields the valid row α n_free ≥ −f₀ᵀu + Σ_j f ℓ_j (γ⁺_j + γ⁻_j), and with
+α ≤ α_cap it bounds every mechanism that lifts weight or slips under load.
 
-The big-M constants are derived per scene: M_N,p is the largest N_p of any
-statically admissible field with α in [0, α_cap] (one LP per point, warm-started;
-unbounded → no certificate); the mechanism is bounded by |u|∞ ≤ U with U a
-multiple of the candidate mechanisms' size, and M_ξ,p, M_γ±,p are the largest
-opening and slips of p over {ξ ≥ 0, f_Lᵀu = n_free, |u|∞ ≤ U} (one LP each).
-Points that can carry no force (M_N,p = 0) need no binaries (they may open).  The proven
-statement is therefore: no collapse state with α below ``lower`` exists among
-mechanisms with |u|∞ ≤ U (f_Lᵀu = n_free); the bound on u is reported, and
+Big-M constants, derived per scene by warm-started LPs: M_N,p = max N_p over the
+statically admissible fields with α ∈ [0, α_cap] (unbounded → no certificate);
+M_ξ,p and M_γ±,j = the largest opening / slips over {ξ ≥ 0, f_Lᵀu = n_free,
+|u|∞ ≤ U, −f₀ᵀu + Σ f ℓ_j |γ_j| ≤ α_cap n_free}, U a multiple of the candidate
+mechanisms' size.  Points that carry no force in any admissible field need no
+binary (they may open); points loaded in every admissible field never open.  The
+proven statement is therefore: no collapse state with α below ``lower`` exists
+among mechanisms with |u|∞ ≤ U (f_Lᵀu = n_free); the bound on u is reported, and
 whether it was active at the optimum.
 
-``formulation="classic"`` keeps the first formulation (global big-M, binaries
-closed/slip⁺/slip⁻, ``scipy.optimize.milp``) for comparison.
+``formulation="classic"`` keeps the first formulation (one global velocity big-M,
+three binaries per point, ``scipy.optimize.milp``) for comparison
+(``benchmarks/bench_certify.py``).
 """
 from __future__ import annotations
 
@@ -150,8 +156,9 @@ def _column_maxima(h, nvar: int, objectives: list[np.ndarray], deadline: float) 
 
 
 def static_point_bounds(model: Model, points: ContactPoints, alpha_max: float,
-                        deadline: float = np.inf) -> np.ndarray | None:
-    """max N_p over statically admissible fields with 0 ≤ α ≤ alpha_max, for every p (None if unbounded)."""
+                        deadline: float = np.inf, minimise: bool = False) -> np.ndarray | None:
+    """max N_p (min N_p with ``minimise``) over statically admissible fields with 0 ≤ α ≤ alpha_max,
+    for every p (None if unbounded)."""
     P = points.count
     A_eq, b_eq, A_ub = points.static_constraints(model, points.friction)
     A = sp.vstack([A_eq, A_ub])
@@ -161,8 +168,10 @@ def static_point_bounds(model: Model, points: ContactPoints, alpha_max: float,
     col_hi = np.concatenate([[alpha_max], np.full(2 * P, np.inf)])
     h = _highs()
     _pass_model(h, np.zeros(1 + 2 * P), col_lo, col_hi, A, lo, hi)
-    objectives = [np.eye(1, 1 + 2 * P, 1 + p).ravel() for p in range(P)]
-    return _column_maxima(h, 1 + 2 * P, objectives, deadline)
+    sign = -1.0 if minimise else 1.0
+    objectives = [sign * np.eye(1, 1 + 2 * P, 1 + p).ravel() for p in range(P)]
+    values = _column_maxima(h, 1 + 2 * P, objectives, deadline)
+    return None if values is None else sign * values
 
 
 def joint_normal_minima(model: Model, points: ContactPoints, first: np.ndarray, alpha_max: float,
@@ -183,45 +192,6 @@ def joint_normal_minima(model: Model, points: ContactPoints, first: np.ndarray, 
     for a, b in zip(first, ends):
         c = np.zeros(1 + 2 * P)
         c[1 + a:1 + b] = -1.0  # maximise −(N_a + N_b)
-        objectives.append(c)
-    values = _column_maxima(h, 1 + 2 * P, objectives, deadline)
-    return None if values is None else -values
-
-
-def collinear_groups(model: Model) -> list[np.ndarray]:
-    """Sets (of two or more) of joints lying on one straight line, e.g. all bed joints of a course."""
-    joints = model.joints
-    if joints.count < 2:
-        return []
-    n = np.asarray(joints.normal, dtype=float)
-    flip = (n[:, 0] < -1e-12) | ((np.abs(n[:, 0]) <= 1e-12) & (n[:, 1] < 0))
-    n = np.where(flip[:, None], -n, n)
-    offset = np.einsum("ij,ij->i", n, np.asarray(joints.start, dtype=float))
-    scale = float(np.median(joints.length)) if joints.count else 1.0
-    angle = np.round(np.arctan2(n[:, 1], n[:, 0]) / 1e-9).astype(np.int64)
-    level = np.round(offset / (1e-7 * scale)).astype(np.int64)
-    groups: dict[tuple[int, int], list[int]] = {}
-    for j, key in enumerate(zip(angle.tolist(), level.tolist())):
-        groups.setdefault(key, []).append(j)
-    return [np.array(g) for g in groups.values() if len(g) >= 2]
-
-
-def group_normal_minima(model: Model, points: ContactPoints, groups: list[np.ndarray], alpha_max: float,
-                        deadline: float = np.inf) -> np.ndarray | None:
-    """min Σ_{j∈G} N_j (both end points of every joint of G) over statically admissible fields."""
-    P = points.count
-    A_eq, b_eq, A_ub = points.static_constraints(model, points.friction)
-    A = sp.vstack([A_eq, A_ub])
-    lo = np.concatenate([b_eq, np.full(2 * P, -np.inf)])
-    hi = np.concatenate([b_eq, np.zeros(2 * P)])
-    col_lo = np.concatenate([[0.0], np.zeros(P), np.full(P, -np.inf)])
-    col_hi = np.concatenate([[alpha_max], np.full(2 * P, np.inf)])
-    h = _highs()
-    _pass_model(h, np.zeros(1 + 2 * P), col_lo, col_hi, A, lo, hi)
-    objectives = []
-    for g in groups:
-        c = np.zeros(1 + 2 * P)
-        c[1 + np.isin(points.joint, g).nonzero()[0]] = -1.0
         objectives.append(c)
     values = _column_maxima(h, 1 + 2 * P, objectives, deadline)
     return None if values is None else -values
@@ -275,7 +245,8 @@ def kinematic_point_bounds(model: Model, points: ContactPoints, U: float, deadli
 def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray], *,
             time_limit: float = 60.0, velocity_factor: float = 10.0, alpha_best: float | None = None,
             per_point_bounds: int = 400, formulation: str = "tight", energy_cut: bool = True,
-            kinematic_bounds: bool = True, dissipation_cut: bool = True, group_cut: bool = True, cutoff: bool = True, quiet: bool = True) -> Certificate:
+            kinematic_bounds: bool = True, dissipation_cut: bool = True, cutoff: bool = True, quiet: bool = True,
+            highs_options: dict | None = None) -> Certificate:
     """Proven lower bound of the non-associative collapse multiplier (see module docstring)."""
     if formulation == "classic":
         return _certify_classic(model, alpha_associative, mechanisms, time_limit=time_limit,
@@ -318,6 +289,13 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
                 return _timeout(t0, time_limit, U, "tight")
             return fail("the joint normal force LPs failed")
         ell = np.maximum(ell / BIG_M_MARGIN - 1e-9, 0.0)
+    n_min = None
+    if dissipation_cut:
+        n_min = static_point_bounds(model, points, alpha_hi, deadline, minimise=True)
+        if n_min is None:
+            if time.perf_counter() >= deadline:
+                return _timeout(t0, time_limit, U, "tight")
+            return fail("the point normal force LPs failed")
     if kinematic_bounds:
         kin = kinematic_point_bounds(model, points, U, deadline, alpha_max=alpha_hi,
                                      slip_cost=points.friction[first] * ell, first=first)
@@ -347,18 +325,6 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     mj = J.size
     m_gp_j = np.maximum.reduceat(m_gp, first) if P else m_gp
     m_gm_j = np.maximum.reduceat(m_gm, first) if P else m_gm
-    groups = collinear_groups(model) if group_cut else []
-    if groups:
-        ell_g = group_normal_minima(model, points, groups, alpha_hi, deadline)
-        if ell_g is None:
-            if time.perf_counter() >= deadline:
-                return _timeout(t0, time_limit, U, "tight")
-            return fail("the group normal force LPs failed")
-        ell_g = np.maximum(ell_g / BIG_M_MARGIN - 1e-9, 0.0)
-        keep = ell_g > 1e-9
-        groups = [g for g, k in zip(groups, keep) if k]
-        ell_g = ell_g[keep]
-    ng = len(groups)
     bounds_s = time.perf_counter() - t0
 
     # Variable layout: α | N | T | u | γ⁺ | γ⁻ (per joint) | o (points in B) | s⁺ | s⁻ (joints in J).
@@ -368,8 +334,7 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     i_o = i_gm + m
     i_sp = i_o + nb
     i_sm = i_sp + mj
-    i_g = i_sm + mj  # g_G ≤ |γ_j| for every joint j of collinear group G (the group's common slip)
-    nvar = i_g + ng
+    nvar = i_sm + mj
     I = sp.identity(P, format="csr")
     Im = sp.identity(m, format="csr")
     S = sp.csr_matrix((np.ones(nb), (np.arange(nb), B)), shape=(nb, P))  # selects the points in B
@@ -407,21 +372,9 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
         diss = (fj * ell)[None, :] if dissipation_cut else np.zeros((1, m))
         add({i_a: np.array([[float(model.n_free)]]), i_u: model.dead[None, :], i_gp: -diss, i_gm: -diss},
             1, 0.0, np.inf)
-        if ng:
-            # Σ_j f N_j |γ_j| ≥ Σ_G f_G g_G Σ_{j∈G} N_j + Σ_{j in no group} f N_j |γ_j|, with Σ_{j∈G} N_j ≥ ℓ_G.
-            in_group = np.zeros(m, dtype=bool)
-            for g in groups:
-                in_group[g] = True
-            diss_rest = np.where(in_group, 0.0, diss.ravel())[None, :]
-            fg = np.array([f[first[g]].min() for g in groups])
-            add({i_a: np.array([[float(model.n_free)]]), i_u: model.dead[None, :], i_gp: -diss_rest,
-                 i_gm: -diss_rest, i_g: -(fg * ell_g)[None, :]}, 1, 0.0, np.inf)
-            members = np.concatenate(groups)
-            owner = np.repeat(np.arange(ng), [len(g) for g in groups])
-            sel = sp.csr_matrix((np.ones(members.size), (np.arange(members.size), members)), shape=(members.size, m))
-            own = sp.csr_matrix((np.ones(members.size), (np.arange(members.size), owner)), shape=(members.size, ng))
-            add({i_gp: sel, i_gm: sel, i_g: -own}, members.size, 0.0, np.inf)  # g_G ≤ γ⁺_j + γ⁻_j
     if nb:
+        # A point whose normal force is positive in every admissible field (min N_p > 0) never opens.
+        col_fix = np.flatnonzero(n_min[B] > 1e-9) if n_min is not None else np.array([], dtype=int)
         mn, mx = m_n[B], m_xi[B]
         add({i_N: S, i_o: sp.diags(mn)}, nb, -np.inf, mn)  # N ≤ M_N (1 − o)
         add({i_u: S @ points.normal.T, i_o: -sp.diags(mx)}, nb, -np.inf, 0.0)  # ξ ≤ M_ξ o
@@ -443,9 +396,11 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     col_lo[i_u:i_u + n], col_hi[i_u:i_u + n] = -U, U
     col_hi[i_gp:i_gp + m] = m_gp_j
     col_hi[i_gm:i_gm + m] = m_gm_j
-    col_hi[i_o:i_g] = 1.0
+    col_hi[i_o:] = 1.0
+    if nb and col_fix.size:
+        col_hi[i_o + col_fix] = 0.0
     integrality = np.zeros(nvar, dtype=bool)
-    integrality[i_o:i_g] = True
+    integrality[i_o:] = True
     cost = np.zeros(nvar)
     cost[i_a] = 1.0
 
@@ -455,6 +410,8 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     h.setOptionValue("time_limit", float(remaining))
     h.setOptionValue("mip_rel_gap", 1e-9)
     h.setOptionValue("mip_abs_gap", MIP_ABSOLUTE_GAP)
+    for key, value in (highs_options or {}).items():
+        h.setOptionValue(key, value)
     if cutoff and alpha_best is not None:
         # The verified state at α_best acts as an incumbent: nodes whose bound reaches it are pruned.
         h.setOptionValue("objective_bound", float(alpha_hi))
@@ -477,12 +434,12 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     common = dict(velocity_bound=U, velocity_bound_active=active, mechanism=u, formulation="tight",
                   binaries=nb + 2 * mj, nodes=nodes, bounds_s=bounds_s)
     if status_code == MS.kOptimal:
-        lower_bound = max(0.0, min(dual, best))
+        lower_bound = max(0.0, min(dual, best, alpha_cap))  # α_cap: a verified state exists there
         gap = best - lower_bound
         return Certificate("proven", f"optimal within mip gap {gap:.1e} (|u|∞ ≤ {U:.3g}"
                            f"{', bound active' if active else ''})", float(lower_bound), best, float(gap),
                            elapsed, **common)
-    if status_code == MS.kInfeasible:
+    if status_code in (MS.kInfeasible, MS.kObjectiveBound):
         return Certificate("proven", f"no collapse state below the cap {alpha_cap:.9g} (best verified state / "
                            f"associative bound) with |u|∞ ≤ {U:.3g}", float(alpha_cap), np.inf, 0.0, elapsed,
                            **common)

@@ -1,0 +1,134 @@
+"""Certification of the non-associative optimum (``--certify``): old vs new MILP formulation.
+
+For every scene alma's default non-associative search runs once (α_LP, the candidate
+mechanisms and the best verified α), then ``alma.certify.certify`` is called with the first
+formulation (``classic``: global big-M, binaries per point, ``scipy.optimize.milp``) and the
+current one (``tight``: per-joint slip states, LP-derived big-M per point, energy balance,
+highspy with the verified state as cutoff), one after the other in the same process, each
+with the same time limit.  A family stops for a formulation after two consecutive sizes it
+could not prove (later rows say ``skipped``).
+
+Families: k blocks 1 × 2 side by side on the ground (f = 1.0 and 0.6), stack-bond panels and
+running-bond walls (``alma.wall``, blocks 120 × 60, f = 0.6) from 6 to 40 blocks.
+
+    python benchmarks/bench_certify.py [--time-limit 60] [--families side1.0,side0.6,stack,running]
+                                       [--formulations classic,tight] [--out benchmarks/results]
+
+Prints a table and the largest scene proven within the time limit per family and formulation;
+writes ``certify.csv`` (one row per scene and formulation).
+"""
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+import alma
+from alma.associative import solve_lp
+from alma.certify import certify
+from alma.model import build_model
+from alma.nonassociative import solve_nonassociative
+
+
+def side_by_side(k: int, f: float, b: float = 1.0, h: float = 2.0) -> alma.Scene:
+    blocks = [{"id": "g", "vertices": [[-b, -1], [(k + 1) * b, -1], [(k + 1) * b, 0], [-b, 0]], "fixed": True}]
+    blocks += [{"id": f"b{i}", "vertices": [[i * b, 0], [(i + 1) * b, 0], [(i + 1) * b, h], [i * b, h]]}
+               for i in range(k)]
+    return alma.Scene.from_dict({"friction": f, "blocks": blocks, "name": f"{k} blocks side by side, f={f:g}"})
+
+
+def families() -> dict[str, list[tuple[str, alma.Scene]]]:
+    out: dict[str, list[tuple[str, alma.Scene]]] = {}
+    for f in (1.0, 0.6):
+        out[f"side{f:g}"] = [(f"side-by-side k={k} f={f:g}", side_by_side(k, f)) for k in range(2, 21)]
+    out["stack"] = [(f"stack {c}x{r}", alma.wall("stack", c * 120.0, r * 60.0, 120.0, friction=0.6))
+                    for c, r in [(2, 3), (3, 3), (4, 3), (4, 4), (5, 4), (6, 4), (6, 5), (8, 5)]]
+    out["running"] = [(f"running {int(L)}x{r * 60}", alma.wall("running", L, r * 60.0, 120.0, friction=0.6))
+                      for L, r in [(360.0, 2), (360.0, 3), (360.0, 4), (480.0, 3), (480.0, 4), (600.0, 4),
+                                   (480.0, 6), (600.0, 6), (600.0, 7)]]
+    return out
+
+
+def search(scene: alma.Scene):
+    model = build_model(scene)
+    lp = solve_lp(model)
+    effort = "thorough" if model.n_free <= 200 else "fast"
+    sol = solve_nonassociative(model, lp.mechanism, lp.multipliers, effort=effort)
+    mechanisms = [c.mechanism for c in sol.candidates] + [lp.mechanism]
+    best = sol.best.alpha if sol.best is not None else None
+    return model, lp.alpha, mechanisms, best
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--time-limit", type=float, default=60.0)
+    parser.add_argument("--families", default="side1,side0.6,stack,running")
+    parser.add_argument("--formulations", default="classic,tight")
+    parser.add_argument("--stop-after", type=int, default=2, help="unproven sizes in a row before a family stops")
+    parser.add_argument("--out", default=str(Path(__file__).resolve().parent / "results"))
+    args = parser.parse_args(argv)
+    chosen = args.families.split(",")
+    formulations = args.formulations.split(",")
+    all_families = families()
+    rows = []
+    for family in chosen:
+        misses = {f: 0 for f in formulations}
+        for name, scene in all_families[family]:
+            if all(misses[f] >= args.stop_after for f in formulations):
+                break
+            model, alpha_lp, mechanisms, best = search(scene)
+            points = 2 * model.n_joints
+            for formulation in formulations:
+                row = dict(family=family, scene=name, blocks=model.n_free, points=points, formulation=formulation,
+                           alpha_best=best, alpha_lp=alpha_lp)
+                if misses[formulation] >= args.stop_after:
+                    row.update(status="skipped", lower=np.nan, upper=best, gap=np.nan, seconds=np.nan)
+                else:
+                    cert = certify(model, alpha_lp, mechanisms, time_limit=args.time_limit, alpha_best=best,
+                                   formulation=formulation)
+                    upper = min(best, cert.upper) if best is not None else cert.upper
+                    proven = cert.status == "proven"
+                    misses[formulation] = 0 if proven else misses[formulation] + 1
+                    row.update(status=cert.status, lower=cert.lower, upper=upper, gap=upper - cert.lower,
+                               seconds=cert.time_s, velocity_bound_active=cert.velocity_bound_active)
+                rows.append(row)
+                print(f"{name:28s} {row['blocks']:3d} blocks {points:4d} pts  {formulation:8s} {row['status']:10s} "
+                      f"lower {row['lower']:.6f}  upper {row['upper']:.6f}  gap {row['gap']:.2e}  "
+                      f"{row['seconds']:6.2f} s", flush=True)
+    df = pd.DataFrame(rows)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    df.to_csv(out / "certify.csv", index=False)
+
+    wide = df.pivot_table(index=["family", "scene", "blocks", "points"], columns="formulation",
+                          values=["lower", "gap", "seconds"], aggfunc="first", sort=False)
+    status = df.pivot_table(index=["family", "scene", "blocks", "points"], columns="formulation",
+                            values="status", aggfunc="first", sort=False)
+    print("\nscene                         blocks points | " + " | ".join(
+        f"{f}: status lower upper gap seconds" for f in formulations))
+    for key in status.index:
+        family, scene, blocks, points = key
+        upper = df[(df.scene == scene)].upper.iloc[0]
+        cells = []
+        for f in formulations:
+            cells.append(f"{status.loc[key, f]:10s} {wide.loc[key, ('lower', f)]:.6f} {upper:.6f} "
+                         f"{wide.loc[key, ('gap', f)]:.1e} {wide.loc[key, ('seconds', f)]:6.2f}")
+        print(f"{scene:29s} {blocks:6d} {points:6d} | " + " | ".join(cells))
+    print(f"\nlargest scene proven within {args.time_limit:g} s:")
+    for family in chosen:
+        for f in formulations:
+            proven = df[(df.family == family) & (df.formulation == f) & (df.status == "proven")]
+            if proven.empty:
+                print(f"  {family:10s} {f:8s} none")
+            else:
+                top = proven.sort_values("blocks").iloc[-1]
+                print(f"  {family:10s} {f:8s} {top.scene} ({top.blocks} blocks, {top.points} points, "
+                      f"{top.seconds:.1f} s)")
+    print(f"\nwrote {out / 'certify.csv'}")
+
+
+if __name__ == "__main__":
+    main()

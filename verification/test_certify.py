@@ -1,0 +1,104 @@
+"""Certification of the non-associative optimum (alma.certify, ``--certify``).
+
+- On small generated assemblies the proven MILP optimum equals alma's default
+  non-associative α (``alma.solve(scene, model="nonassociative").alpha``) to 1e-6.
+- The MILP finds the optimum itself when only the associative bound caps α.
+- A time-limited run never reports a lower bound above the best verified α.
+"""
+from __future__ import annotations
+
+import pytest
+from hypothesis import HealthCheck, given, settings, strategies as st
+
+import alma
+from alma.associative import solve_lp
+from alma.certify import certify
+from alma.model import build_model
+from alma.nonassociative import solve_nonassociative
+
+
+def side_by_side(k: int, f: float, b: float = 1.0, h: float = 2.0) -> alma.Scene:
+    blocks = [{"id": "g", "vertices": [[-b, -1], [(k + 1) * b, -1], [(k + 1) * b, 0], [-b, 0]], "fixed": True}]
+    blocks += [{"id": f"b{i}", "vertices": [[i * b, 0], [(i + 1) * b, 0], [(i + 1) * b, h], [i * b, h]]}
+               for i in range(k)]
+    return alma.Scene.from_dict({"friction": f, "blocks": blocks})
+
+
+@st.composite
+def columns_on_ground(draw) -> dict:
+    """1–3 columns of 1–2 rectangular blocks (random widths, heights) side by side on a fixed ground,
+    at most 4 free blocks, random friction."""
+    n_columns = draw(st.integers(1, 3))
+    heights_per_column = [draw(st.integers(1, 2 if n_columns < 3 else 1)) for _ in range(n_columns)]
+    widths = [float(draw(st.integers(20, 300))) for _ in range(n_columns)]
+    total = sum(widths)
+    blocks = [{"id": "ground", "vertices": [[-50.0, -50.0], [total + 50.0, -50.0], [total + 50.0, 0.0],
+                                            [-50.0, 0.0]], "fixed": True}]
+    x = 0.0
+    for c, (w, count) in enumerate(zip(widths, heights_per_column)):
+        y = 0.0
+        for r in range(count):
+            h = float(draw(st.integers(20, 200)))
+            blocks.append({"id": f"c{c}r{r}", "vertices": [[x, y], [x + w, y], [x + w, y + h], [x, y + h]]})
+            y += h
+        x += w
+    friction = draw(st.sampled_from([0.3, 0.45, 0.6, 0.8, 1.0, 1.4]))
+    return {"friction": friction, "blocks": blocks}
+
+
+@given(data=columns_on_ground())
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+def test_certified_optimum_equals_default_search(data):
+    scene = alma.Scene.from_dict(data)
+    default = alma.solve(scene, model="nonassociative")
+    assert default.status == "optimal"
+    result = alma.solve(scene, model="nonassociative", certify=True, time_limit=30)
+    cert = result.extra["certificate"]
+    assert cert["status"] == "proven", cert
+    assert not cert["velocity_bound_active"], cert
+    assert "|u|∞ ≤" in cert["message"]
+    assert cert["lower"] == pytest.approx(default.alpha, abs=1e-6), (default.alpha, cert)
+    assert cert["lower"] <= default.alpha + 1e-9  # never above a verified collapse state
+    assert result.bounds.lower == cert["lower"] and result.bounds.upper == pytest.approx(default.alpha, abs=1e-12)
+
+
+def _inputs(scene: alma.Scene):
+    model = build_model(scene)
+    lp = solve_lp(model)
+    sol = solve_nonassociative(model, lp.mechanism, lp.multipliers)
+    return model, lp.alpha, [c.mechanism for c in sol.candidates] + [lp.mechanism], sol.best.alpha
+
+
+@pytest.mark.parametrize("formulation", ["tight", "classic"])
+def test_milp_finds_the_trap_optimum_without_a_verified_state(formulation):
+    """Capped only by α_LP = 1, the MILP itself must find the rocking state at 0.5 and prove it."""
+    model, alpha_lp, mechanisms, best = _inputs(side_by_side(3, 1.0))
+    assert alpha_lp == pytest.approx(1.0, rel=1e-7) and best == pytest.approx(0.5, rel=1e-7)
+    cert = certify(model, alpha_lp, mechanisms, time_limit=30, formulation=formulation)
+    assert cert.status == "proven"
+    assert cert.upper == pytest.approx(0.5, abs=1e-6)
+    assert cert.lower == pytest.approx(0.5, abs=1e-6)
+    assert cert.lower <= cert.upper + 1e-12
+
+
+def test_time_limited_run_never_exceeds_the_best_verified_state():
+    """A running-bond wall of 14 blocks is not proven in 3 s; the bound reached must be ≤ α_best."""
+    model, alpha_lp, mechanisms, best = _inputs(alma.wall("running", 360.0, 240.0, 120.0, friction=0.6))
+    assert model.n_free == 14
+    cert = certify(model, alpha_lp, mechanisms, time_limit=3.0, alpha_best=best)
+    assert cert.status in ("time_limit", "proven")
+    assert 0.0 <= cert.lower <= best + 1e-12
+    assert cert.time_s < 3.0 + 2.0
+    if cert.status == "time_limit":
+        assert "time limit" in cert.message and cert.gap == pytest.approx(min(alpha_lp, best) - cert.lower)
+
+
+def test_certificate_is_capped_by_the_associative_value():
+    """Without friction mobilisation anywhere (a slender column rocks), α_NL = α_LP is proven."""
+    scene = alma.Scene.from_dict({"friction": 1.0, "blocks": [
+        {"id": "g", "vertices": [[-100, -50], [200, -50], [200, 0], [-100, 0]], "fixed": True},
+        {"id": "b", "vertices": [[0, 0], [100, 0], [100, 400], [0, 400]]}]})
+    model, alpha_lp, mechanisms, best = _inputs(scene)
+    cert = certify(model, alpha_lp, mechanisms, time_limit=10, alpha_best=best)
+    assert cert.status == "proven"
+    assert cert.lower == pytest.approx(0.25, rel=1e-7) and cert.lower <= best + 1e-12
