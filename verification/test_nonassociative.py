@@ -131,3 +131,60 @@ def test_gilbert_interior_point_path_gives_verified_states():
     assert simplex.verified and ipm.verified
     assert simplex.alpha == pytest.approx(120 / 720, rel=1e-9)
     assert ipm.alpha <= lp.alpha + 1e-7
+
+
+def test_associative_mechanism_read_as_slips_gives_the_sliding_state():
+    """A panel that slides in the LP (α = f) slides without dilatancy too: the 'lp' start verifies at f."""
+    from alma.associative import solve_lp
+    from alma.contact_points import ContactPoints
+    from alma.model import build_model
+    from alma.nonassociative import exact_state
+
+    model = build_model(alma.paper_panel("running", "2:1", "4:1", 0.27))
+    lp = solve_lp(model)
+    assert lp.alpha == pytest.approx(0.27, abs=1e-7)
+    state = exact_state(model, ContactPoints.from_model(model), lp.mechanism, "lp", dilatant=True)
+    assert state is not None and state.verified
+    assert state.alpha == pytest.approx(0.27, rel=1e-9)
+    assert state.residuals["interpenetration"] <= 1e-9 and state.residuals["open_with_force"] <= 1e-9
+
+
+def test_kinematic_lp_meets_the_prescribed_active_set():
+    import numpy as np
+
+    from alma.contact_points import ContactPoints
+    from alma.model import build_model
+    from alma.nonassociative import active_set, kinematic_lp
+
+    model = build_model(side_by_side(2, 1.0))
+    points = ContactPoints.from_model(model)
+    # Both blocks slide together to the right: the base points slip, the head joint sticks.
+    together = np.zeros(model.dead.shape[0])
+    together[[0, 3]] = 1.0
+    open_points, slip_sign = active_set(model, points, together)
+    assert not open_points.any() and np.count_nonzero(slip_sign) == 4
+    u = kinematic_lp(model, points, open_points, slip_sign)
+    assert u is not None
+    assert model.live @ u == pytest.approx(model.n_free)
+    scale = np.abs(u).max()
+    assert np.abs(points.normal.T @ u).max() <= 1e-9 * scale  # every point stays closed
+    slip = points.tangent.T @ u
+    assert np.all(slip[slip_sign == 0] == pytest.approx(0.0, abs=1e-9 * scale))
+    assert np.all(slip_sign[slip_sign != 0] * slip[slip_sign != 0] > 0)
+    # The right block alone cannot slide right with the head joint closed: no such mechanism.
+    alone = np.zeros(model.dead.shape[0])
+    alone[3] = 1.0
+    _, alone_slips = active_set(model, points, alone)
+    assert kinematic_lp(model, points, np.zeros(points.count, dtype=bool), alone_slips) is None
+
+
+def test_search_time_limit_is_honoured():
+    import time
+
+    model = alma.build_model(alma.paper_panel("english", "2:1", "2:1", 1.0))
+    start = time.perf_counter()
+    result = alma.solve(model, model="nonassociative", effort="thorough", time_limit=0.0)
+    elapsed = time.perf_counter() - start
+    assert result.extra.get("start") in (None, "lp")  # no Gilbert start began after the deadline
+    assert elapsed < 30.0
+    assert result.status in ("optimal", "not_converged")
