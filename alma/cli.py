@@ -46,7 +46,8 @@ def _add_common(p: argparse.ArgumentParser) -> None:
                    help="prove a lower bound of the non-associative α by mixed-integer LP")
     p.add_argument("--effort", default="auto", choices=("auto", "fast", "thorough"),
                    help="non-associative search effort (auto: thorough up to 200 blocks)")
-    p.add_argument("--time-limit", type=float, default=60.0, help="certification time limit, s")
+    p.add_argument("--time-limit", type=float, default=60.0,
+                   help="time limit of the non-associative search, and of the certification, s (default 60)")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p.add_argument("--plot", metavar="OUT.png", help="write a picture of the collapse mechanism")
 
