@@ -8,7 +8,7 @@
 from __future__ import annotations
 
 import pytest
-from hypothesis import HealthCheck, given, settings, strategies as st
+from hypothesis import HealthCheck, example, given, settings, strategies as st
 
 import alma
 from alma.associative import solve_lp
@@ -46,7 +46,23 @@ def columns_on_ground(draw) -> dict:
     return {"friction": friction, "blocks": blocks}
 
 
+#: Found by this test (hypothesis): a 20 × 40 column of two blocks beside a 20 × 20 block, f = 1.4.
+#: The column rocks about its right toe at α = b/H = 0.5 while its left corner slides up the
+#: short block without dilating (closed, slipping, N = 0) -- a non-associative state that the
+#: MILP finds and alma's own verifier accepts (test below); the default search reports 1.0.
+COLUMN_BESIDE_SHORT_BLOCK = {
+    "friction": 1.4,
+    "blocks": [
+        {"id": "ground", "vertices": [[-50.0, -50.0], [90.0, -50.0], [90.0, 0.0], [-50.0, 0.0]], "fixed": True},
+        {"id": "c0r0", "vertices": [[0.0, 0.0], [20.0, 0.0], [20.0, 20.0], [0.0, 20.0]]},
+        {"id": "c1r0", "vertices": [[20.0, 0.0], [40.0, 0.0], [40.0, 20.0], [20.0, 20.0]]},
+        {"id": "c1r1", "vertices": [[20.0, 20.0], [40.0, 20.0], [40.0, 40.0], [20.0, 40.0]]},
+    ],
+}
+
+
 @given(data=columns_on_ground())
+@example(data=COLUMN_BESIDE_SHORT_BLOCK)
 @settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 def test_certified_optimum_equals_default_search(data):
     scene = alma.Scene.from_dict(data)
@@ -102,3 +118,18 @@ def test_certificate_is_capped_by_the_associative_value():
     cert = certify(model, alpha_lp, mechanisms, time_limit=10, alpha_best=best)
     assert cert.status == "proven"
     assert cert.lower == pytest.approx(0.25, rel=1e-7) and cert.lower <= best + 1e-12
+
+
+def test_milp_state_beside_short_block_is_a_verified_collapse_state():
+    """The certificate's optimum on COLUMN_BESIDE_SHORT_BLOCK is a genuine collapse state at 0.5
+    (checked by alma's own exact-state verification), below the associative α = 1."""
+    from alma.contact_points import ContactPoints
+    from alma.nonassociative import exact_state
+
+    model, alpha_lp, mechanisms, best = _inputs(alma.Scene.from_dict(COLUMN_BESIDE_SHORT_BLOCK))
+    assert alpha_lp == pytest.approx(1.0, rel=1e-7)
+    cert = certify(model, alpha_lp, mechanisms, time_limit=10, alpha_best=best)
+    assert cert.status == "proven" and cert.lower == pytest.approx(0.5, abs=1e-6)
+    state = exact_state(model, ContactPoints.from_model(model), cert.mechanism, "milp")
+    assert state.verified
+    assert state.alpha == pytest.approx(0.5, abs=1e-9)
