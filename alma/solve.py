@@ -58,7 +58,8 @@ def solve(scene: Scene | Model, model: str = "associative", *, tolerance: float 
     t0 = time.perf_counter()
     lp_ok = lp.status in ("optimal", "not_converged")
     solution = solve_nonassociative(built, lp.mechanism if lp_ok else None,
-                                    lp.multipliers if lp_ok else None, effort=effort, time_limit=time_limit)
+                                    lp.multipliers if lp_ok else None, effort=effort, time_limit=time_limit,
+                                    associative_alpha=lp.alpha if lp_ok else None)
     timings["nonassociative_s"] = time.perf_counter() - t0
     timings.update({k: v for k, v in solution.timings.items()})
     certificate = None
