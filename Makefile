@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench venv clean
+.PHONY: demo test bench bench-accuracy bench-scaling bench-nonassociative bench-certify venv clean
 
 venv: $(STAMP)
 
@@ -26,6 +26,18 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_lp.py
+
+bench-accuracy: $(STAMP)
+	$(BIN)/python benchmarks/bench_accuracy.py
+
+bench-scaling: $(STAMP)
+	$(BIN)/python benchmarks/bench_scaling.py
+
+bench-nonassociative: $(STAMP)
+	$(BIN)/python benchmarks/bench_nonassociative.py
+
+bench-certify: $(STAMP)
+	$(BIN)/python benchmarks/bench_certify.py
 
 clean:
 	rm -rf $(VENV) demo .pytest_cache .hypothesis
