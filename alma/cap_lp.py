@@ -21,6 +21,10 @@ from .contact_points import ContactPoints
 from .model import Model
 
 
+#: Feasibility tolerances of the warm-started HiGHS model (absolute, dimensionless units).
+DUAL_TOLERANCE = 1e-10
+
+
 @dataclass(frozen=True)
 class CapSolution:
     status: str  # optimal | unbounded | infeasible | error
@@ -63,6 +67,11 @@ class CapLP:
         self._highs = highspy.Highs()
         self._highs.setOptionValue("output_flag", False)
         self._highs.setOptionValue("time_limit", float(time_limit))
+        # The mechanism is read from the duals: HiGHS's default dual feasibility (1e-7, absolute)
+        # leaves interpenetrations of ~1e-5 of the largest velocity on large panels, more than
+        # the verification accepts.
+        self._highs.setOptionValue("dual_feasibility_tolerance", DUAL_TOLERANCE)
+        self._highs.setOptionValue("primal_feasibility_tolerance", DUAL_TOLERANCE)
         self._highs.passModel(lp)
         # The cold first solve: interior point with crossover (a basis for the warm re-solves) is
         # about twice as fast as simplex here; every later solve is dual simplex from that basis.

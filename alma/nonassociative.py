@@ -180,8 +180,26 @@ def active_set(model: Model, points: ContactPoints, mechanism: np.ndarray, *,
     return open_points, slip_sign
 
 
+def force_active_set(points: ContactPoints, normal: np.ndarray, shear: np.ndarray,
+                     tolerance: float = 1e-9) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The most permissive mechanism set a force field allows (complementarity of Eq. 7).
+
+    Returns (may_open, may_slip_sign, free_slip): a point with N = 0 may open and slip either way;
+    a point at the friction limit T = −s f N (N > 0) may slip in direction s; any other point
+    must stay closed and stick.  "= 0" and "at the limit" are read to ``tolerance`` times the
+    largest normal force.
+    """
+    scale = max(1.0, float(np.abs(normal).max(initial=0.0)))
+    unloaded = normal <= tolerance * scale
+    limit = points.friction * normal
+    at_plus = (~unloaded) & (shear <= -limit + tolerance * scale)  # T = −f N: slip in +t
+    at_minus = (~unloaded) & (shear >= limit - tolerance * scale)  # T = +f N: slip in −t
+    sign = np.where(at_plus, 1.0, np.where(at_minus, -1.0, 0.0))
+    return unloaded, sign, unloaded
+
+
 def kinematic_lp(model: Model, points: ContactPoints, open_points: np.ndarray, slip_sign: np.ndarray,
-                 *, time_limit: float = LP_TIME_LIMIT) -> np.ndarray | None:
+                 *, time_limit: float = LP_TIME_LIMIT, free_slip: np.ndarray | None = None) -> np.ndarray | None:
     """A mechanism with a prescribed active set (Eq. 2), or None if there is none.
 
     Closed points do not open (ξ = 0), open points do not interpenetrate (ξ ≥ 0),
@@ -190,8 +208,9 @@ def kinematic_lp(model: Model, points: ContactPoints, open_points: np.ndarray, s
     the same active set, so it removes the round-off of the candidate's small velocities.
     """
     closed = ~open_points
-    sticking = closed & (slip_sign == 0)
-    slipping = closed & (slip_sign != 0)
+    free = np.zeros(points.count, dtype=bool) if free_slip is None else free_slip
+    sticking = closed & (slip_sign == 0) & ~free
+    slipping = closed & (slip_sign != 0) & ~free
     normal_t = points.normal.T.tocsr()
     tangent_t = points.tangent.T.tocsr()
     A_eq = sp.vstack([sp.csr_matrix(model.live[None, :]), normal_t[np.flatnonzero(closed)],
@@ -245,8 +264,10 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
     Its active set is fixed (:func:`active_set`); one static LP takes the smallest
     α with that set (N = 0 where open, T = −f N sign γ where slipping, |T| ≤ f N
     elsewhere) and one kinematic LP (:func:`kinematic_lp`) a mechanism with the same
-    set.  The pair satisfies Eq. 9 by construction; :func:`verify` checks it.  When
-    the kinematic LP has no solution the candidate's own mechanism is verified.
+    set.  The pair satisfies Eq. 9 by construction; :func:`verify` checks it.  When no
+    mechanism has exactly that set, the kinematic LP is asked for one within the widest set
+    the static field allows (:func:`force_active_set`); failing that, the candidate's own
+    mechanism is verified.
     """
     work = float(model.live @ mechanism)
     if not work > 0:
@@ -258,6 +279,11 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
     if lp.status != "optimal":
         return None
     clean = kinematic_lp(model, points, open_points, slip_sign, time_limit=time_limit)
+    if clean is None:
+        # No mechanism has exactly the candidate's set: take the widest set the static field
+        # allows (open and free slip where N = 0, slip where friction is at its limit).
+        may_open, may_slip, free = force_active_set(points, lp.normal, lp.shear)
+        clean = kinematic_lp(model, points, may_open, may_slip, free_slip=free, time_limit=time_limit)
     best = None
     for u in ((clean, mechanism) if clean is not None else (mechanism,)):
         if dilatant and u is mechanism:
