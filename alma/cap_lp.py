@@ -26,7 +26,9 @@ DUAL_TOLERANCE = 1e-10
 
 
 @dataclass(frozen=True)
-class CapSolution:
+class StaticLP:
+    """Solution of a static LP over (α, N, T) at the contact points, with its mechanism."""
+
     status: str  # optimal | unbounded | infeasible | error
     alpha: float
     normal: np.ndarray
@@ -81,7 +83,7 @@ class CapLP:
         # Slopes enter the yield rows as −s in the N columns (x = (α, N, T)): rows n+p and n+P+p, column 1+p.
         self._slope_rows = (n + np.arange(P), n + P + np.arange(P))
 
-    def solve(self, slope: np.ndarray, cap: np.ndarray) -> CapSolution:
+    def solve(self, slope: np.ndarray, cap: np.ndarray) -> StaticLP:
         P = self.points.count
         h = self._highs
         changed = np.flatnonzero(slope != self._slope)
@@ -97,14 +99,14 @@ class CapLP:
             self._first = False
         status = h.getModelStatus()
         if status == highspy.HighsModelStatus.kUnbounded:
-            return CapSolution("unbounded", np.inf, np.zeros(P), np.zeros(P), None)
+            return StaticLP("unbounded", np.inf, np.zeros(P), np.zeros(P), None)
         if status in (highspy.HighsModelStatus.kInfeasible, highspy.HighsModelStatus.kUnboundedOrInfeasible):
-            return CapSolution("infeasible", np.nan, np.zeros(P), np.zeros(P), None)
+            return StaticLP("infeasible", np.nan, np.zeros(P), np.zeros(P), None)
         if status != highspy.HighsModelStatus.kOptimal:
-            return CapSolution("error", np.nan, np.zeros(P), np.zeros(P), None)
+            return StaticLP("error", np.nan, np.zeros(P), np.zeros(P), None)
         solution = h.getSolution()
         x = np.asarray(solution.col_value)
         y = -np.asarray(solution.row_dual)[:self._n]  # ∂(−α)/∂b of the equilibrium rows: u with f_Lᵀu = 1
         work = float(self.model.live @ y)
         mechanism = y * (self.model.n_free / work) if work > 0 else None
-        return CapSolution("optimal", float(x[0]), x[1:1 + P].copy(), x[1 + P:].copy(), mechanism)
+        return StaticLP("optimal", float(x[0]), x[1:1 + P].copy(), x[1 + P:].copy(), mechanism)

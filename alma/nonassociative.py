@@ -38,6 +38,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
+from .cap_lp import CapLP, StaticLP
 from .contact_points import ContactPoints
 from .model import Model
 
@@ -65,15 +66,6 @@ class CollapseState:
     start: str
     residuals: dict[str, float] = field(default_factory=dict)
     verified: bool = False
-
-
-@dataclass(frozen=True)
-class StaticLP:
-    status: str  # optimal | unbounded | infeasible | error
-    alpha: float
-    normal: np.ndarray
-    shear: np.ndarray
-    mechanism: np.ndarray | None
 
 
 def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np.ndarray,
@@ -316,8 +308,6 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
     seconds) bounds the time.  Returns the best verified state (or the exact
     state of the last mechanism), and the iterations used.
     """
-    from .cap_lp import CapLP
-
     f = points.friction
     n_bar = np.maximum(initial_normal, 0.0)
     used = 0
