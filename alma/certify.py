@@ -155,10 +155,9 @@ def _column_maxima(h, nvar: int, objectives: list[np.ndarray], deadline: float) 
     return out
 
 
-def static_point_bounds(model: Model, points: ContactPoints, alpha_max: float,
-                        deadline: float = np.inf, minimise: bool = False) -> np.ndarray | None:
-    """max N_p (min N_p with ``minimise``) over statically admissible fields with 0 ≤ α ≤ alpha_max,
-    for every p (None if unbounded)."""
+def _static_field_model(model: Model, points: ContactPoints, alpha_max: float):
+    """A HiGHS model of the statically admissible fields (Eqs. 3, 5) over (α, N, T), 0 ≤ α ≤ alpha_max,
+    with zero cost: the callers set one objective after another on it (warm re-solves)."""
     P = points.count
     A_eq, b_eq, A_ub = points.static_constraints(model, points.friction)
     A = sp.vstack([A_eq, A_ub])
@@ -168,6 +167,15 @@ def static_point_bounds(model: Model, points: ContactPoints, alpha_max: float,
     col_hi = np.concatenate([[alpha_max], np.full(2 * P, np.inf)])
     h = _highs()
     _pass_model(h, np.zeros(1 + 2 * P), col_lo, col_hi, A, lo, hi)
+    return h
+
+
+def static_point_bounds(model: Model, points: ContactPoints, alpha_max: float,
+                        deadline: float = np.inf, minimise: bool = False) -> np.ndarray | None:
+    """max N_p (min N_p with ``minimise``) over statically admissible fields with 0 ≤ α ≤ alpha_max,
+    for every p (None if unbounded)."""
+    P = points.count
+    h = _static_field_model(model, points, alpha_max)
     sign = -1.0 if minimise else 1.0
     objectives = [sign * np.eye(1, 1 + 2 * P, 1 + p).ravel() for p in range(P)]
     values = _column_maxima(h, 1 + 2 * P, objectives, deadline)
@@ -179,14 +187,7 @@ def joint_normal_minima(model: Model, points: ContactPoints, first: np.ndarray, 
     """min N_a + N_b of every joint (points first[j] and first[j] + 1) over statically admissible
     fields with 0 ≤ α ≤ alpha_max."""
     P = points.count
-    A_eq, b_eq, A_ub = points.static_constraints(model, points.friction)
-    A = sp.vstack([A_eq, A_ub])
-    lo = np.concatenate([b_eq, np.full(2 * P, -np.inf)])
-    hi = np.concatenate([b_eq, np.zeros(2 * P)])
-    col_lo = np.concatenate([[0.0], np.zeros(P), np.full(P, -np.inf)])
-    col_hi = np.concatenate([[alpha_max], np.full(2 * P, np.inf)])
-    h = _highs()
-    _pass_model(h, np.zeros(1 + 2 * P), col_lo, col_hi, A, lo, hi)
+    h = _static_field_model(model, points, alpha_max)
     ends = np.r_[first[1:], P]
     objectives = []
     for a, b in zip(first, ends):
@@ -354,7 +355,6 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     # point in B → its joint's position in J
     pos_in_J = np.searchsorted(J, joint_of[B])
     Bj = sp.csr_matrix((np.ones(nb), (np.arange(nb), pos_in_J)), shape=(nb, mj))
-    Ib = sp.identity(nb, format="csr")
     rows, lo, hi = [], [], []
 
     def add(parts: dict[int, sp.spmatrix], count: int, low, high) -> None:

@@ -111,21 +111,30 @@ def _error(message: str) -> None:
     print(f"alma: error: {message}", file=sys.stderr)
 
 
+def _design_argument(args: argparse.Namespace):
+    """(design or None, failed): the ``--design`` file, its error printed if it cannot be read."""
+    from alma.study import load_design
+
+    if not getattr(args, "design", None):
+        return None, False
+    try:
+        return load_design(args.design), False
+    except ValueError as exc:
+        _error(str(exc))
+        return None, True
+
+
 # ------------------------------------------------------------------------------------------
 # alma doe
 # ------------------------------------------------------------------------------------------
 
 
 def doe_handler(args: argparse.Namespace) -> int:
-    from alma.study import RESULTS_FILE, load_design, run_doe
+    from alma.study import RESULTS_FILE, run_doe
 
-    design = None
-    if getattr(args, "design", None):
-        try:
-            design = load_design(args.design)
-        except ValueError as exc:
-            _error(str(exc))
-            return 2
+    design, failed = _design_argument(args)
+    if failed:
+        return 2
     try:
         df = run_doe(args.out, model=args.model, workers=args.workers,
                      scheduler=args.scheduler, design=design,
@@ -261,15 +270,10 @@ def paper_handler(args: argparse.Namespace) -> int:
 
 def compare_handler(args: argparse.Namespace) -> int:
     from alma.compare import run_compare
-    from alma.study import load_design
 
-    design = None
-    if getattr(args, "design", None):
-        try:
-            design = load_design(args.design)
-        except ValueError as exc:
-            _error(str(exc))
-            return 2
+    design, failed = _design_argument(args)
+    if failed:
+        return 2
     if getattr(args, "figures", 6) < 0:
         _error("--figures must be >= 0")
         return 2
