@@ -190,18 +190,26 @@ def _balanced(table: pd.DataFrame) -> bool:
     return len(table) == int(np.prod(levels)) and not table.duplicated(list(FACTOR_COLUMNS)).any()
 
 
-def _run_anova(table: pd.DataFrame, response: str, label: str) -> _Anova:
+def _run_anova(table: pd.DataFrame, response: str, label: str, keep: np.ndarray | None = None,
+               why: str = "") -> _Anova:
+    """ANOVA of one response over the panels of a full factorial that have it (or ``keep``).
+
+    Panels left out (no verified state, or not in ``keep``: ``why`` says) make the analysis
+    unbalanced: adjusted (Type III) sums of squares and R²(pred) from the leverages, and a note
+    with the count, since the panels that fail are not a random sample of the design."""
     from .stats.anova import anova, standardized_effects, varying_factors
 
     out = _Anova(response, label)
-    y = table[response].to_numpy(dtype=float)
-    if not np.all(np.isfinite(y)):
-        bad = int((~np.isfinite(y)).sum())
-        out.note = f"not computed: {bad} panel(s) have no {label} (failed or unverified), the design is incomplete"
-        return out
     if not _balanced(table):
         out.note = "not computed: the panels do not form a full factorial"
         return out
+    y = table[response].to_numpy(dtype=float)
+    keep = np.isfinite(y) if keep is None else keep & np.isfinite(y)
+    notes = []
+    if not keep.all():
+        notes.append(f"unbalanced: {int(keep.sum())} of {len(table)} panels, "
+                     + (why or f"the others have no {label} (no verified state)"))
+        table, y = table[keep], y[keep]
     factors = varying_factors(table)
     if not factors:
         out.note = "not computed: every factor has a single level"
@@ -216,20 +224,27 @@ def _run_anova(table: pd.DataFrame, response: str, label: str) -> _Anova:
             out.note = f"not computed: {exc}"
             continue
         out.order = order
-        out.note = "" if order == 2 else "main effects only: too few panels for the two-way interactions"
+        if order != 2:
+            notes.append("main effects only: the two-way interactions are not estimable on these panels")
         if len(factors) < 4:
             fixed = [_LABELS[c] for c in FACTOR_COLUMNS if c not in factors]
-            out.note = (out.note + "; " if out.note else "") + f"fixed by the design: {', '.join(fixed)}"
+            notes.append(f"fixed by the design: {', '.join(fixed)}")
+        out.note = "; ".join(notes)
         out.effects = standardized_effects(out.result, SIGNIFICANCE)
         break
     return out
 
 
 def _statistics(table: pd.DataFrame, figures_dir: Path, report: CompareReport) -> dict[str, Any]:
-    stats = {key: _run_anova(table, key, label) for key, label in
-             (("alpha_lp", "α_LP"), ("alpha_nl", "α_NL"), ("ratio", "α_NL/α_LP"))}
+    valid_rows = np.isfinite(table["ratio"].to_numpy(dtype=float))
+    # α_LP on the panels that have α_NL, so that both models are compared on the same panels
+    # (the paper's full-design ANOVA of α_LP is `alma anova` / `alma paper`).
+    stats = {"alpha_lp": _run_anova(table, "alpha_lp", "α_LP", keep=valid_rows,
+                                    why="those with α_NL, so that both models are compared on the same panels"),
+             "alpha_nl": _run_anova(table, "alpha_nl", "α_NL"),
+             "ratio": _run_anova(table, "ratio", "α_NL/α_LP")}
     figures_dir.mkdir(parents=True, exist_ok=True)
-    valid = table[np.isfinite(table["ratio"].to_numpy(dtype=float))]
+    valid = table[valid_rows]
     try:
         from .stats import figures as F
     except ImportError as exc:  # pragma: no cover - matplotlib is a dependency

@@ -191,6 +191,43 @@ def test_changes_paragraph_is_computed_from_the_numbers():
     assert "no factor changes its effect" in text
 
 
+def test_anova_with_unverified_panels_is_unbalanced_and_says_so():
+    df = synthetic_table()
+    # The largest panels fail in practice: leave out every 1:2 panel with 1:1 blocks in flemish
+    # bond and a few scattered ones.
+    lost = ((df["panel_ratio"] == "1:2") & (df["block_ratio"] == "1:1") & (df["bond"] == "flemish")) \
+        | df.index.isin([5, 40, 77])
+    df.loc[lost, ["alpha_nl", "ratio"]] = np.nan
+    stats = {
+        "alpha_nl": compare_mod._run_anova(df, "alpha_nl", "α_NL"),
+        "ratio": compare_mod._run_anova(df, "ratio", "α_NL/α_LP")}
+    for a in stats.values():
+        assert a.result is not None and a.order == 2
+        assert a.result.n == 108 - int(lost.sum()) and a.result.dfe == a.result.n - 40
+        assert a.note.startswith(f"unbalanced: {a.result.n} of 108 panels")
+    assert stats["ratio"].result.row("Bond").p_value < 1e-10
+    # Unbalanced: the adjusted sums of squares no longer add up to the model's.
+    res = stats["ratio"].result
+    terms = sum(r.adj_ss for r in res.rows if r.source in ("Panel", "Block", "Bond", "Friction"))
+    assert abs(terms - res.row("Linear").adj_ss) > 1e-12 * res.row("Linear").adj_ss
+    # α_LP restricted to the same panels.
+    keep = np.isfinite(df["ratio"].to_numpy())
+    lp = compare_mod._run_anova(df, "alpha_lp", "α_LP", keep=keep, why="those with α_NL")
+    assert lp.result.n == int(keep.sum()) and "those with α_NL" in lp.note
+
+
+def test_anova_falls_back_to_main_effects_when_a_cell_is_empty():
+    df = synthetic_table()
+    # No 1:2 panel with 1:1 blocks at all: the Panel*Block interaction is not estimable.
+    empty = (df["panel_ratio"] == "1:2") & (df["block_ratio"] == "1:1")
+    df.loc[empty, ["alpha_nl", "ratio"]] = np.nan
+    with pytest.raises(ValueError, match="not estimable"):
+        anova(df[~empty], response="ratio", order=2)
+    a = compare_mod._run_anova(df, "ratio", "α_NL/α_LP")
+    assert a.result is not None and a.order == 1
+    assert "main effects only" in a.note and a.result.dfe == int((~empty).sum()) - 1 - 9
+
+
 def test_paper_nonassociative_option_reaches_make_paper(monkeypatch, tmp_path, capsys):
     from alma import study_cli
 

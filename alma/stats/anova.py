@@ -366,6 +366,13 @@ def anova(df: pd.DataFrame, response: str = "alpha_c", order: int = 2,
     if factors is not None and order > len(_factor_pairs(factors)):
         raise ValueError(f"order {order} needs at least {order} factors (got {len(factors)})")
     res = fit_model(df, response, order, factors)
+    exog = np.asarray(res.model.exog)
+    rank = int(np.linalg.matrix_rank(exog))
+    if rank < exog.shape[1]:
+        # An unbalanced subset can leave a combination of levels without a panel: its
+        # interaction is then not estimable and the adjusted sums of squares are meaningless.
+        raise ValueError(f"the order-{order} model is not estimable on these panels "
+                         f"(design matrix rank {rank} < {exog.shape[1]} coefficients)")
     n = int(res.nobs)
     dfe = int(round(res.df_resid))
     if dfe <= 0:
