@@ -73,7 +73,10 @@ def reference_length(scene: "Scene") -> float:
 
 def block_areas_and_centroids(scene: "Scene") -> tuple[np.ndarray, np.ndarray]:
     """Areas (n,) and centroids (n, 2) of all blocks, vectorised over the flattened edges."""
-    edges = scene_edges(scene)
+    return _areas_and_centroids(scene_edges(scene))
+
+
+def _areas_and_centroids(edges: Edges) -> tuple[np.ndarray, np.ndarray]:
     first = np.concatenate([[0], np.flatnonzero(np.diff(edges.block)) + 1])
     origin = edges.start[first][edges.block]  # each polygon about its first vertex, for accuracy
     p, q = edges.start - origin, edges.end - origin
@@ -99,8 +102,8 @@ def find_joints(scene: "Scene") -> Joints:
 
     Joints between two fixed blocks carry nothing and are dropped.
     """
-    edges = scene_edges(scene)
-    lref = reference_length(scene)
+    edges = scene_edges(scene)  # flattened once: gathering the blocks' vertices is the one pass over blocks
+    lref = float(np.sqrt(_areas_and_centroids(edges)[0].mean()))  # reference_length(scene)
     vec = edges.end - edges.start
     length = np.hypot(vec[:, 0], vec[:, 1])
     direction = vec / length[:, None]
