@@ -221,6 +221,8 @@ def _facing_candidates(angle: np.ndarray, offset: np.ndarray, along: np.ndarray,
     # Each row joins every cell pair of its cell; the pair index is its group in the join.
     p, group_p = _expand(which[plus], pair_u, len(cells))
     q, group_q = _expand(which[minus], pair_v, len(cells))
+    # Half extent + slack: a tilt ≤ ANGLE_TOLERANCE between two lines moves the along coordinate
+    # of a point by ≤ |point| · tilt (size = |midpoint|₁); 4× and 1e-12 are margins for round-off.
     half = 0.5 * length + 10.0 * tol_len + (4.0 * ANGLE_TOLERANCE + 1e-12) * (size + length)
     rows_p, rows_q = plus[p], minus[q]
     x, y = _overlapping_intervals(group_p, along[rows_p] - half[rows_p], along[rows_p] + half[rows_p],

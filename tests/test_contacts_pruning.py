@@ -94,3 +94,17 @@ def test_wall_same_joints_as_all_pairs():
     assert fast.count == reference.count > 0
     for field in ("block_a", "block_b", "start", "end", "normal"):
         assert np.array_equal(getattr(fast, field), getattr(reference, field)), field
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_interval_join_matches_all_pairs(seed):
+    """The interval join behind the pruning, on grouped intervals with many shared end points."""
+    rng = np.random.default_rng(seed)
+    nx, ny = rng.integers(0, 40, 2)
+    gx, gy = rng.integers(0, 3, nx), rng.integers(0, 3, ny)
+    lox, loy = rng.integers(0, 10, nx).astype(float), rng.integers(0, 10, ny).astype(float)
+    hix, hiy = lox + rng.integers(0, 4, nx), loy + rng.integers(0, 4, ny)
+    x, y = contacts._overlapping_intervals(gx, lox, hix, gy, loy, hiy)
+    expected = {(a, b) for a in range(nx) for b in range(ny)
+                if gx[a] == gy[b] and max(lox[a], loy[b]) <= min(hix[a], hiy[b])}
+    assert sorted(zip(x.tolist(), y.tolist())) == sorted(expected)
