@@ -3,8 +3,11 @@
 Every edge of every block is reduced to a line key (direction of its outward
 normal modulo π, signed distance of its line from the origin) and a position
 along the line.  Facing edges of two blocks share the line key and have
-opposite normals; a k-d tree on the scaled keys finds the candidate pairs in
-one vectorised query, so no Python loop runs over blocks or joints.
+opposite normals.  Candidate pairs come from a hash of the line keys (cells of
+twice the tolerances) and, within matching cells, an interval join along the line
+(one sort of all edge extents), so the work grows with the edges plus the pairs
+that really overlap: O(E log E) time and O(E) memory.  No Python loop runs over
+blocks or joints.
 """
 from __future__ import annotations
 
@@ -12,7 +15,6 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 if TYPE_CHECKING:  # pragma: no cover
     from .scene import Scene
@@ -71,7 +73,10 @@ def reference_length(scene: "Scene") -> float:
 
 def block_areas_and_centroids(scene: "Scene") -> tuple[np.ndarray, np.ndarray]:
     """Areas (n,) and centroids (n, 2) of all blocks, vectorised over the flattened edges."""
-    edges = scene_edges(scene)
+    return _areas_and_centroids(scene_edges(scene))
+
+
+def _areas_and_centroids(edges: Edges) -> tuple[np.ndarray, np.ndarray]:
     first = np.concatenate([[0], np.flatnonzero(np.diff(edges.block)) + 1])
     origin = edges.start[first][edges.block]  # each polygon about its first vertex, for accuracy
     p, q = edges.start - origin, edges.end - origin
@@ -97,8 +102,8 @@ def find_joints(scene: "Scene") -> Joints:
 
     Joints between two fixed blocks carry nothing and are dropped.
     """
-    edges = scene_edges(scene)
-    lref = reference_length(scene)
+    edges = scene_edges(scene)  # flattened once: gathering the blocks' vertices is the one pass over blocks
+    lref = float(np.sqrt(_areas_and_centroids(edges)[0].mean()))  # reference_length(scene)
     vec = edges.end - edges.start
     length = np.hypot(vec[:, 0], vec[:, 1])
     direction = vec / length[:, None]
@@ -114,7 +119,7 @@ def find_joints(scene: "Scene") -> Joints:
 
     tol_len = DISTANCE_TOLERANCE * lref
     facing_sign = np.where((outward * d).sum(axis=1) > 0, 1.0, -1.0)  # outward = ±d
-    # Lines near angle 0 ≡ π are duplicated on the other side of the wrap so the tree sees them close.
+    # Lines near angle 0 ≡ π are duplicated on the other side of the wrap so the search sees them close.
     wrap = angle > np.pi - 1e3 * ANGLE_TOLERANCE
     ids = np.concatenate([np.arange(len(angle)), np.flatnonzero(wrap)])
     key_angle = np.concatenate([angle, angle[wrap] - np.pi])
@@ -127,13 +132,17 @@ def find_joints(scene: "Scene") -> Joints:
         key_offset * (reach / tol_len),
         key_along,
     ])
-    # Facing edges have opposite outward normals: query only across the two orientations.
+    # Facing edges have opposite outward normals: pair only across the two orientations.
     plus, minus = np.flatnonzero(key_sign > 0), np.flatnonzero(key_sign < 0)
-    found = cKDTree(points[plus]).sparse_distance_matrix(cKDTree(points[minus]), reach, p=np.inf,
-                                                           output_type="ndarray")
-    if found.size == 0:
+    p, q = _facing_candidates(key_angle, key_offset, key_along, length[ids], np.abs(midpoint[ids]).sum(axis=1),
+                              tol_len, plus, minus)
+    # The candidate rule of the original k-d tree query, kept exactly (sup-norm distance ≤ reach
+    # between the scaled keys); the line search above only prunes pairs that cannot overlap.
+    close = np.abs(points[plus[p]] - points[minus[q]]).max(axis=1, initial=0.0) <= reach
+    p, q = p[close], q[close]
+    if p.size == 0:
         return _empty_joints()
-    i, j = ids[plus[found["i"]]], ids[minus[found["j"]]]
+    i, j = ids[plus[p]], ids[minus[q]]
     keep = edges.block[i] != edges.block[j]
     i, j = i[keep], j[keep]
     # dedupe pairs created by the wrap duplicates
@@ -173,6 +182,96 @@ def find_joints(scene: "Scene") -> Joints:
     order = np.lexsort((start[keep, 1], start[keep, 0], b[keep], a[keep]))
     sel = np.flatnonzero(keep)[order]
     return Joints(block_a=a[sel], block_b=b[sel], start=start[sel], end=end[sel], normal=normal[sel])
+
+
+def _facing_candidates(angle: np.ndarray, offset: np.ndarray, along: np.ndarray, length: np.ndarray,
+                       size: np.ndarray, tol_len: float, plus: np.ndarray,
+                       minus: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs (p, q) of key rows ``plus[p]``, ``minus[q]`` that may face each other.
+
+    A superset of the pairs whose line keys differ by at most ANGLE_TOLERANCE in angle and
+    ``tol_len`` in offset and whose extents along the line intersect.  The extents are widened
+    by a slack covering round-off and the tilt allowed between two such lines (their along
+    coordinates are measured on slightly different axes), so every pair with a positive
+    overlap is kept.  Line keys are hashed to cells twice the tolerances wide: nearly equal
+    lines fall in the same or adjacent cells.  Within matched cells an interval join pairs
+    only overlapping extents, so the cost grows with the edges plus the overlapping pairs —
+    a fixed radius (the longest edge, e.g. a ground as long as the wall) paired every edge
+    with all edges of its course and made the candidates grow as n^1.5.
+    """
+    width_a = 2.0 * ANGLE_TOLERANCE
+    # Cells stay exact integers in floating point (|index| < 2^49) whatever the scene's extent.
+    width_o = max(2.0 * tol_len, 2.0 ** -48 * float(np.abs(offset).max(initial=0.0)))
+    cell = (np.floor(angle / width_a) + 0.0) + 1j * (np.floor(offset / width_o) + 0.0)  # + 0.0: no -0
+    cells, which = np.unique(cell, return_inverse=True)  # complex sort: by angle cell, then offset cell
+    has_minus = np.zeros(len(cells), dtype=bool)
+    has_minus[which[minus]] = True
+    u_all = np.unique(which[plus])
+    pair_u, pair_v = [], []
+    for shift in (complex(da, do) for da in (-1, 0, 1) for do in (-1, 0, 1)):  # 9 neighbour cells
+        target = cells[u_all] + shift
+        v = np.minimum(np.searchsorted(cells, target), len(cells) - 1)
+        hit = (cells[v] == target) & has_minus[v]
+        pair_u.append(u_all[hit])
+        pair_v.append(v[hit])
+    pair_u, pair_v = np.concatenate(pair_u), np.concatenate(pair_v)
+    if pair_u.size == 0:
+        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+
+    # Each row joins every cell pair of its cell; the pair index is its group in the join.
+    p, group_p = _expand(which[plus], pair_u, len(cells))
+    q, group_q = _expand(which[minus], pair_v, len(cells))
+    # Half extent + slack: a tilt ≤ ANGLE_TOLERANCE between two lines moves the along coordinate
+    # of a point by ≤ |point| · tilt (size = |midpoint|₁); 4× and 1e-12 are margins for round-off.
+    half = 0.5 * length + 10.0 * tol_len + (4.0 * ANGLE_TOLERANCE + 1e-12) * (size + length)
+    rows_p, rows_q = plus[p], minus[q]
+    x, y = _overlapping_intervals(group_p, along[rows_p] - half[rows_p], along[rows_p] + half[rows_p],
+                                  group_q, along[rows_q] - half[rows_q], along[rows_q] + half[rows_q])
+    return p[x], q[y]
+
+
+def _expand(cell: np.ndarray, pair_cell: np.ndarray, n_cells: int) -> tuple[np.ndarray, np.ndarray]:
+    """(row, pair) for every row and every cell pair whose cell on the row's side is the row's cell."""
+    order = np.argsort(pair_cell, kind="stable")
+    count = np.bincount(pair_cell, minlength=n_cells)
+    first = np.cumsum(count) - count
+    row, at = _ranges(first[cell], first[cell] + count[cell])
+    return row, order[at]
+
+
+def _ranges(start: np.ndarray, stop: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(owner, k) for every k in range(start[owner], stop[owner]), vectorised."""
+    count = np.maximum(stop - start, 0)
+    owner = np.repeat(np.arange(len(count)), count)
+    k = np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count - start, count)
+    return owner, k
+
+
+def _overlapping_intervals(gx: np.ndarray, lox: np.ndarray, hix: np.ndarray, gy: np.ndarray, loy: np.ndarray,
+                           hiy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """All (x, y) with ``gx == gy`` whose closed intervals [lo, hi] intersect, each pair once.
+
+    One lexicographic sort of all end points by (group, value, kind) gives both halves of an
+    intersection: y starts inside x (lox ≤ loy ≤ hix) or x starts strictly inside y
+    (loy < lox ≤ hiy); each half is a contiguous run of the sorted starts, read off by
+    counting.  Cost O(N log N + pairs).
+    """
+    nx, ny = len(gx), len(gy)
+    # kind breaks ties: x starts, y starts, x ends, y ends (closed intervals, halves disjoint)
+    kind = np.repeat(np.arange(4, dtype=np.int8), [nx, ny, nx, ny])
+    order = np.lexsort((kind, np.concatenate([lox, loy, hix, hiy]), np.concatenate([gx, gy, gx, gy])))
+    sorted_kind = kind[order]
+    position = np.empty_like(order)
+    position[order] = np.arange(len(order))
+    starts_x = np.cumsum(sorted_kind == 0)  # x starts up to (and including) each position
+    starts_y = np.cumsum(sorted_kind == 1)
+    by_start_x = order[sorted_kind == 0]  # x indices sorted by (group, start)
+    by_start_y = order[sorted_kind == 1] - nx
+    # y starts inside x: the y starts between x's start and x's end
+    x1, k1 = _ranges(starts_y[position[:nx]], starts_y[position[nx + ny:2 * nx + ny]])
+    # x starts strictly inside y: the x starts after y's start, up to y's end
+    y2, k2 = _ranges(starts_x[position[nx:nx + ny]], starts_x[position[2 * nx + ny:]])
+    return np.concatenate([x1, by_start_x[k2]]), np.concatenate([by_start_y[k1], y2])
 
 
 def find_overlaps(scene: "Scene") -> list[tuple[int, int]]:

@@ -1,0 +1,72 @@
+"""Joint detection alone: time and peak memory of ``alma.find_joints`` on running-bond walls.
+
+The walls are those of ``bench_scaling.py`` (240 × 60 mm blocks on a fixed ground).  Each size
+runs in its own subprocess so that its peak resident memory is its own; the table gives the
+median time of ``--repeat`` calls and the peak RSS above the one after building the scene.
+``--alma`` points the subprocesses at another copy of the package (e.g. an older commit
+exported with ``git archive``) to compare implementations on the same machine.
+
+    .venv/bin/python benchmarks/bench_joints.py [--sizes 1000,3000,...] [--repeat 5] [--alma DIR]
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+SIZES = (1000, 3000, 10000, 20000, 100000)
+
+
+def worker(n: int, repeat: int) -> dict:
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from bench_scaling import wall_shape
+
+    import alma
+    from alma.contacts import find_joints
+
+    courses, per_course = wall_shape(n)
+    scene = alma.wall("running", 240.0 * per_course, 60.0 * courses, 240.0)
+    base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        joints = find_joints(scene)
+        times.append(time.perf_counter() - t0)
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    return dict(target=n, blocks=len(scene.blocks), joints=joints.count, joints_s=statistics.median(times),
+                min_s=min(times), rss_scene_mb=base, rss_peak_mb=peak, rss_above_scene_mb=peak - base,
+                alma=str(Path(alma.__file__).parent))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--sizes", default=",".join(map(str, SIZES)))
+    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--alma", default=str(ROOT), help="directory holding the alma package to time")
+    parser.add_argument("--worker", type=int, help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.worker:
+        print(json.dumps(worker(args.worker, args.repeat)))
+        return
+    env = dict(os.environ, PYTHONPATH=str(Path(args.alma).resolve()))
+    for n in (int(s) for s in args.sizes.split(",") if s):
+        cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", str(n), "--repeat", str(args.repeat)]
+        proc = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, env=env)
+        if proc.returncode != 0:
+            print(f"{n}: worker failed ({proc.returncode}): {proc.stderr[-1000:]}", flush=True)
+            continue
+        r = json.loads(proc.stdout.strip().splitlines()[-1])
+        print(f"{r['blocks']:7d} blocks {r['joints']:7d} joints: find_joints median {r['joints_s']:.4f} s "
+              f"(min {r['min_s']:.4f}), peak RSS {r['rss_peak_mb']:.0f} MB "
+              f"({r['rss_above_scene_mb']:.0f} MB above the scene)  [{r['alma']}]", flush=True)
+
+
+if __name__ == "__main__":
+    main()
