@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench bench-accuracy bench-scaling bench-nonassociative bench-certify venv clean
+.PHONY: demo test bench bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify venv clean
 
 venv: $(STAMP)
 
@@ -32,6 +32,9 @@ bench-accuracy: $(STAMP)
 
 bench-scaling: $(STAMP)
 	$(BIN)/python benchmarks/bench_scaling.py
+
+bench-joints: $(STAMP)
+	$(BIN)/python benchmarks/bench_joints.py
 
 bench-nonassociative: $(STAMP)
 	$(BIN)/python benchmarks/bench_nonassociative.py
