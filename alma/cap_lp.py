@@ -110,3 +110,48 @@ class CapLP:
         work = float(self.model.live @ y)
         mechanism = y * (self.model.n_free / work) if work > 0 else None
         return StaticLP("optimal", float(x[0]), x[1:1 + P].copy(), x[1 + P:].copy(), mechanism)
+
+
+class ClosestField:
+    """Among the static fields that carry a given α, the one closest to N̄ (Eqs. 3 and 5).
+
+        min ½ ‖N − N̄‖²   s.t.  normal N + tangent T + f_0 + α f_L = 0,   N ≥ 0,   |T| ≤ cap
+
+    The capped LP's optimal face is large on big panels, and a simplex vertex jumps across it
+    from one Gilbert iteration to the next; the projection moves N̄ as little as the face
+    allows, so the iteration settles.  One Clarabel QP, kept between calls: only q (N̄) and b
+    (α, caps) change.
+    """
+
+    def __init__(self, model: Model, points: ContactPoints, *, tolerance: float = 1e-10) -> None:
+        import clarabel
+
+        P = points.count
+        self.model = model
+        self._P = P
+        equilibrium = sp.hstack([points.normal, points.tangent]).tocsc()
+        eye, zero = sp.identity(P, format="csc"), sp.csc_matrix((P, P))
+        A = sp.vstack([equilibrium, sp.hstack([-eye, zero]), sp.hstack([zero, eye]),
+                       sp.hstack([zero, -eye])]).tocsc()
+        quadratic = sp.block_diag([sp.identity(P), zero], format="csc")
+        self._n_eq = equilibrium.shape[0]
+        settings = clarabel.DefaultSettings()
+        settings.verbose = False
+        settings.presolve_enable = False  # data updates need the problem as given
+        settings.tol_gap_abs = settings.tol_gap_rel = settings.tol_feas = tolerance
+        settings.direct_solve_method = "qdldl"
+        self._solver = clarabel.DefaultSolver(quadratic, np.zeros(2 * P), A, self._rhs(0.0, np.zeros(P)),
+                                              [clarabel.ZeroConeT(self._n_eq), clarabel.NonnegativeConeT(3 * P)],
+                                              settings)
+
+    def _rhs(self, alpha: float, cap: np.ndarray) -> np.ndarray:
+        return np.concatenate([-self.model.dead - alpha * self.model.live, np.zeros(self._P), cap, cap])
+
+    def solve(self, alpha: float, cap: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        """(N, T) of the closest field, or None when the QP does not solve."""
+        self._solver.update(q=np.concatenate([-target, np.zeros(self._P)]), b=self._rhs(alpha, cap))
+        solution = self._solver.solve()
+        if str(solution.status) not in ("Solved", "AlmostSolved"):
+            return None
+        x = np.asarray(solution.x)
+        return np.maximum(x[:self._P], 0.0), x[self._P:].copy()

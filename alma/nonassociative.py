@@ -38,7 +38,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
-from .cap_lp import CapLP, StaticLP
+from .cap_lp import CapLP, ClosestField, StaticLP
 from .contact_points import ContactPoints
 from .model import Model
 
@@ -355,6 +355,72 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
     return _lower(exact_state(model, points, last.mechanism, start, time_limit=_remaining(deadline)), best), used
 
 
+def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *,
+                      start: str = "gilbert-projected", plain_steps: int = 20, memory: int = 5,
+                      max_iter: int = 400, tolerance: float = 1e-7,
+                      deadline: float | None = None) -> tuple[CollapseState | None, int]:
+    """Gilbert's iteration at slope zero with the normal forces chosen by projection.
+
+    Each iteration takes α* and the mechanism u from the capped LP (cap f N̄, warm HiGHS),
+    then, among the static fields that carry α*, the one closest to N̄
+    (:class:`~alma.cap_lp.ClosestField`).  On large panels the plain iteration jumps between
+    distant vertices of a large optimal face and never settles; the projected one moves N̄
+    only as far as the face forces it to, and its fixed point (N = N̄) is a collapse state:
+    |T| ≤ f N̄ = f N, and u slips only where |T| = f N.  N̄ ← N is accelerated by Anderson
+    mixing of the last ``memory`` steps (the face drifts for tens of iterations in one
+    direction).  The first ``plain_steps`` iterations are plain (vertex N, relaxation 0.5),
+    which brings α near its final value cheaply.  A verified iterate ends the loop; its
+    mechanism's exact state (:func:`exact_state`) is also taken, whichever is lower.
+    """
+    f = points.friction
+    n_bar = np.maximum(initial_normal, 0.0)
+    cap_lp = CapLP(model, points, time_limit=LP_TIME_LIMIT)
+    closest = None
+    history_x: list[np.ndarray] = []
+    history_g: list[np.ndarray] = []
+    best: CollapseState | None = None
+    lp = None
+    used = 0
+    for iteration in range(max_iter):
+        if deadline is not None and time.perf_counter() > deadline:
+            break
+        lp = cap_lp.solve(np.zeros(points.count), f * n_bar)
+        used += 1
+        if lp.status != "optimal" or lp.mechanism is None:
+            break
+        normal, shear = lp.normal, lp.shear
+        if iteration >= plain_steps:
+            closest = closest or ClosestField(model, points)
+            field_ = closest.solve(lp.alpha - 1e-9 * max(1.0, abs(lp.alpha)), f * n_bar, n_bar)
+            if field_ is None:
+                break
+            normal, shear = field_
+        residuals, ok = verify(model, points, lp.alpha, normal, shear, lp.mechanism)
+        if ok:
+            best = CollapseState(alpha=lp.alpha, normal=normal, shear=shear, mechanism=lp.mechanism,
+                                 start=start, residuals=residuals, verified=True)
+            break
+        step = normal - n_bar
+        if iteration < plain_steps:
+            n_bar = n_bar + 0.5 * step
+            continue
+        if float(np.abs(step).max(initial=0.0)) <= tolerance * max(1.0, float(np.abs(normal).max(initial=0.0))):
+            break
+        history_x = (history_x + [n_bar.copy()])[-(memory + 1):]
+        history_g = (history_g + [step])[-(memory + 1):]
+        if len(history_x) > 1:
+            # Anderson (type II): the combination of the last steps that best cancels the residual.
+            d_g = np.diff(np.array(history_g), axis=0).T
+            d_x = np.diff(np.array(history_x), axis=0).T
+            gamma = np.linalg.lstsq(d_g, step, rcond=None)[0]
+            n_bar = np.maximum(n_bar + step - (d_x + d_g) @ gamma, 0.0)
+        else:
+            n_bar = n_bar + step
+    if lp is None or lp.mechanism is None:
+        return best, used
+    return _lower(exact_state(model, points, lp.mechanism, start, time_limit=_remaining(deadline)), best), used
+
+
 def _remaining(deadline: float | None) -> float:
     """Seconds left for one LP: the per-LP limit, or less when the search's deadline is nearer."""
     if deadline is None:
@@ -436,6 +502,12 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
         state, used = gilbert(model, points, scale * n_lp, relaxation=relaxation, slope_steps=slope_steps,
                               start=f"gilbert(N̄={scale:g}·N_LP, r={relaxation:g}, steps={slope_steps})",
                               deadline=deadline)
+        iterations += used
+        add(state)
+    if not any(c.verified for c in candidates) and (deadline is None or time.perf_counter() < deadline):
+        # No start settled (large panels: the capped LPs' optimal faces are large): the
+        # projected iteration, which does settle, at the cost of one QP per iteration.
+        state, used = projected_gilbert(model, points, n_lp, deadline=deadline)
         iterations += used
         add(state)
     timings["gilbert_s"] = time.perf_counter() - t0

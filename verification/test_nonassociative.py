@@ -188,3 +188,51 @@ def test_search_time_limit_is_honoured():
     assert result.extra.get("start") in (None, "lp")  # no Gilbert start began after the deadline
     assert elapsed < 30.0
     assert result.status in ("optimal", "not_converged")
+
+
+def test_closest_field_returns_a_field_that_is_already_admissible():
+    """The projection of an admissible field onto the fields carrying the same α is the field itself."""
+    import numpy as np
+
+    from alma.associative import solve_lp
+    from alma.cap_lp import CapLP, ClosestField
+    from alma.contact_points import ContactPoints
+    from alma.model import build_model
+
+    model = build_model(alma.paper_panel("running", "2:1", "2:1", 0.6))
+    points = ContactPoints.from_model(model)
+    lp = solve_lp(model)
+    cap = points.friction * lp.multipliers.reshape(-1, 2).sum(axis=1)
+    vertex = CapLP(model, points).solve(np.zeros(points.count), cap)
+    closest = ClosestField(model, points)
+    normal, shear = closest.solve(vertex.alpha, cap, vertex.normal)
+    scale = float(np.abs(vertex.normal).max())
+    assert np.abs(normal - vertex.normal).max() <= 1e-6 * scale
+    equilibrium = points.normal @ normal + points.tangent @ shear + model.dead + vertex.alpha * model.live
+    assert np.abs(equilibrium).max() <= 1e-7 * scale
+    assert normal.min() >= 0 and (np.abs(shear) - cap).max() <= 1e-7 * scale
+    # Another target: the result is at least as close to it as the vertex is.
+    target = 0.5 * vertex.normal
+    normal2, _ = closest.solve(vertex.alpha, cap, target)
+    assert np.linalg.norm(normal2 - target) <= np.linalg.norm(vertex.normal - target) + 1e-7 * scale
+
+
+def test_projected_iteration_settles_where_the_fixed_starts_do_not():
+    """English bond, panel 1:1, blocks 4:1, f = 1 (228 blocks): no fixed Gilbert start and no LP
+    start gives a verified state (their iterates jump between vertices of the capped LPs'
+    optimal faces); the projected iteration does, below the associative α (Radenkovic)."""
+    from alma.associative import solve_lp
+    from alma.contact_points import ContactPoints
+    from alma.model import build_model
+    from alma.nonassociative import GILBERT_STARTS, exact_state, gilbert
+
+    model = build_model(alma.paper_panel("english", "1:1", "4:1", 1.0))
+    points = ContactPoints.from_model(model)
+    lp = solve_lp(model)
+    n_lp = lp.multipliers.reshape(-1, 2).sum(axis=1)
+    fixed = [gilbert(model, points, scale * n_lp, relaxation=r, slope_steps=k)[0] for scale, r, k in GILBERT_STARTS["fast"]]
+    fixed.append(exact_state(model, points, lp.mechanism, "lp", dilatant=True))
+    assert not any(s is not None and s.verified for s in fixed)
+    result = alma.solve(model, "nonassociative", effort="fast", time_limit=600)
+    assert result.status == "optimal" and result.extra["start"] == "gilbert-projected"
+    assert result.alpha <= lp.alpha + 1e-7
