@@ -68,7 +68,7 @@ class CapLP:
         lp.a_matrix_.num_row_ = A.shape[0]
         self._highs = highspy.Highs()
         self._highs.setOptionValue("output_flag", False)
-        self._highs.setOptionValue("time_limit", float(time_limit))
+        self._time_limit = float(time_limit)
         # The mechanism is read from the duals: HiGHS's default dual feasibility (1e-7, absolute)
         # leaves interpenetrations of ~1e-5 of the largest velocity on large panels, more than
         # the verification accepts.
@@ -93,11 +93,22 @@ class CapLP:
         self._slope = np.array(slope, dtype=float, copy=True)
         h.changeRowsBounds(2 * P, self._cap_rows, np.full(2 * P, -highspy.kHighsInf),
                            np.concatenate([cap, cap]).astype(float))
+        # HiGHS's clock runs over the object's whole life: the limit is per solve from now.
+        h.setOptionValue("time_limit", h.getRunTime() + self._time_limit)
         h.run()
         if self._first:
             h.setOptionValue("solver", "simplex")
             self._first = False
         status = h.getModelStatus()
+        if status == highspy.HighsModelStatus.kUnknown:
+            # The warm simplex can stop without a verdict (numerical trouble at the 1e-10
+            # tolerances); a cold interior-point solve with crossover usually settles it.
+            h.clearSolver()
+            h.setOptionValue("solver", "ipm")
+            h.setOptionValue("time_limit", h.getRunTime() + self._time_limit)
+            h.run()
+            h.setOptionValue("solver", "simplex")
+            status = h.getModelStatus()
         if status == highspy.HighsModelStatus.kUnbounded:
             return StaticLP("unbounded", np.inf, np.zeros(P), np.zeros(P), None)
         if status in (highspy.HighsModelStatus.kInfeasible, highspy.HighsModelStatus.kUnboundedOrInfeasible):
