@@ -396,10 +396,11 @@ def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.nd
         normal, shear = lp.normal, lp.shear
         if iteration >= plain_steps:
             closest = closest or ClosestField(model, points)
-            field_ = closest.solve(lp.alpha - 1e-9 * max(1.0, abs(lp.alpha)), f * n_bar, n_bar)
-            if field_ is None:
+            # α* less a hair: the face at α* exactly is only feasible to the LP's tolerance.
+            nearest = closest.solve(lp.alpha - 1e-9 * max(1.0, abs(lp.alpha)), f * n_bar, n_bar)
+            if nearest is None:
                 break
-            normal, shear = field_
+            normal, shear = nearest
         residuals, ok = verify(model, points, lp.alpha, normal, shear, lp.mechanism)
         if ok:
             best = CollapseState(alpha=lp.alpha, normal=normal, shear=shear, mechanism=lp.mechanism,
