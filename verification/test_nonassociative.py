@@ -236,3 +236,26 @@ def test_projected_iteration_settles_where_the_fixed_starts_do_not():
     result = alma.solve(model, "nonassociative", effort="fast", time_limit=600)
     assert result.status == "optimal" and result.extra["start"] == "gilbert-projected"
     assert result.alpha <= lp.alpha + 1e-7
+
+
+def test_warm_highs_model_time_limit_is_per_solve():
+    """HiGHS's clock runs over the life of the model: the limit must apply to each re-solve, or
+    a long Gilbert run ends in 'error' once the solves together pass it."""
+    import time
+
+    import numpy as np
+
+    from alma.associative import solve_lp
+    from alma.cap_lp import CapLP
+    from alma.contact_points import ContactPoints
+    from alma.model import build_model
+
+    model = build_model(alma.paper_panel("running", "2:1", "4:1", 0.6))
+    points = ContactPoints.from_model(model)
+    n_lp = solve_lp(model).multipliers.reshape(-1, 2).sum(axis=1)
+    cap_lp = CapLP(model, points, time_limit=0.5)
+    rng = np.random.default_rng(3)
+    start, statuses = time.perf_counter(), []
+    while time.perf_counter() - start < 1.5:  # together well past the 0.5 s limit
+        statuses.append(cap_lp.solve(np.zeros(points.count), points.friction * n_lp * rng.uniform(0.5, 1.5)).status)
+    assert len(statuses) > 10 and set(statuses) == {"optimal"}
