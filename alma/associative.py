@@ -70,6 +70,7 @@ def solve_lp(model: Model, *, tolerance: float = 1e-11, max_iter: int = 200,
     settings.tol_gap_rel = tolerance
     settings.tol_feas = tolerance
     settings.max_iter = max_iter
+    settings.direct_solve_method = "qdldl"
     solver = clarabel.DefaultSolver(P, -model.dead, A, b, cones, settings)
     sol = solver.solve()
     solve_time = time.perf_counter() - start
