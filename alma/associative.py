@@ -21,8 +21,8 @@ from dataclasses import dataclass
 
 import clarabel
 import numpy as np
+import qdldl
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from .model import Model
 
@@ -162,11 +162,15 @@ def _certify(H: sp.csc_matrix, model: Model, u: np.ndarray, mu: np.ndarray,
         violated |= power < 1e-8 * float(np.abs(power).max(initial=0.0))
         rows = np.flatnonzero(violated)
         HV = HT[rows]
-        solve_v = _regularised_solver(HV @ HV.T)
+        # The minimum-norm step H_V w, (H_Vᵀ H_V + ε I) w = t, is computed in velocity space as
+        # (H_V H_Vᵀ + ε I)⁻¹ H_V t (the same vector): that Gram matrix has the size of u (3 per
+        # block) instead of one row per held generator, which is 3x larger and much denser.
+        eps = 1e-12 * max(float(np.max(np.asarray(HV.multiply(HV).sum(axis=1)), initial=1.0)), 1.0)
+        solve_u = _regularised_solver(HV.T @ HV, eps)
         candidate = u.copy()
         for _ in range(3):
             target = np.maximum(-(HV @ candidate), 0.0)
-            candidate = candidate + HV.T @ solve_v(target)
+            candidate = candidate + solve_u(HV.T @ target)
         candidate = candidate * (norm / (live @ candidate))
         value = violation(candidate)
         if value < best:
@@ -236,15 +240,23 @@ def _static_correction(H: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: fl
     return mu, float(alpha), float(np.abs(residual).max(initial=0.0))
 
 
-def _regularised_solver(gram: sp.spmatrix):
-    """A solver for (G + ε I) x = b, G a Gram matrix; ε only guards against rank deficiency."""
-    gram = gram.tocsc()
+def _regularised_solver(gram: sp.spmatrix, eps: float | None = None):
+    """A solver for (G + ε I) x = b, G a Gram matrix; ε only guards against rank deficiency.
+
+    ``eps`` defaults to 1e-12 max(1, max diag G); a zero diagonal entry (a variable G does not
+    touch) gets 1 instead, so that variable's solution component is 0.
+
+    G + ε I is symmetric positive definite, so an LDLᵀ factorisation without pivoting after an
+    approximate-minimum-degree ordering (QDLDL, the factorisation inside Clarabel) is stable and
+    keeps the factor small; SuperLU's LU on the same matrix cost 5-10x more (0.2 s per Gram
+    matrix on the 1,752-block panel, most of the certification time).
+    """
+    gram = sp.csc_matrix(gram)
     diag = gram.diagonal()
-    eps = 1e-12 * max(float(diag.max(initial=1.0)), 1.0)
-    gram = gram + sp.diags(np.where(diag > 0, eps, 1.0))
-    # Symmetric positive definite: a symmetric ordering and no pivoting keep the factor small.
-    return spla.splu(gram, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                     options={"SymmetricMode": True}).solve
+    if eps is None:
+        eps = 1e-12 * max(float(diag.max(initial=1.0)), 1.0)
+    gram = (gram + sp.diags(np.where(diag > 0, eps, 1.0))).tocsc()
+    return qdldl.Solver(gram).solve
 
 
 def _trivial(model: Model, status: str, message: str, iterations: int = 0, solve_time: float = 0.0) -> LPSolution:
