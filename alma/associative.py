@@ -31,6 +31,14 @@ from .model import Model
 GAP_TOLERANCE = 1e-7
 RESIDUAL_TOLERANCE = 1e-9
 
+#: Eq. 10's normalisation f_Lᵀu = 1 is passed to Clarabel as f_Lᵀu = NORMALISATION · n_free
+#: (loads are per mean block weight, so block velocities are of order NORMALISATION).  The
+#: scale only changes how Clarabel balances its primal and dual residuals: measured on the 108
+#: panels at tolerance 1e-11, 10 instead of 1 takes 2,527 instead of 2,822 iterations in total
+#: (1,752-block panel: 41 instead of 67; the stalls of 110-180 iterations on two 1:2 panels go),
+#: every panel still certified with the same largest gap (1.2e-8 vs 1.3e-8), α within 4e-9.
+NORMALISATION = 10.0
+
 
 @dataclass(frozen=True)
 class LPSolution:
@@ -62,7 +70,7 @@ def solve_lp(model: Model, *, tolerance: float = 1e-11, max_iter: int = 200,
     P = sp.csc_matrix((n, n))
     A = sp.vstack([sp.csr_matrix(model.live), -H.T]).tocsc()
     b = np.zeros(1 + k)
-    b[0] = float(model.n_free)  # velocities of order one (loads are per mean block weight)
+    b[0] = NORMALISATION * float(model.n_free)
     cones = [clarabel.ZeroConeT(1), clarabel.NonnegativeConeT(k)]
     settings = clarabel.DefaultSettings()
     settings.verbose = False
