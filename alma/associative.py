@@ -187,8 +187,10 @@ def _certify(H: sp.csc_matrix, model: Model, u: np.ndarray, mu: np.ndarray,
             candidate = candidate + solve_u(HV.T @ target)
         candidate = candidate * (norm / (live @ candidate))
         value = violation(candidate)
-        if value < best:
-            u, best = candidate, value
+        if value >= best:
+            # Rejected: u and hence the next round's row set and step would be the same again.
+            break
+        u, best = candidate, value
     # Static side. Two correction spaces: the plain support of μ, then an affine-scaled one
     # (column j moves in proportion to μ_j, so every positive multiplier can take part and μ
     # stays ≥ 0) -- the second only when the first is not admissible or leaves a gap near the
