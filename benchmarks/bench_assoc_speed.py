@@ -117,7 +117,7 @@ def whole_table(repeat: int, doe: bool) -> pd.DataFrame:
     return pd.DataFrame([row])
 
 
-def walls(sizes: list[int], repeat: int, single_above: int) -> pd.DataFrame:
+def walls(sizes: list[int], repeat: int, single_above: int, plain_limit: float) -> pd.DataFrame:
     from bench_scaling import wall_shape
 
     rows = []
@@ -129,7 +129,7 @@ def walls(sizes: list[int], repeat: int, single_above: int) -> pd.DataFrame:
         for _ in range(runs):
             t, result = timed(lambda: alma.solve(model))
             t_alma.append(t)
-            t, plain = timed(lambda: plain_clarabel(model))
+            t, plain = timed(lambda: plain_clarabel(model, time_limit=plain_limit))
             t_plain.append(t)
         alma_s, plain_s = statistics.median(t_alma), statistics.median(t_plain)
         rows.append(dict(blocks=model.n_free, joints=model.n_joints, status=result.status, alpha=result.alpha,
@@ -145,6 +145,8 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--walls", default="1000,3000", help="wall sizes in blocks ('' for none)")
     parser.add_argument("--single-above", type=int, default=5000, help="walls above this: one run")
+    parser.add_argument("--plain-time-limit", type=float, default=120.0,
+                        help="time limit of the plain Clarabel baseline on walls [s]")
     parser.add_argument("--doe", action="store_true", help="also time `alma doe --workers 2` (subprocess)")
     parser.add_argument("--skip-table", action="store_true")
     args = parser.parse_args()
@@ -158,7 +160,7 @@ def main() -> None:
     sizes = [int(s) for s in args.walls.split(",") if s]
     if sizes:
         print(f"\n== running-bond walls (median of {args.repeat}; one run above {args.single_above} blocks) ==")
-        print(walls(sizes, args.repeat, args.single_above).to_string(index=False, float_format=fmt), flush=True)
+        print(walls(sizes, args.repeat, args.single_above, args.plain_time_limit).to_string(index=False, float_format=fmt), flush=True)
 
 
 if __name__ == "__main__":
