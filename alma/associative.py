@@ -36,10 +36,13 @@ RESIDUAL_TOLERANCE = 1e-9
 #: scale only changes how Clarabel balances its primal and dual residuals, and with it the
 #: iterations and the accuracy of the mechanism.  Measured on the 108 panels (tolerance 1e-11,
 #: no iterative refinement), factor 1 / 10 / 100 / 1000: the 1,752-block panel takes 109 / 42 /
-#: 42 / 42 iterations and the 2,997-block wall 63 / 41 / 37 / 41; at 100 all 108 are certified
-#: in 2,510 iterations with largest gap 4.4e-9 and flow-rule residual 6e-11 (factor 1 with
-#: refinement: 2,822, 1.3e-8, 8.6e-10) and no α exceeds its friction bound f by 1e-9.
-NORMALISATION = 100.0
+#: 42 / 42 iterations and the 2,997-block wall 63 / 41 / 37 / 41; at 1000 all 108 are certified
+#: in 2,525 iterations with largest gap 3.0e-9 and flow-rule residual 2e-11 (factor 1 with
+#: refinement: 2,822, 1.3e-8, 8.6e-10) and no α exceeds its friction bound f by 1e-9.  (100 is
+#: as good on these figures, but with its LP mechanism HiGHS's MILP fails with a solve error in
+#: the "classic" certification of three blocks side by side, verification/test_certify.py; that
+#: formulation fails on 7 of 20 perturbations by 1e-10 of the inputs at factor 1 too.)
+NORMALISATION = 1000.0
 
 
 @dataclass(frozen=True)
@@ -84,8 +87,8 @@ def solve_lp(model: Model, *, tolerance: float = 1e-11, max_iter: int = 200,
     # nonzero pass 40 (running-bond walls from ~3,000 blocks), 3-5x slower per iteration here.
     settings.direct_solve_method = "qdldl"
     # No iterative refinement of the KKT solves: the certificate below, not Clarabel's residuals,
-    # decides, and on the 108 panels the refined solves cost ~30 % of the time for the same
-    # iterations (2,551 vs 2,527), the same certified set and α within 1e-9.
+    # decides, and on the 108 panels (normalisation 10) the refined solves cost ~30 % of the time
+    # for the same iterations (2,527 refined, 2,551 not), the same certified set, α within 1e-9.
     settings.iterative_refinement_enable = False
     solver = clarabel.DefaultSolver(P, -model.dead, A, b, cones, settings)
     sol = solver.solve()
@@ -150,8 +153,9 @@ def _certify(H: sp.csc_matrix, model: Model, u: np.ndarray, mu: np.ndarray,
       matching amount;
     - kinematic: the flow-rule rows V that the interior point violates
       (Hᵀu < 0, by round-off) are closed by u += H_V w with (H_Vᵀ H_V) w = −H_Vᵀu
-      while nearly active rows are held; a step that does not reduce the largest
-      violation is rejected; finally f_Lᵀu is restored by scaling.
+      (solved in velocity space) while nearly active rows are held; the first step that
+      does not reduce the largest violation ends the repair; finally f_Lᵀu is restored
+      by scaling.
 
     Returns (u, μ, α_lower, static residual, kinematic residual).
     """
@@ -266,8 +270,8 @@ def _regularised_solver(gram: sp.spmatrix, eps: float | None = None):
 
     G + ε I is symmetric positive definite, so an LDLᵀ factorisation without pivoting after an
     approximate-minimum-degree ordering (QDLDL, the factorisation inside Clarabel) is stable and
-    keeps the factor small; SuperLU's LU on the same matrix cost 5-10x more (0.2 s per Gram
-    matrix on the 1,752-block panel, most of the certification time).
+    keeps the factor small (measured on the 1,752-block panel's 5,256 × 5,256 Gram matrix: 0.035 s,
+    SuperLU's symmetric-mode LU 0.045 s).
     """
     gram = sp.csc_matrix(gram)
     diag = gram.diagonal()
