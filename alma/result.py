@@ -151,8 +151,10 @@ def build_result(model: Model, lp: LPSolution, timings: dict[str, float], name: 
     # weight-averaged displacement along the live load is 1 mm: Σ (w_i / W) d·u_i = 1.
     motion = mech.reshape(-1, 3) * model.n_free
     motion[:, 2] /= model.length_scale
-    blocks = tuple(BlockMotion(id=ids[i], u=(float(a), float(b), float(c)))
-                   for i, (a, b, c) in zip(model.free_blocks, motion))
+    # Python floats in bulk (ndarray.tolist), not one float() per entry: per object only the
+    # dataclass construction is left.
+    blocks = tuple(BlockMotion(id=ids[i], u=tuple(row))
+                   for i, row in zip(model.free_blocks.tolist(), motion.tolist()))
     joints = model.joints
     if lp.status in ("optimal", "not_converged") and model.n_joints:
         states, rel = joint_states(model, mech)
@@ -173,14 +175,16 @@ def build_result(model: Model, lp: LPSolution, timings: dict[str, float], name: 
         moment += r[:, 0] * force[:, 1] - r[:, 1] * force[:, 0]
     length = joints.length
     scale_u = model.n_free  # relative velocities in the reported mechanism's units (mm)
+    slip = rel[:, :, 1].mean(axis=1) * scale_u
+    opening = rel[:, :, 0] * scale_u
     joint_results = tuple(
-        JointResult(blocks=(ids[a], ids[b]), N=float(n), T=float(t), M=float(mo), state=str(s),
-                    length=float(le), slip=float(sl), opening=(float(o0), float(o1)),
-                    start=(float(p[0]), float(p[1])), end=(float(q[0]), float(q[1])))
-        for a, b, n, t, mo, s, le, sl, o0, o1, p, q in zip(
-            joints.block_a, joints.block_b, normal_force.sum(axis=1), tangent_force.sum(axis=1), moment,
-            states, length, rel[:, :, 1].mean(axis=1) * scale_u, rel[:, 0, 0] * scale_u, rel[:, 1, 0] * scale_u,
-            joints.start, joints.end)
+        JointResult(blocks=(ids[a], ids[b]), N=n, T=t, M=mo, state=s, length=le, slip=sl,
+                    opening=tuple(op), start=tuple(p), end=tuple(q))
+        for a, b, n, t, mo, s, le, sl, op, p, q in zip(
+            joints.block_a.tolist(), joints.block_b.tolist(), normal_force.sum(axis=1).tolist(),
+            tangent_force.sum(axis=1).tolist(), moment.tolist(), states.astype(str).tolist(),
+            np.asarray(length, dtype=float).tolist(), slip.tolist(), opening.tolist(),
+            np.asarray(joints.start, dtype=float).tolist(), np.asarray(joints.end, dtype=float).tolist())
     )
     return Result(
         model=name, status=lp.status, message=lp.message, alpha=lp.alpha,
