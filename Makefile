@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify venv clean
+.PHONY: demo test bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify venv clean
 
 venv: $(STAMP)
 
@@ -26,6 +26,9 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_lp.py
+
+bench-assoc: $(STAMP)
+	$(BIN)/python benchmarks/bench_assoc_speed.py --doe
 
 bench-accuracy: $(STAMP)
 	$(BIN)/python benchmarks/bench_accuracy.py
