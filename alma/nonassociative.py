@@ -23,8 +23,9 @@ so the answer here is the lowest *verified* state found from several starts:
 - ``gilbert-projected``: the same iteration at slope zero, but with the normal
   forces taken as the static field closest to N̄ among those that carry the LP's α
   (a QP), Anderson-accelerated; it settles on large panels where the vertex
-  iterates keep jumping (first with ``effort="fast"``, after the fixed starts when
-  none of them verified with ``"thorough"``);
+  iterates keep jumping (second with ``effort="fast"``, each start then taking an
+  equal share of the time left; after the fixed starts when none of them verified
+  with ``"thorough"``);
 - ``ipopt``: a CasADi/IPOPT polish of Eq. 9 with a Scholtes relaxation of the
   complementarity (see ``alma.nlp``), on small scenes;
 - ``milp``: on the smallest scenes, the mixed-integer program of ``alma.certify``
@@ -502,29 +503,31 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
     t0 = time.perf_counter()
     iterations = 0
 
-    def projected() -> None:
-        nonlocal iterations
-        state, used = projected_gilbert(model, points, n_lp, deadline=deadline)
-        iterations += used
-        add(state)
-
-    # Large scenes (effort "fast"): the projected iteration first, since the fixed starts'
-    # vertex iterates rarely settle there and would use up the time limit; on the 4 smallest
-    # paper panels where all of them failed it gave verified states in 3–20 s.
-    if effort == "fast":
-        projected()
-    for scale, relaxation, slope_steps in starts:
-        if deadline is not None and time.perf_counter() > deadline:
+    fixed = [(f"gilbert(N̄={scale:g}·N_LP, r={relaxation:g}, steps={slope_steps})", scale, relaxation, slope_steps)
+             for scale, relaxation, slope_steps in starts]
+    # "thorough" (small scenes): the fixed starts, then the projected iteration if none verified.
+    # "fast" (large scenes): the projected iteration second, and with a time limit every start gets
+    # an equal share of what is left (unused time passes on): on large panels the fixed starts'
+    # vertex iterates often never settle and would use up the whole limit, while either the
+    # projected iteration or one of them settles within its share.
+    plan: list = fixed + ["projected"] if effort == "thorough" else fixed[:1] + ["projected"] + fixed[1:]
+    for k, item in enumerate(plan):
+        now = time.perf_counter()
+        if deadline is not None and now > deadline:
             timings["stopped_by_time_limit"] = 1.0
             break
-        state, used = gilbert(model, points, scale * n_lp, relaxation=relaxation, slope_steps=slope_steps,
-                              start=f"gilbert(N̄={scale:g}·N_LP, r={relaxation:g}, steps={slope_steps})",
-                              deadline=deadline)
+        if item == "projected" and effort == "thorough" and any(c.verified for c in candidates):
+            continue
+        share = None if deadline is None else (deadline if effort == "thorough"
+                                                 else now + (deadline - now) / (len(plan) - k))
+        if item == "projected":
+            state, used = projected_gilbert(model, points, n_lp, deadline=share)
+        else:
+            name, scale, relaxation, slope_steps = item
+            state, used = gilbert(model, points, scale * n_lp, relaxation=relaxation, slope_steps=slope_steps,
+                                  start=name, deadline=share)
         iterations += used
         add(state)
-    if effort == "thorough" and not any(c.verified for c in candidates) \
-            and (deadline is None or time.perf_counter() < deadline):
-        projected()  # no fixed start settled
     timings["gilbert_s"] = time.perf_counter() - t0
     timings["gilbert_iterations"] = float(iterations)
 
