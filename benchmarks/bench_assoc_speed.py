@@ -27,10 +27,7 @@ import tempfile
 import time
 from pathlib import Path
 
-import clarabel
-import numpy as np
 import pandas as pd
-import scipy.sparse as sp
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -38,20 +35,14 @@ sys.path.insert(0, str(ROOT))
 import alma  # noqa: E402
 from alma.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS  # noqa: E402
 
+sys.path.insert(0, str(ROOT / "benchmarks"))
+from bench_lp import plain_clarabel_solution  # noqa: E402  (same directory: the shared baseline)
+
 
 def plain_clarabel(model, method: str = "auto", time_limit: float = 600.0) -> tuple[float, str, int]:
-    """The kinematic LP of Eq. 10 straight into Clarabel (default tolerances), no certificate."""
-    H = model.equilibrium
-    n, k = H.shape
-    A = sp.vstack([sp.csr_matrix(model.live), -H.T]).tocsc()
-    b = np.zeros(1 + k)
-    b[0] = 1.0
-    settings = clarabel.DefaultSettings()
-    settings.verbose = False
-    settings.direct_solve_method = method
-    settings.time_limit = time_limit
-    sol = clarabel.DefaultSolver(sp.csc_matrix((n, n)), -model.dead, A, b,
-                                 [clarabel.ZeroConeT(1), clarabel.NonnegativeConeT(k)], settings).solve()
+    """The kinematic LP of Eq. 10 straight into Clarabel (default tolerances), no certificate:
+    (α, status, iterations)."""
+    sol = plain_clarabel_solution(model, time_limit, method)
     return float(sol.obj_val), str(sol.status), int(sol.iterations)
 
 

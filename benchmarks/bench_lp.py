@@ -26,10 +26,9 @@ from alma.model import build_model
 from alma.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, wall
 
 
-def plain_clarabel(model, time_limit: float | None = None) -> tuple[float, str]:
-    """Baseline: the kinematic LP straight into Clarabel, default settings, no certification.
-
-    Returns (α, Clarabel status)."""
+def plain_clarabel_solution(model, time_limit: float | None = None, method: str = "auto"):
+    """Baseline: the kinematic LP straight into Clarabel, default settings (``method`` = its
+    ``direct_solve_method``), no certification.  Returns Clarabel's solution object."""
     H = model.equilibrium
     n, k = H.shape
     A = sp.vstack([sp.csr_matrix(model.live), -H.T]).tocsc()
@@ -37,10 +36,16 @@ def plain_clarabel(model, time_limit: float | None = None) -> tuple[float, str]:
     b[0] = 1.0
     settings = clarabel.DefaultSettings()
     settings.verbose = False
+    settings.direct_solve_method = method
     if time_limit is not None:
         settings.time_limit = float(time_limit)
-    sol = clarabel.DefaultSolver(sp.csc_matrix((n, n)), -model.dead, A, b,
-                                 [clarabel.ZeroConeT(1), clarabel.NonnegativeConeT(k)], settings).solve()
+    return clarabel.DefaultSolver(sp.csc_matrix((n, n)), -model.dead, A, b,
+                                  [clarabel.ZeroConeT(1), clarabel.NonnegativeConeT(k)], settings).solve()
+
+
+def plain_clarabel(model, time_limit: float | None = None) -> tuple[float, str]:
+    """The baseline's (α, Clarabel status)."""
+    sol = plain_clarabel_solution(model, time_limit)
     return float(sol.obj_val), str(sol.status)
 
 
