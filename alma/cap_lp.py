@@ -83,8 +83,10 @@ class CapLP:
         # Slopes enter the yield rows as −s in the N columns (x = (α, N, T)): rows n+p and n+P+p, column 1+p.
         self._slope_rows = (n + np.arange(P), n + P + np.arange(P))
 
-    def solve(self, slope: np.ndarray, cap: np.ndarray) -> StaticLP:
+    def solve(self, slope: np.ndarray, cap: np.ndarray, time_limit: float | None = None) -> StaticLP:
+        """Re-solve with new slopes and caps; ``time_limit`` (s) overrides the per-solve limit."""
         P = self.points.count
+        limit = self._time_limit if time_limit is None else float(time_limit)
         h = self._highs
         changed = np.flatnonzero(slope != self._slope)
         for p in changed:  # only during the first (slope > 0) steps
@@ -94,7 +96,7 @@ class CapLP:
         h.changeRowsBounds(2 * P, self._cap_rows, np.full(2 * P, -highspy.kHighsInf),
                            np.concatenate([cap, cap]).astype(float))
         # HiGHS's clock runs over the object's whole life: the limit is per solve from now.
-        h.setOptionValue("time_limit", h.getRunTime() + self._time_limit)
+        h.setOptionValue("time_limit", h.getRunTime() + limit)
         h.run()
         if self._first:
             h.setOptionValue("solver", "simplex")
@@ -105,7 +107,7 @@ class CapLP:
             # tolerances); a cold interior-point solve with crossover usually settles it.
             h.clearSolver()
             h.setOptionValue("solver", "ipm")
-            h.setOptionValue("time_limit", h.getRunTime() + self._time_limit)
+            h.setOptionValue("time_limit", h.getRunTime() + limit)
             h.run()
             h.setOptionValue("solver", "simplex")
             status = h.getModelStatus()

@@ -11,6 +11,8 @@ turned into an exact, verified state by :func:`alma.nonassociative.exact_state`.
 """
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -27,9 +29,17 @@ def _dm(matrix: sp.spmatrix):
 
 
 def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, seed=None,
-                 relaxations: tuple[float, ...] = (1e-2, 1e-4, 1e-6, 1e-8), max_iter: int = 300):
-    """A candidate collapse state from IPOPT started at ``mechanism`` (and the seed's forces)."""
+                 relaxations: tuple[float, ...] = (1e-2, 1e-4, 1e-6, 1e-8), max_iter: int = 300,
+                 time_limit: float | None = None):
+    """A candidate collapse state from IPOPT started at ``mechanism`` (and the seed's forces).
+
+    ``time_limit`` (s, wall clock) bounds the whole sequence of relaxed solves: each IPOPT run
+    gets what is left (IPOPT's ``max_wall_time``); a run stopped by it ends the sequence, and
+    the last relaxation that converged is the answer.
+    """
     import casadi as ca
+
+    deadline = None if time_limit is None else time.perf_counter() + time_limit
 
     from .nonassociative import exact_state
 
@@ -57,9 +67,8 @@ def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, see
     )
     x = ca.vertcat(alpha, N, T, u, gp, gm)
     objective = alpha + 1e-8 * (ca.sumsqr(gp) + ca.sumsqr(gm))
-    solver = ca.nlpsol("alma_nlncp", "ipopt", {"x": x, "p": eps, "f": objective, "g": g},
-                       {"ipopt.print_level": 0, "print_time": False, "ipopt.max_iter": max_iter,
-                        "ipopt.sb": "yes"})
+    problem = {"x": x, "p": eps, "f": objective, "g": g}
+    options = {"ipopt.print_level": 0, "print_time": False, "ipopt.max_iter": max_iter, "ipopt.sb": "yes"}
     n_eq = n + P + 1
     lbg = np.concatenate([np.zeros(n_eq), np.zeros(3 * P), np.full(3 * P, -np.inf)])
     ubg = np.concatenate([np.zeros(n_eq), np.full(3 * P, np.inf), np.zeros(3 * P)])
@@ -75,6 +84,12 @@ def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, see
         x0 = np.concatenate([[0.0], np.zeros(2 * P), u0, np.maximum(slip, 0), np.maximum(-slip, 0)])
     best_u = None
     for epsilon in relaxations:
+        if deadline is not None:
+            left = deadline - time.perf_counter()
+            if left <= 0:
+                break
+            options["ipopt.max_wall_time"] = left
+        solver = ca.nlpsol("alma_nlncp", "ipopt", problem, options)
         sol = solver(x0=x0, p=epsilon, lbg=lbg, ubg=ubg, lbx=lbx, ubx=ubx)
         if not solver.stats().get("success", False):
             break

@@ -331,7 +331,7 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
         if interior:
             lp = static_lp_clarabel(model, points, slope=slope, cap=(f - slope) * n_bar)
         else:
-            lp = cap_lp.solve(slope, (f - slope) * n_bar)
+            lp = cap_lp.solve(slope, (f - slope) * n_bar, time_limit=_remaining(deadline))
         used += 1
         if lp.status != "optimal" or lp.mechanism is None:
             break
@@ -390,7 +390,7 @@ def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.nd
     for iteration in range(max_iter):
         if deadline is not None and time.perf_counter() > deadline:
             break
-        lp = cap_lp.solve(np.zeros(points.count), f * n_bar)
+        lp = cap_lp.solve(np.zeros(points.count), f * n_bar, time_limit=_remaining(deadline))
         used += 1
         if lp.status != "optimal" or lp.mechanism is None:
             break
@@ -491,7 +491,9 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
 
     t0 = time.perf_counter()
     if associative_mechanism is not None:
-        add(exact_state(model, points, associative_mechanism, "lp", dilatant=True))
+        # Bounded like every other start: on the largest panels its static LP (simplex on a highly
+        # degenerate face) takes ~20 s, and without the deadline the search overran to 98 s.
+        add(exact_state(model, points, associative_mechanism, "lp", dilatant=True, time_limit=_remaining(deadline)))
     timings["lp_start_s"] = time.perf_counter() - t0
 
     # Normal forces of the associative static field (the two generators of each point).
@@ -541,7 +543,8 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
         seed = min(verified, key=lambda c: c.alpha) if verified else None
         mech = seed.mechanism if seed is not None else associative_mechanism
         if mech is not None:
-            add(ipopt_polish(model, points, mech, seed))
+            left = None if deadline is None else max(0.0, deadline - time.perf_counter())
+            add(ipopt_polish(model, points, mech, seed, time_limit=left))
         timings["ipopt_s"] = time.perf_counter() - t0
 
     if (effort == "thorough" and model.n_free <= MILP_START_BLOCKS and associative_alpha is not None

@@ -262,3 +262,19 @@ def test_warm_highs_model_time_limit_is_per_solve():
     while time.perf_counter() - start < 1.5:  # together well past the 0.5 s limit
         statuses.append(cap_lp.solve(np.zeros(points.count), points.friction * n_lp * rng.uniform(0.5, 1.5)).status)
     assert len(statuses) > 10 and set(statuses) == {"optimal"}
+
+
+def test_ipopt_polish_time_limit_is_honoured():
+    """With no time left no relaxed IPOPT solve begins, so no candidate comes back; with time it
+    does (three blocks side by side, where IPOPT from the LP start converges in well under 1 s)."""
+    from alma.associative import solve_lp
+    from alma.contact_points import ContactPoints
+    from alma.model import build_model
+    from alma.nlp import ipopt_polish
+
+    model = build_model(side_by_side(3, 0.6))
+    points = ContactPoints.from_model(model)
+    mechanism = solve_lp(model).mechanism
+    assert ipopt_polish(model, points, mechanism, time_limit=0.0) is None
+    state = ipopt_polish(model, points, mechanism, time_limit=60.0)
+    assert state is not None and state.verified
