@@ -130,12 +130,14 @@ def compare_table(results: pd.DataFrame) -> pd.DataFrame:
 def run_compare(out_dir: str | os.PathLike[str], design: Design | str | os.PathLike[str] | None = None,
                 workers: int | None = None, effort: str | None = None, *, scheduler: Any = None,
                 results_dir: str | os.PathLike[str] | None = None, progress: bool = True,
-                retry_errors: bool = False, n_figures: int = 6) -> CompareReport:
+                retry_errors: bool = False, n_figures: int = 6,
+                time_limit: float | None = None) -> CompareReport:
     """Run (or resume) the study with both models and write the comparison report.
 
     ``results_dir`` holds ``results.csv`` (default ``out_dir``; ``alma paper`` points it at
     its associative study so that only the non-associative rows are new). ``n_figures``
-    panels with the largest α_NL/α_LP gap are drawn side by side.
+    panels with the largest α_NL/α_LP gap are drawn side by side.  ``time_limit`` (s) bounds
+    each non-associative search (``None``: ``alma.solve``'s 60 s).
     """
     start = time.perf_counter()
     if design is None:
@@ -152,7 +154,7 @@ def run_compare(out_dir: str | os.PathLike[str], design: Design | str | os.PathL
         except Exception:  # run_doe reports what is wrong with the file
             before = set()
     results = run_doe(rdir, model="both", workers=workers, scheduler=scheduler, design=design,
-                      progress=progress, retry_errors=retry_errors, effort=effort)
+                      progress=progress, retry_errors=retry_errors, effort=effort, time_limit=time_limit)
     solve_wall = time.perf_counter() - start
     resumed = int(results["key"].isin(before).sum())
     table = compare_table(results)
@@ -163,9 +165,10 @@ def run_compare(out_dir: str | os.PathLike[str], design: Design | str | os.PathL
     report.failed = int((results["status"] == "error").sum())
     figures_dir = out / "figures"
     stats = _statistics(table, figures_dir, report)
-    mech = _mechanism_figures(table, figures_dir, n_figures, effort, report)
+    mech = _mechanism_figures(table, figures_dir, n_figures, effort, report, time_limit)
     wall = time.perf_counter() - start
-    write_report(report, design, stats, mech, effort=effort, wall=wall, solve_wall=solve_wall,
+    write_report(report, design, stats, mech, effort=effort, time_limit=time_limit, wall=wall,
+                 solve_wall=solve_wall,
                  resumed=resumed, n_results=len(results), results_path=rdir / RESULTS_FILE)
     return report
 
@@ -282,7 +285,7 @@ def _panel_name(r: Any) -> str:
 
 
 def _mechanism_figures(table: pd.DataFrame, folder: Path, n: int, effort: str | None,
-                       report: CompareReport) -> pd.DataFrame:
+                       report: CompareReport, time_limit: float | None = None) -> pd.DataFrame:
     """Side-by-side mechanisms of the ``n`` panels with the smallest ratio (ratio < 1 only)."""
     valid = table[np.isfinite(table["ratio"].to_numpy(dtype=float))]
     differ = valid[valid["ratio"] < 1.0 - DIFFER_TOLERANCE]
@@ -305,7 +308,7 @@ def _mechanism_figures(table: pd.DataFrame, folder: Path, n: int, effort: str | 
             pngs.append(path)  # same results as when it was drawn
             continue
         try:
-            _draw_pair(r, path, effort, report)
+            _draw_pair(r, path, effort, report, time_limit)
         except Exception as exc:  # a failed drawing must not lose the report
             report.notes.append(f"mechanism figure of {_panel_name(r)} failed: {type(exc).__name__}: {exc}")
             pngs.append(None)
@@ -317,7 +320,8 @@ def _mechanism_figures(table: pd.DataFrame, folder: Path, n: int, effort: str | 
     return chosen.assign(png=[str(p.relative_to(folder.parent)) if p is not None else "" for p in pngs])
 
 
-def _draw_pair(r: Any, path: Path, effort: str | None, report: CompareReport) -> None:
+def _draw_pair(r: Any, path: Path, effort: str | None, report: CompareReport,
+               time_limit: float | None = None) -> None:
     import alma
     from alma.plot import plot_side_by_side
 
@@ -325,6 +329,8 @@ def _draw_pair(r: Any, path: Path, effort: str | None, report: CompareReport) ->
     built = alma.build_model(scene, alma.find_joints(scene))
     lp = alma.solve(built, model="associative")
     kwargs = {"effort": effort} if effort else {}
+    if time_limit is not None:
+        kwargs["time_limit"] = time_limit
     nl = alma.solve(built, model="nonassociative", **kwargs)
     for label, res, stored in (("α_LP", lp, r.alpha_lp), ("α_NL", nl, r.alpha_nl)):
         if not (math.isfinite(res.alpha) and abs(res.alpha - stored) <= 1e-7 * max(1.0, abs(stored))):
@@ -479,6 +485,7 @@ def _lvl(col: str, v: Any) -> str:
 
 def write_report(report: CompareReport, design: Design, stats: dict[str, Any], mech: pd.DataFrame, *,
                  effort: str | None, wall: float, solve_wall: float, resumed: int, n_results: int,
+                 time_limit: float | None = None,
                  results_path: Path) -> Path:
     import alma
 
@@ -492,7 +499,8 @@ def write_report(report: CompareReport, design: Design, stats: dict[str, Any], m
                  f"({' × '.join(str(len(getattr(design, c))) for c in FACTOR_COLUMNS)} design: "
                  + "; ".join(f"{c} {', '.join(_lvl(c, v) if c == 'friction' else str(v) for v in getattr(design, c))}"
                              for c in FACTOR_COLUMNS)
-                 + f"); non-associative effort {effort or 'auto'} (auto: thorough up to 200 blocks, fast above). "
+                 + f"); non-associative effort {effort or 'auto'} (auto: thorough up to 200 blocks, fast above), "
+                 f"time limit {time_limit if time_limit is not None else 60:g} s per search. "
                  f"Results: `{_rel(results_path, out)}` ({n_results} rows, {resumed} resumed from an earlier run); "
                  f"table: `compare.csv`.")
     lines.append("")

@@ -257,6 +257,7 @@ class _Task:
     items: tuple[tuple[float, str, str], ...]  # (friction, model, key) still to do
     version: str
     effort: str | None = None  # non-associative search effort (None: alma.solve's default)
+    time_limit: float | None = None  # non-associative search, s (None: alma.solve's default)
 
     @property
     def size(self) -> float:
@@ -372,7 +373,12 @@ def _solve_task(task: _Task, emit: Callable[[dict[str, Any]], None] | None = Non
                 t0 = time.perf_counter()
                 built[friction] = base.with_friction(friction)
                 timings["build_s"] += time.perf_counter() - t0
-            kwargs = {"effort": task.effort} if task.effort and model != "associative" else {}
+            kwargs = {}
+            if model != "associative":
+                if task.effort:
+                    kwargs["effort"] = task.effort
+                if task.time_limit is not None:
+                    kwargs["time_limit"] = task.time_limit
             result = alma.solve(built[friction], model=model, **kwargs)
         except Exception as exc:
             out(_row(task, friction, model, key, error=_error_text(exc), timings=timings))
@@ -627,7 +633,7 @@ def _models(model: str) -> tuple[str, ...]:
 def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
             workers: int | None = None, scheduler: Any = None, design: Design | str | os.PathLike[str] | None = None,
             progress: bool = True, retry_errors: bool = False,
-            effort: str | None = None) -> pd.DataFrame:
+            effort: str | None = None, time_limit: float | None = None) -> pd.DataFrame:
     """Run (or resume) the full-factorial study and return its rows in Table 5 order.
 
     ``out_dir/results.csv`` receives one line per finished panel and model. Panels whose key
@@ -639,7 +645,9 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
 
     ``effort`` ("auto", "fast" or "thorough") is passed to :func:`alma.solve` for the
     non-associative model and is part of those rows' keys (``None``: ``alma.solve``'s default,
-    the same key as "auto"); associative rows do not depend on it.
+    the same key as "auto"); associative rows do not depend on it.  ``time_limit`` (s) is the
+    non-associative search's limit per panel and friction, likewise part of those keys
+    (``None``: ``alma.solve``'s default of 60 s, the same key as before the option existed).
 
     The returned frame has the columns :data:`COLUMNS`, one row per panel of ``design`` and
     model, ``friction`` and the α columns as floats.
@@ -647,6 +655,8 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
     models = _models(model)
     if effort is not None and effort not in ("auto", "fast", "thorough"):
         raise ValueError(f"effort must be auto, fast or thorough, got {effort!r}")
+    if time_limit is not None and not (math.isfinite(time_limit) and time_limit > 0):
+        raise ValueError(f"time_limit must be a number of seconds > 0, got {time_limit!r}")
     if design is None:
         design = PAPER_DESIGN
     elif not isinstance(design, Design):
@@ -661,7 +671,9 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
     try:
         version = _alma_version()
         settings = _solver_settings()
-        na_settings = dict(settings, effort=effort) if effort is not None else settings
+        na_settings = dict(settings, effort=effort) if effort is not None else dict(settings)
+        if time_limit is not None:
+            na_settings["time_limit"] = float(time_limit)
         wanted: list[str] = []
         todo: dict[tuple[str, str, str], list[tuple[float, str, str]]] = {}
         for friction in design.friction:
@@ -674,7 +686,7 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
                     if done is not None and not (retry_errors and done["status"] == "error"):
                         continue
                     todo.setdefault(geometry, []).append((friction, m, key))
-        tasks = [_Task(p, b, bond, tuple(items), version, effort)
+        tasks = [_Task(p, b, bond, tuple(items), version, effort, time_limit)
                  for (p, b, bond), items in todo.items()]
         tasks.sort(key=lambda t: t.size, reverse=True)  # largest first: better load balance
 

@@ -87,6 +87,9 @@ def register(subparsers: Any) -> None:
                    help="local worker processes (default: all cores)")
     p.add_argument("--effort", default=None, choices=("auto", "fast", "thorough"),
                    help="non-associative search effort (default: auto = thorough up to 200 blocks)")
+    p.add_argument("--time-limit", type=float, default=None, metavar="S",
+                   help="time limit of each non-associative search, s (default 60; part of the "
+                        "results' keys, so a different limit solves the panels again)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="address of an existing Dask distributed scheduler")
     p.add_argument("--figures", type=int, default=6, metavar="N",
@@ -282,7 +285,8 @@ def compare_handler(args: argparse.Namespace) -> int:
                              scheduler=getattr(args, "scheduler", None),
                              progress=not getattr(args, "quiet", False),
                              retry_errors=getattr(args, "retry_errors", False),
-                             n_figures=getattr(args, "figures", 6))
+                             n_figures=getattr(args, "figures", 6),
+                             time_limit=getattr(args, "time_limit", None))
     except KeyboardInterrupt:
         return 130
     except ValueError as exc:

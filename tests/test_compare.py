@@ -129,6 +129,31 @@ def test_effort_is_part_of_the_nonassociative_key_only(tmp_path):
         run_doe(tmp_path, design=design, workers=1, progress=False, effort="quick")
 
 
+def test_time_limit_is_part_of_the_nonassociative_key_and_reaches_the_search(tmp_path, monkeypatch):
+    import alma
+
+    design = Design(panel_ratio=("2:1",), block_ratio=("4:1",), bond=("stack",), friction=(0.27,))
+    limits = []
+    real_solve = alma.solve
+
+    def spy(*args, **kwargs):
+        if kwargs.get("model") != "associative":
+            limits.append(kwargs.get("time_limit"))
+        return real_solve(*args, **kwargs)
+
+    monkeypatch.setattr(alma, "solve", spy)
+    limited = run_doe(tmp_path, model="both", design=design, workers=1, progress=False, time_limit=7.5)
+    default = run_doe(tmp_path, model="both", design=design, workers=1, progress=False)
+    assert limits == [7.5, None]  # each solved once, with its own limit
+    key = dict(zip(limited["model"], limited["key"]))
+    key_default = dict(zip(default["model"], default["key"]))
+    assert key["associative"] == key_default["associative"]
+    assert key["nonassociative"] != key_default["nonassociative"]
+    for bad in (0.0, -1.0, float("nan")):
+        with pytest.raises(ValueError, match="time_limit"):
+            run_doe(tmp_path, design=design, workers=1, progress=False, time_limit=bad)
+
+
 def test_compare_bad_design_exit_2(tmp_path, capsys):
     bad = tmp_path / "bad.toml"
     bad.write_text('bond = ["herringbone"]\n')
