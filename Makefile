@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify venv clean
+.PHONY: demo test bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt venv clean
 
 venv: $(STAMP)
 
@@ -44,6 +44,9 @@ bench-nonassociative: $(STAMP)
 
 bench-certify: $(STAMP)
 	$(BIN)/python benchmarks/bench_certify.py
+
+bench-ipopt: $(STAMP)
+	$(BIN)/python benchmarks/bench_ipopt_lp_start.py
 
 clean:
 	rm -rf $(VENV) demo .pytest_cache .hypothesis
