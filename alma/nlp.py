@@ -83,13 +83,16 @@ def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, see
     else:
         x0 = np.concatenate([[0.0], np.zeros(2 * P), u0, np.maximum(slip, 0), np.maximum(-slip, 0)])
     best_u = None
+    solver = None
     for epsilon in relaxations:
         if deadline is not None:
             left = deadline - time.perf_counter()
             if left <= 0:
                 break
             options["ipopt.max_wall_time"] = left
-        solver = ca.nlpsol("alma_nlncp", "ipopt", problem, options)
+            solver = None  # the option is fixed when the solver is built
+        if solver is None:
+            solver = ca.nlpsol("alma_nlncp", "ipopt", problem, options)
         sol = solver(x0=x0, p=epsilon, lbg=lbg, ubg=ubg, lbx=lbx, ubx=ubx)
         if not solver.stats().get("success", False):
             break

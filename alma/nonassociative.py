@@ -491,8 +491,8 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
 
     t0 = time.perf_counter()
     if associative_mechanism is not None:
-        # Bounded like every other start: on the largest panels its static LP (simplex on a highly
-        # degenerate face) takes ~20 s, and without the deadline the search overran to 98 s.
+        # Bounded by the search's time limit like every LP of the search (on the largest panels
+        # its static LP, simplex on a highly degenerate face, takes ~20 s).
         add(exact_state(model, points, associative_mechanism, "lp", dilatant=True, time_limit=_remaining(deadline)))
     timings["lp_start_s"] = time.perf_counter() - t0
 
