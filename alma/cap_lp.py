@@ -7,12 +7,7 @@ Between Gilbert iterations only the caps c = (f − s) N̄ change (row bounds) a
 during the first steps, the slopes s (one coefficient per row).  HiGHS keeps
 its basis, so each re-solve is a short dual-simplex run from the previous
 vertex instead of a cold solve: on a 444-block panel 0.03–0.3 s per iteration
-against 1–2 s cold.  When the caps jump far (a Gilbert run started from N̄ = 0 on a large
-panel), the warm dual simplex can instead take 5–25× longer than a cold interior-point solve
-with crossover (flemish 1:1 1:1, f = 0.6, 780 blocks: 4–26 s against 0.8–1.1 s), so a warm
-re-solve gets at most :data:`WARM_BUDGET` times the last cold solve's time before it is
-abandoned for a cold one, and after an abandoned one the next 1, 2, 4 or 8 solves go cold
-directly (a run of large jumps usually goes on).  The mechanism u is read from the equilibrium rows' duals.
+against 1–2 s cold.  The mechanism u is read from the equilibrium rows' duals.
 """
 from __future__ import annotations
 
@@ -28,12 +23,6 @@ from .model import Model
 
 #: Feasibility tolerances of the warm-started HiGHS model (absolute, dimensionless units).
 DUAL_TOLERANCE = 1e-10
-#: A warm re-solve is given this multiple of the last cold solve's time (at least
-#: ``WARM_FLOOR`` s) before it is stopped and the LP is solved cold.
-WARM_BUDGET = 1.0
-WARM_FLOOR = 0.05
-#: Most solves that go cold directly after abandoned warm ones (doubling from 1).
-WARM_BACKOFF = 8
 
 
 @dataclass(frozen=True)
@@ -90,24 +79,9 @@ class CapLP:
         # about twice as fast as simplex here; every later solve is dual simplex from that basis.
         self._highs.setOptionValue("solver", "ipm")
         self._first = True
-        self._cold_time = 0.0  # wall time of the last cold solve
-        self._backoff = 0  # length of the current run of cold solves after an abandoned warm one
-        self._skip_warm = 0  # solves left in that run
         self._cap_rows = np.arange(n, n + 2 * P, dtype=np.int32)
         # Slopes enter the yield rows as −s in the N columns (x = (α, N, T)): rows n+p and n+P+p, column 1+p.
         self._slope_rows = (n + np.arange(P), n + P + np.arange(P))
-
-    def _cold(self, limit: float):
-        """Interior point with crossover from scratch (a vertex and a basis for warm re-solves)."""
-        h = self._highs
-        h.clearSolver()
-        h.setOptionValue("solver", "ipm")
-        start = h.getRunTime()
-        h.setOptionValue("time_limit", start + limit)
-        h.run()
-        self._cold_time = h.getRunTime() - start
-        h.setOptionValue("solver", "simplex")
-        return h.getModelStatus()
 
     def solve(self, slope: np.ndarray, cap: np.ndarray, time_limit: float | None = None) -> StaticLP:
         """Re-solve with new slopes and caps; ``time_limit`` (s) overrides the per-solve limit."""
@@ -121,29 +95,22 @@ class CapLP:
         self._slope = np.array(slope, dtype=float, copy=True)
         h.changeRowsBounds(2 * P, self._cap_rows, np.full(2 * P, -highspy.kHighsInf),
                            np.concatenate([cap, cap]).astype(float))
-        # HiGHS's clock runs over the object's whole life: every limit is per solve from now.
-        start = h.getRunTime()
-        if self._first or self._skip_warm > 0:
-            status = self._cold(limit)
+        # HiGHS's clock runs over the object's whole life: the limit is per solve from now.
+        h.setOptionValue("time_limit", h.getRunTime() + limit)
+        h.run()
+        if self._first:
+            h.setOptionValue("solver", "simplex")
             self._first = False
-            self._skip_warm = max(0, self._skip_warm - 1)
-        else:
-            warm_limit = max(WARM_FLOOR, WARM_BUDGET * self._cold_time)
-            h.setOptionValue("time_limit", start + min(limit, warm_limit))
+        status = h.getModelStatus()
+        if status == highspy.HighsModelStatus.kUnknown:
+            # The warm simplex can stop without a verdict (numerical trouble at the 1e-10
+            # tolerances); a cold interior-point solve with crossover usually settles it.
+            h.clearSolver()
+            h.setOptionValue("solver", "ipm")
+            h.setOptionValue("time_limit", h.getRunTime() + limit)
             h.run()
+            h.setOptionValue("solver", "simplex")
             status = h.getModelStatus()
-            left = limit - (h.getRunTime() - start)
-            if status == highspy.HighsModelStatus.kUnknown or (
-                    status == highspy.HighsModelStatus.kTimeLimit and warm_limit < limit and left > 0):
-                # The warm simplex either stopped without a verdict (numerical trouble at the
-                # 1e-10 tolerances) or is taking longer than a cold solve would: a cold
-                # interior-point solve with crossover settles it.
-                if status == highspy.HighsModelStatus.kTimeLimit:
-                    self._backoff = min(2 * self._backoff or 1, WARM_BACKOFF)
-                    self._skip_warm = self._backoff
-                status = self._cold(left)
-            else:
-                self._backoff = 0
         if status == highspy.HighsModelStatus.kUnbounded:
             return StaticLP("unbounded", np.inf, np.zeros(P), np.zeros(P), None)
         if status in (highspy.HighsModelStatus.kInfeasible, highspy.HighsModelStatus.kUnboundedOrInfeasible):

@@ -278,34 +278,3 @@ def test_ipopt_polish_time_limit_is_honoured():
     assert ipopt_polish(model, points, mechanism, time_limit=0.0) is None
     state = ipopt_polish(model, points, mechanism, time_limit=60.0)
     assert state is not None and state.verified
-
-
-def test_warm_cap_lp_abandoned_for_a_cold_solve_gives_the_same_optimum(monkeypatch):
-    """A warm re-solve that runs past its budget is replaced by a cold one: with no budget at
-    all every warm attempt is abandoned, and each answer must still be the LP's optimum."""
-    import numpy as np
-
-    from alma import cap_lp as cap_lp_module
-    from alma.associative import solve_lp
-    from alma.cap_lp import CapLP
-    from alma.contact_points import ContactPoints
-    from alma.model import build_model
-
-    model = build_model(alma.paper_panel("running", "2:1", "4:1", 0.6))
-    points = ContactPoints.from_model(model)
-    n_lp = solve_lp(model).multipliers.reshape(-1, 2).sum(axis=1)
-    monkeypatch.setattr(cap_lp_module, "WARM_BUDGET", 0.0)
-    monkeypatch.setattr(cap_lp_module, "WARM_FLOOR", 0.0)
-    starved = CapLP(model, points)
-    cold_solves = []
-    cold = starved._cold
-    starved._cold = lambda limit: cold_solves.append(limit) or cold(limit)
-    rng = np.random.default_rng(5)
-    for _ in range(6):
-        cap = points.friction * n_lp * rng.uniform(0.3, 1.5)
-        got = starved.solve(np.zeros(points.count), cap)
-        fresh = CapLP(model, points).solve(np.zeros(points.count), cap)
-        assert got.status == fresh.status == "optimal"
-        assert got.alpha == pytest.approx(fresh.alpha, rel=1e-9, abs=1e-12)
-        assert got.mechanism is not None
-    assert len(cold_solves) >= 4  # the first solve, and the abandoned warm ones (the path under test)
