@@ -41,7 +41,7 @@ COMPARE_COLUMNS: tuple[str, ...] = (
     "panel_ratio", "block_ratio", "bond", "friction", "n_blocks",
     "alpha_lp", "alpha_nl", "ratio", "status_lp", "status_nl", "mechanism_lp", "mechanism_nl",
     "time_lp_s", "time_nl_s", "start_nl", "alpha_lp_start", "lp_start_verified", "lp_start_gain",
-    "n_candidates", "n_verified", "effort", "message_nl", "key_lp", "key_nl",
+    "n_candidates", "n_verified", "effort", "message_nl", "key_lp", "key_nl", "starts_nl",
 )
 #: α_NL below α_LP by more than this (relative) counts as "the models differ".
 DIFFER_TOLERANCE = 1e-6
@@ -115,6 +115,7 @@ def compare_table(results: pd.DataFrame) -> pd.DataFrame:
             "message_nl": n["message"] if n is not None else "",
             "key_lp": a["key"] if a is not None else "",
             "key_nl": n["key"] if n is not None else "",
+            "starts_nl": n["starts"] if n is not None and "starts" in n.index else "",
         })
     out = pd.DataFrame(rows, columns=list(COMPARE_COLUMNS))
     for col in ("n_blocks", "n_candidates", "n_verified"):
@@ -483,6 +484,51 @@ def _lvl(col: str, v: Any) -> str:
     return f"f = {float(v):.2f}" if col == "friction" else str(v)
 
 
+def start_times(table: pd.DataFrame) -> pd.DataFrame:
+    """Time and outcome of each start of the non-associative searches, one row per start run.
+
+    Read from the ``starts_nl`` column (JSON ``[[start, seconds, verified], ...]``); panels
+    solved by an alma that did not record it contribute nothing.
+    """
+    rows = []
+    for r in table.itertuples():
+        text = getattr(r, "starts_nl", "") or ""
+        try:
+            runs = json.loads(text) if isinstance(text, str) and text.strip() else []
+        except ValueError:
+            runs = []
+        for run in runs:
+            if isinstance(run, list) and len(run) == 3:
+                rows.append({"start": str(run[0]), "time_s": float(run[1]), "verified": bool(run[2]),
+                             "won": str(run[0]) == r.start_nl, "panel_converged": r.status_nl == "optimal",
+                             "n_blocks": r.n_blocks})
+    return pd.DataFrame(rows, columns=["start", "time_s", "verified", "won", "panel_converged", "n_blocks"])
+
+
+def _time_by_start(t: pd.DataFrame) -> list[str]:
+    """The report's section on where the search time goes, per start."""
+    runs = start_times(t)
+    lines = ["## Where the search time goes", ""]
+    if runs.empty:
+        return lines + ["No per-start times recorded (results written by an older alma).", ""]
+    total = float(runs["time_s"].sum())
+    lost = float(runs.loc[~runs["panel_converged"], "time_s"].sum())
+    lines.append(f"{total:.0f} s of search over {t['starts_nl'].astype(bool).sum()} panels; "
+                 f"{lost:.0f} s ({100 * lost / max(total, 1e-300):.0f} %) of it on the panels that ended "
+                 "without a verified state. Each start in the order of the search; a start that ran out of "
+                 "its share of the time limit without a verified state counts its whole share.")
+    lines.append("")
+    table = []
+    for name, g in runs.groupby("start", sort=False):
+        table.append([name, len(g), f"{g['time_s'].sum():.1f}", f"{g['time_s'].median():.2f}",
+                      int(g["verified"].sum()), int(g["won"].sum()),
+                      f"{g.loc[~g['panel_converged'], 'time_s'].sum():.1f}"])
+    lines += _md_table(["Start", "Panels run", "Time [s]", "Median [s]", "Verified", "Won",
+                        "Time on unconverged panels [s]"], table)
+    lines.append("")
+    return lines
+
+
 def write_report(report: CompareReport, design: Design, stats: dict[str, Any], mech: pd.DataFrame, *,
                  effort: str | None, wall: float, solve_wall: float, resumed: int, n_results: int,
                  time_limit: float | None = None,
@@ -581,6 +627,8 @@ def write_report(report: CompareReport, design: Design, stats: dict[str, Any], m
         lines.append("")
         lines += [f"- note: {n}" for n in report.notes]
     lines.append("")
+
+    lines += _time_by_start(t)
 
     # -- the panels that differ most
     lines += ["## Where the two models differ most", ""]

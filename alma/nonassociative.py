@@ -362,8 +362,9 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
 
 
 def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *,
-                      start: str = "gilbert-projected", plain_steps: int = 20, memory: int = 5,
-                      max_iter: int = 400, tolerance: float = 1e-7,
+                      start: str = "gilbert-projected", plain_steps: int = 0, memory: int = 5,
+                      max_iter: int = 400, tolerance: float = 1e-7, restart_after: int = 60,
+                      restart_plain_steps: int = 20,
                       deadline: float | None = None) -> tuple[CollapseState | None, int]:
     """Gilbert's iteration at slope zero with the normal forces chosen by projection.
 
@@ -374,9 +375,14 @@ def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.nd
     only as far as the face forces it to, and its fixed point (N = N̄) is a collapse state:
     |T| ≤ f N̄ = f N, and u slips only where |T| = f N.  N̄ ← N is accelerated by Anderson
     mixing of the last ``memory`` steps (the face drifts for tens of iterations in one
-    direction).  The first ``plain_steps`` iterations are plain (vertex N, relaxation 0.5),
-    which brings α near its final value cheaply.  A verified iterate ends the loop; its
-    mechanism's exact state (:func:`exact_state`) is also taken, whichever is lower.
+    direction).  The first ``plain_steps`` iterations are plain (vertex N, relaxation 0.5).
+    When ``restart_after`` projected iterations have not settled, the iteration starts again
+    from the initial field with ``restart_plain_steps`` plain iterations first (once): projecting from the
+    associative field at once settles in tens of iterations on most large panels, where 20
+    plain steps first cost 15 s of warm re-solves after large cap jumps (588 blocks), but on
+    some (english 1:1, blocks 4:1, f = 1) it drifts along the face and only the plain steps'
+    vertex jumps get it out.  A verified iterate ends the loop; its mechanism's exact state
+    (:func:`exact_state`) is also taken, whichever is lower.
     """
     f = points.friction
     n_bar = np.maximum(initial_normal, 0.0)
@@ -387,7 +393,8 @@ def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.nd
     best: CollapseState | None = None
     lp = None
     used = 0
-    for iteration in range(max_iter):
+    plain_left, projected_run, restarted = plain_steps, 0, False
+    for _ in range(max_iter):
         if deadline is not None and time.perf_counter() > deadline:
             break
         lp = cap_lp.solve(np.zeros(points.count), f * n_bar, time_limit=_remaining(deadline))
@@ -395,7 +402,8 @@ def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.nd
         if lp.status != "optimal" or lp.mechanism is None:
             break
         normal, shear = lp.normal, lp.shear
-        if iteration >= plain_steps:
+        plain = plain_left > 0
+        if not plain:
             closest = closest or ClosestField(model, points)
             # α* less a hair: the face at α* exactly is only feasible to the LP's tolerance.
             nearest = closest.solve(lp.alpha - 1e-9 * max(1.0, abs(lp.alpha)), f * n_bar, n_bar)
@@ -408,11 +416,18 @@ def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.nd
                                  start=start, residuals=residuals, verified=True)
             break
         step = normal - n_bar
-        if iteration < plain_steps:
+        if plain:
+            plain_left -= 1
             n_bar = n_bar + 0.5 * step
             continue
         if float(np.abs(step).max(initial=0.0)) <= tolerance * max(1.0, float(np.abs(normal).max(initial=0.0))):
             break
+        projected_run += 1
+        if projected_run >= restart_after and not restarted and restart_plain_steps > 0:
+            plain_left, projected_run, restarted = restart_plain_steps, 0, True
+            history_x, history_g = [], []
+            n_bar = np.maximum(initial_normal, 0.0)  # the earlier path: plain steps from the start field
+            continue
         history_x = (history_x + [n_bar.copy()])[-(memory + 1):]
         history_g = (history_g + [step])[-(memory + 1):]
         if len(history_x) > 1:
@@ -461,12 +476,24 @@ MILP_START_TIME = 10.0
 
 
 @dataclass(frozen=True)
+class StartRecord:
+    """What one start of the search cost and gave: α of its state (NaN if none), verified or not."""
+
+    start: str
+    time_s: float
+    iterations: int
+    alpha: float
+    verified: bool
+
+
+@dataclass(frozen=True)
 class NonAssociativeSolution:
     status: str  # optimal (a verified state) | not_converged | no_collapse | no_equilibrium
     message: str
     best: CollapseState | None
     candidates: tuple[CollapseState, ...]
     timings: dict[str, float]
+    starts: tuple[StartRecord, ...] = ()  # in the order they ran
 
 
 def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
@@ -484,16 +511,21 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
     points = ContactPoints.from_model(model)
     timings: dict[str, float] = {}
     candidates: list[CollapseState] = []
+    records: list[StartRecord] = []
 
-    def add(state: CollapseState | None) -> None:
+    def add(state: CollapseState | None, name: str, since: float, iterations: int = 0) -> None:
         if state is not None:
             candidates.append(state)
+        records.append(StartRecord(name, time.perf_counter() - since, int(iterations),
+                                   state.alpha if state is not None else float("nan"),
+                                   state is not None and state.verified))
 
     t0 = time.perf_counter()
     if associative_mechanism is not None:
         # Bounded by the search's time limit like every LP of the search (on the largest panels
         # its static LP, simplex on a highly degenerate face, takes ~20 s).
-        add(exact_state(model, points, associative_mechanism, "lp", dilatant=True, time_limit=_remaining(deadline)))
+        add(exact_state(model, points, associative_mechanism, "lp", dilatant=True, time_limit=_remaining(deadline)),
+            "lp", t0)
     timings["lp_start_s"] = time.perf_counter() - t0
 
     # Normal forces of the associative static field (the two generators of each point).
@@ -523,13 +555,14 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
         share = None if deadline is None else (deadline if effort == "thorough"
                                                  else now + (deadline - now) / (len(plan) - k))
         if item == "projected":
-            state, used = projected_gilbert(model, points, n_lp, deadline=share)
+            name = "gilbert-projected"
+            state, used = projected_gilbert(model, points, n_lp, start=name, deadline=share)
         else:
             name, scale, relaxation, slope_steps = item
             state, used = gilbert(model, points, scale * n_lp, relaxation=relaxation, slope_steps=slope_steps,
                                   start=name, deadline=share)
         iterations += used
-        add(state)
+        add(state, name, now, used)
     timings["gilbert_s"] = time.perf_counter() - t0
     timings["gilbert_iterations"] = float(iterations)
 
@@ -544,7 +577,7 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
         mech = seed.mechanism if seed is not None else associative_mechanism
         if mech is not None:
             left = None if deadline is None else max(0.0, deadline - time.perf_counter())
-            add(ipopt_polish(model, points, mech, seed, time_limit=left))
+            add(ipopt_polish(model, points, mech, seed, time_limit=left), "ipopt", t0)
         timings["ipopt_s"] = time.perf_counter() - t0
 
     if (effort == "thorough" and model.n_free <= MILP_START_BLOCKS and associative_alpha is not None
@@ -562,15 +595,15 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
         mechanisms = [c.mechanism for c in candidates] + ([associative_mechanism]
                                                           if associative_mechanism is not None else [])
         certificate = certify(model, associative_alpha, mechanisms, time_limit=limit, alpha_best=best_alpha)
-        if certificate.mechanism is not None:
-            add(exact_state(model, points, certificate.mechanism, "milp"))
+        add(exact_state(model, points, certificate.mechanism, "milp") if certificate.mechanism is not None else None,
+            "milp", t0)
         timings["milp_start_s"] = time.perf_counter() - t0
 
     verified = [c for c in candidates if c.verified]
     if not verified:
         return NonAssociativeSolution("not_converged", "no verified collapse state was found",
-                                      None, tuple(candidates), timings)
+                                      None, tuple(candidates), timings, tuple(records))
     best = min(verified, key=lambda c: c.alpha)
     status = "optimal" if best.alpha >= 0 else "no_equilibrium"
     return NonAssociativeSolution(status, f"lowest verified collapse state from start '{best.start}'",
-                                  best, tuple(candidates), timings)
+                                  best, tuple(candidates), timings, tuple(records))

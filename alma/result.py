@@ -215,7 +215,8 @@ def build_nonassociative_result(model: Model, lp: LPSolution, solution, timings:
             status, message, lower = "no_equilibrium", "α_nonassociative ≤ α_associative < 0 (Radenkovic)", -np.inf
         return replace(base, status=status, message=message, alpha=float("nan"),
                        bounds=Bounds(lower=lower, upper=lp.upper), alpha_associative=lp.alpha,
-                       extra=dict(base.extra, start=None, candidates=_candidates(solution)))
+                       extra=dict(base.extra, start=None, candidates=_candidates(solution),
+                                  starts=_starts(solution)))
     # Express the state in the LP's generator form so the shared joint/force code applies:
     # N n + T t = μ⁺ (n + f t) + μ⁻ (n − f t) with μ± = (N ± T/f)/2 (f > 0).
     friction = np.repeat(model.friction, 2)
@@ -230,7 +231,7 @@ def build_nonassociative_result(model: Model, lp: LPSolution, solution, timings:
                           kinematic_residual=best.residuals.get("interpenetration", np.nan),
                           iterations=0, solve_time=0.0, certify_time=0.0)
     base = build_result(model, state_lp, timings, name=name)
-    extra = dict(base.extra, start=best.start, candidates=_candidates(solution))
+    extra = dict(base.extra, start=best.start, candidates=_candidates(solution), starts=_starts(solution))
     if certificate is not None:
         extra["certificate"] = {"status": certificate.status, "message": certificate.message,
                                 "lower": certificate.lower, "upper": _finite(certificate.upper),
@@ -242,3 +243,9 @@ def build_nonassociative_result(model: Model, lp: LPSolution, solution, timings:
 
 def _candidates(solution) -> list[dict[str, Any]]:
     return [{"start": c.start, "alpha": _finite(c.alpha), "verified": c.verified} for c in solution.candidates]
+
+
+def _starts(solution) -> list[dict[str, Any]]:
+    """Each start of the search in the order it ran: its time, iterations and what it gave."""
+    return [{"start": r.start, "time_s": r.time_s, "iterations": r.iterations, "alpha": _finite(r.alpha),
+             "verified": r.verified} for r in solution.starts]

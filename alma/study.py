@@ -66,6 +66,8 @@ COLUMNS: tuple[str, ...] = (
     # Added for the model comparison (``alma compare``); older files are migrated on open.
     "alpha_associative", "ratio", "start", "alpha_lp_start", "lp_start_verified",
     "n_candidates", "n_verified", "nonassociative_s", "n_blocks", "effort",
+    # Each start of the non-associative search, as JSON [[start, seconds, verified], ...].
+    "starts",
 )
 #: The columns of results files written before the comparison columns were added.
 _LEGACY_COLUMNS = COLUMNS[:18]
@@ -323,6 +325,8 @@ def _comparison_fields(result: Any, model: str) -> dict[str, Any]:
         "n_candidates": len(candidates),
         "n_verified": sum(bool(c.get("verified")) for c in candidates),
         "nonassociative_s": _num(result.timings.get("nonassociative_s", math.nan)),
+        "starts": json.dumps([[r.get("start"), round(float(r.get("time_s", math.nan)), 3), bool(r.get("verified"))]
+                              for r in extra.get("starts") or [] if isinstance(r, dict)], ensure_ascii=False),
     })
     return out
 
@@ -517,11 +521,12 @@ class _LineBuffer:
 
 def read_results(path: str | os.PathLike[str]) -> pd.DataFrame:
     """Read a ``results.csv`` written by :func:`run_doe` (last row per key wins)."""
-    text_columns = ("message", "mechanism_class", "start", "lp_start_verified", "effort")
+    text_columns = ("message", "mechanism_class", "start", "lp_start_verified", "effort", "starts")
     df = pd.read_csv(path, dtype={"panel_ratio": str, "block_ratio": str, "bond": str,
                                   "model": str, "status": str, "mechanism_class": str,
                                   "message": str, "alma_version": str, "key": str,
-                                  "start": str, "lp_start_verified": str, "effort": str},
+                                  "start": str, "lp_start_verified": str, "effort": str,
+                                  "starts": str},
                      keep_default_na=False, na_values={c: [""] for c in COLUMNS
                                                        if c not in text_columns})
     for col in _NUMERIC:

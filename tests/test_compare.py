@@ -8,6 +8,7 @@ balanced 108-panel table whose answer is known by construction.
 from __future__ import annotations
 
 import csv
+import json
 import math
 import sys
 from pathlib import Path
@@ -77,6 +78,15 @@ def test_compare_cli_writes_table_report_and_figures(tiny_run):
                  "Which factors change their effect", "## All panels"):
         assert text in md, text
     assert f"{1 - table['ratio'].min():.4f}" in md  # the largest gap, printed
+    # Where the search time goes: every start that ran is recorded, the winner among them.
+    assert "## Where the search time goes" in md
+    runs = compare_mod.start_times(table)
+    assert set(runs["start"]) >= {"lp", "gilbert-projected"} and (runs["time_s"] >= 0).all()
+    for r in table.itertuples():
+        names = [run[0] for run in json.loads(r.starts_nl)]
+        assert r.start_nl in names and names[0] == "lp"
+    assert runs["won"].sum() == len(table)
+    assert runs["time_s"].sum() <= table["time_nl_s"].sum() + 1e-3 * len(runs)  # JSON keeps ms
     figures = out / "figures"
     for name in ("main_effects_alpha_nl.png", "main_effects_ratio.png", "main_effects_lp_vs_nl.png"):
         assert (figures / name).stat().st_size > 5_000, name
