@@ -377,11 +377,11 @@ def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.nd
     mixing of the last ``memory`` steps (the face drifts for tens of iterations in one
     direction).  The first ``plain_steps`` iterations are plain (vertex N, relaxation 0.5).
     When ``restart_after`` projected iterations have not settled, the iteration starts again
-    from the initial field with ``restart_plain_steps`` plain iterations first (once): projecting from the
-    associative field at once settles in tens of iterations on most large panels, where 20
-    plain steps first cost 15 s of warm re-solves after large cap jumps (588 blocks), but on
-    some (english 1:1, blocks 4:1, f = 1) it drifts along the face and only the plain steps'
-    vertex jumps get it out.  A verified iterate ends the loop; its mechanism's exact state
+    (once) from the initial field with ``restart_plain_steps`` plain iterations first:
+    projecting from the associative field at once settles in tens of iterations on most large
+    panels, where 20 plain steps first cost 15 s of warm re-solves after large cap jumps (588
+    blocks), but on some (english 1:1, blocks 4:1, f = 1) it drifts along the face and only the
+    plain steps' vertex jumps get it out.  A verified iterate ends the loop; its mechanism's exact state
     (:func:`exact_state`) is also taken, whichever is lower.
     """
     f = points.friction
@@ -525,8 +525,8 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
 
     t0 = time.perf_counter()
     if associative_mechanism is not None:
-        # Bounded by the search's time limit like every LP of the search (on the largest panels
-        # its static LP, simplex on a highly degenerate face, takes ~20 s).
+        # Bounded by the search's time limit like every LP of the search (on panels of 780 blocks
+        # and more its static LP, simplex on a highly degenerate face, took 10-60 s on 2026-11-23).
         add(exact_state(model, points, associative_mechanism, "lp", dilatant=True, time_limit=_remaining(deadline)),
             "lp", t0)
     timings["lp_start_s"] = time.perf_counter() - t0
