@@ -548,7 +548,7 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
     # the time that is left.  In the 108-panel run of 2026-11-23 (time limit 60 s, equal shares)
     # the fixed starts, when they verified at all, did so in a median of 2.5-4.5 s (5 of 98 after
     # 12 s); their vertex iterates otherwise never settle and use up their share, while the
-    # projected iteration settles on large panels but often needs 15-40 s.
+    # projected iteration settles on large panels but needed 18-32 s where it was timed alone.
     plan: list = fixed + ["projected"]
     for k, item in enumerate(plan):
         now = time.perf_counter()
