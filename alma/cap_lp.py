@@ -1,9 +1,10 @@
-"""The static LP of the Gilbert iteration as one persistent HiGHS model, re-solved warm.
+"""The static LP of the Gilbert iteration as persistent HiGHS models, re-solved warm.
 
     max α   s.t.  normal N + tangent T + f_0 + α f_L = 0   (Eq. 3)
                   N ≥ 0,   T − s N ≤ c,   −T − s N ≤ c       (Eq. 5 with slope s, cap c)
 
-Between Gilbert iterations only the caps c = (f − s) N̄ change (row bounds) and,
+Between Gilbert iterations only the caps c = (f − s) N̄ change (row bounds; at
+s = 0, where |T| ≤ c is a pair of column bounds, the model has no yield rows) and,
 during the first steps, the slopes s (one coefficient per row).  HiGHS keeps
 its basis, so each re-solve is a short dual-simplex run from the previous
 vertex instead of a cold solve: on a 444-block panel 0.03–0.3 s per iteration
@@ -37,70 +38,93 @@ class StaticLP:
 
 
 class CapLP:
-    """Persistent HiGHS model of the capped static LP (see module docstring)."""
+    """Persistent HiGHS models of the capped static LP (see module docstring).
+
+    Two models, each built on first use and then re-solved warm: with a slope (the first
+    Gilbert steps) the yield conditions are rows; at slope zero they are the column bounds
+    −c ≤ T ≤ c, and the model keeps only the equilibrium rows (3 per block instead of 3 per
+    block plus 2 per contact point), which the dual simplex re-solves in about half the time.
+    """
 
     def __init__(self, model: Model, points: ContactPoints, *, time_limit: float = 60.0) -> None:
         self.model = model
         self.points = points
+        self._n = model.dead.shape[0]
+        self._time_limit = float(time_limit)
+        self._slope = np.zeros(points.count)
+        self._rows: highspy.Highs | None = None
+        self._bounded: highspy.Highs | None = None
         P = points.count
-        n = model.dead.shape[0]
-        self._n = n
-        self._slope = np.zeros(P)
-        A_eq, b_eq, A_ub = points.static_constraints(model, self._slope)
-        A = sp.vstack([A_eq, A_ub]).tocsc()
-        A.sort_indices()
+        self._cap_rows = np.arange(self._n, self._n + 2 * P, dtype=np.int32)
+        self._shear_cols = np.arange(1 + P, 1 + 2 * P, dtype=np.int32)
+        # Slopes enter the yield rows as −s in the N columns (x = (α, N, T)): rows n+p and n+P+p, column 1+p.
+        self._slope_rows = (self._n + np.arange(P), self._n + P + np.arange(P))
+
+    def _new_highs(self, with_yield_rows: bool) -> highspy.Highs:
+        P = self.points.count
         inf = highspy.kHighsInf
+        A_eq, b_eq, A_ub = self.points.static_constraints(self.model, self._slope)
         lp = highspy.HighsLp()
         lp.num_col_ = 1 + 2 * P
-        lp.num_row_ = A.shape[0]
         cost = np.zeros(1 + 2 * P)
         cost[0] = -1.0
         lp.col_cost_ = cost
         lp.col_lower_ = np.concatenate([[-inf], np.zeros(P), np.full(P, -inf)])
         lp.col_upper_ = np.full(1 + 2 * P, inf)
-        lp.row_lower_ = np.concatenate([b_eq, np.full(2 * P, -inf)])
-        lp.row_upper_ = np.concatenate([b_eq, np.zeros(2 * P)])
+        if with_yield_rows:
+            A = sp.vstack([A_eq, A_ub]).tocsc()
+            lp.row_lower_ = np.concatenate([b_eq, np.full(2 * P, -inf)])
+            lp.row_upper_ = np.concatenate([b_eq, np.zeros(2 * P)])
+        else:
+            A = A_eq.tocsc()
+            lp.row_lower_ = b_eq
+            lp.row_upper_ = b_eq
+        A.sort_indices()
+        lp.num_row_ = A.shape[0]
         lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
         lp.a_matrix_.start_ = A.indptr
         lp.a_matrix_.index_ = A.indices
         lp.a_matrix_.value_ = A.data
         lp.a_matrix_.num_col_ = 1 + 2 * P
         lp.a_matrix_.num_row_ = A.shape[0]
-        self._highs = highspy.Highs()
-        self._highs.setOptionValue("output_flag", False)
-        self._time_limit = float(time_limit)
+        h = highspy.Highs()
+        h.setOptionValue("output_flag", False)
         # The mechanism is read from the duals: HiGHS's default dual feasibility (1e-7, absolute)
         # leaves interpenetrations of ~1e-5 of the largest velocity on large panels, more than
         # the verification accepts.
-        self._highs.setOptionValue("dual_feasibility_tolerance", DUAL_TOLERANCE)
-        self._highs.setOptionValue("primal_feasibility_tolerance", DUAL_TOLERANCE)
-        self._highs.passModel(lp)
+        h.setOptionValue("dual_feasibility_tolerance", DUAL_TOLERANCE)
+        h.setOptionValue("primal_feasibility_tolerance", DUAL_TOLERANCE)
+        h.passModel(lp)
         # The cold first solve: interior point with crossover (a basis for the warm re-solves) is
         # about twice as fast as simplex here; every later solve is dual simplex from that basis.
-        self._highs.setOptionValue("solver", "ipm")
-        self._first = True
-        self._cap_rows = np.arange(n, n + 2 * P, dtype=np.int32)
-        # Slopes enter the yield rows as −s in the N columns (x = (α, N, T)): rows n+p and n+P+p, column 1+p.
-        self._slope_rows = (n + np.arange(P), n + P + np.arange(P))
+        h.setOptionValue("solver", "ipm")
+        return h
 
     def solve(self, slope: np.ndarray, cap: np.ndarray, time_limit: float | None = None) -> StaticLP:
         """Re-solve with new slopes and caps; ``time_limit`` (s) overrides the per-solve limit."""
         P = self.points.count
         limit = self._time_limit if time_limit is None else float(time_limit)
-        h = self._highs
-        changed = np.flatnonzero(slope != self._slope)
-        for p in changed:  # only during the first (slope > 0) steps
-            h.changeCoeff(int(self._slope_rows[0][p]), int(1 + p), float(-slope[p]))
-            h.changeCoeff(int(self._slope_rows[1][p]), int(1 + p), float(-slope[p]))
-        self._slope = np.array(slope, dtype=float, copy=True)
-        h.changeRowsBounds(2 * P, self._cap_rows, np.full(2 * P, -highspy.kHighsInf),
-                           np.concatenate([cap, cap]).astype(float))
+        cap = np.asarray(cap, dtype=float)
+        if not np.any(slope):
+            if self._bounded is None:
+                self._bounded = self._new_highs(with_yield_rows=False)
+            h = self._bounded
+            h.changeColsBounds(P, self._shear_cols, -cap, cap)
+        else:
+            if self._rows is None:
+                self._rows = self._new_highs(with_yield_rows=True)
+            h = self._rows
+            changed = np.flatnonzero(slope != self._slope)
+            for p in changed:  # only during the first (slope > 0) steps
+                h.changeCoeff(int(self._slope_rows[0][p]), int(1 + p), float(-slope[p]))
+                h.changeCoeff(int(self._slope_rows[1][p]), int(1 + p), float(-slope[p]))
+            self._slope = np.array(slope, dtype=float, copy=True)
+            h.changeRowsBounds(2 * P, self._cap_rows, np.full(2 * P, -highspy.kHighsInf),
+                               np.concatenate([cap, cap]))
         # HiGHS's clock runs over the object's whole life: the limit is per solve from now.
         h.setOptionValue("time_limit", h.getRunTime() + limit)
         h.run()
-        if self._first:
-            h.setOptionValue("solver", "simplex")
-            self._first = False
+        h.setOptionValue("solver", "simplex")
         status = h.getModelStatus()
         if status == highspy.HighsModelStatus.kUnknown:
             # The warm simplex can stop without a verdict (numerical trouble at the 1e-10

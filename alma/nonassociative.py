@@ -15,6 +15,9 @@ so the answer here is the lowest *verified* state found from several starts:
 
 - ``lp``: the active set of the associative mechanism (Eq. 10), its dilatant
   openings read as slips;
+- ``rocking``: macro-blocks turning about a support point (a corner column or
+  wedge tipping off its neighbours' faces, :mod:`alma.rocking`), lowest lifting
+  bound first (:func:`rocking_start`);
 - ``gilbert``: the iterative LP of Gilbert, Casapulla & Ahmed (2006): Coulomb's
   friction slope is driven to zero while the shear capacity is carried as a
   fictitious cohesion f N̄ from the previous normal forces, until N = N̄;
@@ -76,7 +79,8 @@ class CollapseState:
 
 def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np.ndarray,
               maximise: bool = True, open_points: np.ndarray | None = None,
-              slip_sign: np.ndarray | None = None, time_limit: float = LP_TIME_LIMIT) -> StaticLP:
+              slip_sign: np.ndarray | None = None, time_limit: float = LP_TIME_LIMIT,
+              method: str = LP_METHOD) -> StaticLP:
     """The static problem on contact points, solved with HiGHS.
 
     Yield: |T_p| ≤ slope_p N_p + cap_p (Coulomb: slope = f, cap = 0; Gilbert: slope
@@ -104,7 +108,7 @@ def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np
     c = np.zeros(1 + 2 * P)
     c[0] = -1.0 if maximise else 1.0
     # A time limit: HiGHS simplex was seen to stall for minutes on degenerate cap LPs of large walls.
-    res = linprog(c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq, bounds=bounds, method=LP_METHOD,
+    res = linprog(c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq, bounds=bounds, method=method,
                   options={"time_limit": time_limit})
     if res.status == 3:
         return StaticLP("unbounded", np.inf if maximise else -np.inf, np.zeros(P), np.zeros(P), None)
@@ -256,7 +260,8 @@ def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray
 
 
 def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, start: str, *,
-                dilatant: bool = False, time_limit: float = LP_TIME_LIMIT) -> CollapseState | None:
+                dilatant: bool = False, time_limit: float = LP_TIME_LIMIT,
+                method: str = LP_METHOD) -> CollapseState | None:
     """Turn a candidate mechanism into an exact collapse state and verify it.
 
     Its active set is fixed (:func:`active_set`); one static LP takes the smallest
@@ -273,7 +278,7 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
     mechanism = mechanism * (model.n_free / work)
     open_points, slip_sign = active_set(model, points, mechanism, dilatant=dilatant)
     lp = static_lp(model, points, slope=points.friction, cap=np.zeros(points.count), maximise=False,
-                   open_points=open_points, slip_sign=slip_sign, time_limit=time_limit)
+                   open_points=open_points, slip_sign=slip_sign, time_limit=time_limit, method=method)
     if lp.status != "optimal":
         return None
     clean = kinematic_lp(model, points, open_points, slip_sign, time_limit=time_limit)
@@ -468,6 +473,41 @@ GILBERT_STARTS: dict[str, tuple[tuple[float, float, int], ...]] = {
 }
 
 
+#: The rocking start tries the exact states of at most this many macro-block rotations, lowest
+#: lifting bound first, for at most ``ROCKING_SHARE`` of the time limit.
+ROCKING_TRIES = 4
+ROCKING_SHARE = 0.25
+
+
+def rocking_start(model: Model, points: ContactPoints, verified: list[CollapseState], *,
+                  tries: int = ROCKING_TRIES, deadline: float | None = None) -> tuple[CollapseState | None, int]:
+    """The lowest verified exact state among macro-block rotations (:mod:`alma.rocking`).
+
+    Candidates are taken in the order of their lifting bound (a lower bound on the α of any
+    state with that mechanism) while the bound is below the best verified α so far.  Returns
+    the state (None if none verified) and the number of candidates tried.
+    """
+    from .rocking import rocking_candidates
+
+    best_alpha = min((c.alpha for c in verified), default=np.inf)
+    best: CollapseState | None = None
+    tried = 0
+    for candidate in rocking_candidates(model, points):
+        if tried >= tries or candidate.lifting_bound >= best_alpha - 1e-12:
+            break
+        if deadline is not None and time.perf_counter() > deadline:
+            break
+        tried += 1
+        # Interior point (with crossover) for the static LP: most candidates' sets carry no static
+        # field, and the dual simplex took up to 20 s to say so where the interior point took 0.14 s
+        # (running 2:1 2:1, f = 0.6); with the set fixed, any optimal field complements the mechanism.
+        state = exact_state(model, points, candidate.mechanism, "rocking", time_limit=_remaining(deadline),
+                            method="highs-ipm")
+        if state is not None and state.verified and state.alpha < best_alpha:
+            best, best_alpha = state, state.alpha
+    return best, tried
+
+
 #: With ``effort="fast"`` and a time limit, a fixed Gilbert start runs for at most this fraction of it.
 FAST_FIXED_SHARE = 0.2
 
@@ -530,6 +570,12 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
         add(exact_state(model, points, associative_mechanism, "lp", dilatant=True, time_limit=_remaining(deadline)),
             "lp", t0)
     timings["lp_start_s"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    state, tried = rocking_start(model, points, [c for c in candidates if c.verified],
+                                 deadline=None if deadline is None else t0 + ROCKING_SHARE * time_limit)
+    add(state, "rocking", t0, tried)
+    timings["rocking_s"] = time.perf_counter() - t0
 
     # Normal forces of the associative static field (the two generators of each point).
     if associative_multipliers is not None and associative_multipliers.size:
