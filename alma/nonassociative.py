@@ -480,16 +480,21 @@ ROCKING_SHARE = 0.25
 
 
 def rocking_start(model: Model, points: ContactPoints, verified: list[CollapseState], *,
-                  tries: int = ROCKING_TRIES, deadline: float | None = None) -> tuple[CollapseState | None, int]:
+                  tries: int = ROCKING_TRIES, upper: float | None = None,
+                  deadline: float | None = None) -> tuple[CollapseState | None, int]:
     """The lowest verified exact state among macro-block rotations (:mod:`alma.rocking`).
 
     Candidates are taken in the order of their lifting bound (a lower bound on the α of any
-    state with that mechanism) while the bound is below the best verified α so far.  Returns
-    the state (None if none verified) and the number of candidates tried.
+    state with that mechanism) while the bound is below the best verified α so far and below
+    ``upper`` (the associative α: Radenkovic's theorem puts the minimum below it, so a
+    candidate bounded above it cannot be the answer; on the paper panels such candidates' static
+    LPs took 20-30 s each to fail).  Returns the state (None if none verified) and the number of
+    candidates tried.
     """
     from .rocking import rocking_candidates
 
-    best_alpha = min((c.alpha for c in verified), default=np.inf)
+    best_alpha = min([c.alpha for c in verified] + ([upper] if upper is not None and np.isfinite(upper) else []),
+                     default=np.inf)
     best: CollapseState | None = None
     tried = 0
     for candidate in rocking_candidates(model, points):
@@ -572,7 +577,7 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
     timings["lp_start_s"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    state, tried = rocking_start(model, points, [c for c in candidates if c.verified],
+    state, tried = rocking_start(model, points, [c for c in candidates if c.verified], upper=associative_alpha,
                                  deadline=None if deadline is None else t0 + ROCKING_SHARE * time_limit)
     add(state, "rocking", t0, tried)
     timings["rocking_s"] = time.perf_counter() - t0

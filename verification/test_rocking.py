@@ -1,0 +1,71 @@
+"""Macro-block rocking candidates (``alma.rocking``) and the search's ``rocking`` start.
+
+Each candidate is a rigid rotation of a set of blocks about a support point; it must be a
+mechanism of the non-associative model (no contact point interpenetrates), and its lifting
+work bounds the α of any collapse state with that mechanism from below.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, assume, given, settings
+
+import alma
+from alma.contact_points import ContactPoints
+from alma.model import build_model
+from alma.nonassociative import exact_state, rocking_start
+from alma.rocking import rocking_candidates
+
+from conftest import assemblies, single_block_scene
+
+
+def test_single_block_tips_over_its_toe():
+    """A b × h block: one candidate that moves the live load, about its right toe, bound b/h."""
+    model = build_model(single_block_scene(100.0, 400.0, 1.0))
+    candidates = rocking_candidates(model, ContactPoints.from_model(model))
+    assert len(candidates) == 1
+    (candidate,) = candidates
+    assert candidate.blocks == (0,) and candidate.rotation == -1.0
+    pivot_mm = np.array(candidate.pivot) * model.length_scale + model.origin
+    assert pivot_mm == pytest.approx([100.0, 0.0], abs=1e-9)
+    assert candidate.lifting_bound == pytest.approx(100 / 400, rel=1e-12)
+
+
+@given(data=assemblies(max_courses=3, max_per_course=4))
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+def test_candidates_are_mechanisms_and_bound_their_states(data):
+    """No interpenetration (ξ ≥ 0), f_Lᵀu = n_free, the bound is the lifting work, and a verified
+    exact state of a candidate never lies below its bound (the dissipation f N |γ| is ≥ 0)."""
+    model = build_model(alma.Scene.from_dict(data))
+    points = ContactPoints.from_model(model)
+    candidates = rocking_candidates(model, points)
+    assume(candidates)
+    for candidate in candidates:
+        u = candidate.mechanism
+        opening = points.normal.T @ u
+        assert opening.min() >= -1e-9 * np.abs(u).max()
+        assert model.live @ u == pytest.approx(model.n_free, rel=1e-12)
+        assert candidate.lifting_bound == pytest.approx(-(model.dead @ u) / model.n_free, rel=1e-12, abs=1e-15)
+        moving = np.flatnonzero(np.abs(u).reshape(-1, 3).max(axis=1) > 0)
+        assert tuple(moving) == candidate.blocks
+    bounds = [c.lifting_bound for c in candidates]
+    assert bounds == sorted(bounds)
+    state = exact_state(model, points, candidates[0].mechanism, "rocking", method="highs-ipm")
+    if state is not None and state.verified:
+        assert state.alpha >= candidates[0].lifting_bound - 1e-9
+
+
+def test_corner_column_of_a_flemish_panel():
+    """Flemish panel 1:1, blocks 1:1, f = 1 (780 blocks): the top-right header and the 3L/4 closer
+    on it tip together off the stretcher beside them, sliding up its face with no normal force.
+    α = Σ W (x_toe − x_G) / Σ W (y_G − y_toe) = (1800·15 + 2700·22.5) / (1800·30 + 2700·90) = 13/44,
+    far below α_LP = 0.4853.  No other start found a verified state on this panel in the
+    108-panel run of 2026-11-23; the associative LP cannot use this mechanism (its sliding face
+    would have to open by f·|slip|)."""
+    model = build_model(alma.paper_panel("flemish", "1:1", "1:1", 1.0))
+    points = ContactPoints.from_model(model)
+    first = rocking_candidates(model, points)[0]
+    assert len(first.blocks) == 2 and first.lifting_bound == pytest.approx(13 / 44, rel=1e-12)
+    state, tried = rocking_start(model, points, [], tries=1)
+    assert tried == 1 and state is not None and state.verified
+    assert state.alpha == pytest.approx(13 / 44, rel=1e-9)
