@@ -50,7 +50,7 @@ def test_candidates_are_mechanisms_and_bound_their_states(data):
         assert tuple(moving) == candidate.blocks
     bounds = [c.lifting_bound for c in candidates]
     assert bounds == sorted(bounds)
-    state = exact_state(model, points, candidates[0].mechanism, "rocking", method="highs-ipm")
+    state = exact_state(model, points, candidates[0].mechanism, "rocking", method="clarabel")
     if state is not None and state.verified:
         assert state.alpha >= candidates[0].lifting_bound - 1e-9
 
@@ -69,3 +69,25 @@ def test_corner_column_of_a_flemish_panel():
     state, tried = rocking_start(model, points, [], tries=1)
     assert tried == 1 and state is not None and state.verified
     assert state.alpha == pytest.approx(13 / 44, rel=1e-9)
+
+
+@given(data=assemblies(max_courses=3, max_per_course=4))
+@settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+def test_interior_fixed_set_lp_agrees_with_highs(data):
+    """The smallest α with a fixed active set: Clarabel on the generator form (used by the rocking
+    start) and HiGHS on (N, T) (every other exact state) agree, or both find no field."""
+    from alma.nonassociative import LP_METHOD, active_set, fixed_set_static_interior, static_lp
+
+    model = build_model(alma.Scene.from_dict(data))
+    points = ContactPoints.from_model(model)
+    candidates = rocking_candidates(model, points)
+    assume(candidates)
+    for candidate in candidates[:3]:
+        open_points, slip_sign = active_set(model, points, candidate.mechanism)
+        interior = fixed_set_static_interior(model, points, open_points, slip_sign)
+        vertex = static_lp(model, points, slope=points.friction, cap=np.zeros(points.count), maximise=False,
+                           open_points=open_points, slip_sign=slip_sign, method=LP_METHOD)
+        assert (interior.status == "optimal") == (vertex.status == "optimal"), (interior.status, vertex.status)
+        if vertex.status == "optimal":
+            assert interior.alpha == pytest.approx(vertex.alpha, rel=1e-7, abs=1e-9)
+            assert interior.alpha >= candidate.lifting_bound - 1e-9
