@@ -86,7 +86,8 @@ def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np
     Yield: |T_p| ≤ slope_p N_p + cap_p (Coulomb: slope = f, cap = 0; Gilbert: slope
     → 0, cap = (f − slope) N̄).  With an active set: N_p = 0 at ``open_points`` and
     T_p = −slip_sign_p f_p N_p where ``slip_sign`` ≠ 0.
-    Variables (α, N, T); the mechanism is read from the equality duals.
+    Variables (α, N, T); the mechanism is read from the equality duals.  ``method``: the
+    ``scipy.optimize.linprog`` HiGHS method.
     """
     P = points.count
     n = model.dead.shape[0]
@@ -324,7 +325,8 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
     set.  The pair satisfies Eq. 9 by construction; :func:`verify` checks it.  When no
     mechanism has exactly that set, the kinematic LP is asked for one within the widest set
     the static field allows (:func:`force_active_set`); failing that, the candidate's own
-    mechanism is verified.
+    mechanism is verified.  ``method``: a HiGHS method of ``scipy.optimize.linprog`` for the
+    static LP (a vertex), or ``"clarabel"`` (:func:`fixed_set_static_interior`).
     """
     work = float(model.live @ mechanism)
     if not work > 0:
