@@ -88,8 +88,8 @@ def _inputs(scene: alma.Scene):
 @pytest.mark.parametrize("formulation", ["tight", pytest.param("classic", marks=pytest.mark.xfail(
     strict=False, reason="measured 2026-11-23: HiGHS 'Solve error' (status 4) in the classic big-M formulation once "
     "the search's candidates include a mechanism with |u|∞ = 4.97 (the 0.5 state of the rocking start and of "
-    "gilbert(0, 1, 1), 2026-11-23), so U and the big-M constants are 5x larger "
-    "constants. With the LP mechanism alone it proves 0.5; the default 'tight' formulation proves 0.5 with all "
+    "gilbert(0, 1, 1), 2026-11-23), so U and the big-M constants are 5x larger. "
+    "With the LP mechanism alone it proves 0.5; the default 'tight' formulation proves 0.5 with all "
     "of them. The classic formulation was already seen to fail on 7 of 20 input perturbations of 1e-10 "
     "(alma/associative.py, NORMALISATION)"))])
 def test_milp_finds_the_trap_optimum_without_a_verified_state(formulation):
