@@ -41,8 +41,9 @@ def rocking_candidates(model: Model, points: ContactPoints, *, max_blocks: int =
                        tolerance: float = 1e-9) -> list[RockingCandidate]:
     """All macro-block rotations grown from single blocks (see module docstring), lowest bound first.
 
-    Seeds: every free block, turned either way about the two extreme points of the
-    contacts it rests on (extreme across the direction of gravity).
+    Seeds: every free block, turned clockwise about the support point furthest along
+    +x (across gravity) and counter-clockwise about the one furthest back (the points of
+    the contacts it rests on).
     Distinct (blocks, pivot) pairs only; candidates whose live load does no
     positive work are dropped.
     """
