@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .study import PAPER_DESIGN, RESULTS_FILE, Design, load_design, read_results, run_doe
+from .study import PAPER_DESIGN, RESULTS_FILE, Design, load_design, picture_path, read_results, run_doe
 
 __all__ = ["COMPARE_COLUMNS", "CompareReport", "compare_table", "run_compare", "write_report"]
 
@@ -324,22 +324,30 @@ def _mechanism_figures(table: pd.DataFrame, folder: Path, n: int, effort: str | 
 def _draw_pair(r: Any, path: Path, effort: str | None, report: CompareReport,
                time_limit: float | None = None) -> None:
     import alma
-    from alma.plot import plot_side_by_side
+    from alma.plot import MechanismPicture, plot_side_by_side
 
     scene = alma.paper_panel(r.bond, r.panel_ratio, r.block_ratio, float(r.friction))
-    built = alma.build_model(scene, alma.find_joints(scene))
-    lp = alma.solve(built, model="associative")
-    kwargs = {"effort": effort} if effort else {}
-    if time_limit is not None:
-        kwargs["time_limit"] = time_limit
-    nl = alma.solve(built, model="nonassociative", **kwargs)
-    for label, res, stored in (("α_LP", lp, r.alpha_lp), ("α_NL", nl, r.alpha_nl)):
-        if not (math.isfinite(res.alpha) and abs(res.alpha - stored) <= 1e-7 * max(1.0, abs(stored))):
-            report.notes.append(f"{_panel_name(r)}: re-solved {label} = {res.alpha:.9g} differs from "
-                                f"results.csv ({stored:.9g}); the figure shows the re-solved state")
+    stored_pictures = [picture_path(path.parent.parent, str(k)) for k in (r.key_lp, r.key_nl)]
+    if all(p.is_file() for p in stored_pictures):
+        # The mechanisms the study computed (a search with a time limit need not find the same
+        # state twice, so solving again could draw another one).
+        lp, nl = (MechanismPicture.load(p) for p in stored_pictures)
+        start = r.start_nl
+    else:  # a study from before the pictures were kept: solve again
+        built = alma.build_model(scene, alma.find_joints(scene))
+        lp = alma.solve(built, model="associative")
+        kwargs = {"effort": effort} if effort else {}
+        if time_limit is not None:
+            kwargs["time_limit"] = time_limit
+        nl = alma.solve(built, model="nonassociative", **kwargs)
+        start = nl.extra.get("start")
+        for label, res, stored in (("α_LP", lp, r.alpha_lp), ("α_NL", nl, r.alpha_nl)):
+            if not (math.isfinite(res.alpha) and abs(res.alpha - stored) <= 1e-7 * max(1.0, abs(stored))):
+                report.notes.append(f"{_panel_name(r)}: re-solved {label} = {res.alpha:.9g} differs from "
+                                    f"results.csv ({stored:.9g}); the figure shows the re-solved state")
     ratio = nl.alpha / lp.alpha if lp.alpha > 0 else math.nan
     plot_side_by_side(scene, [lp, nl], path,
-                      titles=["associative (dilatant sliding)", f"non-associative, start {nl.extra.get('start')}"],
+                      titles=["associative (dilatant sliding)", f"non-associative, start {start}"],
                       suptitle=f"{_panel_name(r)}: α_LP = {lp.alpha:.4f}, α_NL = {nl.alpha:.4f}, "
                                f"α_NL/α_LP = {ratio:.3f}")
 

@@ -318,7 +318,7 @@ def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray
 
 def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, start: str, *,
                 dilatant: bool = False, time_limit: float = LP_TIME_LIMIT,
-                method: str = LP_METHOD) -> CollapseState | None:
+                method: str = LP_METHOD, vertex_time_limit: float = LP_TIME_LIMIT) -> CollapseState | None:
     """Turn a candidate mechanism into an exact collapse state and verify it.
 
     Its active set is fixed (:func:`active_set`); one static LP takes the smallest
@@ -328,7 +328,9 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
     mechanism has exactly that set, the kinematic LP is asked for one within the widest set
     the static field allows (:func:`force_active_set`); failing that, the candidate's own
     mechanism is verified.  ``method``: a HiGHS method of ``scipy.optimize.linprog`` for the
-    static LP (a vertex), or ``"clarabel"`` (:func:`fixed_set_static_interior`).
+    static LP (a vertex), or ``"clarabel"`` (:func:`fixed_set_static_interior`; then, when no
+    mechanism has exactly the set, a HiGHS simplex vertex for at most ``vertex_time_limit`` s
+    gives the widest set).
     """
     work = float(model.live @ mechanism)
     if not work > 0:
@@ -337,12 +339,27 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
     open_points, slip_sign = active_set(model, points, mechanism, dilatant=dilatant)
     if method == "clarabel":
         lp = fixed_set_static_interior(model, points, open_points, slip_sign, time_limit=time_limit)
+        if lp.status == "error":  # Clarabel did not converge: HiGHS decides
+            lp = static_lp(model, points, slope=points.friction, cap=np.zeros(points.count), maximise=False,
+                           open_points=open_points, slip_sign=slip_sign, time_limit=time_limit,
+                           method="highs-ipm")
     else:
         lp = static_lp(model, points, slope=points.friction, cap=np.zeros(points.count), maximise=False,
                        open_points=open_points, slip_sign=slip_sign, time_limit=time_limit, method=method)
     if lp.status != "optimal":
         return None
     clean = kinematic_lp(model, points, open_points, slip_sign, time_limit=time_limit)
+    if clean is None and method == "clarabel":
+        # Clarabel's field lies inside the optimal face, where fewest points are unloaded or at
+        # the friction limit; the widest set below is read from a vertex (HiGHS, with crossover).
+        # Seen on english 2:1 1:1, f = 0.6 and 1, and 1:1 2:1, f = 1: no mechanism in the set of
+        # the interior field, one in that of the simplex vertex (not in that of the vertex after
+        # HiGHS's interior point and crossover).
+        vertex = static_lp(model, points, slope=points.friction, cap=np.zeros(points.count), maximise=False,
+                           open_points=open_points, slip_sign=slip_sign,
+                           time_limit=min(time_limit, vertex_time_limit), method="highs")
+        if vertex.status == "optimal":
+            lp = vertex
     if clean is None:
         # No mechanism has exactly the candidate's set: take the widest set the static field
         # allows (open and free slip where N = 0, slip where friction is at its limit).
@@ -360,6 +377,26 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
         if ok:
             break
     return best
+
+
+def fast_exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, start: str, *,
+                     dilatant: bool = False, deadline: float | None = None,
+                     vertex_time_limit: float = LP_TIME_LIMIT) -> CollapseState | None:
+    """:func:`exact_state` with Clarabel's static LP; HiGHS's vertex for at most ``vertex_time_limit`` s.
+
+    When a mechanism has exactly the candidate's set, it complements every optimal field, so the
+    interior point of :func:`fixed_set_static_interior` serves as well as a vertex and is far
+    faster on large panels (1,752 blocks: 0.28 s, where HiGHS's interior point took 42 s and its
+    simplex more than 60 s).  A vertex is needed when the widest set of the field has to be read
+    (see :func:`exact_state`) or when the interior field's round-off fails the verification;
+    HiGHS gets ``vertex_time_limit`` seconds for it.
+    """
+    state = exact_state(model, points, mechanism, start, dilatant=dilatant, time_limit=_remaining(deadline),
+                        method="clarabel", vertex_time_limit=vertex_time_limit)
+    if state is not None and not state.verified and (deadline is None or time.perf_counter() < deadline):
+        state = exact_state(model, points, mechanism, start, dilatant=dilatant,
+                            time_limit=min(_remaining(deadline), vertex_time_limit), method="highs-ipm")
+    return state
 
 
 def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, start: str = "gilbert",
@@ -542,7 +579,8 @@ ROCKING_SHARE = 0.25
 
 def rocking_start(model: Model, points: ContactPoints, verified: list[CollapseState], *,
                   tries: int = ROCKING_TRIES, upper: float | None = None,
-                  deadline: float | None = None) -> tuple[CollapseState | None, int]:
+                  deadline: float | None = None,
+                  vertex_time_limit: float = LP_TIME_LIMIT) -> tuple[CollapseState | None, int]:
     """The lowest verified exact state among macro-block rotations (:mod:`alma.rocking`).
 
     Candidates are taken in the order of their lifting bound (a lower bound on the α of any
@@ -562,19 +600,17 @@ def rocking_start(model: Model, points: ContactPoints, verified: list[CollapseSt
         if deadline is not None and time.perf_counter() > deadline:
             break
         tried += 1
-        # Clarabel for the static LP (fixed_set_static_interior: 0.28 s on the 1,752-block panel
-        # where HiGHS's interior point took 42 s and its simplex more than 60 s).  With the set
-        # fixed, any optimal field complements the mechanism; should its round-off fail the
-        # verification, HiGHS's vertex is tried.
-        state = exact_state(model, points, candidate.mechanism, "rocking", time_limit=_remaining(deadline),
-                            method="clarabel")
-        if state is not None and not state.verified and (deadline is None or time.perf_counter() < deadline):
-            state = exact_state(model, points, candidate.mechanism, "rocking", time_limit=_remaining(deadline),
-                                method="highs-ipm")
+        state = fast_exact_state(model, points, candidate.mechanism, "rocking", deadline=deadline,
+                                 vertex_time_limit=vertex_time_limit)
         if state is not None and state.verified and state.alpha < best_alpha:
             best, best_alpha = state, state.alpha
     return best, tried
 
+
+#: The ``lp`` and ``rocking`` starts give a HiGHS vertex (:func:`fast_exact_state`) at most this
+#: fraction of the time limit: on the paper panels of 780 blocks and more its simplex took 5-60 s,
+#: and there its widest set had no mechanism either (2026-11-23).
+VERTEX_SHARE = 0.1
 
 #: With ``effort="fast"`` and a time limit, a fixed Gilbert start runs for at most this fraction of it.
 FAST_FIXED_SHARE = 0.2
@@ -631,17 +667,21 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
                                    state.alpha if state is not None else float("nan"),
                                    state is not None and state.verified))
 
+    vertex_time_limit = LP_TIME_LIMIT if time_limit is None else VERTEX_SHARE * time_limit
     t0 = time.perf_counter()
     if associative_mechanism is not None:
-        # Bounded by the search's time limit like every LP of the search (on panels of 780 blocks
-        # and more its static LP, simplex on a highly degenerate face, took 10-60 s on 2026-11-23).
-        add(exact_state(model, points, associative_mechanism, "lp", dilatant=True, time_limit=_remaining(deadline)),
-            "lp", t0)
+        # Clarabel's static LP: on panels of 780 blocks and more HiGHS's simplex, on a highly
+        # degenerate face, took 10-60 s.  On the 108 panels (2026-11-23) this start took 148 s in
+        # all against 482 s and gave the same state on 105; on the other 3 (876-1,752 blocks) the
+        # vertex needed more than its 6 s, and the search's answer there is 0.25, far below.
+        add(fast_exact_state(model, points, associative_mechanism, "lp", dilatant=True, deadline=deadline,
+                             vertex_time_limit=vertex_time_limit), "lp", t0)
     timings["lp_start_s"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
     state, tried = rocking_start(model, points, [c for c in candidates if c.verified], upper=associative_alpha,
-                                 deadline=None if deadline is None else t0 + ROCKING_SHARE * time_limit)
+                                 deadline=None if deadline is None else t0 + ROCKING_SHARE * time_limit,
+                                 vertex_time_limit=vertex_time_limit)
     add(state, "rocking", t0, tried)
     timings["rocking_s"] = time.perf_counter() - t0
 

@@ -1,17 +1,78 @@
 """Pictures of collapse mechanisms: blocks in their displaced position, coloured by velocity."""
 from __future__ import annotations
 
+import os
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from .result import Result
+from .result import BlockMotion, Result
 from .scene import Scene
 
 STATE_COLOURS = {"rest": None, "hinging": "tab:orange", "sliding": "tab:red", "separating": "tab:blue"}
 
 
-def plot_mechanism(scene: Scene, result: Result, path: str | Path, *, title: str | None = None,
+@dataclass(frozen=True)
+class PictureJoint:
+    """What a picture needs of a joint: its state and its contact segment (mm)."""
+
+    state: str
+    start: tuple[float, float]
+    end: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class MechanismPicture:
+    """What :func:`plot_mechanism` draws of a result, small enough to keep for every panel of a study.
+
+    Block motions, the joints that move (rest joints are not drawn), α, status, model and
+    mechanism class.  A study keeps one per solved panel (``mechanisms/<key>.npz``), so its
+    report draws the mechanisms that were computed instead of solving the panels again.
+    """
+
+    model: str
+    status: str
+    alpha: float
+    mechanism_class: str
+    blocks: tuple[BlockMotion, ...]
+    joints: tuple[PictureJoint, ...]
+
+    @classmethod
+    def from_result(cls, result: "Result | MechanismPicture") -> "MechanismPicture":
+        if isinstance(result, MechanismPicture):
+            return result
+        joints = tuple(PictureJoint(j.state, tuple(map(float, j.start)), tuple(map(float, j.end)))
+                       for j in result.joints if j.state != "rest")
+        return cls(str(result.model), str(result.status), float(result.alpha), str(result.mechanism_class or ""),
+                   tuple(result.blocks), joints)
+
+    def save(self, path: str | Path) -> Path:
+        """Write the picture as a compressed ``.npz`` (atomically: a temporary file renamed)."""
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        segments = np.array([[*j.start, *j.end] for j in self.joints], dtype=float).reshape(-1, 4)
+        tmp = path.with_name(path.name + ".tmp.npz")
+        np.savez_compressed(
+            tmp, model=self.model, status=self.status, alpha=self.alpha, mechanism_class=self.mechanism_class,
+            block_ids=np.array([b.id for b in self.blocks], dtype=str),
+            motions=np.array([b.u for b in self.blocks], dtype=float).reshape(-1, 3),
+            joint_states=np.array([j.state for j in self.joints], dtype=str), segments=segments)
+        os.replace(tmp, path)
+        return path
+
+    @classmethod
+    def load(cls, path: str | Path) -> "MechanismPicture":
+        with np.load(Path(path), allow_pickle=False) as data:
+            blocks = tuple(BlockMotion(str(i), tuple(float(x) for x in u))
+                           for i, u in zip(data["block_ids"], data["motions"]))
+            joints = tuple(PictureJoint(str(state), (float(s[0]), float(s[1])), (float(s[2]), float(s[3])))
+                           for state, s in zip(data["joint_states"], data["segments"]))
+            return cls(str(data["model"]), str(data["status"]), float(data["alpha"]),
+                       str(data["mechanism_class"]), blocks, joints)
+
+
+def plot_mechanism(scene: Scene, result: "Result | MechanismPicture", path: str | Path, *, title: str | None = None,
                    displacement: float = 0.08, ax=None) -> Path:
     """Draw the mechanism of ``result`` on ``scene`` and save it as PNG.
 
@@ -83,7 +144,7 @@ def plot_mechanism(scene: Scene, result: Result, path: str | Path, *, title: str
     return path
 
 
-def plot_side_by_side(scene: Scene, results: "list[Result] | tuple[Result, ...]", path: str | Path, *,
+def plot_side_by_side(scene: Scene, results: "list[Result | MechanismPicture] | tuple[Result | MechanismPicture, ...]", path: str | Path, *,
                       titles: "list[str | None] | None" = None, suptitle: str | None = None,
                       displacement: float = 0.08) -> Path:
     """Draw the mechanisms of several results of the same scene side by side and save a PNG.

@@ -76,6 +76,14 @@ _NUMERIC = ("friction", "alpha_c", "alpha_lower", "alpha_upper", "gap", "joints_
             "solve_s", "certify_s", "alpha_associative", "ratio", "alpha_lp_start",
             "n_candidates", "n_verified", "nonassociative_s", "n_blocks")
 RESULTS_FILE = "results.csv"
+#: Folder of ``out_dir`` with the mechanism of every solved row (:class:`alma.plot.MechanismPicture`).
+PICTURES_FOLDER = "mechanisms"
+PICTURE = "_picture"  # the row's picture, on its way from the worker to the results file
+
+
+def picture_path(out_dir: str | os.PathLike[str], key: str) -> Path:
+    """Where :func:`run_doe` keeps the mechanism of the row with ``key``."""
+    return Path(out_dir) / PICTURES_FOLDER / f"{key}.npz"
 
 _PANEL_RATIOS = ("2:1", "1:1", "1:2")
 _BLOCK_RATIOS = ("4:1", "2:1", "1:1")
@@ -293,6 +301,12 @@ def _row(task: _Task, friction: float, model: str, key: str, *, result: Any = No
             "message": str(getattr(result, "message", "") or ""),
         })
         row.update(_comparison_fields(result, model))
+        try:
+            from .plot import MechanismPicture
+
+            row[PICTURE] = MechanismPicture.from_result(result)
+        except Exception:  # a picture is a convenience: it must not lose the result
+            pass
     else:
         row.update({"alpha_c": math.nan, "status": "error", "alpha_lower": math.nan,
                     "alpha_upper": math.nan, "gap": math.nan, "mechanism_class": "",
@@ -706,6 +720,12 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
             if key in written:
                 return
             written.add(key)
+            picture = row.pop(PICTURE, None)
+            if picture is not None:
+                try:  # before the row: a row on disk has its picture
+                    picture.save(picture_path(out, key))
+                except OSError:
+                    pass  # the report solves the panel again to draw it
             results.append(row)
             bar.update(failed=row["status"] == "error", work=weight.get(key, 0.0))
 

@@ -107,6 +107,48 @@ def test_compare_resume_adds_no_rows(tiny_run, capsys):
     assert "(6 rows, 6 resumed" in (out / "compare.md").read_text()
 
 
+def test_every_row_keeps_its_mechanism_and_the_figures_are_drawn_from_them(tiny_run, monkeypatch):
+    out, argv, _ = tiny_run
+    from alma.plot import MechanismPicture
+    from alma.study import picture_path
+
+    rows = read_results(out / "results.csv")
+    for r in rows.itertuples():
+        picture = MechanismPicture.load(picture_path(out, r.key))
+        assert picture.model == r.model and picture.status == r.status
+        assert picture.alpha == r.alpha_c  # the state of the row, not another one
+        assert len(picture.blocks) == 72 and all(len(b.u) == 3 for b in picture.blocks)
+        assert picture.joints and all(j.state in ("hinging", "sliding", "separating") for j in picture.joints)
+    # Redrawing the figures solves nothing: they come from the kept mechanisms.
+    import alma
+
+    def no_build(*args, **kwargs):
+        raise AssertionError("the report built a panel's model to solve it again")
+
+    # (alma.solve itself is not patched: its signature is part of the rows' keys)
+    monkeypatch.setattr(alma, "build_model", no_build)
+    for p in (out / "figures").glob("mechanisms_*"):
+        p.unlink()
+    (out / "figures" / "mechanisms.json").unlink(missing_ok=True)
+    assert main(argv) == 0
+    assert len(list((out / "figures").glob("mechanisms_*.png"))) >= 1
+    assert "failed" not in (out / "compare.md").read_text().split("## Summary")[0]
+
+
+def test_mechanism_picture_round_trip(tmp_path):
+    import alma
+    from alma.plot import MechanismPicture, plot_mechanism
+
+    scene = alma.paper_panel("stack", "2:1", "4:1", 0.6)
+    result = alma.solve(alma.build_model(scene, alma.find_joints(scene)), model="associative")
+    picture = MechanismPicture.from_result(result)
+    again = MechanismPicture.load(picture.save(tmp_path / "p.npz"))
+    assert again == picture
+    assert [b.u for b in again.blocks] == [b.u for b in result.blocks]
+    assert len(again.joints) == sum(j.state != "rest" for j in result.joints)
+    assert plot_mechanism(scene, again, tmp_path / "p.png").stat().st_size > 10_000
+
+
 def test_legacy_results_file_is_migrated_not_refused(tmp_path):
     design = Design(panel_ratio=("2:1",), block_ratio=("4:1",), bond=("stack",), friction=(0.6,))
     first = run_doe(tmp_path, design=design, workers=1, progress=False)
