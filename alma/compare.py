@@ -495,8 +495,9 @@ def _lvl(col: str, v: Any) -> str:
 def start_times(table: pd.DataFrame) -> pd.DataFrame:
     """Time and outcome of each start of the non-associative searches, one row per start run.
 
-    Read from the ``starts_nl`` column (JSON ``[[start, seconds, verified], ...]``); panels
-    solved by an alma that did not record it contribute nothing.
+    Read from the ``starts_nl`` column (JSON ``[[start, seconds, verified, α], ...]``; α, of the
+    start's state or null, is missing in rows of an older alma and then NaN); panels solved by an
+    alma that did not record the column contribute nothing.
     """
     rows = []
     for r in table.itertuples():
@@ -506,11 +507,13 @@ def start_times(table: pd.DataFrame) -> pd.DataFrame:
         except ValueError:
             runs = []
         for run in runs:
-            if isinstance(run, list) and len(run) == 3:
+            if isinstance(run, list) and len(run) in (3, 4):
+                alpha = run[3] if len(run) == 4 and run[3] is not None else math.nan
                 rows.append({"start": str(run[0]), "time_s": float(run[1]), "verified": bool(run[2]),
-                             "won": str(run[0]) == r.start_nl, "panel_converged": r.status_nl == "optimal",
-                             "n_blocks": r.n_blocks})
-    return pd.DataFrame(rows, columns=["start", "time_s", "verified", "won", "panel_converged", "n_blocks"])
+                             "alpha": float(alpha), "won": str(run[0]) == r.start_nl,
+                             "panel_converged": r.status_nl == "optimal", "n_blocks": r.n_blocks})
+    return pd.DataFrame(rows, columns=["start", "time_s", "verified", "alpha", "won", "panel_converged",
+                                       "n_blocks"])
 
 
 def _time_by_start(t: pd.DataFrame) -> list[str]:

@@ -339,10 +339,17 @@ def _comparison_fields(result: Any, model: str) -> dict[str, Any]:
         "n_candidates": len(candidates),
         "n_verified": sum(bool(c.get("verified")) for c in candidates),
         "nonassociative_s": _num(result.timings.get("nonassociative_s", math.nan)),
-        "starts": json.dumps([[r.get("start"), round(float(r.get("time_s", math.nan)), 3), bool(r.get("verified"))]
+        # [start, seconds, verified, α of its state (null if none)]
+        "starts": json.dumps([[r.get("start"), round(float(r.get("time_s", math.nan)), 3), bool(r.get("verified")),
+                               _finite_or_none(r.get("alpha"))]
                               for r in extra.get("starts") or [] if isinstance(r, dict)], ensure_ascii=False),
     })
     return out
+
+
+def _finite_or_none(value: Any) -> float | None:
+    v = _num(value)
+    return v if math.isfinite(v) else None
 
 
 def _error_text(exc: BaseException) -> str:

@@ -85,6 +85,11 @@ def test_compare_cli_writes_table_report_and_figures(tiny_run):
     for r in table.itertuples():
         names = [run[0] for run in json.loads(r.starts_nl)]
         assert r.start_nl in names and names[0] == "lp"
+        for name, _, verified, alpha in json.loads(r.starts_nl):  # every start's α is kept
+            if verified:
+                assert alpha >= r.alpha_nl - 1e-12
+            if name == r.start_nl:
+                assert verified and alpha == pytest.approx(r.alpha_nl, rel=1e-12)
     assert runs["won"].sum() == len(table)
     assert runs["time_s"].sum() <= table["time_nl_s"].sum() + 1e-3 * len(runs)  # JSON keeps ms
     figures = out / "figures"

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
 
 import alma
 from alma.contact_points import ContactPoints
@@ -91,3 +92,44 @@ def test_interior_fixed_set_lp_agrees_with_highs(data):
         if vertex.status == "optimal":
             assert interior.alpha == pytest.approx(vertex.alpha, rel=1e-7, abs=1e-9)
             assert interior.alpha >= candidate.lifting_bound - 1e-9
+
+
+def test_wedge_of_hundreds_of_blocks_on_a_running_panel():
+    """Running bond, panel 1:2, blocks 2:1, f = 1 (600 blocks): a wedge of several hundred blocks
+    above a stepped diagonal crack tips about a toe.  It is this panel's only verified state in
+    60 s (the 108-panel runs of 2026-11-23; the macro-blocks were capped at 60 blocks before):
+    its α equals the wedge's lifting work, the friction faces of the crack being unloaded, and
+    lies below α_LP = 0.4277."""
+    model = build_model(alma.paper_panel("running", "1:2", "2:1", 1.0))
+    points = ContactPoints.from_model(model)
+    lp = alma.solve(model, model="associative")
+    state, tried = rocking_start(model, points, [], upper=lp.alpha)
+    assert state is not None and state.verified and 1 <= tried <= 4
+    wedge = [c for c in rocking_candidates(model, points)[:tried]
+             if abs(c.lifting_bound - state.alpha) <= 1e-9 * state.alpha]
+    assert wedge and len(wedge[0].blocks) > 60
+    assert state.alpha < lp.alpha - 0.05
+    assert all(len(c.blocks) <= 60 for c in rocking_candidates(model, points, max_blocks=60))
+
+
+@given(data=assemblies(max_courses=4, max_per_course=5), batch=st.integers(1, 7))
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+def test_seeds_grown_in_batches_give_the_same_candidates(data, batch):
+    """Growing all seeds together (dense tables, split in batches) changes nothing: the same
+    candidates as with one seed per batch, in the same order."""
+    import alma.rocking as rocking
+
+    model = build_model(alma.Scene.from_dict(data))
+    points = ContactPoints.from_model(model)
+    default = rocking_candidates(model, points)
+    saved = rocking._BATCH_ENTRIES
+    try:
+        rocking._BATCH_ENTRIES = batch * model.n_free
+        batched = rocking_candidates(model, points)
+        rocking._BATCH_ENTRIES = 1
+        single = rocking_candidates(model, points)
+    finally:
+        rocking._BATCH_ENTRIES = saved
+    for other in (batched, single):
+        assert [(c.blocks, c.pivot, c.rotation, c.lifting_bound) for c in other] == \
+            [(c.blocks, c.pivot, c.rotation, c.lifting_bound) for c in default]
