@@ -351,7 +351,7 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
     clean = kinematic_lp(model, points, open_points, slip_sign, time_limit=time_limit)
     if clean is None and method == "clarabel":
         # Clarabel's field lies inside the optimal face, where fewest points are unloaded or at
-        # the friction limit; the widest set below is read from a vertex (HiGHS, with crossover).
+        # the friction limit; the widest set below is read from a vertex (HiGHS's simplex).
         # Seen on english 2:1 1:1, f = 0.6 and 1, and 1:1 2:1, f = 1: no mechanism in the set of
         # the interior field, one in that of the simplex vertex (not in that of the vertex after
         # HiGHS's interior point and crossover).
