@@ -166,7 +166,7 @@ def run_compare(out_dir: str | os.PathLike[str], design: Design | str | os.PathL
     report.failed = int((results["status"] == "error").sum())
     figures_dir = out / "figures"
     stats = _statistics(table, figures_dir, report)
-    mech = _mechanism_figures(table, figures_dir, n_figures, effort, report, time_limit)
+    mech = _mechanism_figures(table, figures_dir, n_figures, effort, report, time_limit, results_dir=rdir)
     wall = time.perf_counter() - start
     write_report(report, design, stats, mech, effort=effort, time_limit=time_limit, wall=wall,
                  solve_wall=solve_wall,
@@ -286,7 +286,8 @@ def _panel_name(r: Any) -> str:
 
 
 def _mechanism_figures(table: pd.DataFrame, folder: Path, n: int, effort: str | None,
-                       report: CompareReport, time_limit: float | None = None) -> pd.DataFrame:
+                       report: CompareReport, time_limit: float | None = None,
+                       results_dir: Path | None = None) -> pd.DataFrame:
     """Side-by-side mechanisms of the ``n`` panels with the smallest ratio (ratio < 1 only)."""
     valid = table[np.isfinite(table["ratio"].to_numpy(dtype=float))]
     differ = valid[valid["ratio"] < 1.0 - DIFFER_TOLERANCE]
@@ -309,7 +310,8 @@ def _mechanism_figures(table: pd.DataFrame, folder: Path, n: int, effort: str | 
             pngs.append(path)  # same results as when it was drawn
             continue
         try:
-            _draw_pair(r, path, effort, report, time_limit)
+            _draw_pair(r, path, effort, report, time_limit,
+                       results_dir=folder.parent if results_dir is None else results_dir)
         except Exception as exc:  # a failed drawing must not lose the report
             report.notes.append(f"mechanism figure of {_panel_name(r)} failed: {type(exc).__name__}: {exc}")
             pngs.append(None)
@@ -322,18 +324,18 @@ def _mechanism_figures(table: pd.DataFrame, folder: Path, n: int, effort: str | 
 
 
 def _draw_pair(r: Any, path: Path, effort: str | None, report: CompareReport,
-               time_limit: float | None = None) -> None:
+               time_limit: float | None = None, results_dir: Path | None = None) -> None:
     import alma
-    from alma.plot import MechanismPicture, plot_side_by_side
+    from alma.plot import plot_side_by_side
 
     scene = alma.paper_panel(r.bond, r.panel_ratio, r.block_ratio, float(r.friction))
-    stored_pictures = [picture_path(path.parent.parent, str(k)) for k in (r.key_lp, r.key_nl)]
-    if all(p.is_file() for p in stored_pictures):
+    stored = _stored_pictures(r, path.parent.parent if results_dir is None else results_dir)
+    if stored is not None:
         # The mechanisms the study computed (a search with a time limit need not find the same
         # state twice, so solving again could draw another one).
-        lp, nl = (MechanismPicture.load(p) for p in stored_pictures)
+        lp, nl = stored
         start = r.start_nl
-    else:  # a study from before the pictures were kept: solve again
+    else:  # a study from before the pictures were kept (or a picture lost): solve again
         built = alma.build_model(scene, alma.find_joints(scene))
         lp = alma.solve(built, model="associative")
         kwargs = {"effort": effort} if effort else {}
@@ -350,6 +352,23 @@ def _draw_pair(r: Any, path: Path, effort: str | None, report: CompareReport,
                       titles=["associative (dilatant sliding)", f"non-associative, start {start}"],
                       suptitle=f"{_panel_name(r)}: α_LP = {lp.alpha:.4f}, α_NL = {nl.alpha:.4f}, "
                                f"α_NL/α_LP = {ratio:.3f}")
+
+
+def _stored_pictures(r: Any, results_dir: Path) -> tuple[Any, Any] | None:
+    """The kept mechanisms of a panel's two rows, or None unless both load and match the rows."""
+    from alma.plot import MechanismPicture
+
+    pictures = []
+    for key, alpha, status in ((r.key_lp, r.alpha_lp, r.status_lp), (r.key_nl, r.alpha_nl, r.status_nl)):
+        try:
+            picture = MechanismPicture.load(picture_path(results_dir, str(key)))
+        except Exception:  # missing or unreadable: the caller solves again
+            return None
+        same_alpha = (picture.alpha == alpha) or (math.isnan(picture.alpha) and math.isnan(float(alpha)))
+        if not same_alpha or picture.status != status:  # a file left from another run
+            return None
+        pictures.append(picture)
+    return pictures[0], pictures[1]
 
 
 # ------------------------------------------------------------------------------------------

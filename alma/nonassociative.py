@@ -339,10 +339,10 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
     open_points, slip_sign = active_set(model, points, mechanism, dilatant=dilatant)
     if method == "clarabel":
         lp = fixed_set_static_interior(model, points, open_points, slip_sign, time_limit=time_limit)
-        if lp.status == "error":  # Clarabel did not converge: HiGHS decides
+        if lp.status == "error":  # Clarabel did not converge: HiGHS decides, within the vertex's time
             lp = static_lp(model, points, slope=points.friction, cap=np.zeros(points.count), maximise=False,
-                           open_points=open_points, slip_sign=slip_sign, time_limit=time_limit,
-                           method="highs-ipm")
+                           open_points=open_points, slip_sign=slip_sign,
+                           time_limit=min(time_limit, vertex_time_limit), method="highs-ipm")
     else:
         lp = static_lp(model, points, slope=points.friction, cap=np.zeros(points.count), maximise=False,
                        open_points=open_points, slip_sign=slip_sign, time_limit=time_limit, method=method)

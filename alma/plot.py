@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import os
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -48,17 +49,23 @@ class MechanismPicture:
                    tuple(result.blocks), joints)
 
     def save(self, path: str | Path) -> Path:
-        """Write the picture as a compressed ``.npz`` (atomically: a temporary file renamed)."""
+        """Write the picture as a compressed ``.npz`` (atomically: a temporary file renamed over it)."""
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
         segments = np.array([[*j.start, *j.end] for j in self.joints], dtype=float).reshape(-1, 4)
-        tmp = path.with_name(path.name + ".tmp.npz")
-        np.savez_compressed(
-            tmp, model=self.model, status=self.status, alpha=self.alpha, mechanism_class=self.mechanism_class,
-            block_ids=np.array([b.id for b in self.blocks], dtype=str),
-            motions=np.array([b.u for b in self.blocks], dtype=float).reshape(-1, 3),
-            joint_states=np.array([j.state for j in self.joints], dtype=str), segments=segments)
-        os.replace(tmp, path)
+        handle, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".", suffix=".npz")
+        try:
+            with os.fdopen(handle, "wb") as fh:
+                np.savez_compressed(
+                    fh, model=self.model, status=self.status, alpha=self.alpha,
+                    mechanism_class=self.mechanism_class,
+                    block_ids=np.array([b.id for b in self.blocks], dtype=str),
+                    motions=np.array([b.u for b in self.blocks], dtype=float).reshape(-1, 3),
+                    joint_states=np.array([j.state for j in self.joints], dtype=str), segments=segments)
+            os.replace(tmp, path)
+        finally:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
         return path
 
     @classmethod

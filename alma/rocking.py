@@ -174,7 +174,8 @@ def _grow_batch(seeds: np.ndarray, pivots: np.ndarray, omegas: np.ndarray, indpt
         owner, pushed = owner[keep], pushed[keep]
         fresh = ~members[owner, pushed]
         owner, pushed = owner[fresh], pushed[fresh]
-        # Each new (seed, block) pair once: of the repeated ones, the last written keeps its stamp.
+        # Each new (seed, block) pair once: the stamps written are distinct, so of repeated pairs
+        # exactly one (whichever is written last) reads its own stamp back.
         stamp[owner, pushed] = np.arange(owner.size, dtype=np.int32)
         once = stamp[owner, pushed] == np.arange(owner.size, dtype=np.int32)
         frontier_seed, frontier_block = owner[once], pushed[once]

@@ -731,8 +731,8 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
             if picture is not None:
                 try:  # before the row: a row on disk has its picture
                     picture.save(picture_path(out, key))
-                except OSError:
-                    pass  # the report solves the panel again to draw it
+                except Exception:  # the report solves the panel again to draw it
+                    picture_path(out, key).unlink(missing_ok=True)
             results.append(row)
             bar.update(failed=row["status"] == "error", work=weight.get(key, 0.0))
 

@@ -140,6 +140,29 @@ def test_every_row_keeps_its_mechanism_and_the_figures_are_drawn_from_them(tiny_
     assert "failed" not in (out / "compare.md").read_text().split("## Summary")[0]
 
 
+def test_a_stale_or_missing_picture_is_not_drawn(tiny_run):
+    """A picture that does not match its row (left from another run) or cannot be read sends the
+    report back to solving the panel."""
+    import dataclasses
+
+    from alma.plot import MechanismPicture
+    from alma.study import picture_path
+
+    out = tiny_run[0]
+    row = next(pd.read_csv(out / "compare.csv", keep_default_na=False, na_values={"alpha_nl": [""]}).itertuples())
+    assert compare_mod._stored_pictures(row, out) is not None
+    path = picture_path(out, row.key_nl)
+    kept = MechanismPicture.load(path)
+    try:
+        dataclasses.replace(kept, alpha=kept.alpha + 1e-3).save(path)
+        assert compare_mod._stored_pictures(row, out) is None
+        path.write_bytes(b"not an npz")
+        assert compare_mod._stored_pictures(row, out) is None
+    finally:
+        kept.save(path)
+    assert compare_mod._stored_pictures(row, out) is not None
+
+
 def test_mechanism_picture_round_trip(tmp_path):
     import alma
     from alma.plot import MechanismPicture, plot_mechanism
