@@ -38,7 +38,7 @@ class RockingCandidate:
 
 
 def rocking_candidates(model: Model, points: ContactPoints, *, max_blocks: int | None = None,
-                       tolerance: float = 1e-9) -> list[RockingCandidate]:
+                       keep: int | None = None, tolerance: float = 1e-9) -> list[RockingCandidate]:
     """All macro-block rotations grown from single blocks (see module docstring), lowest bound first.
 
     Seeds: every free block, turned clockwise about the support point furthest along
@@ -48,6 +48,7 @@ def rocking_candidates(model: Model, points: ContactPoints, *, max_blocks: int |
     positive work are dropped.  ``max_blocks`` (default: no limit) drops larger macro-blocks:
     on the paper panels the lowest candidates include wedges of 450-850 blocks (a stepped
     diagonal crack), which gave the only verified states of four 600-1,176-block panels.
+    ``keep``: only the lowest ``keep`` candidates (each carries a mechanism of 3 n_free numbers).
     """
     joints = model.joints
     n_free = model.n_free
@@ -102,7 +103,8 @@ def rocking_candidates(model: Model, points: ContactPoints, *, max_blocks: int |
                   normal_x, normal_y, inc_other, n_free, n_free if max_blocks is None else max_blocks, tolerance)
 
     seen: set[tuple[bytes, tuple[float, float]]] = set()
-    found: list[RockingCandidate] = []
+    ranked: list[tuple[float, int, np.ndarray, np.ndarray, float, float]] = []
+    live, dead = model.live.reshape(-1, 3), model.dead.reshape(-1, 3)
     for index, pivot, omega in zip(grown, seed_pivot, seed_omega):
         if index is None:
             continue
@@ -110,20 +112,27 @@ def rocking_candidates(model: Model, points: ContactPoints, *, max_blocks: int |
         if key in seen:
             continue
         seen.add(key)
-        u = np.zeros(3 * n_free)
-        arm = model.centroid[index] - pivot
-        u[3 * index] = -omega * arm[:, 1]
-        u[3 * index + 1] = omega * arm[:, 0]
-        u[3 * index + 2] = omega
-        work = float(model.live @ u)
+        motion = _rotation(model.centroid[index], pivot, omega)
+        work = float(np.sum(live[index] * motion))
         if not work > 0:
             continue
-        u *= n_free / work
-        bound = float(-(model.dead @ u) / n_free)
-        found.append(RockingCandidate(tuple(index.tolist()), (float(pivot[0]), float(pivot[1])), float(omega),
-                                      bound, u))
-    found.sort(key=lambda c: c.lifting_bound)
+        scale = n_free / work
+        bound = float(-np.sum(dead[index] * motion) * scale / n_free)
+        ranked.append((bound, len(ranked), index, pivot, float(omega), scale))
+    ranked.sort(key=lambda item: (item[0], item[1]))
+    found: list[RockingCandidate] = []
+    for bound, _, index, pivot, omega, scale in ranked[:keep]:
+        u = np.zeros((n_free, 3))
+        u[index] = scale * _rotation(model.centroid[index], pivot, omega)
+        found.append(RockingCandidate(tuple(index.tolist()), (float(pivot[0]), float(pivot[1])), omega, bound,
+                                      u.ravel()))
     return found
+
+
+def _rotation(centroids: np.ndarray, pivot: np.ndarray, omega: float) -> np.ndarray:
+    """(u, v, θ) of blocks with these centroids turning at rate ω about the pivot."""
+    arm = centroids - pivot
+    return np.column_stack([-omega * arm[:, 1], omega * arm[:, 0], np.full(arm.shape[0], omega)])
 
 
 #: Seeds grown together in one batch use dense (seeds × blocks) tables of at most this many
