@@ -594,7 +594,7 @@ def rocking_start(model: Model, points: ContactPoints, verified: list[CollapseSt
                      default=np.inf)
     best: CollapseState | None = None
     tried = 0
-    for candidate in rocking_candidates(model, points, keep=tries):
+    for candidate in rocking_candidates(model, points, keep=tries, deadline=deadline):
         if tried >= tries or candidate.lifting_bound >= best_alpha - 1e-12:
             break
         if deadline is not None and time.perf_counter() > deadline:

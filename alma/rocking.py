@@ -18,6 +18,7 @@ the lowest are made exact and verified like every other candidate.
 """
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,7 +39,8 @@ class RockingCandidate:
 
 
 def rocking_candidates(model: Model, points: ContactPoints, *, max_blocks: int | None = None,
-                       keep: int | None = None, tolerance: float = 1e-9) -> list[RockingCandidate]:
+                       keep: int | None = None, deadline: float | None = None,
+                       tolerance: float = 1e-9) -> list[RockingCandidate]:
     """All macro-block rotations grown from single blocks (see module docstring), lowest bound first.
 
     Seeds: every free block, turned clockwise about the support point furthest along
@@ -49,6 +51,8 @@ def rocking_candidates(model: Model, points: ContactPoints, *, max_blocks: int |
     on the paper panels the lowest candidates include wedges of 450-850 blocks (a stepped
     diagonal crack), which gave the only verified states of four 600-1,176-block panels.
     ``keep``: only the lowest ``keep`` candidates (each carries a mechanism of 3 n_free numbers).
+    ``deadline`` (``time.perf_counter()`` seconds): seeds not grown by then give no candidate (on
+    large walls the macro-blocks of tens of thousands of seeds can each reach thousands of blocks).
     """
     joints = model.joints
     n_free = model.n_free
@@ -100,7 +104,8 @@ def rocking_candidates(model: Model, points: ContactPoints, *, max_blocks: int |
     if not seed_block:
         return []
     grown = _grow(np.asarray(seed_block), np.asarray(seed_pivot), np.asarray(seed_omega), indptr, offset,
-                  normal_x, normal_y, inc_other, n_free, n_free if max_blocks is None else max_blocks, tolerance)
+                  normal_x, normal_y, inc_other, n_free, n_free if max_blocks is None else max_blocks, tolerance,
+                  deadline)
 
     seen: set[tuple[bytes, tuple[float, float]]] = set()
     ranked: list[tuple[float, int, np.ndarray, np.ndarray, float, float]] = []
@@ -142,8 +147,10 @@ _BATCH_ENTRIES = 8_000_000
 
 def _grow(seeds: np.ndarray, pivots: np.ndarray, omegas: np.ndarray, indptr: np.ndarray,
           offset: np.ndarray, normal_x: np.ndarray, normal_y: np.ndarray, inc_other: np.ndarray,
-          n_free: int, max_blocks: int, tolerance: float) -> list[np.ndarray | None]:
-    """Members of the macro-block grown from each seed (sorted), or None (ground pushed, too large).
+          n_free: int, max_blocks: int, tolerance: float,
+          deadline: float | None = None) -> list[np.ndarray | None]:
+    """Members of the macro-block grown from each seed (sorted), or None (ground pushed, too large,
+    or not grown by the ``deadline``).
 
     Per incidence i (point p seen from its block), the opening under a rotation ω about c is
     ω (offset_i + normal_x_i c_y − normal_y_i c_x), the normal carrying the incidence's sign.
@@ -156,14 +163,17 @@ def _grow(seeds: np.ndarray, pivots: np.ndarray, omegas: np.ndarray, indptr: np.
     for first in range(0, seeds.size, batch):
         out.extend(_grow_batch(seeds[first:first + batch], pivots[first:first + batch],
                                omegas[first:first + batch], indptr, offset, normal_x, normal_y, inc_other,
-                               n_free, max_blocks, tolerance))
+                               n_free, max_blocks, tolerance, deadline))
     return out
 
 
 def _grow_batch(seeds: np.ndarray, pivots: np.ndarray, omegas: np.ndarray, indptr: np.ndarray,
                 offset: np.ndarray, normal_x: np.ndarray, normal_y: np.ndarray, inc_other: np.ndarray,
-                n_free: int, max_blocks: int, tolerance: float) -> list[np.ndarray | None]:
+                n_free: int, max_blocks: int, tolerance: float,
+                deadline: float | None) -> list[np.ndarray | None]:
     count = seeds.size
+    if deadline is not None and time.perf_counter() > deadline:
+        return [None] * count
     members = np.zeros((count, n_free), dtype=bool)
     members[np.arange(count), seeds] = True
     stamp = np.empty((count, n_free), dtype=np.int32)  # scratch: written before it is read
@@ -171,6 +181,8 @@ def _grow_batch(seeds: np.ndarray, pivots: np.ndarray, omegas: np.ndarray, indpt
     size = np.ones(count, dtype=np.int64)
     frontier_seed, frontier_block = np.arange(count), seeds.copy()
     while frontier_seed.size:
+        if deadline is not None and time.perf_counter() > deadline:
+            return [None] * count
         starts, lengths = indptr[frontier_block], indptr[frontier_block + 1] - indptr[frontier_block]
         total = int(lengths.sum())
         ids = np.repeat(starts - np.concatenate([[0], np.cumsum(lengths)[:-1]]), lengths) + np.arange(total)
