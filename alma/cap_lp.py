@@ -177,24 +177,16 @@ class ClosestField:
         settings.presolve_enable = False  # data updates need the problem as given
         settings.tol_gap_abs = settings.tol_gap_rel = settings.tol_feas = tolerance
         settings.direct_solve_method = "qdldl"
-        # Built at the first solve, from that call's data: Clarabel scales the cost by the q it is
-        # built with, and updates keep that scale.  Built with q = 0 and then updated, the QP of
-        # english 1:2 1:1 f = 0.27 (1,752 blocks) ran out its 200 iterations (5.0 s) each time;
-        # built with its data it takes 47 (1.3 s), and 49 after an update of q.
-        self._build = lambda q, b: clarabel.DefaultSolver(
-            quadratic, q, A, b, [clarabel.ZeroConeT(self._n_eq), clarabel.NonnegativeConeT(3 * P)], settings)
-        self._solver = None
+        self._solver = clarabel.DefaultSolver(quadratic, np.zeros(2 * P), A, self._rhs(0.0, np.zeros(P)),
+                                              [clarabel.ZeroConeT(self._n_eq), clarabel.NonnegativeConeT(3 * P)],
+                                              settings)
 
     def _rhs(self, alpha: float, cap: np.ndarray) -> np.ndarray:
         return np.concatenate([-self.model.dead - alpha * self.model.live, np.zeros(self._P), cap, cap])
 
     def solve(self, alpha: float, cap: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
         """(N, T) of the closest field, or None when the QP does not solve."""
-        q, b = np.concatenate([-target, np.zeros(self._P)]), self._rhs(alpha, cap)
-        if self._solver is None:
-            self._solver = self._build(q, b)
-        else:
-            self._solver.update(q=q, b=b)
+        self._solver.update(q=np.concatenate([-target, np.zeros(self._P)]), b=self._rhs(alpha, cap))
         solution = self._solver.solve()
         if str(solution.status) not in ("Solved", "AlmostSolved"):
             return None
