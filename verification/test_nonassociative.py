@@ -241,8 +241,13 @@ def test_closest_field_returns_a_field_that_is_already_admissible():
     assert np.linalg.norm(normal2 - target) <= np.linalg.norm(vertex.normal - target) + 1e-7 * scale
 
 
-@pytest.mark.parametrize("bond, panel, block, friction, whole_search", [("english", "1:1", "4:1", 1.0, True),
-                                                                     ("english", "1:1", "2:1", 0.27, False)])
+@pytest.mark.parametrize("bond, panel, block, friction, whole_search", [
+    pytest.param("english", "1:1", "4:1", 1.0, True, marks=pytest.mark.xfail(strict=True, reason=(
+        "measured 2026-11-23: since effort 'fast' runs the projected iteration only when no other "
+        "start verified, the default search stops at gilbert(1, 0.5, 0)'s 0.71415, above the "
+        "projected state 0.71241 (a trade measured on the 108 panels: search time 2,625 s -> "
+        "1,456 s, 2 panels higher by 0.0011 and 0.0017, none lost)"))),
+    ("english", "1:1", "2:1", 0.27, False)])
 def test_projected_iteration_settles_on_large_panels(bond, panel, block, friction, whole_search):
     """Two panels (228 and 444 blocks) where no fixed start of the 108-panel run of 2026-11-21
     gave a verified state (their vertex iterates jump across the capped LPs' optimal faces):
