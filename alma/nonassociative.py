@@ -611,6 +611,8 @@ def rocking_start(model: Model, points: ContactPoints, verified: list[CollapseSt
 #: fraction of the time limit: on the paper panels of 780 blocks and more its simplex took 5-60 s,
 #: and there its widest set had no mechanism either (2026-11-23).
 VERTEX_SHARE = 0.1
+#: Scenes up to this many contact points take the ``lp`` start's static LP from HiGHS's simplex.
+LP_VERTEX_POINTS = 1000
 
 #: With ``effort="fast"`` and a time limit, a fixed Gilbert start runs for at most this fraction of it.
 FAST_FIXED_SHARE = 0.2
@@ -674,8 +676,17 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
         # degenerate face, took 10-60 s.  On the 108 panels (2026-11-23) this start took 148 s in
         # all against 482 s and gave the same state on 105; on the other 3 (876-1,752 blocks) the
         # vertex needed more than its 6 s, and the search's answer there is 0.25, far below.
-        add(fast_exact_state(model, points, associative_mechanism, "lp", dilatant=True, deadline=deadline,
-                             vertex_time_limit=vertex_time_limit), "lp", t0)
+        # Up to LP_VERTEX_POINTS contact points HiGHS's simplex vertex is cheap and exact to the last
+        # digit: Clarabel's interior field put the lp state of three blocks side by side (f = 0.45)
+        # at α = 0.45 − 2e-14, and with that cap HiGHS's MILP in alma.certify settled at 0.4499977
+        # (verification/test_certify.py, hypothesis, 2026-11-23).
+        if points.count <= LP_VERTEX_POINTS:
+            state = exact_state(model, points, associative_mechanism, "lp", dilatant=True,
+                                time_limit=_remaining(deadline))
+        else:
+            state = fast_exact_state(model, points, associative_mechanism, "lp", dilatant=True, deadline=deadline,
+                                     vertex_time_limit=vertex_time_limit)
+        add(state, "lp", t0)
     timings["lp_start_s"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
