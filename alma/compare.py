@@ -166,7 +166,7 @@ def run_compare(out_dir: str | os.PathLike[str], design: Design | str | os.PathL
     report.failed = int((results["status"] == "error").sum())
     figures_dir = out / "figures"
     stats = _statistics(table, figures_dir, report)
-    mech = _mechanism_figures(table, figures_dir, n_figures, effort, report, time_limit, results_dir=rdir)
+    mech = _mechanism_figures(table, figures_dir, n_figures, effort, report, time_limit, rdir)
     wall = time.perf_counter() - start
     write_report(report, design, stats, mech, effort=effort, time_limit=time_limit, wall=wall,
                  solve_wall=solve_wall,
@@ -286,8 +286,7 @@ def _panel_name(r: Any) -> str:
 
 
 def _mechanism_figures(table: pd.DataFrame, folder: Path, n: int, effort: str | None,
-                       report: CompareReport, time_limit: float | None = None,
-                       results_dir: Path | None = None) -> pd.DataFrame:
+                       report: CompareReport, time_limit: float | None, results_dir: Path) -> pd.DataFrame:
     """Side-by-side mechanisms of the ``n`` panels with the smallest ratio (ratio < 1 only)."""
     valid = table[np.isfinite(table["ratio"].to_numpy(dtype=float))]
     differ = valid[valid["ratio"] < 1.0 - DIFFER_TOLERANCE]
@@ -310,8 +309,7 @@ def _mechanism_figures(table: pd.DataFrame, folder: Path, n: int, effort: str | 
             pngs.append(path)  # same results as when it was drawn
             continue
         try:
-            _draw_pair(r, path, effort, report, time_limit,
-                       results_dir=folder.parent if results_dir is None else results_dir)
+            _draw_pair(r, path, effort, report, time_limit, results_dir)
         except Exception as exc:  # a failed drawing must not lose the report
             report.notes.append(f"mechanism figure of {_panel_name(r)} failed: {type(exc).__name__}: {exc}")
             pngs.append(None)
@@ -324,12 +322,12 @@ def _mechanism_figures(table: pd.DataFrame, folder: Path, n: int, effort: str | 
 
 
 def _draw_pair(r: Any, path: Path, effort: str | None, report: CompareReport,
-               time_limit: float | None = None, results_dir: Path | None = None) -> None:
+               time_limit: float | None, results_dir: Path) -> None:
     import alma
     from alma.plot import plot_side_by_side
 
     scene = alma.paper_panel(r.bond, r.panel_ratio, r.block_ratio, float(r.friction))
-    stored = _stored_pictures(r, path.parent.parent if results_dir is None else results_dir)
+    stored = _stored_pictures(r, results_dir)
     if stored is not None:
         # The mechanisms the study computed (a search with a time limit need not find the same
         # state twice, so solving again could draw another one).

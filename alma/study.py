@@ -341,15 +341,10 @@ def _comparison_fields(result: Any, model: str) -> dict[str, Any]:
         "nonassociative_s": _num(result.timings.get("nonassociative_s", math.nan)),
         # [start, seconds, verified, α of its state (null if none)]
         "starts": json.dumps([[r.get("start"), round(float(r.get("time_s", math.nan)), 3), bool(r.get("verified")),
-                               _finite_or_none(r.get("alpha"))]
+                               r.get("alpha")]  # already None when not finite (alma.result)
                               for r in extra.get("starts") or [] if isinstance(r, dict)], ensure_ascii=False),
     })
     return out
-
-
-def _finite_or_none(value: Any) -> float | None:
-    v = _num(value)
-    return v if math.isfinite(v) else None
 
 
 def _error_text(exc: BaseException) -> str:
