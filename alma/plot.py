@@ -14,7 +14,7 @@ from .scene import Scene
 STATE_COLOURS = {"rest": None, "hinging": "tab:orange", "sliding": "tab:red", "separating": "tab:blue"}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class PictureJoint:
     """What a picture needs of a joint: its state and its contact segment (mm)."""
 
@@ -23,7 +23,7 @@ class PictureJoint:
     end: tuple[float, float]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class MechanismPicture:
     """What :func:`plot_mechanism` draws of a result, small enough to keep for every panel of a study.
 

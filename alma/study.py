@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import gc
 import hashlib
 import inspect
 import json
@@ -794,7 +795,18 @@ def _run_local(tasks: Sequence[_Task], n_workers: int, record: Callable[[dict[st
 
     futures = {}
     try:
-        futures = {pool.submit(_solve_task_pooled, t): t for t in tasks}
+        # The workers are forked at the first submit.  Freezing the collector first leaves every
+        # object of the parent out of the children's collections: a child never traverses or
+        # frees what it did not make.  (In the test suite a child's full collection once hit a
+        # dangling instance dict inherited from the parent and died with SIGSEGV.)
+        frozen = ctx.get_start_method() == "fork"
+        if frozen:
+            gc.freeze()
+        try:
+            futures = {pool.submit(_solve_task_pooled, t): t for t in tasks}
+        finally:
+            if frozen:
+                gc.unfreeze()
         pending = set(futures)
         while pending:
             drain(0.2)

@@ -8,6 +8,7 @@ published Table 5 prints Table 2; bad input exits with code 2.
 from __future__ import annotations
 
 import argparse
+import gc
 import json
 import os
 import signal
@@ -228,6 +229,50 @@ def test_killed_study_resumes_without_loss_or_duplicates(tmp_path):
 
     # ANOVA of a doe results file through the CLI (main effects only: 48 panels).
     assert cli(["anova", str(path), "--order", "1", "--json"]) == 0
+
+
+class _Finalised:
+    """Part of a reference cycle; writes the pid of the process that finalises it."""
+
+    def __init__(self, marker: Path) -> None:
+        self.marker = marker
+        self.cycle = self
+
+    def __del__(self) -> None:
+        with open(self.marker, "a") as fh:
+            fh.write(f"{os.getpid()}\n")
+
+
+def test_forked_workers_never_collect_the_parents_objects(tmp_path, monkeypatch):
+    """Workers forked by run_doe leave the parent's objects alone (gc.freeze before the fork).
+
+    A worker once died with SIGSEGV in a full collection, on a dangling instance dict inherited
+    from the parent.  Here the parent holds a garbage cycle when it forks, and every worker runs
+    a full collection before its task: the cycle's finaliser must run in the parent only.
+    """
+    import alma.study as study
+
+    if "fork" not in __import__("multiprocessing").get_all_start_methods():
+        pytest.skip("no fork start method on this platform")
+    solve_task = study._solve_task
+
+    def collect_then_solve(task, emit=None):
+        gc.collect()
+        return solve_task(task, emit=emit)
+
+    monkeypatch.setattr(study, "_solve_task", collect_then_solve)
+    marker = tmp_path / "finalised-by.txt"
+    enabled = gc.isenabled()
+    gc.disable()  # the parent must not free the cycle before it forks
+    try:
+        _Finalised(marker)  # unreachable at once: only the collector can free it
+        run_doe(tmp_path / "doe", workers=2, design=SMALL, progress=False)
+    finally:
+        if enabled:
+            gc.enable()
+    assert not marker.exists()
+    gc.collect()
+    assert marker.read_text().split() == [str(os.getpid())]
 
 
 def test_dask_local_cluster_equals_local_run(tmp_path, small_local, monkeypatch):
