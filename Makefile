@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt venv clean
+.PHONY: demo test explore bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt venv clean
 
 venv: $(STAMP)
 
@@ -23,6 +23,10 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	$(BIN)/python -m pytest tests/ verification/ -q
+
+# The same suite with fresh random examples for the property tests (make test repeats its own).
+explore: $(STAMP)
+	$(BIN)/python -m pytest tests/ verification/ -q --hypothesis-profile=explore
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_lp.py
