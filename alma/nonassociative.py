@@ -27,8 +27,9 @@ so the answer here is the lowest *verified* state found from several starts:
   forces taken as the static field closest to N̄ among those that carry the LP's α
   (a QP), Anderson-accelerated; it settles on large panels where the vertex
   iterates keep jumping (last with ``effort="fast"``, with all the time the fixed
-  starts leave, each of them capped at :data:`FAST_FIXED_SHARE` of the limit, when no start
-  verified a state; with ``"thorough"``, when no start other than ``rocking`` did);
+  starts leave, each of them capped at :data:`FAST_FIXED_SHARE` of the limit, or at
+  :data:`FAST_FIXED_VERIFIED_SHARE` once a state is verified, when no start verified a
+  state; with ``"thorough"``, when no start other than ``rocking`` did);
 - ``ipopt``: a CasADi/IPOPT polish of Eq. 9 with a Scholtes relaxation of the
   complementarity (see ``alma.nlp``), on small scenes;
 - ``milp``: on the smallest scenes, the mixed-integer program of ``alma.certify``
@@ -461,7 +462,8 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
         n_bar = n_bar + relaxation * (lp.normal - n_bar)
     if last is None:
         return best, used
-    return _lower(exact_state(model, points, last.mechanism, start, time_limit=_remaining(deadline)), best), used
+    limit = _remaining(deadline, floor=LATE_LP_TIME)
+    return _lower(exact_state(model, points, last.mechanism, start, time_limit=limit), best), used
 
 
 def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *,
@@ -546,11 +548,19 @@ def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.nd
     return _lower(exact_state(model, points, lp.mechanism, start, time_limit=_remaining(deadline)), best), used
 
 
-def _remaining(deadline: float | None) -> float:
-    """Seconds left for one LP: the per-LP limit, or less when the search's deadline is nearer."""
+def _remaining(deadline: float | None, floor: float = 1.0) -> float:
+    """Seconds left for one LP: the per-LP limit, or less when the search's deadline is nearer
+    (but at least ``floor``)."""
     if deadline is None:
         return LP_TIME_LIMIT
-    return float(min(LP_TIME_LIMIT, max(1.0, deadline - time.perf_counter())))
+    return float(min(LP_TIME_LIMIT, max(floor, deadline - time.perf_counter())))
+
+
+#: A Gilbert start past its deadline still turns its last iterate into an exact state, with at
+#: most this many seconds per LP.  With the 1 s of the other LPs, every start that ran out of its
+#: share overran it by ~1 s on large panels (54 s in a 108-panel run of 2026-11-23, 68 runs),
+#: where that LP then stopped at its limit without a state.
+LATE_LP_TIME = 0.1
 
 
 def _lower(state: CollapseState | None, other: CollapseState | None) -> CollapseState | None:
@@ -609,13 +619,19 @@ def rocking_start(model: Model, points: ContactPoints, verified: list[CollapseSt
 
 #: The ``lp`` and ``rocking`` starts give a HiGHS vertex (:func:`fast_exact_state`) at most this
 #: fraction of the time limit: on the paper panels of 780 blocks and more its simplex took 5-60 s,
-#: and there its widest set had no mechanism either (2026-11-23).
-VERTEX_SHARE = 0.1
+#: and there its widest set had no mechanism either (2026-11-23).  At 0.1 (6 s of 60), no `lp`
+#: start that took over 3 s verified a state in three 108-panel runs (18-19 such runs each, 99 s).
+VERTEX_SHARE = 0.05
 #: Scenes up to this many contact points take the ``lp`` start's static LP from HiGHS's simplex.
 LP_VERTEX_POINTS = 1000
 
-#: With ``effort="fast"`` and a time limit, a fixed Gilbert start runs for at most this fraction of it.
+#: With ``effort="fast"`` and a time limit, a fixed Gilbert start runs for at most this fraction of it,
 FAST_FIXED_SHARE = 0.2
+#: and for at most this fraction once an earlier start has verified a state.  In the 108-panel run
+#: of 2026-11-23 (60 s, fast-stop) 60 fixed-start runs used up their 12 s without verifying; of
+#: the runs that began after a verified state, those that verified after 6 s were the lowest on
+#: one panel (english 1:2 4:1 f = 1, 0.42492 at 7.99 s, against 0.43643).
+FAST_FIXED_VERIFIED_SHARE = 0.1
 
 #: With ``effort="thorough"``, scenes up to this many free blocks also get the MILP of
 #: :mod:`alma.certify` as a start, for at most ``MILP_START_TIME`` seconds (it proves 7–12-block
@@ -731,8 +747,9 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
             continue
         share = None
         if deadline is not None:
+            cap = FAST_FIXED_VERIFIED_SHARE if any(c.verified for c in candidates) else FAST_FIXED_SHARE
             share = deadline if effort == "thorough" or item == "projected" else \
-                now + min((deadline - now) / (len(plan) - k), FAST_FIXED_SHARE * time_limit)
+                now + min((deadline - now) / (len(plan) - k), cap * time_limit)
         if item == "projected":
             name = "gilbert-projected"
             state, used = projected_gilbert(model, points, n_lp, start=name, deadline=share)
