@@ -307,3 +307,35 @@ def test_ipopt_polish_time_limit_is_honoured():
     assert ipopt_polish(model, points, mechanism, time_limit=0.0) is None
     state = ipopt_polish(model, points, mechanism, time_limit=60.0)
     assert state is not None and state.verified
+
+
+@pytest.mark.parametrize("lp_verifies", [True, False])
+def test_fast_fixed_start_shares_of_the_time_limit(monkeypatch, lp_verifies):
+    """effort "fast": a fixed Gilbert start gets FAST_FIXED_SHARE of the time limit, and only
+    FAST_FIXED_VERIFIED_SHARE once an earlier start has verified a state."""
+    import time
+
+    import alma.nonassociative as na
+    from alma.associative import solve_lp
+    from alma.model import build_model
+
+    model = build_model(single_block_scene(1.0, 2.0, 0.6))
+    lp = solve_lp(model)
+    shares: list[float] = []
+
+    def gilbert_spy(model, points, initial_normal, *, start, deadline, **kwargs):
+        shares.append(deadline - time.perf_counter())
+        return None, 0
+
+    monkeypatch.setattr(na, "gilbert", gilbert_spy)
+    monkeypatch.setattr(na, "rocking_start", lambda *args, **kwargs: (None, 0))
+    limit = 60.0
+    solution = na.solve_nonassociative(model, lp.mechanism if lp_verifies else None, lp.multipliers,
+                                       effort="fast", time_limit=limit, associative_alpha=lp.alpha)
+    assert len(shares) == len(na.GILBERT_STARTS["fast"])
+    before = [r.verified for r in solution.starts if r.start in ("lp", "rocking")]
+    assert any(before) == lp_verifies
+    if lp_verifies:
+        assert all(share <= na.FAST_FIXED_VERIFIED_SHARE * limit for share in shares)
+    else:
+        assert all(na.FAST_FIXED_VERIFIED_SHARE * limit < share <= na.FAST_FIXED_SHARE * limit for share in shares)
