@@ -26,10 +26,11 @@ so the answer here is the lowest *verified* state found from several starts:
 - ``gilbert-projected``: the same iteration at slope zero, but with the normal
   forces taken as the static field closest to N̄ among those that carry the LP's α
   (a QP), Anderson-accelerated; it settles on large panels where the vertex
-  iterates keep jumping (last with ``effort="fast"``, with all the time the fixed
-  starts leave, each of them capped at :data:`FAST_FIXED_SHARE` of the limit, or at
-  :data:`FAST_FIXED_VERIFIED_SHARE` once a state is verified, when no start verified a
-  state; with ``"thorough"``, when no start other than ``rocking`` did);
+  iterates keep jumping (last, with all the time the fixed starts leave: with
+  ``effort="fast"`` when no start verified a state, with ``"thorough"`` when no start
+  other than ``rocking`` did; with ``"fast"`` each fixed start is capped at
+  :data:`FAST_FIXED_SHARE` of the limit, or at :data:`FAST_FIXED_VERIFIED_SHARE` once a
+  state is verified);
 - ``ipopt``: a CasADi/IPOPT polish of Eq. 9 with a Scholtes relaxation of the
   complementarity (see ``alma.nlp``), on small scenes;
 - ``milp``: on the smallest scenes, the mixed-integer program of ``alma.certify``
