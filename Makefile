@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test explore bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt venv clean
+.PHONY: demo test explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt venv clean
 
 venv: $(STAMP)
 
@@ -27,6 +27,11 @@ test: $(STAMP)
 # The same suite with fresh random examples for the property tests (make test repeats its own).
 explore: $(STAMP)
 	$(BIN)/python -m pytest tests/ verification/ -q --hypothesis-profile=explore
+
+# The 108-panel comparison of the two contact models (~10 min on 2 cores; resumable).
+COMPARE_OUT ?= compare
+compare: $(STAMP)
+	$(BIN)/alma compare --out $(COMPARE_OUT) --workers 2
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_lp.py
