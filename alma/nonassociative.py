@@ -696,7 +696,10 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
         # Up to LP_VERTEX_POINTS contact points HiGHS's simplex vertex is cheap and exact to the last
         # digit: Clarabel's interior field put the lp state of three blocks side by side (f = 0.45)
         # at α = 0.45 − 2e-14, and with that cap HiGHS's MILP in alma.certify settled at 0.4499977
-        # (verification/test_certify.py, hypothesis, 2026-11-23).
+        # (verification/test_certify.py, hypothesis, 2026-11-23).  That MILP's own fix, its
+        # integrality tolerance (alma.certify.MIP_INTEGRALITY_TOLERANCE), passes the same test
+        # with Clarabel's state too (checked with LP_VERTEX_POINTS = 0); the vertex stays here
+        # because it is exact and cheap on small scenes.
         if points.count <= LP_VERTEX_POINTS:
             state = exact_state(model, points, associative_mechanism, "lp", dilatant=True,
                                 time_limit=_remaining(deadline))
