@@ -729,10 +729,11 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
              for scale, relaxation, slope_steps in starts]
     # "thorough" (small scenes): the fixed starts, then the projected iteration if none verified.
     # "fast" (large scenes): the fixed starts, each for at most FAST_FIXED_SHARE of the time limit
-    # (an equal share of what is left when that is less), then, if no start verified, the
-    # projected iteration with all the time that is left.  In the 108-panel run of 2026-11-23 (time limit 60 s, equal shares)
-    # the fixed starts, when they verified at all, did so in a median of 2.5-4.5 s (5 of 98 after
-    # 12 s); their vertex iterates otherwise never settle and use up their share, while the
+    # (FAST_FIXED_VERIFIED_SHARE once a state is verified; an equal share of what is left when
+    # that is less), then, if no start verified, the projected iteration with all the time that
+    # is left.  In the 108-panel run of 2026-11-23 (time limit 60 s, equal shares) the fixed
+    # starts, when they verified at all, did so in a median of 2.5-4.5 s (5 of 98 after 12 s);
+    # their vertex iterates otherwise never settle and use up their share, while the
     # projected iteration settles on large panels but needed 18-32 s where it was timed alone.
     plan: list = fixed + ["projected"]
     for k, item in enumerate(plan):
