@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt venv clean
+.PHONY: demo test explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor venv clean
 
 venv: $(STAMP)
 
@@ -56,6 +56,10 @@ bench-certify: $(STAMP)
 
 bench-ipopt: $(STAMP)
 	$(BIN)/python benchmarks/bench_ipopt_lp_start.py
+
+# What Clarabel itself costs per iteration on the largest panel and the walls (the speed floor).
+bench-floor: $(STAMP)
+	$(BIN)/python benchmarks/bench_clarabel_floor.py
 
 clean:
 	rm -rf $(VENV) demo .pytest_cache .hypothesis
