@@ -42,19 +42,11 @@ import alma  # noqa: E402
 from alma.associative import solve_lp  # noqa: E402
 from alma.contacts import find_joints  # noqa: E402
 from alma.model import build_model  # noqa: E402
-from bench_scaling import wall_shape  # noqa: E402  (same directory: the same walls)
+from bench_lp import median_time  # noqa: E402  (same directory)
+from bench_scaling import wall_shape  # noqa: E402  (the same walls)
 
 RESULTS = ROOT / "benchmarks" / "results"
 TARGETS = {"largest paper panel": 0.3, "wall 20000": 30.0}
-
-
-def median_time(fn, repeat: int):
-    times, value = [], None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        value = fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), value
 
 
 def kkt_factor_time(model, repeat: int) -> float:
