@@ -24,6 +24,22 @@ def side_by_side(k: int, f: float, b: float = 1.0, h: float = 2.0) -> alma.Scene
     return alma.Scene.from_dict({"friction": f, "blocks": blocks})
 
 
+def columns_on_ground_scene(friction: float, widths: list[float], heights: list[list[float]]) -> dict:
+    """Columns of rectangles side by side on a fixed ground (scene dict): column c is widths[c]
+    wide and stacks blocks of heights[c] from the bottom; block ids c{column}r{row}."""
+    total = sum(widths)
+    blocks = [{"id": "ground", "vertices": [[-50.0, -50.0], [total + 50.0, -50.0], [total + 50.0, 0.0],
+                                            [-50.0, 0.0]], "fixed": True}]
+    x = 0.0
+    for c, (w, column) in enumerate(zip(widths, heights)):
+        y = 0.0
+        for r, h in enumerate(column):
+            blocks.append({"id": f"c{c}r{r}", "vertices": [[x, y], [x + w, y], [x + w, y + h], [x, y + h]]})
+            y += h
+        x += w
+    return {"friction": friction, "blocks": blocks}
+
+
 @st.composite
 def columns_on_ground(draw) -> dict:
     """1–3 columns of 1–2 rectangular blocks (random widths, heights) side by side on a fixed ground,
@@ -31,63 +47,28 @@ def columns_on_ground(draw) -> dict:
     n_columns = draw(st.integers(1, 3))
     heights_per_column = [draw(st.integers(1, 2 if n_columns < 3 else 1)) for _ in range(n_columns)]
     widths = [float(draw(st.integers(20, 300))) for _ in range(n_columns)]
-    total = sum(widths)
-    blocks = [{"id": "ground", "vertices": [[-50.0, -50.0], [total + 50.0, -50.0], [total + 50.0, 0.0],
-                                            [-50.0, 0.0]], "fixed": True}]
-    x = 0.0
-    for c, (w, count) in enumerate(zip(widths, heights_per_column)):
-        y = 0.0
-        for r in range(count):
-            h = float(draw(st.integers(20, 200)))
-            blocks.append({"id": f"c{c}r{r}", "vertices": [[x, y], [x + w, y], [x + w, y + h], [x, y + h]]})
-            y += h
-        x += w
+    heights = [[float(draw(st.integers(20, 200))) for _ in range(count)] for count in heights_per_column]
     friction = draw(st.sampled_from([0.3, 0.45, 0.6, 0.8, 1.0, 1.4]))
-    return {"friction": friction, "blocks": blocks}
+    return columns_on_ground_scene(friction, widths, heights)
 
 
 #: Found by this test (hypothesis): a 20 × 40 column of two blocks beside a 20 × 20 block, f = 1.4.
 #: The column rocks about its right toe at α = b/H = 0.5 while its left corner slides up the
 #: short block without dilating (closed, slipping, N = 0) -- a non-associative state that the
 #: MILP finds and alma's own verifier accepts (test below); the default search reports 1.0.
-COLUMN_BESIDE_SHORT_BLOCK = {
-    "friction": 1.4,
-    "blocks": [
-        {"id": "ground", "vertices": [[-50.0, -50.0], [90.0, -50.0], [90.0, 0.0], [-50.0, 0.0]], "fixed": True},
-        {"id": "c0r0", "vertices": [[0.0, 0.0], [20.0, 0.0], [20.0, 20.0], [0.0, 20.0]]},
-        {"id": "c1r0", "vertices": [[20.0, 0.0], [40.0, 0.0], [40.0, 20.0], [20.0, 20.0]]},
-        {"id": "c1r1", "vertices": [[20.0, 20.0], [40.0, 20.0], [40.0, 40.0], [20.0, 40.0]]},
-    ],
-}
-
+COLUMN_BESIDE_SHORT_BLOCK = columns_on_ground_scene(1.4, [20.0, 20.0], [[20.0], [20.0, 20.0]])
 
 #: Found by this test (hypothesis, 2026-11-23): three blocks side by side, the last one 194 × 21,
 #: f = 0.45. With the lp start's static LP from Clarabel the verified state sat at 0.45 − 2e-14,
 #: and with that cap the MILP settled at 0.4499977 (2.3e-6 below); the lp start now takes HiGHS's
 #: vertex on scenes this small (LP_VERTEX_POINTS in alma/nonassociative.py).
-THREE_SIDE_BY_SIDE = {
-    "friction": 0.45,
-    "blocks": [
-        {"id": "ground", "vertices": [[-50.0, -50.0], [663.0, -50.0], [663.0, 0.0], [-50.0, 0.0]], "fixed": True},
-        {"id": "c0r0", "vertices": [[0.0, 0.0], [225.0, 0.0], [225.0, 106.0], [0.0, 106.0]]},
-        {"id": "c1r0", "vertices": [[225.0, 0.0], [419.0, 0.0], [419.0, 133.0], [225.0, 133.0]]},
-        {"id": "c2r0", "vertices": [[419.0, 0.0], [613.0, 0.0], [613.0, 21.0], [419.0, 21.0]]},
-    ],
-}
-
+THREE_SIDE_BY_SIDE = columns_on_ground_scene(0.45, [225.0, 194.0, 194.0], [[106.0], [133.0], [21.0]])
 
 #: Found by this test (hypothesis, 2026-11-23, fourth session): a 178 × 176 block beside a 20 × 20
 #: one, f = 0.3. Every verified state is at 0.3, but the MILP (|u|∞ ≤ 793 from a candidate that
 #: throws the small block) settled at 0.2999932 with HiGHS's default integrality tolerance of 1e-6;
 #: alma.certify now sets MIP_INTEGRALITY_TOLERANCE = 1e-9.
-BLOCK_BESIDE_SMALL_CUBE = {
-    "friction": 0.3,
-    "blocks": [
-        {"id": "ground", "vertices": [[-50.0, -50.0], [248.0, -50.0], [248.0, 0.0], [-50.0, 0.0]], "fixed": True},
-        {"id": "c0r0", "vertices": [[0.0, 0.0], [178.0, 0.0], [178.0, 176.0], [0.0, 176.0]]},
-        {"id": "c1r0", "vertices": [[178.0, 0.0], [198.0, 0.0], [198.0, 20.0], [178.0, 20.0]]},
-    ],
-}
+BLOCK_BESIDE_SMALL_CUBE = columns_on_ground_scene(0.3, [178.0, 20.0], [[176.0], [20.0]])
 
 
 @given(data=columns_on_ground())
