@@ -7,13 +7,13 @@ from dataclasses import replace
 
 import numpy as np
 
-from .associative import solve_lp
-from .certify import certify as certify_milp
-from .nonassociative import solve_nonassociative
-from .contacts import Joints, find_joints
-from .model import Model, build_model
-from .result import Result, build_nonassociative_result, build_result
-from .scene import Scene
+from alma.associative.lp import solve_lp
+from alma.certify.milp import certify as certify_milp
+from alma.nonassociative.search import solve_nonassociative
+from alma.geometry.contacts import Joints, find_joints
+from alma.mechanics.model import Model, build_model
+from alma.results.result import Result, build_nonassociative_result, build_result
+from alma.geometry.scene import Scene
 
 MODELS = ("associative", "nonassociative", "both")
 

@@ -48,8 +48,8 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 import alma  # noqa: E402
-from alma.associative import solve_lp  # noqa: E402
-from alma.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS  # noqa: E402
+from alma.associative.lp import solve_lp  # noqa: E402
+from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS  # noqa: E402
 from bench_lp import plain_clarabel  # noqa: E402  (same directory: the shared baseline)
 
 DEFAULT_TOLERANCE = 1e-11

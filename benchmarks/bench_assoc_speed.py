@@ -33,7 +33,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import alma  # noqa: E402
-from alma.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS  # noqa: E402
+from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS  # noqa: E402
 
 sys.path.insert(0, str(ROOT / "benchmarks"))
 from bench_lp import plain_clarabel_solution  # noqa: E402  (same directory: the shared baseline)

@@ -27,10 +27,10 @@ import numpy as np
 import pandas as pd
 
 import alma
-from alma.associative import solve_lp
-from alma.certify import certify
-from alma.model import build_model
-from alma.nonassociative import solve_nonassociative
+from alma.associative.lp import solve_lp
+from alma.certify.milp import certify
+from alma.mechanics.model import build_model
+from alma.nonassociative.search import solve_nonassociative
 
 
 def side_by_side(k: int, f: float, b: float = 1.0, h: float = 2.0) -> alma.Scene:

@@ -39,9 +39,9 @@ if str(ROOT) not in sys.path:
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import alma  # noqa: E402
-from alma.associative import solve_lp  # noqa: E402
-from alma.contacts import find_joints  # noqa: E402
-from alma.model import build_model  # noqa: E402
+from alma.associative.lp import solve_lp  # noqa: E402
+from alma.geometry.contacts import find_joints  # noqa: E402
+from alma.mechanics.model import build_model  # noqa: E402
 from bench_lp import median_time  # noqa: E402  (same directory)
 from bench_scaling import wall_shape  # noqa: E402  (the same walls)
 

@@ -38,10 +38,10 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 import alma  # noqa: E402
-from alma.associative import solve_lp  # noqa: E402
-from alma.contact_points import ContactPoints  # noqa: E402
-from alma.model import build_model  # noqa: E402
-from alma.nlp import ipopt_polish  # noqa: E402
+from alma.associative.lp import solve_lp  # noqa: E402
+from alma.mechanics.contact_points import ContactPoints  # noqa: E402
+from alma.mechanics.model import build_model  # noqa: E402
+from alma.nonassociative.nlp import ipopt_polish  # noqa: E402
 from bench_nonassociative import FRICTIONS, paper_geometries  # noqa: E402  (same directory)
 
 RESULTS = ROOT / "benchmarks" / "results"

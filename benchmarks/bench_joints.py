@@ -29,7 +29,7 @@ def worker(n: int, repeat: int) -> dict:
     from bench_scaling import wall_shape
 
     import alma
-    from alma.contacts import find_joints
+    from alma.geometry.contacts import find_joints
 
     courses, per_course = wall_shape(n)
     scene = alma.wall("running", 240.0 * per_course, 60.0 * courses, 240.0)

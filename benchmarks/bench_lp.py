@@ -21,9 +21,9 @@ import pandas as pd
 import scipy.sparse as sp
 
 import alma
-from alma.contacts import find_joints
-from alma.model import build_model
-from alma.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, wall
+from alma.geometry.contacts import find_joints
+from alma.mechanics.model import build_model
+from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, wall
 
 
 def plain_clarabel_solution(model, time_limit: float | None = None, method: str = "auto"):

@@ -36,10 +36,10 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 import alma  # noqa: E402
-from alma.associative import solve_lp  # noqa: E402
-from alma.contact_points import ContactPoints  # noqa: E402
-from alma.model import build_model  # noqa: E402
-from alma.nonassociative import GILBERT_STARTS, exact_state, gilbert, solve_nonassociative  # noqa: E402
+from alma.associative.lp import solve_lp  # noqa: E402
+from alma.mechanics.contact_points import ContactPoints  # noqa: E402
+from alma.mechanics.model import build_model  # noqa: E402
+from alma.nonassociative.search import GILBERT_STARTS, exact_state, gilbert, solve_nonassociative  # noqa: E402
 
 RESULTS = ROOT / "benchmarks" / "results"
 FRICTIONS = (0.27, 0.6, 1.0)

@@ -48,7 +48,7 @@ def worker(n: int, repeat: int, solve_runs: int) -> dict:
     if str(ROOT) not in sys.path:
         sys.path.insert(0, str(ROOT))
     import alma
-    from alma.contacts import find_joints
+    from alma.geometry.contacts import find_joints
 
     base = maxrss_mb()
     courses, per_course = wall_shape(n)

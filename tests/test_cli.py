@@ -7,7 +7,7 @@ import sys
 
 import pytest
 
-from alma.cli import main
+from alma.cli.main import main
 
 SCENE = {
     "name": "single block on the ground",

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import csv
 import json
+import pathlib
 import math
 import sys
 from pathlib import Path
@@ -18,13 +19,11 @@ import pandas as pd
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
 
-from alma import compare as compare_mod  # noqa: E402
-from alma.cli import main  # noqa: E402
-from alma.stats.anova import anova, varying_factors  # noqa: E402
-from alma.study import COLUMNS, PAPER_DESIGN, Design, read_results, run_doe  # noqa: E402
+from alma.study import compare as compare_mod
+from alma.cli.main import main
+from alma.stats.anova import anova, varying_factors
+from alma.study.doe import COLUMNS, PAPER_DESIGN, Design, read_results, run_doe
 
 TINY = 'panel_ratio = ["2:1"]\nblock_ratio = ["4:1"]\nbond = ["stack"]\nfriction = [0.27, 0.6, 1.0]\n'
 
@@ -117,8 +116,8 @@ def test_compare_resume_adds_no_rows(tiny_run, capsys):
 
 def test_every_row_keeps_its_mechanism_and_the_figures_are_drawn_from_them(tiny_run, monkeypatch):
     out, argv, _ = tiny_run
-    from alma.plot import MechanismPicture
-    from alma.study import picture_path
+    from alma.report.plot import MechanismPicture
+    from alma.study.doe import picture_path
 
     rows = read_results(out / "results.csv")
     for r in rows.itertuples():
@@ -148,8 +147,8 @@ def test_a_stale_or_missing_picture_is_not_drawn(tiny_run):
     report back to solving the panel."""
     import dataclasses
 
-    from alma.plot import MechanismPicture
-    from alma.study import picture_path
+    from alma.report.plot import MechanismPicture
+    from alma.study.doe import picture_path
 
     out = tiny_run[0]
     row = next(pd.read_csv(out / "compare.csv", keep_default_na=False, na_values={"alpha_nl": [""]}).itertuples())
@@ -168,7 +167,7 @@ def test_a_stale_or_missing_picture_is_not_drawn(tiny_run):
 
 def test_mechanism_picture_round_trip(tmp_path):
     import alma
-    from alma.plot import MechanismPicture, plot_mechanism
+    from alma.report.plot import MechanismPicture, plot_mechanism
 
     scene = alma.paper_panel("stack", "2:1", "4:1", 0.6)
     result = alma.solve(alma.build_model(scene, alma.find_joints(scene)), model="associative")
@@ -337,19 +336,21 @@ def test_anova_falls_back_to_main_effects_when_a_cell_is_empty():
 
 
 def test_paper_nonassociative_option_reaches_make_paper(monkeypatch, tmp_path, capsys):
-    from alma import study_cli
+    import alma.paper.tables as tables
 
-    fake = tmp_path / "paper_tables"
-    fake.mkdir()
-    (fake / "make_paper.py").write_text(
-        "def make_paper(out, workers=None, **kw):\n"
-        "    import json, pathlib\n"
-        "    pathlib.Path(out).mkdir(parents=True, exist_ok=True)\n"
-        "    pathlib.Path(out, 'kw.json').write_text(json.dumps(kw))\n"
-        "    return {'report': 'r.md', 'compare_report': 'c.md', 'compare_failed': kw.get('fail', 0)}\n")
-    monkeypatch.setattr(study_cli, "paper_tables_dir", lambda: fake)
-    assert main(["paper", "--out", str(tmp_path / "p"), "--nonassociative", "--effort", "fast"]) == 0
+    def fake_make_paper(out, published, workers=None, **kw):
+        pathlib.Path(out).mkdir(parents=True, exist_ok=True)
+        pathlib.Path(out, "kw.json").write_text(json.dumps(kw))
+        pathlib.Path(out, "published.txt").write_text(str(published))
+        return {"report": "r.md", "compare_report": "c.md", "compare_failed": kw.get("fail", 0)}
+
+    monkeypatch.setattr(tables, "make_paper", fake_make_paper)
+    data = tmp_path / "data"
+    data.mkdir()
+    assert main(["paper", "--out", str(tmp_path / "p"), "--published", str(data), "--nonassociative",
+                 "--effort", "fast"]) == 0
     assert (tmp_path / "p" / "kw.json").read_text() == '{"nonassociative": true, "effort": "fast"}'
+    assert (tmp_path / "p" / "published.txt").read_text() == str(data)
     assert "non-associative comparison: c.md" in capsys.readouterr().out
-    assert main(["paper", "--out", str(tmp_path / "q")]) == 0
+    assert main(["paper", "--out", str(tmp_path / "q"), "--published", str(data)]) == 0
     assert (tmp_path / "q" / "kw.json").read_text() == "{}"  # unchanged call without the option

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 import alma
-from alma.contacts import find_joints
-from alma.scene import Block, Scene
+from alma.geometry.contacts import find_joints
+from alma.geometry.scene import Block, Scene
 
 
 def _scene(*polys, fixed=(0,)):

@@ -14,9 +14,9 @@ import math
 import numpy as np
 import pytest
 
-from alma import contacts
-from alma.contacts import find_joints
-from alma.scene import Block, Scene
+from alma.geometry import contacts
+from alma.geometry.contacts import find_joints
+from alma.geometry.scene import Block, Scene
 
 
 def _all_pairs(angle, offset, along, length, size, tol_len, plus, minus):

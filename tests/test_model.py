@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import alma
-from alma.model import build_model
+from alma.mechanics.model import build_model
 
 
 def test_single_block_matrices():

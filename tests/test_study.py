@@ -22,12 +22,10 @@ import pandas as pd
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
 
-import alma  # noqa: E402
-from alma import study_cli  # noqa: E402
-from alma.study import COLUMNS, PAPER_DESIGN, Design, load_design, panel_key, read_results, run_doe  # noqa: E402
+import alma
+from alma.cli import study as study_cli
+from alma.study.doe import COLUMNS, PAPER_DESIGN, Design, load_design, panel_key, read_results, run_doe
 
 TABLE5 = ROOT / "verification" / "data" / "table5_collapse_multipliers.csv"
 TABLE2 = ROOT / "verification" / "data" / "table2_anova.csv"
@@ -184,8 +182,7 @@ def test_both_models_writes_associative_rows_and_reports_failures(tmp_path, smal
 
 _KILLED_STUDY = textwrap.dedent("""
     import sys
-    sys.path.insert(0, {root!r})
-    from alma.study import Design, run_doe
+    from alma.study.doe import Design, run_doe
     run_doe({out!r}, workers=2, design=Design(panel_ratio=("2:1", "1:1"), block_ratio=("4:1", "2:1")),
             progress=False)
 """)
@@ -250,7 +247,7 @@ def test_forked_workers_never_collect_the_parents_objects(tmp_path, monkeypatch)
     from the parent.  Here the parent holds a garbage cycle when it forks, and every worker runs
     a full collection before its task: the cycle's finaliser must run in the parent only.
     """
-    import alma.study as study
+    import alma.study.doe as study
 
     if "fork" not in __import__("multiprocessing").get_all_start_methods():
         pytest.skip("no fork start method on this platform")
@@ -355,8 +352,11 @@ def test_anova_command_bad_input_exit_2(tmp_path, capsys):
     assert "alpha_c" in capsys.readouterr().err
 
 
-def test_paper_command_locates_paper_tables(monkeypatch, tmp_path, capsys):
-    assert (study_cli.paper_tables_dir() / "make_paper.py").is_file()
-    monkeypatch.setattr(study_cli, "paper_tables_dir", lambda: tmp_path / "nowhere")
+def test_paper_command_needs_the_published_tables(monkeypatch, tmp_path, capsys):
+    monkeypatch.chdir(tmp_path)  # no paper_tables/data here
     assert cli(["paper", "--out", str(tmp_path / "p")]) == 2
-    assert "make_paper.py not found" in capsys.readouterr().err
+    assert "--published" in capsys.readouterr().err
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    assert cli(["paper", "--out", str(tmp_path / "p"), "--published", str(empty)]) == 1
+    assert "table5_collapse_multipliers.csv" in capsys.readouterr().err

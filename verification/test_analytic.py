@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 import alma
 
-from conftest import assert_bounds_bracket, column_scene, single_block_scene
+from helpers import assert_bounds_bracket, column_scene, single_block_scene
 
 REL = 1e-7
 

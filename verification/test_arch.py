@@ -17,7 +17,7 @@ import pytest
 
 import alma
 
-from conftest import arch_dict, check_against_independent, static_highs
+from helpers import arch_dict, check_against_independent, static_highs
 
 R = 1000.0
 MILANKOVITCH = 0.1075

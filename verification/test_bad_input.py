@@ -12,7 +12,7 @@ import pytest
 
 import alma
 
-from conftest import rect, single_block_dict
+from helpers import rect, single_block_dict
 
 
 def base() -> dict:

@@ -11,10 +11,10 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings, strategies as st
 
 import alma
-from alma.associative import solve_lp
-from alma.certify import certify
-from alma.model import build_model
-from alma.nonassociative import solve_nonassociative
+from alma.associative.lp import solve_lp
+from alma.certify.milp import certify
+from alma.mechanics.model import build_model
+from alma.nonassociative.search import solve_nonassociative
 
 
 def side_by_side(k: int, f: float, b: float = 1.0, h: float = 2.0) -> alma.Scene:
@@ -141,8 +141,8 @@ def test_certificate_is_capped_by_the_associative_value():
 def test_milp_state_beside_short_block_is_a_verified_collapse_state():
     """The certificate's optimum on COLUMN_BESIDE_SHORT_BLOCK is a genuine collapse state at 0.5
     (checked by alma's own exact-state verification), below the associative α = 1."""
-    from alma.contact_points import ContactPoints
-    from alma.nonassociative import exact_state
+    from alma.mechanics.contact_points import ContactPoints
+    from alma.nonassociative.search import exact_state
 
     model, alpha_lp, mechanisms, best = _inputs(alma.Scene.from_dict(COLUMN_BESIDE_SHORT_BLOCK))
     assert alpha_lp == pytest.approx(1.0, rel=1e-7)

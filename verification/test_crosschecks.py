@@ -15,7 +15,7 @@ from hypothesis import given, settings
 
 import alma
 
-from conftest import (AGREE, assemblies, check_against_independent, kinematic_cvxpy,
+from helpers import (AGREE, assemblies, check_against_independent, kinematic_cvxpy,
                       panel_geometry, panel_id, rect, scene_dict, solve_panel, table5)
 
 

@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 
 import alma
 
-from conftest import (CERTIFICATE, assemblies, panel_geometry, panel_id, rect, scene_dict, solve_panel,
+from helpers import (CERTIFICATE, assemblies, panel_geometry, panel_id, rect, scene_dict, solve_panel,
                       table5)
 
 REL = 1e-7

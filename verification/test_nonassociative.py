@@ -12,7 +12,7 @@ from hypothesis import HealthCheck, assume, given, settings, strategies as st
 
 import alma
 
-from conftest import assemblies, single_block_scene
+from helpers import assemblies, single_block_scene
 
 
 
@@ -117,10 +117,10 @@ def test_gilbert_interior_point_path_gives_verified_states():
     The two paths follow different iterates (interior against vertex solutions), so they may end
     in different collapse states; both must be verified and below the associative α (Radenkovic).
     """
-    from alma.associative import solve_lp
-    from alma.contact_points import ContactPoints
-    from alma.model import build_model
-    from alma.nonassociative import gilbert
+    from alma.associative.lp import solve_lp
+    from alma.mechanics.contact_points import ContactPoints
+    from alma.mechanics.model import build_model
+    from alma.nonassociative.search import gilbert
 
     model = build_model(alma.paper_panel("stack", "2:1", "2:1", 0.6))
     points = ContactPoints.from_model(model)
@@ -140,10 +140,10 @@ def test_gilbert_interior_point_path_gives_verified_states():
                    "(test_stack_panel_rocks_at_b_over_H)")
 def test_gilbert_simplex_path_reaches_b_over_H():
     """The warm-simplex Gilbert start (N̄ = N_LP, r = 0.5, 4 slope steps) on the stack panel 2:1 2:1, f = 0.6."""
-    from alma.associative import solve_lp
-    from alma.contact_points import ContactPoints
-    from alma.model import build_model
-    from alma.nonassociative import gilbert
+    from alma.associative.lp import solve_lp
+    from alma.mechanics.contact_points import ContactPoints
+    from alma.mechanics.model import build_model
+    from alma.nonassociative.search import gilbert
 
     model = build_model(alma.paper_panel("stack", "2:1", "2:1", 0.6))
     lp = solve_lp(model)
@@ -155,10 +155,10 @@ def test_gilbert_simplex_path_reaches_b_over_H():
 
 def test_associative_mechanism_read_as_slips_gives_the_sliding_state():
     """A panel that slides in the LP (α = f) slides without dilatancy too: the 'lp' start verifies at f."""
-    from alma.associative import solve_lp
-    from alma.contact_points import ContactPoints
-    from alma.model import build_model
-    from alma.nonassociative import exact_state
+    from alma.associative.lp import solve_lp
+    from alma.mechanics.contact_points import ContactPoints
+    from alma.mechanics.model import build_model
+    from alma.nonassociative.search import exact_state
 
     model = build_model(alma.paper_panel("running", "2:1", "4:1", 0.27))
     lp = solve_lp(model)
@@ -172,9 +172,9 @@ def test_associative_mechanism_read_as_slips_gives_the_sliding_state():
 def test_kinematic_lp_meets_the_prescribed_active_set():
     import numpy as np
 
-    from alma.contact_points import ContactPoints
-    from alma.model import build_model
-    from alma.nonassociative import active_set, kinematic_lp
+    from alma.mechanics.contact_points import ContactPoints
+    from alma.mechanics.model import build_model
+    from alma.nonassociative.search import active_set, kinematic_lp
 
     model = build_model(side_by_side(2, 1.0))
     points = ContactPoints.from_model(model)
@@ -214,10 +214,10 @@ def test_closest_field_returns_a_field_that_is_already_admissible():
     """The projection of an admissible field onto the fields carrying the same α is the field itself."""
     import numpy as np
 
-    from alma.associative import solve_lp
-    from alma.cap_lp import CapLP, ClosestField
-    from alma.contact_points import ContactPoints
-    from alma.model import build_model
+    from alma.associative.lp import solve_lp
+    from alma.nonassociative.cap_lp import CapLP, ClosestField
+    from alma.mechanics.contact_points import ContactPoints
+    from alma.mechanics.model import build_model
 
     model = build_model(alma.paper_panel("running", "2:1", "2:1", 0.6))
     points = ContactPoints.from_model(model)
@@ -254,10 +254,10 @@ def test_projected_iteration_settles_on_large_panels(bond, panel, block, frictio
     the projected iteration settles on a verified state below the associative α (Radenkovic),
     and the default search (effort "fast" above 200 blocks) reports it or a lower one (checked on
     the smaller panel only: the whole search takes ~1.5 min on the other)."""
-    from alma.associative import solve_lp
-    from alma.contact_points import ContactPoints
-    from alma.model import build_model
-    from alma.nonassociative import projected_gilbert
+    from alma.associative.lp import solve_lp
+    from alma.mechanics.contact_points import ContactPoints
+    from alma.mechanics.model import build_model
+    from alma.nonassociative.search import projected_gilbert
 
     model = build_model(alma.paper_panel(bond, panel, block, friction))
     points = ContactPoints.from_model(model)
@@ -277,10 +277,10 @@ def test_warm_highs_model_time_limit_is_per_solve():
 
     import numpy as np
 
-    from alma.associative import solve_lp
-    from alma.cap_lp import CapLP
-    from alma.contact_points import ContactPoints
-    from alma.model import build_model
+    from alma.associative.lp import solve_lp
+    from alma.nonassociative.cap_lp import CapLP
+    from alma.mechanics.contact_points import ContactPoints
+    from alma.mechanics.model import build_model
 
     model = build_model(alma.paper_panel("running", "2:1", "4:1", 0.6))
     points = ContactPoints.from_model(model)
@@ -296,10 +296,10 @@ def test_warm_highs_model_time_limit_is_per_solve():
 def test_ipopt_polish_time_limit_is_honoured():
     """With no time left no relaxed IPOPT solve begins, so no candidate comes back; with time it
     does (three blocks side by side, where IPOPT from the LP start converges in well under 1 s)."""
-    from alma.associative import solve_lp
-    from alma.contact_points import ContactPoints
-    from alma.model import build_model
-    from alma.nlp import ipopt_polish
+    from alma.associative.lp import solve_lp
+    from alma.mechanics.contact_points import ContactPoints
+    from alma.mechanics.model import build_model
+    from alma.nonassociative.nlp import ipopt_polish
 
     model = build_model(side_by_side(3, 0.6))
     points = ContactPoints.from_model(model)
@@ -315,9 +315,9 @@ def test_fast_fixed_start_shares_of_the_time_limit(monkeypatch, lp_verifies):
     FAST_FIXED_VERIFIED_SHARE once an earlier start has verified a state."""
     import time
 
-    import alma.nonassociative as na
-    from alma.associative import solve_lp
-    from alma.model import build_model
+    import alma.nonassociative.search as na
+    from alma.associative.lp import solve_lp
+    from alma.mechanics.model import build_model
 
     model = build_model(single_block_scene(1.0, 2.0, 0.6))
     lp = solve_lp(model)

@@ -12,12 +12,12 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import alma
-from alma.contact_points import ContactPoints
-from alma.model import build_model
-from alma.nonassociative import exact_state, rocking_start
-from alma.rocking import rocking_candidates
+from alma.mechanics.contact_points import ContactPoints
+from alma.mechanics.model import build_model
+from alma.nonassociative.search import exact_state, rocking_start
+from alma.nonassociative.rocking import rocking_candidates
 
-from conftest import assemblies, single_block_scene
+from helpers import assemblies, single_block_scene
 
 
 def test_single_block_tips_over_its_toe():
@@ -77,7 +77,7 @@ def test_corner_column_of_a_flemish_panel():
 def test_interior_fixed_set_lp_agrees_with_highs(data):
     """The smallest α with a fixed active set: Clarabel on the generator form (used by the rocking
     start) and HiGHS on (N, T) (every other exact state) agree, or both find no field."""
-    from alma.nonassociative import LP_METHOD, active_set, fixed_set_static_interior, static_lp
+    from alma.nonassociative.search import LP_METHOD, active_set, fixed_set_static_interior, static_lp
 
     model = build_model(alma.Scene.from_dict(data))
     points = ContactPoints.from_model(model)
@@ -154,7 +154,7 @@ def test_each_candidate_is_the_closure_grown_from_one_of_its_blocks(data):
 def test_seeds_grown_in_batches_give_the_same_candidates(data, batch):
     """Growing all seeds together (dense tables, split in batches) changes nothing: the same
     candidates as with one seed per batch, in the same order."""
-    import alma.rocking as rocking
+    import alma.nonassociative.rocking as rocking
 
     model = build_model(alma.Scene.from_dict(data))
     points = ContactPoints.from_model(model)

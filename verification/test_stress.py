@@ -34,7 +34,7 @@ from hypothesis import strategies as st
 from scipy.optimize import OptimizeWarning, linprog
 
 import alma
-from conftest import assembly_dict, assemblies, rect, scene_dict
+from helpers import assembly_dict, assemblies, rect, scene_dict
 
 TAU_DS = 1e-7
 TAU_IPM = 1e-6

@@ -18,10 +18,8 @@ import pytest
 import scipy.stats
 
 ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
 
-from alma.stats.anova import (  # noqa: E402
+from alma.stats.anova import (
     anova,
     equivalent_t,
     fit_model,

@@ -22,11 +22,9 @@ import pandas as pd
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
 
-from alma.stats.anova import anova, load_results  # noqa: E402
-from alma.study import run_doe  # noqa: E402
+from alma.stats.anova import anova, load_results
+from alma.study.doe import run_doe
 
 DATA = ROOT / "verification" / "data"
 TABLE5 = DATA / "table5_collapse_multipliers.csv"

@@ -11,7 +11,7 @@ import math
 
 import pytest
 
-from conftest import assert_bounds_bracket, panel_id, solve_panel, table5
+from helpers import assert_bounds_bracket, panel_id, solve_panel, table5
 
 ROWS = table5()
 SLIDING_ROWS = [r for r in ROWS if math.isclose(r[4], r[3], abs_tol=1e-12)]

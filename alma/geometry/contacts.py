@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .scene import Scene
+    from alma.geometry.scene import Scene
 
 #: Relative tolerances (of the scene's reference length / radians) for contact detection.
 DISTANCE_TOLERANCE = 1e-9

@@ -18,8 +18,8 @@ import highspy
 import numpy as np
 import scipy.sparse as sp
 
-from .contact_points import ContactPoints
-from .model import Model
+from alma.mechanics.contact_points import ContactPoints
+from alma.mechanics.model import Model
 
 
 #: Feasibility tolerances of the warm-started HiGHS model (absolute, dimensionless units).

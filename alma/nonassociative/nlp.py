@@ -16,8 +16,8 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from .contact_points import ContactPoints
-from .model import Model
+from alma.mechanics.contact_points import ContactPoints
+from alma.mechanics.model import Model
 
 
 def _dm(matrix: sp.spmatrix):
@@ -41,7 +41,7 @@ def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, see
 
     deadline = None if time_limit is None else time.perf_counter() + time_limit
 
-    from .nonassociative import exact_state
+    from alma.nonassociative.search import exact_state
 
     P, n = points.count, model.dead.shape[0]
     alpha = ca.SX.sym("alpha")

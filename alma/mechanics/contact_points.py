@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .model import Model
+from alma.mechanics.model import Model
 
 
 @dataclass(frozen=True)

@@ -23,8 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .contact_points import ContactPoints
-from .model import Model
+from alma.mechanics.contact_points import ContactPoints
+from alma.mechanics.model import Model
 
 
 @dataclass(frozen=True)

@@ -24,7 +24,7 @@ import numpy as np
 import qdldl
 import scipy.sparse as sp
 
-from .model import Model
+from alma.mechanics.model import Model
 
 
 #: Certified results have relative gap and admissibility residuals below these.

@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .study import PAPER_DESIGN, RESULTS_FILE, Design, load_design, picture_path, read_results, run_doe
+from alma.study.doe import PAPER_DESIGN, RESULTS_FILE, Design, load_design, picture_path, read_results, run_doe
 
 __all__ = ["COMPARE_COLUMNS", "CompareReport", "compare_table", "run_compare", "write_report"]
 
@@ -201,7 +201,7 @@ def _run_anova(table: pd.DataFrame, response: str, label: str, keep: np.ndarray 
     Panels left out (no verified state, or not in ``keep``: ``why`` says) make the analysis
     unbalanced: adjusted (Type III) sums of squares and R²(pred) from the leverages, and a note
     with the count, since the panels that fail are not a random sample of the design."""
-    from .stats.anova import anova, standardized_effects, varying_factors
+    from alma.stats.anova import anova, standardized_effects, varying_factors
 
     out = _Anova(response, label)
     if not _balanced(table):
@@ -250,7 +250,7 @@ def _statistics(table: pd.DataFrame, figures_dir: Path, report: CompareReport) -
     figures_dir.mkdir(parents=True, exist_ok=True)
     valid = table[valid_rows]
     try:
-        from .stats import figures as F
+        from alma.stats import figures as F
     except ImportError as exc:  # pragma: no cover - matplotlib is a dependency
         report.notes.append(f"statistics figures skipped: {exc}")
         return stats
@@ -324,7 +324,7 @@ def _mechanism_figures(table: pd.DataFrame, folder: Path, n: int, effort: str | 
 def _draw_pair(r: Any, path: Path, effort: str | None, report: CompareReport,
                time_limit: float | None, results_dir: Path) -> None:
     import alma
-    from alma.plot import plot_side_by_side
+    from alma.report.plot import plot_side_by_side
 
     scene = alma.paper_panel(r.bond, r.panel_ratio, r.block_ratio, float(r.friction))
     stored = _stored_pictures(r, results_dir)
@@ -354,7 +354,7 @@ def _draw_pair(r: Any, path: Path, effort: str | None, report: CompareReport,
 
 def _stored_pictures(r: Any, results_dir: Path) -> tuple[Any, Any] | None:
     """The kept mechanisms of a panel's two rows, or None unless both load and match the rows."""
-    from alma.plot import MechanismPicture
+    from alma.report.plot import MechanismPicture
 
     pictures = []
     for key, alpha, status in ((r.key_lp, r.alpha_lp, r.status_lp), (r.key_nl, r.alpha_nl, r.status_nl)):
@@ -403,7 +403,7 @@ def _anova_lines(a: _Anova) -> list[str]:
     lines.append(f"R² = {100 * res.r2:.2f} %, R²(adj) = {100 * res.r2_adj:.2f} %, "
                  f"R²(pred) = {100 * res.r2_pred:.2f} % (S = {res.s:.4g}, {res.n} panels, DFE = {res.dfe}).")
     lines.append("")
-    from .stats.anova import pareto_reference
+    from alma.stats.anova import pareto_reference
 
     ref = pareto_reference(res.dfe, SIGNIFICANCE)
     order = " > ".join(f"{e.source} ({e.effect:.2f}{'*' if e.significant else ''})" for e in a.effects)

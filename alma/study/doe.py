@@ -303,7 +303,7 @@ def _row(task: _Task, friction: float, model: str, key: str, *, result: Any = No
         })
         row.update(_comparison_fields(result, model))
         try:
-            from .plot import MechanismPicture
+            from alma.report.plot import MechanismPicture
 
             row[PICTURE] = MechanismPicture.from_result(result)
         except Exception:  # a picture is a convenience: it must not lose the result
@@ -360,7 +360,7 @@ def _solve_task(task: _Task, emit: Callable[[dict[str, Any]], None] | None = Non
     Exceptions become rows with status ``error`` and the message; nothing is raised.
     """
     import alma
-    from alma.contacts import find_joints
+    from alma.geometry.contacts import find_joints
 
     rows: list[dict[str, Any]] = []
 

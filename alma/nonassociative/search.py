@@ -49,10 +49,10 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
-from .cap_lp import CapLP, ClosestField, StaticLP
-from .contact_points import ContactPoints
-from .model import Model
-from .rocking import rocking_candidates
+from alma.nonassociative.cap_lp import CapLP, ClosestField, StaticLP
+from alma.mechanics.contact_points import ContactPoints
+from alma.mechanics.model import Model
+from alma.nonassociative.rocking import rocking_candidates
 
 #: Verification tolerances (forces in mean block weights, velocities with f_Lᵀu = n_free).
 EQUILIBRIUM_TOLERANCE = 1e-7
@@ -149,7 +149,7 @@ def fixed_set_static_interior(model: Model, points: ContactPoints, open_points: 
     """
     import clarabel
 
-    from .associative import NORMALISATION
+    from alma.associative.lp import NORMALISATION
 
     P = points.count
     plus_kept = ~open_points & (slip_sign <= 0)  # n + f t (T = +f N) only where not slipping in +t
@@ -770,7 +770,7 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
     if polish is None:
         polish = effort == "thorough" and model.n_free <= 60
     if polish and (deadline is None or time.perf_counter() < deadline):
-        from .nlp import ipopt_polish
+        from alma.nonassociative.nlp import ipopt_polish
 
         t0 = time.perf_counter()
         verified = [c for c in candidates if c.verified]
@@ -787,7 +787,7 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
         # Small scenes: the mixed-integer program of alma.certify as one more start. Capped at the
         # best verified α, it returns a lower state if one exists (within its time), and that
         # state goes through the same exact-state verification as every other candidate.
-        from .certify import certify
+        from alma.certify.milp import certify
 
         t0 = time.perf_counter()
         verified = [c for c in candidates if c.verified]

@@ -11,15 +11,13 @@ subparser's ``func`` is a handler ``handler(args) -> int`` returning the exit co
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import io
 import json
 import sys
 from pathlib import Path
 from typing import Any
 
-__all__ = ["register", "doe_handler", "anova_handler", "paper_handler", "compare_handler",
-           "paper_tables_dir"]
+__all__ = ["register", "doe_handler", "anova_handler", "paper_handler", "compare_handler"]
 
 
 def register(subparsers: Any) -> None:
@@ -64,6 +62,9 @@ def register(subparsers: Any) -> None:
         description="Run the associative study (resumable) and write Table 5, Table 2, the R² "
                     "of Table 3, Figures 5-15 and comparison.md into DIR.")
     p.add_argument("--out", required=True, metavar="DIR")
+    p.add_argument("--published", default=None, metavar="DIR",
+                   help="folder of the published tables (paper_tables/data of alma's repository; "
+                        "default: ./paper_tables/data)")
     p.add_argument("--workers", type=_positive_int, default=None, metavar="N",
                    help="local worker processes for the study (default: all cores)")
     p.add_argument("--nonassociative", action="store_true",
@@ -116,7 +117,7 @@ def _error(message: str) -> None:
 
 def _design_argument(args: argparse.Namespace):
     """(design or None, failed): the ``--design`` file, its error printed if it cannot be read."""
-    from alma.study import load_design
+    from alma.study.doe import load_design
 
     if not getattr(args, "design", None):
         return None, False
@@ -133,7 +134,7 @@ def _design_argument(args: argparse.Namespace):
 
 
 def doe_handler(args: argparse.Namespace) -> int:
-    from alma.study import RESULTS_FILE, run_doe
+    from alma.study.doe import RESULTS_FILE, run_doe
 
     design, failed = _design_argument(args)
     if failed:
@@ -222,29 +223,19 @@ def _load_for_anova(path: Path, model: str | None, pd: Any, load_results: Any) -
 # ------------------------------------------------------------------------------------------
 
 
-def paper_tables_dir() -> Path:
-    """The repository's ``paper_tables/`` folder, next to the ``alma`` package."""
-    import alma
-
-    return Path(alma.__file__).resolve().parents[1] / "paper_tables"
-
-
 def paper_handler(args: argparse.Namespace) -> int:
-    folder = paper_tables_dir()
-    script = folder / "make_paper.py"
-    if not script.is_file():
-        _error(f"paper_tables/make_paper.py not found (looked in {folder}); `alma paper` runs "
-               "from a source checkout of alma, where paper_tables/ sits next to the package")
+    from alma.paper.tables import make_paper
+
+    published = Path(args.published) if args.published else Path("paper_tables") / "data"
+    if not published.is_dir():
+        _error(f"the published tables are not in {published}: pass --published DIR, the "
+               "paper_tables/data folder of alma's repository (the package holds no published value)")
         return 2
-    spec = importlib.util.spec_from_file_location("alma_paper_tables_make_paper", script)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
     kwargs: dict[str, Any] = {}
     if getattr(args, "nonassociative", False):
         kwargs = {"nonassociative": True, "effort": getattr(args, "effort", None)}
     try:
-        summary = module.make_paper(args.out, workers=getattr(args, "workers", None), **kwargs)
+        summary = make_paper(args.out, published, workers=getattr(args, "workers", None), **kwargs)
     except KeyboardInterrupt:
         return 130
     except (RuntimeError, ValueError, OSError) as exc:
@@ -272,7 +263,7 @@ def paper_handler(args: argparse.Namespace) -> int:
 
 
 def compare_handler(args: argparse.Namespace) -> int:
-    from alma.compare import run_compare
+    from alma.study.compare import run_compare
 
     design, failed = _design_argument(args)
     if failed:

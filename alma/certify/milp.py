@@ -48,8 +48,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import Bounds, LinearConstraint, linprog, milp
 
-from .contact_points import ContactPoints
-from .model import Model
+from alma.mechanics.contact_points import ContactPoints
+from alma.mechanics.model import Model
 
 #: Relative safety margin on every derived big-M (bounds come from LPs solved to ~1e-9).
 BIG_M_MARGIN = 1.01

@@ -23,8 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .contacts import Joints, block_areas_and_centroids, find_joints
-from .scene import Scene, SceneError
+from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
+from alma.geometry.scene import Scene, SceneError
 
 #: kN per (mm³ · kN/m³)
 _MM3_TO_M3 = 1e-9

@@ -144,7 +144,7 @@ class Scene:
     # ----------------------------------------------------------- validation
     def validate(self) -> None:
         """Refuse every bad input of SPEC §2 with a message naming block and rule."""
-        from .contacts import find_overlaps, find_joints  # downstream helpers, geometry only
+        from alma.geometry.contacts import find_overlaps, find_joints  # downstream helpers, geometry only
 
         if not self.thickness > 0:
             raise SceneError(f"scene: thickness must be > 0, got {self.thickness}")

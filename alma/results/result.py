@@ -11,9 +11,9 @@ from typing import Any
 
 import numpy as np
 
-from .associative import LPSolution
-from .contact_points import ContactPoints
-from .model import Model
+from alma.associative.lp import LPSolution
+from alma.mechanics.contact_points import ContactPoints
+from alma.mechanics.model import Model
 
 #: Relative velocity below this fraction of the largest one counts as zero (the interior-point
 #: mechanism carries traces of the other optimal mechanisms at about this level).

@@ -6,9 +6,9 @@ import json
 import sys
 from pathlib import Path
 
-from .panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, paper_panel
-from .scene import Scene, SceneError, load_scene
-from .solve import MODELS, solve
+from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, paper_panel
+from alma.geometry.scene import Scene, SceneError, load_scene
+from alma.solve import MODELS, solve
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -30,7 +30,7 @@ def main(argv: list[str] | None = None) -> int:
     p_panel.set_defaults(func=_cmd_panel)
 
     try:
-        from . import study_cli
+        from alma.cli import study as study_cli
     except ImportError:  # pragma: no cover — the study commands are optional extras
         study_cli = None
     if study_cli is not None:
@@ -81,7 +81,7 @@ def _run(scene: Scene, args: argparse.Namespace) -> int:
     except SceneError as exc:
         return _invalid(exc, args)
     if args.plot:
-        from .plot import plot_mechanism
+        from alma.report.plot import plot_mechanism
 
         plot_mechanism(scene, result, args.plot, title=scene.name or None)
     if args.json:

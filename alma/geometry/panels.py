@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .scene import Block, Scene, SceneError
+from alma.geometry.scene import Block, Scene, SceneError
 
 PANEL_LENGTH = 1440.0
 BLOCK_HEIGHT = 60.0

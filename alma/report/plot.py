@@ -8,8 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .result import BlockMotion, Result
-from .scene import Scene
+from alma.results.result import BlockMotion, Result
+from alma.geometry.scene import Scene
 
 STATE_COLOURS = {"rest": None, "hinging": "tab:orange", "sliding": "tab:red", "separating": "tab:blue"}
 
