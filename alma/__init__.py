@@ -1,11 +1,19 @@
-"""alma — limit analysis of masonry block structures (rigid blocks, no-tension frictional joints)."""
-from alma.geometry.contacts import Joints, find_joints
-from alma.mechanics.model import Model, build_model
-from alma.geometry.panels import paper_panel, wall
-from alma.results.result import Bounds, Result
-from alma.geometry.scene import Block, Scene, SceneError, load_scene
-from alma.solve import solve
+"""alma — limit analysis of masonry block structures (rigid blocks, no-tension frictional joints).
 
-__all__ = ["Block", "Bounds", "Joints", "Model", "Result", "Scene", "SceneError", "build_model",
-           "find_joints", "load_scene", "paper_panel", "solve", "wall"]
-__version__ = "0.1.0"
+Data flows one way: ``geometry`` (scenes, joints, panels) → ``mechanics`` (the sparse model of
+Eqs. 1–8) → ``backends`` and the solvers (``associative``, ``nonassociative``, ``certify``) →
+``results`` → ``study``, ``report``, ``paper`` → ``cli``.  See docs/architecture.md.
+"""
+from alma.geometry.contacts import Joints, find_joints
+from alma.geometry.panels import paper_panel, wall
+from alma.geometry.scene import Block, Scene, SceneError, load_scene
+from alma.mechanics.model import Model, build_model
+from alma.results.types import (AssociativeResult, Bounds, Comparison, NonAssociativeResult, Result)
+from alma.settings import AssociativeSettings, CertifySettings, SearchSettings, Settings
+from alma.solve import solve
+from alma.status import Status
+
+__all__ = ["AssociativeResult", "AssociativeSettings", "Block", "Bounds", "CertifySettings", "Comparison",
+           "Joints", "Model", "NonAssociativeResult", "Result", "Scene", "SceneError", "SearchSettings",
+           "Settings", "Status", "build_model", "find_joints", "load_scene", "paper_panel", "solve", "wall"]
+__version__ = "0.2.0"

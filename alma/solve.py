@@ -1,77 +1,121 @@
 """The public entry point: ``alma.solve(scene, model=...)``."""
 from __future__ import annotations
 
+import dataclasses
 import time
-
-from dataclasses import replace
-
-import numpy as np
 
 from alma.associative.lp import solve_lp
 from alma.certify.milp import certify as certify_milp
-from alma.nonassociative.search import solve_nonassociative
 from alma.geometry.contacts import Joints, find_joints
+from alma.geometry.scene import Scene, SceneError
 from alma.mechanics.model import Model, build_model
-from alma.results.result import Result, build_nonassociative_result, build_result
-from alma.geometry.scene import Scene
+from alma.nonassociative.search import solve_nonassociative
+from alma.results.build import associative_result, comparison, nonassociative_result
+from alma.results.types import AssociativeResult, Comparison, NonAssociativeResult
+from alma.settings import SearchSettings, Settings
 
 MODELS = ("associative", "nonassociative", "both")
+EFFORTS = ("auto", "fast", "thorough")
 
 
-def solve(scene: Scene | Model, model: str = "associative", *, tolerance: float = 1e-11,
-          joints: Joints | None = None, effort: str = "auto", certify: bool = False,
-          time_limit: float = 60.0) -> Result:
+def solve(scene: Scene | Model, model: str = "associative", *, settings: Settings | None = None,
+          tolerance: float | None = None, joints: Joints | None = None, effort: str | None = None,
+          certify: bool = False, time_limit: float | None = None
+          ) -> AssociativeResult | NonAssociativeResult | Comparison:
     """Collapse multiplier and mechanism of a scene.
 
-    ``model="associative"`` solves the dilatant LP (Eq. 10) with certified
-    bounds; ``"nonassociative"`` searches the collapse states of Eq. 9 (see
-    :mod:`alma.nonassociative`) from the LP solution, ``effort`` "fast",
-    "thorough" or "auto" (thorough up to 200 blocks), within ``time_limit``
-    seconds, and with ``certify`` proves a lower bound by MILP under another
-    ``time_limit`` seconds; ``"both"`` reports both
-    multipliers and their ratio.  A prebuilt :class:`~alma.model.Model` may be
-    passed instead of a scene to skip joint detection and assembly.
+    Parameters
+    ----------
+    scene
+        A :class:`~alma.geometry.scene.Scene` (validated here if it was built by hand) or a
+        prebuilt :class:`~alma.mechanics.model.Model` (skips joint detection and assembly).
+    model
+        ``"associative"``: the dilatant LP of Eq. 10, certified from both sides;
+        ``"nonassociative"``: the lowest verified collapse state of Eq. 9 found by the search
+        (``alma.nonassociative``); ``"both"``: both results whole and their ratio.
+    settings
+        Every tuned number (:class:`alma.settings.Settings`); ``tolerance`` (the LP's),
+        ``effort`` ("auto", "fast", "thorough") and ``time_limit`` (s) override its fields.
+    certify
+        Non-associative models only: prove a lower bound by mixed-integer programming.
+    time_limit
+        A user's wall-clock cap in seconds; when it cuts the work the status is
+        ``limit_reached``.  Without it the answer depends on the input and settings only.
     """
+    settings = _settings(settings, tolerance, effort, time_limit)
     if model not in MODELS:
         raise ValueError(f"model must be one of {MODELS}, got {model!r}")
-    timings: dict[str, float] = {}
-    if isinstance(scene, Model):
-        built = scene
-        timings["joints_s"] = 0.0
-        timings["build_s"] = 0.0
-    else:
-        t0 = time.perf_counter()
-        joints = find_joints(scene) if joints is None else joints
-        t1 = time.perf_counter()
-        built = build_model(scene, joints)
-        t2 = time.perf_counter()
-        timings["joints_s"] = t1 - t0
-        timings["build_s"] = t2 - t1
-    lp = solve_lp(built, tolerance=tolerance)
-    timings["solve_s"] = lp.solve_time
-    timings["certify_s"] = lp.certify_time
+    if certify and model == "associative":
+        raise ValueError("certify applies to the non-associative model (the associative result is "
+                         "certified by its static and kinematic bounds): use model='nonassociative' or 'both'")
+    built, timings = _build(scene, joints)
+    lp = solve_lp(built, settings.associative, time_limit=settings.time_limit)
+    timings.update(solve_s=lp.solve_time, certify_s=lp.certify_time)
+    assoc = associative_result(built, lp, timings)
     if model == "associative":
-        return build_result(built, lp, timings)
+        return assoc
+    nl = _nonassociative(built, lp, assoc, settings, certify)
+    return comparison(assoc, nl) if model == "both" else nl
 
-    if effort == "auto":
-        effort = "thorough" if built.n_free <= 200 else "fast"
+
+def _settings(settings: Settings | None, tolerance: float | None, effort: str | None,
+              time_limit: float | None) -> Settings:
+    """``settings`` with the keyword overrides applied, checked before any work is done."""
+    s = settings if settings is not None else Settings()
+    if not isinstance(s, Settings):
+        raise TypeError(f"settings must be an alma.settings.Settings, got {type(s).__name__}")
+    if tolerance is not None:
+        s = dataclasses.replace(s, associative=dataclasses.replace(s.associative, tolerance=float(tolerance)))
+    if effort is not None:
+        s = dataclasses.replace(s, search=dataclasses.replace(s.search, effort=effort))
+    if time_limit is not None:
+        if not time_limit > 0:
+            raise ValueError(f"time_limit must be a positive number of seconds, got {time_limit!r}")
+        s = dataclasses.replace(s, time_limit=float(time_limit))
+    if s.search.effort not in EFFORTS:
+        raise ValueError(f"effort must be one of {EFFORTS}, got {s.search.effort!r}")
+    return s
+
+
+def _build(scene: Scene | Model, joints: Joints | None) -> tuple[Model, dict[str, float]]:
+    if isinstance(scene, Model):
+        return scene, {"joints_s": 0.0, "build_s": 0.0}
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be an alma.Scene or alma.Model, got {type(scene).__name__}")
+    if not scene.validated:
+        scene.validate()  # a hand-built scene meets the same rules as a loaded one
     t0 = time.perf_counter()
-    lp_ok = lp.status in ("optimal", "not_converged")
-    solution = solve_nonassociative(built, lp.mechanism if lp_ok else None,
-                                    lp.multipliers if lp_ok else None, effort=effort, time_limit=time_limit,
-                                    associative_alpha=lp.alpha if lp_ok else None)
+    joints = find_joints(scene) if joints is None else joints
+    t1 = time.perf_counter()
+    built = build_model(scene, joints)
+    return built, {"joints_s": t1 - t0, "build_s": time.perf_counter() - t1}
+
+
+def _effort(search: SearchSettings, model: Model) -> str:
+    if search.effort != "auto":
+        return search.effort
+    return "thorough" if model.n_free <= search.thorough_blocks else "fast"
+
+
+def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settings,
+                    certify: bool) -> NonAssociativeResult:
+    """Eq. 9: the search from the LP's mechanism and field, and the MILP proof if asked."""
+    t0 = time.perf_counter()
+    timings = dict(assoc.timings)
+    solution = solve_nonassociative(built, lp.mechanism if lp.solved else None,
+                                    lp.multipliers if lp.solved else None, effort=_effort(settings.search, built),
+                                    time_limit=settings.time_limit,
+                                    associative_alpha=lp.alpha if lp.solved else None)
     timings["nonassociative_s"] = time.perf_counter() - t0
-    timings.update({k: v for k, v in solution.timings.items()})
+    timings.update({k: float(v) for k, v in solution.timings.items() if k.endswith("_s")})
     certificate = None
     if certify:
-        mechanisms = [c.mechanism for c in solution.candidates] + ([lp.mechanism] if lp_ok else [])
+        mechanisms = [c.mechanism for c in solution.candidates] + ([lp.mechanism] if lp.solved else [])
         best = solution.best.alpha if solution.best is not None else None
-        certificate = certify_milp(built, lp.alpha, mechanisms, time_limit=time_limit, alpha_best=best)
+        certificate = certify_milp(built, lp.alpha, mechanisms, time_limit=settings.time_limit or 60.0,
+                                   alpha_best=best)
         timings["certification_s"] = certificate.time_s
-    result = build_nonassociative_result(built, lp, solution, timings, certificate,
-                                         name="both" if model == "both" else "nonassociative")
-    if model == "both":
-        extra = dict(result.extra, alpha_nonassociative=result.alpha,
-                     ratio=result.alpha / lp.alpha if lp.alpha not in (0.0,) and np.isfinite(lp.alpha) else None)
-        result = replace(result, extra=extra)
-    return result
+    return nonassociative_result(built, assoc, solution, timings, certificate)
+
+
+__all__ = ["MODELS", "SceneError", "solve"]

@@ -14,6 +14,8 @@ from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
 
+from alma.geometry.contacts import find_joints, find_overlaps
+
 
 class SceneError(ValueError):
     """A scene broke a rule of SPEC §2; the message names the block and the rule."""
@@ -66,6 +68,8 @@ class Scene:
     gravity: tuple[float, float] = (0.0, -1.0)
     live_load_direction: tuple[float, float] = (1.0, 0.0)
     joint_overrides: tuple[JointOverride, ...] = field(default=())
+    #: Set by :meth:`validate`: a scene built by hand is validated before it is solved.
+    validated: bool = field(default=False, compare=False, repr=False)
 
     # ------------------------------------------------------------------ I/O
     @classmethod
@@ -144,8 +148,6 @@ class Scene:
     # ----------------------------------------------------------- validation
     def validate(self) -> None:
         """Refuse every bad input of SPEC §2 with a message naming block and rule."""
-        from alma.geometry.contacts import find_overlaps, find_joints  # downstream helpers, geometry only
-
         if not self.thickness > 0:
             raise SceneError(f"scene: thickness must be > 0, got {self.thickness}")
         if not self.unit_weight > 0:
@@ -191,6 +193,7 @@ class Scene:
                 i, j = sorted(index[k] for k in override.blocks)
                 if (i, j) not in pairs:
                     raise SceneError(f"joint {list(override.blocks)}: these blocks do not touch")
+        object.__setattr__(self, "validated", True)
 
     # --------------------------------------------------------------- helpers
     @property
@@ -209,7 +212,7 @@ class Scene:
         if rotate_loads:
             gravity = _direction(matrix @ np.asarray(gravity), "transformed gravity")
             live = _direction(matrix @ np.asarray(live), "transformed live load direction")
-        return dataclasses.replace(self, blocks=blocks, gravity=gravity, live_load_direction=live)
+        return dataclasses.replace(self, blocks=blocks, gravity=gravity, live_load_direction=live, validated=False)
 
 
 def load_scene(path: str | Path) -> Scene:

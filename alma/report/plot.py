@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from alma.results.result import BlockMotion, Result
+from alma.results.types import BlockMotion, Result
 from alma.geometry.scene import Scene
 
 STATE_COLOURS = {"rest": None, "hinging": "tab:orange", "sliding": "tab:red", "separating": "tab:blue"}

@@ -30,7 +30,6 @@ import csv
 import dataclasses
 import gc
 import hashlib
-import inspect
 import json
 import math
 import os
@@ -43,6 +42,8 @@ from pathlib import Path
 from typing import Any, Callable, Sequence
 
 import pandas as pd
+
+from alma.settings import SearchSettings, Settings
 
 __all__ = [
     "COLUMNS",
@@ -225,17 +226,11 @@ def _alma_version() -> str:
     return str(getattr(alma, "__version__", "unknown"))
 
 
-def _solver_settings() -> dict[str, Any]:
-    """Default keyword settings of ``alma.solve`` (a changed default is a new key)."""
-    import alma
-
-    out: dict[str, Any] = {}
-    for name, par in inspect.signature(alma.solve).parameters.items():
-        if par.kind == par.KEYWORD_ONLY and par.default is not par.empty:
-            default = par.default
-            if default is None or isinstance(default, (bool, int, float, str)):
-                out[name] = default
-    return out
+def key_settings(settings: Settings, model: str) -> dict[str, Any]:
+    """What of ``settings`` changes a row of ``model``: the associative LP's settings for the
+    associative model (so fast and thorough runs share those rows), all of them otherwise."""
+    data = settings.to_dict()
+    return {"associative": data["associative"]} if model == "associative" else data
 
 
 def _friction_text(f: float) -> str:
@@ -243,13 +238,16 @@ def _friction_text(f: float) -> str:
 
 
 def panel_key(panel_ratio: str, block_ratio: str, bond: str, friction: float, model: str,
-              *, version: str | None = None, settings: dict[str, Any] | None = None) -> str:
-    """Stable key of one result row: hash of factors, model, alma version and solver settings."""
+              *, version: str | None = None, settings: Settings | dict[str, Any] | None = None) -> str:
+    """Stable key of one result row: hash of factors, model, alma version and every setting
+    that changes the row (:func:`key_settings`; a dict is taken as it is)."""
+    if not isinstance(settings, dict):
+        settings = key_settings(settings if settings is not None else Settings(), model)
     payload = {
         "panel_ratio": panel_ratio, "block_ratio": block_ratio, "bond": bond,
         "friction": _friction_text(friction), "model": model,
         "alma": _alma_version() if version is None else version,
-        "solver": _solver_settings() if settings is None else settings,
+        "solver": settings,
     }
     text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:20]
@@ -267,8 +265,7 @@ class _Task:
     bond: str
     items: tuple[tuple[float, str, str], ...]  # (friction, model, key) still to do
     version: str
-    effort: str | None = None  # non-associative search effort (None: alma.solve's default)
-    time_limit: float | None = None  # non-associative search, s (None: alma.solve's default)
+    settings: Settings = Settings()
 
     @property
     def size(self) -> float:
@@ -292,7 +289,7 @@ def _row(task: _Task, friction: float, model: str, key: str, *, result: Any = No
         "friction": float(friction), "model": model, "alma_version": task.version, "key": key,
     }
     t = dict(timings or {})
-    row["effort"] = "" if model == "associative" else (task.effort or "auto")
+    row["effort"] = "" if model == "associative" else task.settings.search.effort
     if result is not None:
         t.update({k: v for k, v in result.timings.items() if k in ("solve_s", "certify_s")})
         row.update({
@@ -386,27 +383,35 @@ def _solve_task(task: _Task, emit: Callable[[dict[str, Any]], None] | None = Non
             first = {"joints_s": 0.0, "build_s": 0.0}
         return rows
 
-    built: dict[float, Any] = {}
+    by_friction: dict[float, dict[str, str]] = {}
     for friction, model, key in task.items:
+        by_friction.setdefault(friction, {})[model] = key
+    for friction, keys in by_friction.items():
         timings = dict(first)
         try:
-            if friction not in built:
-                t0 = time.perf_counter()
-                built[friction] = base.with_friction(friction)
-                timings["build_s"] += time.perf_counter() - t0
-            kwargs = {}
-            if model != "associative":
-                if task.effort:
-                    kwargs["effort"] = task.effort
-                if task.time_limit is not None:
-                    kwargs["time_limit"] = task.time_limit
-            result = alma.solve(built[friction], model=model, **kwargs)
+            t0 = time.perf_counter()
+            built = base.with_friction(friction)
+            timings["build_s"] += time.perf_counter() - t0
+            results = _solve_models(built, tuple(keys), task.settings)
         except Exception as exc:
-            out(_row(task, friction, model, key, error=_error_text(exc), timings=timings))
+            for model, key in keys.items():
+                out(_row(task, friction, model, key, error=_error_text(exc), timings=timings))
         else:
-            out(_row(task, friction, model, key, result=result, timings=timings))
+            for model, key in keys.items():
+                out(_row(task, friction, model, key, result=results[model], timings=timings))
         first = {"joints_s": 0.0, "build_s": 0.0}
     return rows
+
+
+def _solve_models(built: Any, models: tuple[str, ...], settings: Settings) -> dict[str, Any]:
+    """Each model's result for one panel and friction, the associative LP solved once: with
+    both models, one ``alma.solve(model="both")`` gives both rows."""
+    import alma
+
+    if set(models) == {"associative", "nonassociative"}:
+        both = alma.solve(built, model="both", settings=settings)
+        return {"associative": both.associative, "nonassociative": both.nonassociative}
+    return {m: alma.solve(built, model=m, settings=settings) for m in models}
 
 
 # Local process pool: rows stream back through a queue given to each worker at start-up.
@@ -667,9 +672,10 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
 
     ``effort`` ("auto", "fast" or "thorough") is passed to :func:`alma.solve` for the
     non-associative model and is part of those rows' keys (``None``: ``alma.solve``'s default,
-    the same key as "auto"); associative rows do not depend on it.  ``time_limit`` (s) is the
-    non-associative search's limit per panel and friction, likewise part of those keys
-    (``None``: ``alma.solve``'s default of 60 s, the same key as before the option existed).
+    the same key as "auto"); associative rows do not depend on it.  ``time_limit`` (s) is a
+    wall-clock cap per panel and friction (default none), likewise part of those keys.  Every
+    key hashes the package version and the settings (:class:`alma.settings.Settings`), so a
+    changed setting or release never reuses an old row.
 
     The returned frame has the columns :data:`COLUMNS`, one row per panel of ``design`` and
     model, ``friction`` and the α columns as floats.
@@ -692,23 +698,19 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
     results = _ResultsFile(out / RESULTS_FILE)
     try:
         version = _alma_version()
-        settings = _solver_settings()
-        na_settings = dict(settings, effort=effort) if effort is not None else dict(settings)
-        if time_limit is not None:
-            na_settings["time_limit"] = float(time_limit)
+        settings = Settings(search=SearchSettings(effort=effort or "auto"), time_limit=time_limit)
         wanted: list[str] = []
         todo: dict[tuple[str, str, str], list[tuple[float, str, str]]] = {}
         for friction in design.friction:
             for geometry in design.geometries:
                 for m in models:
-                    key = panel_key(*geometry, friction, m, version=version,
-                                    settings=settings if m == "associative" else na_settings)
+                    key = panel_key(*geometry, friction, m, version=version, settings=settings)
                     wanted.append(key)
                     done = results.rows.get(key)
                     if done is not None and not (retry_errors and done["status"] == "error"):
                         continue
                     todo.setdefault(geometry, []).append((friction, m, key))
-        tasks = [_Task(p, b, bond, tuple(items), version, effort, time_limit)
+        tasks = [_Task(p, b, bond, tuple(items), version, settings)
                  for (p, b, bond), items in todo.items()]
         tasks.sort(key=lambda t: t.size, reverse=True)  # largest first: better load balance
 
@@ -845,7 +847,7 @@ def _run_dask(tasks: Sequence[_Task], scheduler: Any, record: Callable[[dict[str
     try:
         from distributed import Client, as_completed
     except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise RuntimeError("--scheduler needs the 'distributed' package (pip install dask[distributed])") from exc
+        raise RuntimeError("--scheduler needs the dask extra: pip install "alma[dask]"") from exc
     own = not isinstance(scheduler, Client)
     client = Client(scheduler) if own else scheduler
     futures = []

@@ -1,0 +1,137 @@
+"""The certificate of Eq. 10: the interior-point pair repaired into two admissible fields.
+
+A mechanism that satisfies the flow rule (Eq. 6) proves an upper bound on α_c; a stress field in
+equilibrium (Eq. 3) inside the yield domain (Eq. 5) proves a lower bound.  The interior point
+leaves round-off in both; :func:`certify_pair` removes it by minimum-norm corrections solved
+with a sparse factorisation (``alma.backends.qdldl_backend``), so that the two bounds certify
+each other.  All quantities are dimensionless (``alma.mechanics.model``).
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from alma.backends.qdldl_backend import regularised_solver
+from alma.mechanics.model import Model
+
+
+def certify_pair(H: sp.csc_matrix, model: Model, u: np.ndarray, mu: np.ndarray,
+                 alpha: float, residual_tolerance: float = 1e-9, gap_tolerance: float = 1e-7) -> tuple[np.ndarray, np.ndarray, float, float, float]:
+    """Repair the interior-point pair into admissible fields (the two bounds).
+
+    Both repairs are minimum-norm corrections solved with a sparse factorisation:
+
+    - static: on the support S of μ and on α, (μ_S, α) += [H_S f_L]ᵀ y with
+      (H_S H_Sᵀ + f_L f_Lᵀ) y = −r removes the equilibrium residual
+      r = H μ + f_0 + α f_L (the rank-one term by Sherman–Morrison); μ stays ≥ 0
+      because the step is far below the support threshold, and α moves by the
+      matching amount;
+    - kinematic: the flow-rule rows V that the interior point violates
+      (Hᵀu < 0, by round-off) are closed by u += H_V w with (H_Vᵀ H_V) w = −H_Vᵀu
+      (solved in velocity space) while nearly active rows are held; the first step that
+      does not reduce the largest violation ends the repair; finally f_Lᵀu is restored
+      by scaling.
+
+    Returns (u, μ, α_lower, static residual, kinematic residual).
+    """
+    live = model.live
+    HT = H.T.tocsr()
+    norm = float(model.n_free)
+    u = u * (norm / (live @ u))
+    violated = np.zeros(HT.shape[0], dtype=bool)
+
+    abs_HT = abs(HT)
+
+    def violation(x: np.ndarray) -> float:
+        """Largest flow-rule violation relative to the size of its terms, max(0, −Hᵀu) / (|Hᵀ| |u|)."""
+        power = HT @ x
+        size = float((abs_HT @ np.abs(x)).max(initial=0.0))
+        return max(0.0, -float(power.min(initial=0.0))) / max(size, 1e-300)
+
+    best = violation(u)
+    for _ in range(4):
+        if best <= 0.1 * residual_tolerance:
+            break
+        power = HT @ u
+        # Violated rows are closed; nearly active rows are held where they are (target 0 change).
+        violated |= power < 1e-8 * float(np.abs(power).max(initial=0.0))
+        rows = np.flatnonzero(violated)
+        HV = HT[rows]
+        # The minimum-norm step H_V w, (H_Vᵀ H_V + ε I) w = t, is computed in velocity space as
+        # (H_V H_Vᵀ + ε I)⁻¹ H_V t (the same vector): that Gram matrix has the size of u (3 per
+        # block) instead of one row per held generator, which is 3x larger and much denser.
+        eps = 1e-12 * max(float(np.max(np.asarray(HV.multiply(HV).sum(axis=1)), initial=1.0)), 1.0)
+        solve_u = regularised_solver(HV.T @ HV, eps)
+        candidate = u.copy()
+        for _ in range(3):
+            target = np.maximum(-(HV @ candidate), 0.0)
+            candidate = candidate + solve_u(HV.T @ target)
+        candidate = candidate * (norm / (live @ candidate))
+        value = violation(candidate)
+        if value >= best:
+            # Rejected: u and hence the next round's row set and step would be the same again.
+            break
+        u, best = candidate, value
+    # Static side. Two correction spaces: the plain support of μ, then an affine-scaled one
+    # (column j moves in proportion to μ_j, so every positive multiplier can take part and μ
+    # stays ≥ 0) -- the second only when the first is not admissible or leaves a gap near the
+    # tolerance, since it costs another factorisation.
+    mu = np.maximum(mu, 0.0)
+    u_final = u / norm
+    upper_estimate = float(-model.dead @ u_final / (live @ u_final))
+    best_static = None
+    top = max(float(mu.max(initial=0.0)), 1e-300)
+    for affine in (False, True):
+        if affine:
+            ok = best_static[2] <= 0.1 * residual_tolerance
+            gap = (upper_estimate - best_static[1]) / max(1.0, abs(upper_estimate))
+            if ok and gap <= 0.1 * gap_tolerance:
+                break
+            support = np.flatnonzero(mu > 1e-14 * top)
+            weight = np.sqrt(mu[support] / top)
+        else:
+            support = np.flatnonzero(mu > 1e-9 * top)
+            weight = np.ones(support.size)
+        trial = _static_correction(H, model, mu.copy(), alpha, support, weight)
+        if best_static is None or _better(trial, best_static, residual_tolerance):
+            best_static = trial
+    mu, alpha, static_residual = best_static
+    return u / norm, mu, float(alpha), static_residual, best
+
+
+def _better(trial: tuple, best: tuple, residual_tolerance: float) -> bool:
+    """Prefer an admissible field (residual below tolerance) with the larger α, else the smaller residual."""
+    ok_t, ok_b = trial[2] <= 0.1 * residual_tolerance, best[2] <= 0.1 * residual_tolerance
+    if ok_t and ok_b:
+        return trial[1] > best[1]
+    return ok_t or (not ok_b and trial[2] < best[2])
+
+
+def _static_correction(H: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float,
+                       support: np.ndarray, weight: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """Minimum-norm correction of (μ_S, α) removing the equilibrium residual (Eq. 3)."""
+    live = model.live
+    HS = H[:, support] @ sp.diags(weight)
+    solve_g = regularised_solver(HS @ HS.T)
+    g_live = solve_g(live)
+    # α takes part with a small weight first: the correction goes to the stresses, and α only
+    # absorbs what they cannot (the "matching reduction" of the multiplier) when the weight grows.
+    for alpha_weight in (1e-6, 1e-3, 1.0):
+        denom = 1.0 / alpha_weight**2 + live @ g_live
+        for _ in range(4):  # iterative refinement of the regularised solve
+            residual = H @ mu + model.dead + alpha * live
+            if np.abs(residual).max(initial=0.0) <= 1e-15:
+                break
+            x = solve_g(-residual)
+            y = x - g_live * (live @ x) / denom  # (G + w² f_L f_Lᵀ)⁻¹(−r), Sherman–Morrison
+            candidate = mu.copy()
+            candidate[support] += weight * (HS.T @ y)
+            np.maximum(candidate, 0.0, out=candidate)
+            new_alpha = alpha + float(live @ y) * alpha_weight**2
+            if np.abs(H @ candidate + model.dead + new_alpha * live).max() >= np.abs(residual).max():
+                break
+            mu, alpha = candidate, new_alpha
+        if np.abs(H @ mu + model.dead + alpha * live).max(initial=0.0) <= 1e-13:
+            break
+    residual = H @ mu + model.dead + alpha * live
+    return mu, float(alpha), float(np.abs(residual).max(initial=0.0))

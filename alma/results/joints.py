@@ -1,0 +1,105 @@
+"""Joint states, mechanism class and the physical form of a solution (blocks and joints).
+
+Both models hand over the same thing: a mechanism u (dimensionless, f_Lᵀu = 1) and the normal
+and tangential force (N, T) at every contact point (dimensionless, two points per joint, in the
+order of :class:`alma.mechanics.contact_points.ContactPoints`).  This module turns them into
+:class:`~alma.results.types.BlockMotion` and :class:`~alma.results.types.JointResult` in mm,
+rad, kN and kN·mm.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from alma.mechanics.contact_points import ContactPoints
+from alma.mechanics.model import Model
+from alma.results.types import BlockMotion, JointResult
+
+#: Relative velocity below this fraction of the largest one counts as zero (the interior-point
+#: mechanism carries traces of the other optimal mechanisms at about this level).
+MOTION_TOLERANCE = 1e-4
+
+JOINT_STATES = ("rest", "hinging", "sliding", "separating")
+
+
+def joint_states(model: Model, mechanism: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """State of every joint under a mechanism, and the relative velocities (m, 2, 2).
+
+    sliding: tangential slip; hinging: one end opens, the other stays closed;
+    separating: both ends open; rest: no relative motion.
+    """
+    rel = ContactPoints.from_model(model).relative_velocities(mechanism)
+    scale = max(float(np.abs(rel).max(initial=0.0)), float(np.abs(mechanism).max(initial=0.0)), 1e-300)
+    tol = MOTION_TOLERANCE * scale
+    slip = rel[:, :, 1].mean(axis=1)
+    opening = rel[:, :, 0]
+    state = np.full(model.n_joints, "rest", dtype=object)
+    open_ends = (opening > tol).sum(axis=1)
+    state[open_ends == 1] = "hinging"
+    state[open_ends == 2] = "separating"
+    state[np.abs(slip) > tol] = "sliding"
+    return state, rel
+
+
+def mechanism_class(model: Model, mechanism: np.ndarray, states: np.ndarray) -> str:
+    """'sliding' (translations only, joints slide or separate), 'rocking' (no joint slides), 'mixed', 'none'."""
+    if not np.any(states != "rest"):
+        return "none"
+    rel_scale = max(float(np.abs(mechanism.reshape(-1, 3)[:, :2]).max(initial=0.0)), 1e-300)
+    rotation = np.abs(mechanism.reshape(-1, 3)[:, 2]).max(initial=0.0)  # dimensionless: per length unit
+    if not np.any(states == "sliding"):
+        return "rocking"
+    if not np.any(states == "hinging") and rotation <= MOTION_TOLERANCE * rel_scale:
+        return "sliding"
+    return "mixed"
+
+
+def multipliers_to_forces(model: Model, multipliers: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(N, T) at each contact point from the cone multipliers μ± of Eq. 10 (N = μ⁺ + μ⁻,
+    T = f (μ⁺ − μ⁻)), dimensionless."""
+    mu = multipliers.reshape(-1, 2, 2)  # (m, point, ±)
+    normal = mu.sum(axis=2).ravel()
+    shear = ((mu[:, :, 0] - mu[:, :, 1]) * model.friction[:, None]).ravel()
+    return normal, shear
+
+
+def physical(model: Model, mechanism: np.ndarray, normal: np.ndarray, shear: np.ndarray,
+             moving: bool) -> tuple[tuple[BlockMotion, ...], tuple[JointResult, ...], str]:
+    """Blocks, joints and mechanism class of a solution (see the module docstring).
+
+    ``moving``: the mechanism is a real one (else every joint is at rest and the class 'none').
+    Block motions are reported so that the weight-averaged displacement along the live load is
+    1 mm: Σ (w_i / W) d·u_i = 1.
+    """
+    ids = model.scene.block_ids
+    motion = mechanism.reshape(-1, 3) * model.n_free
+    motion[:, 2] /= model.length_scale
+    blocks = tuple(BlockMotion(id=ids[i], u=tuple(row))
+                   for i, row in zip(model.free_blocks.tolist(), motion.tolist()))
+    if moving and model.n_joints:
+        states, rel = joint_states(model, mechanism)
+        klass = mechanism_class(model, mechanism, states)
+    else:
+        states = np.full(model.n_joints, "rest", dtype=object)
+        rel = np.zeros((model.n_joints, 2, 2))
+        klass = "none"
+    joints = model.joints
+    n_point = normal.reshape(-1, 2) * model.force_scale  # (m, point) kN
+    t_point = shear.reshape(-1, 2) * model.force_scale
+    moment = np.zeros(model.n_joints)
+    for p, point in enumerate((joints.start, joints.end)):
+        r = point - joints.centre
+        force = n_point[:, p, None] * joints.normal + t_point[:, p, None] * joints.tangent
+        moment += r[:, 0] * force[:, 1] - r[:, 1] * force[:, 0]
+    slip = rel[:, :, 1].mean(axis=1) * model.n_free
+    opening = rel[:, :, 0] * model.n_free
+    point_forces = np.stack([n_point, t_point], axis=2).tolist()  # (m, point, (N, T))
+    joint_results = tuple(
+        JointResult(blocks=(ids[a], ids[b]), N=n, T=t, M=mo, state=s, length=le, slip=sl,
+                    opening=tuple(op), start=tuple(p), end=tuple(q), points=(tuple(pf[0]), tuple(pf[1])))
+        for a, b, n, t, mo, s, le, sl, op, p, q, pf in zip(
+            joints.block_a.tolist(), joints.block_b.tolist(), n_point.sum(axis=1).tolist(),
+            t_point.sum(axis=1).tolist(), moment.tolist(), states.astype(str).tolist(),
+            np.asarray(joints.length, dtype=float).tolist(), slip.tolist(), opening.tolist(),
+            np.asarray(joints.start, dtype=float).tolist(), np.asarray(joints.end, dtype=float).tolist(),
+            point_forces))
+    return blocks, joint_results, klass

@@ -1,0 +1,194 @@
+"""Typed results, plain frozen data in physical units (mm, rad, kN, kN·mm).
+
+- :class:`AssociativeResult` — Eq. 10: certified bounds, both residuals, mechanism, joint forces;
+- :class:`NonAssociativeResult` — Eq. 9: the verified state, its residuals, the search record,
+  the certificate (if any) and the associative result it was started from;
+- :class:`Comparison` — ``model="both"``: both results whole and their ratio.
+
+Each serialises to the JSON object of SPEC §3 with ``to_dict()``.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+from alma.status import Status
+
+
+@dataclass(frozen=True)
+class Bounds:
+    """Proven interval of the collapse multiplier: lower ≤ α_c ≤ upper."""
+
+    lower: float
+    upper: float
+
+    @property
+    def gap(self) -> float:
+        """Relative gap (upper − lower) / max(1, |upper|)."""
+        if not (math.isfinite(self.lower) and math.isfinite(self.upper)):
+            return float("nan")
+        return (self.upper - self.lower) / max(1.0, abs(self.upper))
+
+
+@dataclass(frozen=True)
+class BlockMotion:
+    """Collapse velocity of a free block: (u, v) at its centroid in mm, θ in rad."""
+
+    id: str
+    u: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class JointResult:
+    """A joint's generalised stresses and motion.
+
+    ``N`` (compression > 0) and ``T`` in kN, ``M`` in kN·mm about the joint's centre;
+    ``points`` the (N, T) of its two contact points (start, end) in kN; ``slip`` and ``opening``
+    relative velocities (mm per unit mechanism).
+    """
+
+    blocks: tuple[str, str]
+    N: float
+    T: float
+    M: float
+    state: str
+    length: float
+    slip: float
+    opening: tuple[float, float]
+    start: tuple[float, float]
+    end: tuple[float, float]
+    points: tuple[tuple[float, float], tuple[float, float]] = ((0.0, 0.0), (0.0, 0.0))
+
+
+@dataclass(frozen=True)
+class Result:
+    """What every analysis gives, shaped like ``scipy.optimize.OptimizeResult``."""
+
+    model: str
+    status: Status
+    message: str
+    alpha: float
+    bounds: Bounds
+    alpha_associative: float
+    blocks: tuple[BlockMotion, ...]
+    joints: tuple[JointResult, ...]
+    mechanism_class: str
+    residuals: dict[str, float]
+    timings: dict[str, float]  # seconds only
+    n_blocks: int = 0
+    n_joints: int = 0
+
+    @property
+    def success(self) -> bool:
+        """True when α is proven (``optimal``)."""
+        return self.status == Status.OPTIMAL
+
+    @property
+    def extra(self) -> dict[str, Any]:
+        """The fields beyond SPEC §3's minimum, by name (as ``to_dict`` writes them)."""
+        return {"n_blocks": self.n_blocks, "n_joints": self.n_joints}
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON object of SPEC §3 (non-finite numbers become null)."""
+        out: dict[str, Any] = {
+            "model": self.model,
+            "status": str(self.status),
+            "message": self.message,
+            "alpha": finite(self.alpha),
+            "bounds": {"lower": finite(self.bounds.lower), "upper": finite(self.bounds.upper),
+                       "gap": finite(self.bounds.gap)},
+            "alpha_associative": finite(self.alpha_associative),
+            "mechanism_class": self.mechanism_class,
+            "blocks": [{"id": b.id, "u": [float(x) for x in b.u]} for b in self.blocks],
+            "joints": [{"blocks": list(j.blocks), "N": j.N, "T": j.T, "M": j.M, "state": j.state,
+                        "length": j.length, "slip": j.slip, "opening": list(j.opening),
+                        "points": [{"N": n, "T": t} for n, t in j.points]}
+                       for j in self.joints],
+            "residuals": {k: finite(v) for k, v in self.residuals.items()},
+            "timings": dict(self.timings),
+        }
+        for key, value in self.extra.items():
+            out[key] = finite(value) if isinstance(value, float) else value
+        return out
+
+
+@dataclass(frozen=True)
+class AssociativeResult(Result):
+    """Eq. 10, certified from both sides: ``bounds`` are the static and kinematic values."""
+
+    iterations: int = 0
+
+    @property
+    def extra(self) -> dict[str, Any]:
+        return {**super().extra, "iterations": self.iterations}
+
+
+@dataclass(frozen=True)
+class NonAssociativeResult(Result):
+    """Eq. 9: the lowest verified collapse state found, and what is proven below it.
+
+    ``status`` is ``feasible`` for a verified state (``bounds.upper`` = α), ``optimal`` only when
+    a proof (certification) closes the bounds.  ``associative`` is the certified LP result the
+    search started from.
+    """
+
+    start: str | None = None
+    candidates: tuple[dict[str, Any], ...] = ()
+    starts: tuple[dict[str, Any], ...] = ()
+    search: dict[str, Any] = field(default_factory=dict)
+    certificate: dict[str, Any] | None = None
+    associative: AssociativeResult | None = None
+
+    @property
+    def extra(self) -> dict[str, Any]:
+        out = {**super().extra, "start": self.start, "candidates": list(self.candidates),
+               "starts": list(self.starts), "search": dict(self.search)}
+        if self.certificate is not None:
+            out["certificate"] = dict(self.certificate)
+        return out
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """``model="both"``: the associative and the non-associative result, whole, and their ratio."""
+
+    associative: AssociativeResult
+    nonassociative: NonAssociativeResult
+
+    @property
+    def ratio(self) -> float | None:
+        """α_nonassociative / α_associative (None where it is not defined)."""
+        a, b = self.associative.alpha, self.nonassociative.alpha
+        if not (math.isfinite(a) and math.isfinite(b)) or a == 0.0:
+            return None
+        return b / a
+
+    def __getattr__(self, name: str) -> Any:
+        # The top level reads as the non-associative result (SPEC §3: ``alpha`` of ``both``).
+        if name in ("associative", "nonassociative"):
+            raise AttributeError(name)
+        return getattr(self.nonassociative, name)
+
+    @property
+    def model(self) -> str:
+        return "both"
+
+    @property
+    def extra(self) -> dict[str, Any]:
+        return {**self.nonassociative.extra, "alpha_nonassociative": self.nonassociative.alpha,
+                "ratio": self.ratio}
+
+    def to_dict(self) -> dict[str, Any]:
+        """SPEC §3 for ``both``: the non-associative object at the top, ``alpha_associative``,
+        ``alpha_nonassociative``, ``ratio``, and both results whole."""
+        out = self.nonassociative.to_dict()
+        out.update(model="both", alpha_associative=finite(self.associative.alpha),
+                   alpha_nonassociative=finite(self.nonassociative.alpha), ratio=finite(self.ratio),
+                   associative=self.associative.to_dict(), nonassociative=self.nonassociative.to_dict())
+        return out
+
+
+def finite(value: float | None) -> float | None:
+    """``value`` as a float, or None when it is None or not finite (JSON has no inf/NaN)."""
+    return float(value) if value is not None and math.isfinite(value) else None
