@@ -847,7 +847,7 @@ def _run_dask(tasks: Sequence[_Task], scheduler: Any, record: Callable[[dict[str
     try:
         from distributed import Client, as_completed
     except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise RuntimeError("--scheduler needs the dask extra: pip install "alma[dask]"") from exc
+        raise RuntimeError("--scheduler needs the dask extra: pip install 'alma[dask]'") from exc
     own = not isinstance(scheduler, Client)
     client = Client(scheduler) if own else scheduler
     futures = []
