@@ -68,3 +68,14 @@ def test_large_wall_builds():
     m = build_model(wall)
     assert m.n_free == 100 * 100 + 50  # odd courses have one extra piece
     assert np.isfinite(m.equilibrium.data).all()
+
+
+def test_h_and_contact_points_are_built_once_per_model():
+    from alma.mechanics.contact_points import ContactPoints
+
+    model = alma.build_model(alma.paper_panel("running", "2:1", "4:1", 0.6))
+    assert model.equilibrium is model.equilibrium
+    assert ContactPoints.from_model(model) is ContactPoints.from_model(model)
+    other = model.with_friction(0.3)  # a new model: its own H and points, with the new friction
+    assert ContactPoints.from_model(other).friction.max() == 0.3
+    assert abs(other.equilibrium - model.equilibrium).max() > 0

@@ -46,6 +46,11 @@ class ContactPoints:
 
     @classmethod
     def from_model(cls, model: Model) -> "ContactPoints":
-        # Generator columns are ordered (joint, point, ±); the "+" columns carry n and +t.
-        return cls(normal=model.normal_part[:, 0::2].tocsc(), tangent=model.tangent_part[:, 0::2].tocsc(),
-                   friction=np.repeat(model.friction, 2), joint=np.repeat(np.arange(model.n_joints), 2))
+        """The contact points of ``model``, built once per model (kept on the model instance)."""
+        cached = model.__dict__.get("_contact_points")
+        if cached is None:
+            # Generator columns are ordered (joint, point, ±); the "+" columns carry n and +t.
+            cached = cls(normal=model.normal_part[:, 0::2].tocsc(), tangent=model.tangent_part[:, 0::2].tocsc(),
+                         friction=np.repeat(model.friction, 2), joint=np.repeat(np.arange(model.n_joints), 2))
+            model.__dict__["_contact_points"] = cached
+        return cached

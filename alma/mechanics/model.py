@@ -18,6 +18,7 @@ of 1000 blocks would be resolved 1000 times less accurately).
 from __future__ import annotations
 
 import dataclasses
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -61,9 +62,9 @@ class Model:
     def n_joints(self) -> int:
         return self.joints.count
 
-    @property
+    @functools.cached_property
     def equilibrium(self) -> sp.csc_matrix:
-        """H of ``H μ + f_0 + α f_L = 0`` (columns: joint k, point p, sign ±)."""
+        """H of ``H μ + f_0 + α f_L = 0`` (columns: joint k, point p, sign ±), built once per model."""
         scale = np.repeat(self.friction, 4)
         return (self.normal_part + self.tangent_part @ sp.diags(scale)).tocsc()
 
