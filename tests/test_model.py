@@ -79,3 +79,17 @@ def test_h_and_contact_points_are_built_once_per_model():
     other = model.with_friction(0.3)  # a new model: its own H and points, with the new friction
     assert ContactPoints.from_model(other).friction.max() == 0.3
     assert abs(other.equilibrium - model.equilibrium).max() > 0
+
+
+def test_a_joint_open_at_both_ends_is_separating_even_when_it_slips():
+    from alma.results.joints import joint_states
+
+    scene = alma.Scene.from_dict({"blocks": [
+        {"id": "ground", "vertices": [[-100, -50], [400, -50], [400, 0], [-100, 0]], "fixed": True},
+        {"id": "b", "vertices": [[0, 0], [240, 0], [240, 60], [0, 60]]}]})
+    model = alma.build_model(scene)
+    lift_and_slide = np.array([1.0, 0.5, 0.0])  # up and sideways: both ends open, and it slips
+    states, rel = joint_states(model, lift_and_slide)
+    assert (rel[0, :, 0] > 0).all() and abs(rel[0, :, 1]).max() > 0
+    assert list(states) == ["separating"]
+    assert list(joint_states(model, np.array([1.0, 0.0, 0.0]))[0]) == ["sliding"]

@@ -12,7 +12,10 @@ from alma.solve import MODELS, solve
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="alma", description="Limit analysis of masonry block structures.")
+    parser = argparse.ArgumentParser(
+        prog="alma", description="Limit analysis of masonry block structures.",
+        epilog="Scene files, commands and the JSON output: docs/scenes.md of alma's repository; "
+               "worked examples in examples/.")
     sub = parser.add_subparsers(dest="command", required=True)
 
     p_solve = sub.add_parser("solve", help="solve a scene file (SPEC §2)")

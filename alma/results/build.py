@@ -19,7 +19,7 @@ PROOF_GAP = 1e-7
 def associative_result(model: Model, lp: LPSolution, timings: dict[str, float]) -> AssociativeResult:
     """The certified result of Eq. 10 in physical units."""
     normal, shear = multipliers_to_forces(model, lp.multipliers)
-    blocks, joints, klass = physical(model, lp.mechanism, normal, shear, lp.solved)
+    blocks, joints, klass = physical(model, lp.mechanism, normal, shear, lp.solved, dilatant=True)
     return AssociativeResult(
         model="associative", status=Status(lp.status), message=lp.message, alpha=lp.alpha,
         bounds=Bounds(lower=lp.lower, upper=lp.upper), alpha_associative=lp.alpha, blocks=blocks,

@@ -21,22 +21,26 @@ MOTION_TOLERANCE = 1e-4
 JOINT_STATES = ("rest", "hinging", "sliding", "separating")
 
 
-def joint_states(model: Model, mechanism: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def joint_states(model: Model, mechanism: np.ndarray, *, dilatant: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """State of every joint under a mechanism, and the relative velocities (m, 2, 2).
 
-    sliding: tangential slip; hinging: one end opens, the other stays closed;
-    separating: both ends open; rest: no relative motion.
+    separating: both ends open (whether or not the joint also slips); sliding: tangential slip
+    with at least one end closed; hinging: one end opens, the other stays closed, no slip; rest:
+    no relative motion.  ``dilatant``: the mechanism obeys the associative flow rule (Eq. 6), in
+    which a sliding end opens by f |γ|; an end counts as open only beyond that.
     """
     rel = ContactPoints.from_model(model).relative_velocities(mechanism)
     scale = max(float(np.abs(rel).max(initial=0.0)), float(np.abs(mechanism).max(initial=0.0)), 1e-300)
     tol = MOTION_TOLERANCE * scale
     slip = rel[:, :, 1].mean(axis=1)
     opening = rel[:, :, 0]
+    if dilatant:
+        opening = opening - model.friction[:, None] * np.abs(rel[:, :, 1])
     state = np.full(model.n_joints, "rest", dtype=object)
     open_ends = (opening > tol).sum(axis=1)
     state[open_ends == 1] = "hinging"
-    state[open_ends == 2] = "separating"
     state[np.abs(slip) > tol] = "sliding"
+    state[open_ends == 2] = "separating"
     return state, rel
 
 
@@ -63,10 +67,11 @@ def multipliers_to_forces(model: Model, multipliers: np.ndarray) -> tuple[np.nda
 
 
 def physical(model: Model, mechanism: np.ndarray, normal: np.ndarray, shear: np.ndarray,
-             moving: bool) -> tuple[tuple[BlockMotion, ...], tuple[JointResult, ...], str]:
+             moving: bool, *, dilatant: bool = False) -> tuple[tuple[BlockMotion, ...], tuple[JointResult, ...], str]:
     """Blocks, joints and mechanism class of a solution (see the module docstring).
 
-    ``moving``: the mechanism is a real one (else every joint is at rest and the class 'none').
+    ``moving``: the mechanism is a real one (else every joint is at rest and the class 'none');
+    ``dilatant``: it obeys the associative flow rule (:func:`joint_states`).
     Block motions are reported so that the weight-averaged displacement along the live load is
     1 mm: Σ (w_i / W) d·u_i = 1.
     """
@@ -76,7 +81,7 @@ def physical(model: Model, mechanism: np.ndarray, normal: np.ndarray, shear: np.
     blocks = tuple(BlockMotion(id=ids[i], u=tuple(row))
                    for i, row in zip(model.free_blocks.tolist(), motion.tolist()))
     if moving and model.n_joints:
-        states, rel = joint_states(model, mechanism)
+        states, rel = joint_states(model, mechanism, dilatant=dilatant)
         klass = mechanism_class(model, mechanism, states)
     else:
         states = np.full(model.n_joints, "rest", dtype=object)
