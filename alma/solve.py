@@ -5,6 +5,7 @@ import dataclasses
 import time
 
 from alma.associative.lp import solve_lp
+from alma.associative.radenkovic import radenkovic_lower_bound
 from alma.certify.milp import certify as certify_milp
 from alma.geometry.contacts import Joints, find_joints
 from alma.geometry.scene import Scene, SceneError
@@ -49,6 +50,9 @@ def solve(scene: Scene | Model, model: str = "associative", *, settings: Setting
         raise ValueError("certify applies to the non-associative model (the associative result is "
                          "certified by its static and kinematic bounds): use model='nonassociative' or 'both'")
     built, timings = _build(scene, joints)
+    if model != "associative" and built.n_bounded:
+        raise ValueError("cohesion and ties are solved by the associative model so far; the non-associative "
+                         "search does not take bounded forces yet (use model='associative')")
     lp = solve_lp(built, settings.associative, time_limit=settings.time_limit)
     timings.update(solve_s=lp.solve_time, certify_s=lp.certify_time)
     assoc = associative_result(built, lp, timings)
@@ -108,6 +112,9 @@ def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settin
                                     associative_alpha=lp.alpha if lp.solved else None)
     timings["nonassociative_s"] = time.perf_counter() - t0
     timings.update({k: float(v) for k, v in solution.timings.items() if k.endswith("_s")})
+    t0 = time.perf_counter()
+    radenkovic = radenkovic_lower_bound(built, settings.associative)
+    timings["radenkovic_s"] = time.perf_counter() - t0
     certificate = None
     if certify:
         mechanisms = [c.mechanism for c in solution.candidates] + ([lp.mechanism] if lp.solved else [])
@@ -115,7 +122,7 @@ def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settin
         certificate = certify_milp(built, lp.alpha, mechanisms, time_limit=settings.time_limit or 60.0,
                                    alpha_best=best)
         timings["certification_s"] = certificate.time_s
-    return nonassociative_result(built, assoc, solution, timings, certificate)
+    return nonassociative_result(built, assoc, solution, timings, certificate, radenkovic)
 
 
 __all__ = ["MODELS", "SceneError", "solve"]

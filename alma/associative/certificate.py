@@ -15,32 +15,48 @@ from alma.backends.qdldl_backend import regularised_solver
 from alma.mechanics.model import Model
 
 
-def certify_pair(H: sp.csc_matrix, model: Model, u: np.ndarray, mu: np.ndarray,
-                 alpha: float, residual_tolerance: float = 1e-9, gap_tolerance: float = 1e-7) -> tuple[np.ndarray, np.ndarray, float, float, float]:
+def certify_pair(H: sp.csc_matrix, model: Model, u: np.ndarray, mu: np.ndarray, alpha: float,
+                 residual_tolerance: float = 1e-9, gap_tolerance: float = 1e-7, *,
+                 static: sp.csc_matrix | None = None, upper: np.ndarray | None = None
+                 ) -> tuple[np.ndarray, np.ndarray, float, float, float]:
     """Repair the interior-point pair into admissible fields (the two bounds).
 
     Both repairs are minimum-norm corrections solved with a sparse factorisation:
 
     - static: on the support S of μ and on α, (μ_S, α) += [H_S f_L]ᵀ y with
       (H_S H_Sᵀ + f_L f_Lᵀ) y = −r removes the equilibrium residual
-      r = H μ + f_0 + α f_L (the rank-one term by Sherman–Morrison); μ stays ≥ 0
-      because the step is far below the support threshold, and α moves by the
-      matching amount;
+      r = H μ + f_0 + α f_L (the rank-one term by Sherman–Morrison); μ stays in its bounds
+      because the step is far below the support threshold, and α moves by the matching amount;
     - kinematic: the flow-rule rows V that the interior point violates
       (Hᵀu < 0, by round-off) are closed by u += H_V w with (H_Vᵀ H_V) w = −H_Vᵀu
       (solved in velocity space) while nearly active rows are held; the first step that
       does not reduce the largest violation ends the repair; finally f_Lᵀu is restored
       by scaling.
 
+    ``static`` replaces H in the equilibrium (e.g. [H G] with the bounded columns of cohesion
+    and ties, :mod:`alma.mechanics.forces`) and ``upper`` bounds its multipliers above (∞ for
+    the cone generators); the flow rule stays Hᵀu ≥ 0.
+
     Returns (u, μ, α_lower, static residual, kinematic residual).
     """
-    live = model.live
-    HT = H.T.tocsr()
     norm = float(model.n_free)
-    u = u * (norm / (live @ u))
-    violated = np.zeros(HT.shape[0], dtype=bool)
+    u, kinematic_residual = _repair_mechanism(H, model.live, u * (norm / (model.live @ u)), norm,
+                                              residual_tolerance)
+    A = H if static is None else static
+    bound = np.full(A.shape[1], np.inf) if upper is None else np.asarray(upper, dtype=float)
+    u_final = u / norm
+    upper_estimate = float(-model.dead @ u_final / (model.live @ u_final))
+    mu, alpha, static_residual = _repair_field(A, model, np.clip(mu, 0.0, bound), alpha, bound,
+                                               upper_estimate, residual_tolerance, gap_tolerance)
+    return u_final, mu, float(alpha), static_residual, kinematic_residual
 
+
+def _repair_mechanism(H: sp.csc_matrix, live: np.ndarray, u: np.ndarray, norm: float,
+                      residual_tolerance: float) -> tuple[np.ndarray, float]:
+    """The kinematic repair (see :func:`certify_pair`); returns u and its relative violation."""
+    HT = H.T.tocsr()
     abs_HT = abs(HT)
+    violated = np.zeros(HT.shape[0], dtype=bool)
 
     def violation(x: np.ndarray) -> float:
         """Largest flow-rule violation relative to the size of its terms, max(0, −Hᵀu) / (|Hᵀ| |u|)."""
@@ -55,8 +71,7 @@ def certify_pair(H: sp.csc_matrix, model: Model, u: np.ndarray, mu: np.ndarray,
         power = HT @ u
         # Violated rows are closed; nearly active rows are held where they are (target 0 change).
         violated |= power < 1e-8 * float(np.abs(power).max(initial=0.0))
-        rows = np.flatnonzero(violated)
-        HV = HT[rows]
+        HV = HT[np.flatnonzero(violated)]
         # The minimum-norm step H_V w, (H_Vᵀ H_V + ε I) w = t, is computed in velocity space as
         # (H_V H_Vᵀ + ε I)⁻¹ H_V t (the same vector): that Gram matrix has the size of u (3 per
         # block) instead of one row per held generator, which is 3x larger and much denser.
@@ -64,39 +79,44 @@ def certify_pair(H: sp.csc_matrix, model: Model, u: np.ndarray, mu: np.ndarray,
         solve_u = regularised_solver(HV.T @ HV, eps)
         candidate = u.copy()
         for _ in range(3):
-            target = np.maximum(-(HV @ candidate), 0.0)
-            candidate = candidate + solve_u(HV.T @ target)
+            candidate = candidate + solve_u(HV.T @ np.maximum(-(HV @ candidate), 0.0))
         candidate = candidate * (norm / (live @ candidate))
         value = violation(candidate)
         if value >= best:
             # Rejected: u and hence the next round's row set and step would be the same again.
             break
         u, best = candidate, value
-    # Static side. Two correction spaces: the plain support of μ, then an affine-scaled one
-    # (column j moves in proportion to μ_j, so every positive multiplier can take part and μ
-    # stays ≥ 0) -- the second only when the first is not admissible or leaves a gap near the
-    # tolerance, since it costs another factorisation.
-    mu = np.maximum(mu, 0.0)
-    u_final = u / norm
-    upper_estimate = float(-model.dead @ u_final / (live @ u_final))
+    return u, best
+
+
+def _repair_field(A: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float, bound: np.ndarray,
+                  upper_estimate: float, residual_tolerance: float,
+                  gap_tolerance: float) -> tuple[np.ndarray, float, float]:
+    """The static repair (see :func:`certify_pair`).
+
+    Two correction spaces: the plain support of μ (multipliers strictly inside their bounds),
+    then an affine-scaled one (column j moves in proportion to its room, so every multiplier
+    off its bounds can take part and the bounds hold) -- the second only when the first is not
+    admissible or leaves a gap near the tolerance, since it costs another factorisation.
+    """
     best_static = None
     top = max(float(mu.max(initial=0.0)), 1e-300)
+    room = np.minimum(mu, bound - mu)
     for affine in (False, True):
         if affine:
             ok = best_static[2] <= 0.1 * residual_tolerance
             gap = (upper_estimate - best_static[1]) / max(1.0, abs(upper_estimate))
             if ok and gap <= 0.1 * gap_tolerance:
                 break
-            support = np.flatnonzero(mu > 1e-14 * top)
-            weight = np.sqrt(mu[support] / top)
+            support = np.flatnonzero(room > 1e-14 * top)
+            weight = np.sqrt(room[support] / top)
         else:
-            support = np.flatnonzero(mu > 1e-9 * top)
+            support = np.flatnonzero(room > 1e-9 * top)
             weight = np.ones(support.size)
-        trial = _static_correction(H, model, mu.copy(), alpha, support, weight)
+        trial = _static_correction(A, model, mu.copy(), alpha, support, weight, bound)
         if best_static is None or _better(trial, best_static, residual_tolerance):
             best_static = trial
-    mu, alpha, static_residual = best_static
-    return u / norm, mu, float(alpha), static_residual, best
+    return best_static
 
 
 def _better(trial: tuple, best: tuple, residual_tolerance: float) -> bool:
@@ -108,7 +128,8 @@ def _better(trial: tuple, best: tuple, residual_tolerance: float) -> bool:
 
 
 def _static_correction(H: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float,
-                       support: np.ndarray, weight: np.ndarray) -> tuple[np.ndarray, float, float]:
+                       support: np.ndarray, weight: np.ndarray,
+                       bound: np.ndarray) -> tuple[np.ndarray, float, float]:
     """Minimum-norm correction of (μ_S, α) removing the equilibrium residual (Eq. 3)."""
     live = model.live
     HS = H[:, support] @ sp.diags(weight)
@@ -126,7 +147,7 @@ def _static_correction(H: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: fl
             y = x - g_live * (live @ x) / denom  # (G + w² f_L f_Lᵀ)⁻¹(−r), Sherman–Morrison
             candidate = mu.copy()
             candidate[support] += weight * (HS.T @ y)
-            np.maximum(candidate, 0.0, out=candidate)
+            np.clip(candidate, 0.0, bound, out=candidate)
             new_alpha = alpha + float(live @ y) * alpha_weight**2
             if np.abs(H @ candidate + model.dead + new_alpha * live).max() >= np.abs(residual).max():
                 break

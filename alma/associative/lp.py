@@ -17,7 +17,7 @@ status.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -49,6 +49,8 @@ class LPSolution:
     iterations: int
     solve_time: float
     certify_time: float
+    #: (q,) τ of the bounded forces (cohesion, ties: ``Model.bounded``), 0 ≤ τ ≤ capacity.
+    bounded_forces: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def solved(self) -> bool:
@@ -71,29 +73,61 @@ def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, toler
     n, k = H.shape
     if k == 0:  # no joint: any motion is free, no load can be carried
         return _trivial(model, Status.NO_EQUILIBRIUM, "no joint carries the free blocks")
-    A = sp.vstack([sp.csr_matrix(model.live), -H.T]).tocsc()
-    b = np.zeros(1 + k)
-    b[0] = s.normalisation * float(model.n_free)
-    sol = solve_conic_lp(-model.dead, A, b, 1, k, tolerance=tol, max_iter=iters, time_limit=time_limit)
+    q_count = model.n_bounded
+    q, A, b = _kinematic_form(model, H, s.normalisation)
+    sol = solve_conic_lp(q, A, b, 1, A.shape[0] - 1, tolerance=tol, max_iter=iters, time_limit=time_limit)
     if sol.status in (Status.NO_COLLAPSE, Status.NO_EQUILIBRIUM):
         message = ("no kinematically admissible mechanism with positive live-load work"
                    if sol.status == Status.NO_COLLAPSE else
                    "no statically admissible stress field for any load multiplier")
         return _trivial(model, sol.status, message, iterations=sol.iterations, solve_time=sol.solve_time)
     t0 = time.perf_counter()
-    u, mu, lower, static_residual, kinematic_residual = certify_pair(
-        H, model, sol.x, sol.z[1:].copy(), -sol.z[0], s.residual_tolerance, s.gap_tolerance)
-    # A mechanism that breaks the flow rule by v_j only proves α ≤ (−f_0ᵀu + Σ v_j μ*_j) / f_Lᵀu:
-    # the violation work is charged with the certified stress field's multipliers.
+    static = sp.hstack([H, model.bounded]).tocsc() if q_count else None
+    bound = np.concatenate([np.full(k, np.inf), model.capacity]) if q_count else None
+    u, fields, lower, static_residual, kinematic_residual = certify_pair(
+        H, model, sol.x[:n], sol.z[1:1 + k + q_count].copy(), -sol.z[0], s.residual_tolerance,
+        s.gap_tolerance, static=static, upper=bound)
+    mu, tau = fields[:k], fields[k:]
+    # A mechanism that breaks the flow rule by v_j only proves α ≤ (−f_0ᵀu + D(u) + Σ v_j μ*_j) / f_Lᵀu:
+    # the violation work is charged with the certified stress field's multipliers; D(u) is the
+    # dissipation of the bounded forces, Σ capacity · max(0, −Gᵀu).
     violation_work = float(np.maximum(-(H.T @ u), 0.0) @ mu)
-    upper = float((-model.dead @ u + violation_work) / (model.live @ u))
+    upper = float((-model.dead @ u + dissipation(model, u) + violation_work) / (model.live @ u))
     status, message, lower, upper = _judge(s, sol.status, sol.raw_status, lower, upper,
                                            static_residual, kinematic_residual)
-    alpha = upper if np.isfinite(upper) else float(-model.dead @ u / (model.live @ u))
+    alpha = upper if np.isfinite(upper) else float((-model.dead @ u + dissipation(model, u)) / (model.live @ u))
     return LPSolution(status=status, message=message, alpha=alpha, lower=lower, upper=upper,
                       mechanism=u, multipliers=mu, static_residual=static_residual,
                       kinematic_residual=kinematic_residual, iterations=sol.iterations,
-                      solve_time=sol.solve_time, certify_time=time.perf_counter() - t0)
+                      solve_time=sol.solve_time, certify_time=time.perf_counter() - t0, bounded_forces=tau)
+
+
+def dissipation(model: Model, u: np.ndarray) -> float:
+    """Work of the bounded forces at their capacity on the mechanism u: Σ capacity · max(0, −Gᵀu)
+    (cohesion c l t |γ|, ties strength · elongation rate), dimensionless."""
+    if not model.n_bounded:
+        return 0.0
+    return float(model.capacity @ np.maximum(-(model.bounded.T @ u), 0.0))
+
+
+def _kinematic_form(model: Model, H: sp.csc_matrix, normalisation: float
+                    ) -> tuple[np.ndarray, sp.csc_matrix, np.ndarray]:
+    """Eq. 10 for Clarabel: ``min qᵀx s.t. A x + s = b`` (first row an equality, the rest s ≥ 0).
+
+    Without bounded forces x = u: min −f₀ᵀu, f_Lᵀu = N, Hᵀu ≥ 0.  With them x = (u, w): the
+    objective gains Σ capacity · w and w ≥ −Gᵀu, w ≥ 0, so that w is the positive part of the
+    bounded forces' negative power; their duals are τ (0 ≤ τ ≤ capacity).
+    """
+    n, k = H.shape
+    q_count = model.n_bounded
+    b = np.zeros(1 + k + 2 * q_count)
+    b[0] = normalisation * float(model.n_free)
+    if not q_count:
+        return -model.dead, sp.vstack([sp.csr_matrix(model.live), -H.T]).tocsc(), b
+    G, eye = model.bounded, sp.identity(q_count, format="csr")
+    A = sp.bmat([[sp.csr_matrix(model.live), None], [-H.T, None], [-G.T, -eye],
+                 [sp.csr_matrix((q_count, n)), -eye]], format="csc")
+    return np.concatenate([-model.dead, model.capacity]), A, b
 
 
 def _judge(s: AssociativeSettings, solver_status: Status, raw: str, lower: float, upper: float,

@@ -15,16 +15,14 @@ from typing import Any, Iterable, Mapping, Sequence
 import numpy as np
 
 from alma.geometry.contacts import find_joints, find_overlaps
-
-
-class SceneError(ValueError):
-    """A scene broke a rule of SPEC §2; the message names the block and the rule."""
-
+from alma.geometry.loads import (PointLoad, Settlement, Tie, check_items, load_from_dict, load_to_dict,
+                                 settlement_from_dict, settlement_to_dict, tie_from_dict, tie_to_dict)
+from alma.geometry.parsing import SceneError, direction as _direction, number as _number
 
 _SCENE_KEYS = {"name", "thickness", "unit_weight", "friction", "cohesion", "blocks",
-               "live_load", "gravity", "joints"}
-_BLOCK_KEYS = {"id", "vertices", "fixed", "weight"}
-_LIVE_KEYS = {"direction"}
+               "live_load", "gravity", "joints", "loads", "ties"}
+_BLOCK_KEYS = {"id", "vertices", "fixed", "weight", "settlement"}
+_LIVE_KEYS = {"direction", "self_weight"}
 _JOINT_KEYS = {"blocks", "friction", "cohesion"}
 
 
@@ -36,6 +34,7 @@ class Block:
     vertices: np.ndarray
     fixed: bool = False
     weight: float | None = None  # kN, overrides area × thickness × unit weight
+    settlement: Settlement | None = None  # a prescribed motion of a support (fixed blocks only)
 
     @property
     def area(self) -> float:
@@ -68,6 +67,10 @@ class Scene:
     gravity: tuple[float, float] = (0.0, -1.0)
     live_load_direction: tuple[float, float] = (1.0, 0.0)
     joint_overrides: tuple[JointOverride, ...] = field(default=())
+    loads: tuple[PointLoad, ...] = ()
+    ties: tuple[Tie, ...] = ()
+    #: The live load includes each free block's weight along ``live_load_direction``.
+    live_self_weight: bool = True
     #: Set by :meth:`validate`: a scene built by hand is validated before it is solved.
     validated: bool = field(default=False, compare=False, repr=False)
 
@@ -105,6 +108,9 @@ class Scene:
             gravity=_direction(data.get("gravity", (0.0, -1.0)), "scene: gravity"),
             live_load_direction=_direction(live.get("direction", (1.0, 0.0)), "live_load: direction"),
             joint_overrides=overrides,
+            loads=tuple(load_from_dict(raw, i) for i, raw in enumerate(_list(data, "loads"))),
+            ties=tuple(tie_from_dict(raw, i) for i, raw in enumerate(_list(data, "ties"))),
+            live_self_weight=_flag(live.get("self_weight", True), "live_load: self_weight"),
         )
         if validate:
             scene.validate()
@@ -120,7 +126,7 @@ class Scene:
             "cohesion": self.cohesion,
             "gravity": list(self.gravity),
             "blocks": [],
-            "live_load": {"direction": list(self.live_load_direction)},
+            "live_load": {"direction": list(self.live_load_direction), "self_weight": self.live_self_weight},
         }
         for block in self.blocks:
             entry: dict[str, Any] = {"id": block.id, "vertices": block.vertices.tolist()}
@@ -128,7 +134,13 @@ class Scene:
                 entry["fixed"] = True
             if block.weight is not None:
                 entry["weight"] = block.weight
+            if block.settlement is not None:
+                entry["settlement"] = settlement_to_dict(block.settlement)
             out["blocks"].append(entry)
+        if self.loads:
+            out["loads"] = [load_to_dict(load) for load in self.loads]
+        if self.ties:
+            out["ties"] = [tie_to_dict(tie) for tie in self.ties]
         if self.joint_overrides:
             out["joints"] = [
                 {k: v for k, v in (("blocks", list(o.blocks)), ("friction", o.friction),
@@ -193,6 +205,7 @@ class Scene:
                 i, j = sorted(index[k] for k in override.blocks)
                 if (i, j) not in pairs:
                     raise SceneError(f"joint {list(override.blocks)}: these blocks do not touch")
+        check_items(self.blocks, self.loads, self.ties)
         object.__setattr__(self, "validated", True)
 
     # --------------------------------------------------------------- helpers
@@ -305,7 +318,12 @@ def _block_from_dict(raw: Any, index: int) -> Block:
         weight = _number(weight, f"block '{block_id}': weight")
         if weight < 0:
             raise SceneError(f"block '{block_id}': weight must be >= 0")
-    return Block(id=block_id, vertices=_ccw(vertices), fixed=fixed, weight=weight)
+    settlement = None
+    if raw.get("settlement") is not None:
+        if not fixed:
+            raise SceneError(f"block '{block_id}': a settlement is a motion of a support; the block is not fixed")
+        settlement = settlement_from_dict(raw["settlement"], block_id)
+    return Block(id=block_id, vertices=_ccw(vertices), fixed=fixed, weight=weight, settlement=settlement)
 
 
 def _joint_override(raw: Any, index: int) -> JointOverride:
@@ -330,24 +348,14 @@ def _joint_override(raw: Any, index: int) -> JointOverride:
     return JointOverride(blocks=(str(pair[0]), str(pair[1])), friction=friction, cohesion=cohesion)
 
 
-def _number(value: Any, what: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise SceneError(f"{what} must be a number, got {value!r}")
-    value = float(value)
-    if not math.isfinite(value):
-        raise SceneError(f"{what} is NaN or inf")
+def _list(data: Mapping[str, Any], key: str) -> list[Any]:
+    value = data.get(key) or []
+    if not isinstance(value, list):
+        raise SceneError(f"scene: '{key}' must be a list")
     return value
 
 
-def _direction(value: Iterable[Any], what: str) -> tuple[float, float]:
-    try:
-        items = list(value)
-    except TypeError as exc:
-        raise SceneError(f"{what} must be a pair [x, y]") from exc
-    if len(items) != 2:
-        raise SceneError(f"{what} must be a pair [x, y]")
-    x, y = (_number(v, what) for v in items)
-    norm = math.hypot(x, y)
-    if norm == 0:
-        raise SceneError(f"{what} must be a non-zero vector")
-    return (x / norm, y / norm)
+def _flag(value: Any, what: str) -> bool:
+    if not isinstance(value, bool):
+        raise SceneError(f"{what} must be true or false, got {value!r}")
+    return value

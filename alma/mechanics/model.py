@@ -26,6 +26,7 @@ import scipy.sparse as sp
 
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
 from alma.geometry.scene import Scene, SceneError
+from alma.mechanics.forces import Frame, bounded_columns, point_load_vectors
 
 #: kN per (mm³ · kN/m³)
 _MM3_TO_M3 = 1e-9
@@ -53,6 +54,15 @@ class Model:
     tangent_part: sp.csc_matrix  # the ±t part, multiplied by the joint friction
     dead: np.ndarray  # (3 n_free,) f_0, dimensionless
     live: np.ndarray  # (3 n_free,) f_L, dimensionless
+    #: Bounded forces (cohesion, ties; :mod:`alma.mechanics.forces`): columns G, 0 ≤ τ ≤ capacity.
+    bounded: sp.csc_matrix | None = None
+    capacity: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
+    bounded_labels: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0, dtype=object))
+
+    @property
+    def n_bounded(self) -> int:
+        """Number of bounded-force columns (0 without cohesion and ties)."""
+        return int(self.capacity.shape[0])
 
     @property
     def n_free(self) -> int:
@@ -78,8 +88,6 @@ class Model:
 
 def build_model(scene: Scene, joints: Joints | None = None) -> Model:
     """Assemble the sparse model of a validated scene (vectorised, no loop over joints)."""
-    if scene.cohesion != 0 or any(o.cohesion for o in scene.joint_overrides):
-        raise SceneError("scene: cohesion > 0 is not supported yet by the solvers (set it to 0)")
     joints = find_joints(scene) if joints is None else joints
     blocks = scene.blocks
     fixed = np.array([b.fixed for b in blocks])
@@ -106,15 +114,20 @@ def build_model(scene: Scene, joints: Joints | None = None) -> Model:
     friction = _joint_friction(scene, joints)
     normal_part, tangent_part = _generator_matrices(joints, free_index, centroid, origin, length_scale)
 
+    frame = Frame(free_index, centroid, origin, length_scale, force_scale)
+    dead, live = point_load_vectors(scene, frame, centroids)
     share = weight / force_scale
-    dead = np.zeros(3 * free_blocks.size)
-    live = np.zeros(3 * free_blocks.size)
-    dead[0::3], dead[1::3] = share * scene.gravity[0], share * scene.gravity[1]
-    live[0::3], live[1::3] = share * scene.live_load_direction[0], share * scene.live_load_direction[1]
+    dead[0::3] += share * scene.gravity[0]
+    dead[1::3] += share * scene.gravity[1]
+    if scene.live_self_weight:
+        live[0::3] += share * scene.live_load_direction[0]
+        live[1::3] += share * scene.live_load_direction[1]
+    bounded, capacity, labels = bounded_columns(scene, joints, frame)
     return Model(scene=scene, joints=joints, free_index=free_index, free_blocks=free_blocks,
                  length_scale=length_scale, force_scale=force_scale, origin=origin,
                  centroid=centroid, weight=weight, friction=friction,
-                 normal_part=normal_part, tangent_part=tangent_part, dead=dead, live=live)
+                 normal_part=normal_part, tangent_part=tangent_part, dead=dead, live=live,
+                 bounded=bounded, capacity=capacity, bounded_labels=labels)
 
 
 def _joint_friction(scene: Scene, joints: Joints) -> np.ndarray:

@@ -8,7 +8,7 @@ import numpy as np
 
 from alma.associative.lp import LPSolution
 from alma.mechanics.model import Model
-from alma.results.joints import multipliers_to_forces, physical
+from alma.results.joints import bounded_forces, multipliers_to_forces, physical
 from alma.results.types import AssociativeResult, Bounds, Comparison, NonAssociativeResult, finite
 from alma.status import Status
 
@@ -19,27 +19,34 @@ PROOF_GAP = 1e-7
 def associative_result(model: Model, lp: LPSolution, timings: dict[str, float]) -> AssociativeResult:
     """The certified result of Eq. 10 in physical units."""
     normal, shear = multipliers_to_forces(model, lp.multipliers)
-    blocks, joints, klass = physical(model, lp.mechanism, normal, shear, lp.solved, dilatant=True)
+    cohesive_shear, ties = bounded_forces(model, lp.bounded_forces, lp.mechanism)
+    blocks, joints, klass = physical(model, lp.mechanism, normal, shear + cohesive_shear, lp.solved,
+                                     dilatant=True)
     return AssociativeResult(
         model="associative", status=Status(lp.status), message=lp.message, alpha=lp.alpha,
         bounds=Bounds(lower=lp.lower, upper=lp.upper), alpha_associative=lp.alpha, blocks=blocks,
         joints=joints, mechanism_class=klass,
         residuals={"static_equilibrium": lp.static_residual, "kinematic_flow_rule": lp.kinematic_residual},
-        timings=dict(timings), n_blocks=model.n_free, n_joints=model.n_joints, iterations=lp.iterations)
+        timings=dict(timings), n_blocks=model.n_free, n_joints=model.n_joints, iterations=lp.iterations,
+        ties=ties)
 
 
 def nonassociative_result(model: Model, associative: AssociativeResult, solution: Any,
-                          timings: dict[str, float], certificate: Any = None) -> NonAssociativeResult:
+                          timings: dict[str, float], certificate: Any = None,
+                          radenkovic: float = -math.inf) -> NonAssociativeResult:
     """The result of Eq. 9 from the search's ``solution`` (and a MILP ``certificate``, if any).
 
     The status says what is shown: ``feasible`` for a verified state, ``optimal`` only when the
     certificate's proven lower bound meets it, ``limit_reached`` when the user's time cap cut the
     search, ``not_converged`` when no state was verified.  ``bounds.upper`` is the best state's α;
-    ``bounds.lower`` the certificate's bound, else 0 (nothing more is proven).
+    ``bounds.lower`` the larger of what the certificate proves and Radenkovic's bound
+    (:mod:`alma.associative.radenkovic`).
     """
     best = solution.best
-    lower = float(certificate.lower) if certificate is not None else 0.0
+    proven = certificate is not None and certificate.status != "failed"
+    lower = max(float(certificate.lower) if proven else -math.inf, radenkovic)
     record = _record(solution, certificate)
+    record["search"]["radenkovic_lower_bound"] = finite(radenkovic)
     if best is None:
         status, message = _unverified(associative, solution)
         if status == Status.NO_EQUILIBRIUM:
@@ -82,7 +89,7 @@ def _verified(associative: AssociativeResult, solution: Any, best: Any, certific
               lower: float) -> tuple[Status, str, float]:
     message = solution.message
     if best.alpha < 0:
-        lower = -math.inf if certificate is None else min(lower, best.alpha)
+        lower = min(lower, best.alpha)
         if associative.status == Status.NO_EQUILIBRIUM:
             return Status.NO_EQUILIBRIUM, f"{message}; α_nonassociative ≤ α_associative < 0 (Radenkovic)", lower
         message = (f"{message}: a verified collapse state at α = {best.alpha:.6g} < 0, so the structure "
@@ -91,8 +98,9 @@ def _verified(associative: AssociativeResult, solution: Any, best: Any, certific
     if _stopped(solution):
         return Status.LIMIT_REACHED, f"the time limit stopped the search; {message}", lower
     gap = (best.alpha - lower) / max(1.0, abs(best.alpha))
-    if certificate is not None and getattr(certificate, "status", "") == "proven" and gap <= PROOF_GAP:
-        return Status.OPTIMAL, f"{message}; proven minimum (certificate gap {gap:.1e})", lower
+    if gap <= PROOF_GAP:
+        how = "the certificate" if lower != radenkovic else "Radenkovic's bound"
+        return Status.OPTIMAL, f"{message}; proven minimum ({how}, gap {gap:.1e})", lower
     return Status.FEASIBLE, message, lower
 
 

@@ -108,3 +108,28 @@ def physical(model: Model, mechanism: np.ndarray, normal: np.ndarray, shear: np.
             np.asarray(joints.start, dtype=float).tolist(), np.asarray(joints.end, dtype=float).tolist(),
             point_forces))
     return blocks, joint_results, klass
+
+
+def bounded_forces(model: Model, tau: np.ndarray, mechanism: np.ndarray
+                   ) -> tuple[np.ndarray, tuple[dict[str, float | str], ...]]:
+    """The bounded forces (:mod:`alma.mechanics.forces`) in physical form.
+
+    Returns the cohesive shear of each contact point (dimensionless, half of each joint's
+    τ⁺ − τ⁻ at each of its two points: a shear along the joint line has no moment about its
+    centre) and, for every tie, its id, force (kN) and elongation rate (mm per unit mechanism).
+    """
+    shear = np.zeros(2 * model.n_joints)
+    labels = model.bounded_labels
+    if not model.n_bounded:
+        return shear, ()
+    cohesive = np.array([str(x).startswith("j") for x in labels])
+    if cohesive.any():
+        joint = np.array([int(str(x)[1:-1]) for x in labels[cohesive]])
+        sign = np.array([1.0 if str(x).endswith("+") else -1.0 for x in labels[cohesive]])
+        net = np.zeros(model.n_joints)
+        np.add.at(net, joint, sign * tau[cohesive])
+        shear += np.repeat(0.5 * net, 2)
+    power = model.bounded.T @ mechanism if mechanism.size else np.zeros(model.n_bounded)
+    ties = tuple({"id": str(x)[4:], "force": float(f * model.force_scale), "elongation": float(-p * model.n_free)}
+                 for x, f, p, c in zip(labels, tau, power, cohesive) if not c)
+    return shear, ties

@@ -118,10 +118,15 @@ class AssociativeResult(Result):
     """Eq. 10, certified from both sides: ``bounds`` are the static and kinematic values."""
 
     iterations: int = 0
+    #: Each tie's id, force (kN) and elongation rate (mm per unit mechanism).
+    ties: tuple[dict[str, Any], ...] = ()
 
     @property
     def extra(self) -> dict[str, Any]:
-        return {**super().extra, "iterations": self.iterations}
+        out = {**super().extra, "iterations": self.iterations}
+        if self.ties:
+            out["ties"] = [dict(t) for t in self.ties]
+        return out
 
 
 @dataclass(frozen=True)
