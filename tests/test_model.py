@@ -56,11 +56,13 @@ def test_no_equilibrium_and_no_collapse():
     assert alma.solve(boxed).status == "no_collapse"
 
 
-def test_cohesion_refused():
-    with pytest.raises(alma.SceneError, match="cohesion"):
-        alma.solve(alma.Scene.from_dict({"cohesion": 0.1, "blocks": [
-            {"id": "g", "vertices": [[-1, -1], [3, -1], [3, 0], [-1, 0]], "fixed": True},
-            {"id": "b", "vertices": [[0, 0], [2, 0], [2, 1], [0, 1]]}]}))
+def test_cohesion_refused_by_the_nonassociative_search_only():
+    scene = alma.Scene.from_dict({"cohesion": 0.1, "blocks": [
+        {"id": "g", "vertices": [[-1, -1], [3, -1], [3, 0], [-1, 0]], "fixed": True},
+        {"id": "b", "vertices": [[0, 0], [2, 0], [2, 1], [0, 1]]}]})
+    assert alma.solve(scene).status == "optimal"
+    with pytest.raises(ValueError, match="cohesion and ties"):
+        alma.solve(scene, model="nonassociative")
 
 
 def test_large_wall_builds():

@@ -58,7 +58,7 @@ def nonassociative_result(model: Model, associative: AssociativeResult, solution
             bounds=Bounds(lower=lower, upper=associative.bounds.upper), alpha_associative=associative.alpha,
             blocks=blocks, joints=joints, mechanism_class=klass, residuals={}, timings=dict(timings),
             n_blocks=model.n_free, n_joints=model.n_joints, associative=associative, **record)
-    status, message, lower = _verified(associative, solution, best, certificate, lower)
+    status, message, lower = _verified(associative, solution, best, lower, radenkovic)
     blocks, joints, klass = physical(model, best.mechanism / model.n_free, best.normal, best.shear, True)
     return NonAssociativeResult(
         model="nonassociative", status=status, message=message, alpha=best.alpha,
@@ -85,8 +85,8 @@ def _unverified(associative: AssociativeResult, solution: Any) -> tuple[Status, 
     return Status.NOT_CONVERGED, solution.message
 
 
-def _verified(associative: AssociativeResult, solution: Any, best: Any, certificate: Any,
-              lower: float) -> tuple[Status, str, float]:
+def _verified(associative: AssociativeResult, solution: Any, best: Any, lower: float,
+              radenkovic: float) -> tuple[Status, str, float]:
     message = solution.message
     if best.alpha < 0:
         lower = min(lower, best.alpha)
