@@ -10,10 +10,11 @@ from alma.geometry.scene import Block, Scene, SceneError, load_scene
 from alma.mechanics.model import Model, build_model
 from alma.results.types import (AssociativeResult, Bounds, Comparison, NonAssociativeResult, Result)
 from alma.settings import AssociativeSettings, CertifySettings, SearchSettings, Settings
+from alma.settle import SettlementResult, settle
 from alma.solve import solve
 from alma.status import Status
 
 __all__ = ["AssociativeResult", "AssociativeSettings", "Block", "Bounds", "CertifySettings", "Comparison",
            "Joints", "Model", "NonAssociativeResult", "Result", "Scene", "SceneError", "SearchSettings",
-           "Settings", "Status", "build_model", "find_joints", "load_scene", "paper_panel", "solve", "wall"]
+           "Settings", "SettlementResult", "Status", "build_model", "find_joints", "load_scene", "paper_panel", "settle", "solve", "wall"]
 __version__ = "0.2.0"

@@ -75,7 +75,7 @@ def solve_conic_lp(q: np.ndarray, A: sp.spmatrix, b: np.ndarray, n_zero: int, n_
     """
     n = q.shape[0]
     P = sp.csc_matrix((n, n)) if quadratic is None else sp.csc_matrix(quadratic)
-    cones = [clarabel.ZeroConeT(n_zero), clarabel.NonnegativeConeT(n_nonneg)]
+    cones = ([clarabel.ZeroConeT(n_zero)] if n_zero else []) + [clarabel.NonnegativeConeT(n_nonneg)]
     start = time.perf_counter()
     sol = clarabel.DefaultSolver(P, np.asarray(q, dtype=float), sp.csc_matrix(A), np.asarray(b, dtype=float),
                                  cones, settings(tolerance, max_iter, time_limit=time_limit, refine=refine)).solve()

@@ -4,10 +4,12 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import types
 from pathlib import Path
 
 from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, paper_panel
 from alma.geometry.scene import Scene, SceneError, load_scene
+from alma.settle import after_settlement, settle
 from alma.solve import MODELS, solve
 
 
@@ -20,6 +22,8 @@ def main(argv: list[str] | None = None) -> int:
 
     p_solve = sub.add_parser("solve", help="solve a scene file (SPEC §2)")
     p_solve.add_argument("scene", help="scene JSON file")
+    p_solve.add_argument("--after-settlement", action="store_true",
+                         help="solve the settled structure: cohesion lost on every joint its settlement opens")
     _add_common(p_solve)
     p_solve.set_defaults(func=_cmd_solve)
 
@@ -31,6 +35,12 @@ def main(argv: list[str] | None = None) -> int:
     p_panel.add_argument("--export-scene", metavar="OUT.json", help="write the panel as a scene file")
     _add_common(p_panel)
     p_panel.set_defaults(func=_cmd_panel)
+
+    p_settle = sub.add_parser("settle", help="the crack pattern a prescribed support settlement opens (SPEC §3)")
+    p_settle.add_argument("scene", help="scene JSON file with a 'settlement' on a fixed block")
+    p_settle.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
+    p_settle.add_argument("--plot", metavar="OUT.png", help="write a picture of the settlement mechanism")
+    p_settle.set_defaults(func=_cmd_settle)
 
     try:
         from alma.cli import study as study_cli
@@ -60,9 +70,37 @@ def _add_common(p: argparse.ArgumentParser) -> None:
 def _cmd_solve(args: argparse.Namespace) -> int:
     try:
         scene = load_scene(args.scene)
-    except SceneError as exc:
+        if args.after_settlement:
+            scene = after_settlement(scene)
+    except (SceneError, ValueError) as exc:
         return _invalid(exc, args)
     return _run(scene, args)
+
+
+def _cmd_settle(args: argparse.Namespace) -> int:
+    try:
+        scene = load_scene(args.scene)
+    except SceneError as exc:
+        return _invalid(exc, args)
+    result = settle(scene)
+    if args.plot:
+        from alma.report.plot import plot_mechanism
+
+        picture = types.SimpleNamespace(blocks=result.blocks, joints=result.joints, status=result.status,
+                                        alpha=float("nan"), model="settlement", mechanism_class="settlement")
+        plot_mechanism(scene, picture, args.plot, title=scene.name or None)
+    if args.json:
+        print(json.dumps(result.to_dict()))
+        return 0
+    b = result.bounds
+    print(f"{scene.name or 'scene'}")
+    print(f"  status     {result.status} — {result.message}")
+    print(f"  work       {result.work:.6g} kN·mm  (bounds [{b.lower:.9g}, {b.upper:.9g}])")
+    for r in result.reactions:
+        print(f"  reaction   {r['block']}: force [{r['force'][0]:.6g}, {r['force'][1]:.6g}] kN, "
+              f"moment {r['moment']:.6g} kN·mm")
+    print(f"  opened     {len(result.opened)} joints")
+    return 0
 
 
 def _cmd_panel(args: argparse.Namespace) -> int:

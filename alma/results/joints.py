@@ -31,17 +31,21 @@ def joint_states(model: Model, mechanism: np.ndarray, *, dilatant: bool = False)
     """
     rel = ContactPoints.from_model(model).relative_velocities(mechanism)
     scale = max(float(np.abs(rel).max(initial=0.0)), float(np.abs(mechanism).max(initial=0.0)), 1e-300)
-    tol = MOTION_TOLERANCE * scale
+    return states_from_relative(rel, model.friction, MOTION_TOLERANCE * scale, dilatant=dilatant), rel
+
+
+def states_from_relative(rel: np.ndarray, friction: np.ndarray, tol: float, *, dilatant: bool) -> np.ndarray:
+    """Joint states (see :func:`joint_states`) from relative velocities (m, point, (normal, tangent))."""
     slip = rel[:, :, 1].mean(axis=1)
     opening = rel[:, :, 0]
     if dilatant:
-        opening = opening - model.friction[:, None] * np.abs(rel[:, :, 1])
-    state = np.full(model.n_joints, "rest", dtype=object)
+        opening = opening - friction[:, None] * np.abs(rel[:, :, 1])
+    state = np.full(rel.shape[0], "rest", dtype=object)
     open_ends = (opening > tol).sum(axis=1)
     state[open_ends == 1] = "hinging"
     state[np.abs(slip) > tol] = "sliding"
     state[open_ends == 2] = "separating"
-    return state, rel
+    return state
 
 
 def mechanism_class(model: Model, mechanism: np.ndarray, states: np.ndarray) -> str:

@@ -1,0 +1,209 @@
+"""Foundation settlements: the crack pattern a prescribed support motion opens, and its statics.
+
+A support (a fixed block) may carry a small rigid ``settlement`` (SPEC §2).  The free blocks
+then take the motion u that is compatible with it (no interpenetration and the Coulomb flow
+rule of Eq. 6 at every contact point, now relative to the moving support) and lets the dead
+load do the most work — the piecewise-rigid-displacement approach of Iannuzzo et al.::
+
+    W* = max  f₀ᵀu        s.t.  Hᵀu + h ≥ 0                       (kinematic)
+       = min  hᵀμ         s.t.  H μ + f₀ = 0,  μ ≥ 0              (static, its dual)
+
+where h_j is the power of generator j under the support's own motion.  The static side is a
+stress field in equilibrium with the dead load whose reactions on the settling supports do the
+least work on the prescribed motion: for a spreading arch, the minimum thrust.  By virtual work
+the two values meet at the optimum, and an admissible pair certifies W* from both sides.
+Units: mm, rad, kN, kN·mm (work in kN·mm).
+"""
+from __future__ import annotations
+
+import math
+import time
+import types
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from alma.associative.certificate import _repair_field
+from alma.backends.clarabel_backend import solve_conic_lp
+from alma.geometry.scene import JointOverride, Scene
+from alma.mechanics.model import Model, build_model
+from alma.mechanics.contact_points import ContactPoints
+from alma.results.joints import MOTION_TOLERANCE, multipliers_to_forces, physical, states_from_relative
+from alma.results.types import BlockMotion, Bounds, JointResult, finite
+from alma.settings import AssociativeSettings
+from alma.status import Status
+
+
+@dataclass(frozen=True)
+class SettlementResult:
+    """The settlement mechanism, its dead-load work and the reactions of the settling supports."""
+
+    status: Status
+    message: str
+    work: float  # kN·mm: the dead load's work on the mechanism (= the reactions' on the settlement)
+    bounds: Bounds  # certified interval of the work
+    reactions: tuple[dict[str, Any], ...]  # per settling support: block, force [Fx, Fy] kN, moment kN·mm
+    blocks: tuple[BlockMotion, ...]  # displacements in mm (rad), for the prescribed settlement
+    joints: tuple[JointResult, ...]
+    residuals: dict[str, float]
+    timings: dict[str, float]
+
+    @property
+    def opened(self) -> tuple[tuple[str, str], ...]:
+        """The joints the settlement opens or slides (the crack pattern)."""
+        return tuple(j.blocks for j in self.joints if j.state != "rest")
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON object of ``alma settle`` (SPEC §3)."""
+        return {"status": str(self.status), "message": self.message, "work": finite(self.work),
+                "bounds": {"lower": finite(self.bounds.lower), "upper": finite(self.bounds.upper)},
+                "reactions": [dict(r) for r in self.reactions],
+                "blocks": [{"id": b.id, "u": list(b.u)} for b in self.blocks],
+                "joints": [{"blocks": list(j.blocks), "N": j.N, "T": j.T, "M": j.M, "state": j.state,
+                            "opening": list(j.opening), "slip": j.slip} for j in self.joints],
+                "residuals": {k: finite(v) for k, v in self.residuals.items()}, "timings": dict(self.timings)}
+
+
+def settle(scene: Scene, settings: AssociativeSettings | None = None) -> SettlementResult:
+    """The settlement mechanism of ``scene`` and its certified dead-load work (module docstring)."""
+    s = settings or AssociativeSettings()
+    if not scene.validated:
+        scene.validate()
+    t0 = time.perf_counter()
+    model = build_model(scene)
+    h = support_power(model)
+    H = model.equilibrium
+    n, k = H.shape
+    # min −f₀ᵀu  s.t.  −Hᵀu + s = h, s ≥ 0 (no equality rows).
+    sol = solve_conic_lp(-model.dead, -H.T.tocsc(), h, 0, k, tolerance=s.tolerance, max_iter=s.max_iter)
+    timings = {"build_s": 0.0, "solve_s": sol.solve_time}
+    if sol.status in (Status.NO_EQUILIBRIUM, Status.NO_COLLAPSE):
+        message = ("the structure cannot carry its dead load: the settlement mechanism is unbounded"
+                   if sol.status == Status.NO_EQUILIBRIUM else "the prescribed settlements are incompatible")
+        return _empty(model, Status(sol.status), message, timings)
+    # With no settlement at all u = 0 is the mechanism (nothing moves); the LP still gives the field.
+    u, mu = (sol.x if h.any() else np.zeros(n)), np.maximum(sol.z, 0.0)
+    field = types.SimpleNamespace(dead=model.dead, live=np.zeros(n))
+    mu, _, static_residual = _repair_field(H, field, mu, 0.0, np.full(k, np.inf), 0.0,
+                                           s.residual_tolerance, s.gap_tolerance)
+    power = H.T @ u + h
+    size = float((abs(H.T) @ np.abs(u)).max(initial=0.0)) + float(np.abs(h).max(initial=0.0))
+    kinematic_residual = max(0.0, -float(power.min(initial=0.0))) / max(size, 1e-300)
+    scale = model.force_scale * model.length_scale  # kN·mm per model work unit
+    lower = float(model.dead @ u) * scale if kinematic_residual <= s.residual_tolerance else -math.inf
+    upper = float(h @ mu) * scale if static_residual <= s.residual_tolerance else math.inf
+    gap = (upper - lower) / max(1.0, abs(upper)) if math.isfinite(lower) and math.isfinite(upper) else math.inf
+    status = Status.OPTIMAL if gap <= s.gap_tolerance else Status.NOT_CONVERGED
+    message = (f"certified: relative gap {gap:.1e}" if status == Status.OPTIMAL else
+               f"relative gap {gap:.2e}, residuals static {static_residual:.1e}, kinematic {kinematic_residual:.1e}")
+    timings["certify_s"] = time.perf_counter() - t0 - sol.solve_time
+    return _result(model, status, message, u, mu, Bounds(lower, upper),
+                   {"static_equilibrium": static_residual, "kinematic_compatibility": kinematic_residual}, timings)
+
+
+def after_settlement(scene: Scene, result: SettlementResult | None = None) -> Scene:
+    """``scene`` with its cohesion lost on every joint the settlement opened (the question
+    ALMA 2.0 asks next: the collapse load of the settled structure).  Joint overrides of the
+    other joints are kept; the settlements themselves stay on the supports (``solve`` ignores
+    them)."""
+    result = settle(scene) if result is None else result
+    if result.status != Status.OPTIMAL:
+        raise ValueError(f"the settlement analysis did not certify its mechanism ({result.status}: "
+                         f"{result.message}); the opened joints are not known")
+    opened = {tuple(sorted(pair)) for pair in result.opened}
+    kept = tuple(o for o in scene.joint_overrides if tuple(sorted(o.blocks)) not in opened)
+    lost = tuple(JointOverride(blocks=pair, friction=_friction_of(scene, pair), cohesion=0.0)
+                 for pair in sorted(opened))
+    out = replace(scene, joint_overrides=kept + lost, validated=False)
+    out.validate()
+    return out
+
+
+def _friction_of(scene: Scene, pair: tuple[str, str]) -> float | None:
+    for o in scene.joint_overrides:
+        if tuple(sorted(o.blocks)) == tuple(sorted(pair)):
+            return o.friction
+    return None
+
+
+def support_power(model: Model) -> np.ndarray:
+    """h: for each generator column of H, the power of its force under the supports' settlements.
+
+    A generator of joint k at point p is the force n ± f t on block b (and its opposite on
+    block a); with supports moving rigidly, its power is (n ± f t) · (v_b(p) − v_a(p)) over the
+    supports among a and b (:func:`support_relative`).  Dimensionless.
+    """
+    rel = support_relative(model)
+    f = model.friction[:, None]
+    h = np.stack([rel[..., 0] + f * rel[..., 1], rel[..., 0] - f * rel[..., 1]], axis=2)  # (m, point, ±)
+    return h.ravel()
+
+
+def support_relative(model: Model) -> np.ndarray:
+    """(m, point, (normal, tangent)): relative velocity v_b − v_a of each joint's contact points
+    due to the supports' settlements (v_s(p) = d + r × (p − c)), per ``length_scale``."""
+    joints, scene = model.joints, model.scene
+    moves = np.zeros((len(scene.blocks), 3))  # d_x, d_y, r
+    centre = np.zeros((len(scene.blocks), 2))
+    for i, block in enumerate(scene.blocks):  # the few settling supports, not the blocks' loop
+        if block.settlement is not None:
+            moves[i] = (*block.settlement.translation, block.settlement.rotation)
+            centre[i] = block.settlement.about
+    points = np.stack([joints.start, joints.end], axis=1)  # (m, 2, 2) mm
+
+    def velocity(block: np.ndarray) -> np.ndarray:  # (m, 2, 2): support velocity at each point
+        d, r, c = moves[block, None, :2], moves[block, None, 2:3], centre[block, None, :]
+        arm = points - c
+        return d + r * np.stack([-arm[..., 1], arm[..., 0]], axis=-1)
+
+    relative = (velocity(joints.block_b) - velocity(joints.block_a)) / model.length_scale
+    return np.stack([np.einsum("mpx,mx->mp", relative, joints.normal),
+                     np.einsum("mpx,mx->mp", relative, joints.tangent)], axis=2)
+
+
+def _result(model: Model, status: Status, message: str, u: np.ndarray, mu: np.ndarray, bounds: Bounds,
+            residuals: dict[str, float], timings: dict[str, float]) -> SettlementResult:
+    normal, shear = multipliers_to_forces(model, mu)
+    blocks, joints, _ = physical(model, u / model.n_free, normal, shear, True)
+    # ``physical`` reports a mechanism scaled by 1 / length_scale (translations read as mm); a
+    # settlement's motion is real: translations in mm, rotations in rad.
+    blocks = tuple(BlockMotion(b.id, tuple(x * model.length_scale for x in b.u)) for b in blocks)
+    support = support_relative(model)
+    rel = (ContactPoints.from_model(model).relative_velocities(u) + support) * model.length_scale
+    # Motions are real displacements here: the scale is the largest of the blocks' and supports'.
+    scale = max(float(np.abs(rel).max(initial=0.0)), float(np.abs(support).max(initial=0.0)) * model.length_scale,
+                float(np.abs(u).max(initial=0.0)) * model.length_scale, 1e-300)
+    states = states_from_relative(rel, model.friction, MOTION_TOLERANCE * scale, dilatant=True)
+    joints = tuple(replace(j, state=str(s), slip=float(r[:, 1].mean()), opening=(float(r[0, 0]), float(r[1, 0])))
+                   for j, s, r in zip(joints, states, rel))
+    work = 0.5 * (bounds.lower + bounds.upper) if math.isfinite(bounds.lower + bounds.upper) else bounds.lower
+    return SettlementResult(status, message, work, bounds, _reactions(model, normal, shear), blocks, joints,
+                            residuals, timings)
+
+
+def _reactions(model: Model, normal: np.ndarray, shear: np.ndarray) -> tuple[dict[str, Any], ...]:
+    """Force (kN) and moment about the settlement's ``about`` point (kN·mm) that the free blocks
+    exert on each settling support, from the contact points' (N, T) (dimensionless)."""
+    jt = model.joints
+    points = np.stack([jt.start, jt.end], axis=1).reshape(-1, 2)  # (2m, 2) mm
+    joint = np.repeat(np.arange(jt.count), 2)
+    # The force of a contact point on block b is N n + T t; block a takes its opposite.
+    on_b = (normal[:, None] * jt.normal[joint] + shear[:, None] * jt.tangent[joint]) * model.force_scale
+    out = []
+    for i, block in enumerate(model.scene.blocks):  # the few settling supports
+        if block.settlement is None:
+            continue
+        sign = np.where(jt.block_b[joint] == i, 1.0, 0.0) - np.where(jt.block_a[joint] == i, 1.0, 0.0)
+        force = sign[:, None] * on_b
+        r = points - np.asarray(block.settlement.about, dtype=float)
+        moment = float((r[:, 0] * force[:, 1] - r[:, 1] * force[:, 0]).sum())
+        total = force.sum(axis=0)
+        out.append({"block": block.id, "force": [float(total[0]), float(total[1])], "moment": moment})
+    return tuple(out)
+
+
+def _empty(model: Model, status: Status, message: str, timings: dict[str, float]) -> SettlementResult:
+    bound = -math.inf if status == Status.NO_EQUILIBRIUM else math.nan
+    return SettlementResult(status, message, bound, Bounds(bound, bound), (), (), (), {}, timings)
