@@ -7,6 +7,7 @@ import sys
 import types
 from pathlib import Path
 
+from alma.geometry.chains import parse_chain, with_chain
 from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, paper_panel
 from alma.geometry.scene import Scene, SceneError, load_scene
 from alma.settle import after_settlement, settle
@@ -33,6 +34,11 @@ def main(argv: list[str] | None = None) -> int:
     p_panel.add_argument("--block-ratio", required=True, choices=sorted(BLOCK_LENGTHS))
     p_panel.add_argument("--friction", required=True, type=float)
     p_panel.add_argument("--export-scene", metavar="OUT.json", help="write the panel as a scene file")
+    p_panel.add_argument("--chain", action="append", default=[], metavar="HEIGHT:STRENGTH",
+                         help="a horizontal chain at HEIGHT mm of STRENGTH kN across the panel, anchored on its "
+                              "two end blocks (repeatable)")
+    p_panel.add_argument("--anchored", action="store_true",
+                         help="tie each chain's ends to fixed anchors outside the panel instead")
     _add_common(p_panel)
     p_panel.set_defaults(func=_cmd_panel)
 
@@ -106,6 +112,11 @@ def _cmd_settle(args: argparse.Namespace) -> int:
 def _cmd_panel(args: argparse.Namespace) -> int:
     try:
         scene = paper_panel(args.bond, args.panel_ratio, args.block_ratio, args.friction)
+        for k, text in enumerate(args.chain):
+            height, strength = parse_chain(text)
+            scene = with_chain(scene, height, strength, anchored=args.anchored, name=f"chain{k + 1}")
+        if args.chain:
+            scene.validate()
     except SceneError as exc:
         return _invalid(exc, args)
     if args.export_scene:
