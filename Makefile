@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test test-latest explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor venv clean
+.PHONY: demo test test-latest explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded venv clean
 
 venv: $(STAMP)
 
@@ -64,6 +64,9 @@ bench-nonassociative: $(STAMP)
 
 bench-certify: $(STAMP)
 	$(BIN)/python benchmarks/bench_certify.py
+
+bench-bounded: $(STAMP)
+	$(BIN)/python benchmarks/bench_bounded.py
 
 bench-ipopt: $(STAMP)
 	$(BIN)/python benchmarks/bench_ipopt_lp_start.py

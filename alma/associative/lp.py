@@ -114,20 +114,37 @@ def _kinematic_form(model: Model, H: sp.csc_matrix, normalisation: float
                     ) -> tuple[np.ndarray, sp.csc_matrix, np.ndarray]:
     """Eq. 10 for Clarabel: ``min qᵀx s.t. A x + s = b`` (first row an equality, the rest s ≥ 0).
 
-    Without bounded forces x = u: min −f₀ᵀu, f_Lᵀu = N, Hᵀu ≥ 0.  With them x = (u, w): the
-    objective gains Σ capacity · w and w ≥ −Gᵀu, w ≥ 0, so that w is the positive part of the
-    bounded forces' negative power; their duals are τ (0 ≤ τ ≤ capacity).
+    Without bounded forces x = u: min −f₀ᵀu, f_Lᵀu = N, Hᵀu ≥ 0.  With them the objective gains
+    their dissipation through one variable per cohesive joint, v ≥ |γ| (rows v ≥ ∓g±ᵀu for its
+    two columns ±t, whose duals τ± then sum to c l t), and one per tie, w ≥ max(0, −gᵀu).  The
+    rows' duals are the bounded forces τ, in the order of the columns of G.
     """
     n, k = H.shape
     q_count = model.n_bounded
-    b = np.zeros(1 + k + 2 * q_count)
-    b[0] = normalisation * float(model.n_free)
     if not q_count:
+        b = np.zeros(1 + k)
+        b[0] = normalisation * float(model.n_free)
         return -model.dead, sp.vstack([sp.csr_matrix(model.live), -H.T]).tocsc(), b
-    G, eye = model.bounded, sp.identity(q_count, format="csr")
-    A = sp.bmat([[sp.csr_matrix(model.live), None], [-H.T, None], [-G.T, -eye],
-                 [sp.csr_matrix((q_count, n)), -eye]], format="csc")
-    return np.concatenate([-model.dead, model.capacity]), A, b
+    var, n_var, tie = _dissipation_variables(model.bounded_labels)
+    E = sp.csr_matrix((np.ones(q_count), (np.arange(q_count), var)), shape=(q_count, n_var))
+    tie_rows = sp.csr_matrix((np.ones(tie.size), (np.arange(tie.size), var[tie])), shape=(tie.size, n_var))
+    A = sp.bmat([[sp.csr_matrix(model.live), None], [-H.T, None], [-model.bounded.T, -E],
+                 [sp.csr_matrix((tie.size, n)), -tie_rows]], format="csc")
+    cost = np.zeros(n_var)
+    cost[var] = model.capacity
+    b = np.zeros(A.shape[0])
+    b[0] = normalisation * float(model.n_free)
+    return np.concatenate([-model.dead, cost]), A, b
+
+
+def _dissipation_variables(labels: np.ndarray) -> tuple[np.ndarray, int, np.ndarray]:
+    """For each bounded column its dissipation variable (a cohesive joint's two columns share
+    one), their number, and the columns that are ties (their variable also needs w ≥ 0)."""
+    text = np.array([str(x) for x in labels])
+    tie = np.flatnonzero(np.char.startswith(text, "tie:"))
+    key = np.where(np.char.startswith(text, "tie:"), text, np.char.rstrip(text, "+-"))
+    _, first, var = np.unique(key, return_index=True, return_inverse=True)
+    return var.ravel(), int(first.size), tie
 
 
 def _judge(s: AssociativeSettings, solver_status: Status, raw: str, lower: float, upper: float,
