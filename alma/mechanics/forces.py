@@ -20,7 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from alma.geometry.contacts import Joints
-from alma.geometry.scene import Scene
+from alma.geometry.scene import Scene, SceneError
 
 #: kN per (kPa · mm²): cohesion c (kN/m²) times joint length and thickness (mm).
 _KPA_MM2_TO_KN = 1e-6
@@ -74,17 +74,21 @@ def point_load_vectors(scene: Scene, frame: Frame, centroid_mm: np.ndarray) -> t
     return out[0], out[1]
 
 
-def joint_cohesion(scene: Scene, joints: Joints) -> np.ndarray:
-    """Cohesion c (kPa) of every joint: the scene's, or a joint override's."""
-    cohesion = np.full(joints.count, float(scene.cohesion))
+def joint_values(scene: Scene, joints: Joints, name: str, default: float) -> np.ndarray:
+    """A joint property (``"friction"`` or ``"cohesion"``) of every joint: ``default``, or a joint
+    override's value; an override between blocks that do not touch is an error."""
+    values = np.full(joints.count, float(default))
     if scene.joint_overrides:
         index = {b.id: i for i, b in enumerate(scene.blocks)}
         lo, hi = np.minimum(joints.block_a, joints.block_b), np.maximum(joints.block_a, joints.block_b)
         for override in scene.joint_overrides:  # a handful of user overrides, not a hot path
-            if override.cohesion is not None:
-                i, j = sorted(index[k] for k in override.blocks)
-                cohesion[(lo == i) & (hi == j)] = override.cohesion
-    return cohesion
+            i, j = sorted(index[k] for k in override.blocks)
+            hit = (lo == i) & (hi == j)
+            if not hit.any():
+                raise SceneError(f"joint {list(override.blocks)}: these blocks do not touch")
+            if getattr(override, name) is not None:
+                values[hit] = getattr(override, name)
+    return values
 
 
 def bounded_columns(scene: Scene, joints: Joints, frame: Frame) -> tuple[sp.csc_matrix, np.ndarray, np.ndarray]:
@@ -94,7 +98,7 @@ def bounded_columns(scene: Scene, joints: Joints, frame: Frame) -> tuple[sp.csc_
     opposite on block a, at the joint's centre: a shear along the joint line has the same moment
     wherever it acts on it), ``tie:<id>`` for a tie.
     """
-    cohesion = joint_cohesion(scene, joints)
+    cohesion = joint_values(scene, joints, "cohesion", scene.cohesion)
     cohesive = np.flatnonzero(cohesion > 0)
     q_c = 2 * cohesive.size
     n_cols = q_c + len(scene.ties)

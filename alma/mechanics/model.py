@@ -26,7 +26,7 @@ import scipy.sparse as sp
 
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
 from alma.geometry.scene import Scene, SceneError
-from alma.mechanics.forces import Frame, bounded_columns, point_load_vectors
+from alma.mechanics.forces import Frame, bounded_columns, joint_values, point_load_vectors
 
 #: kN per (mm³ · kN/m³)
 _MM3_TO_M3 = 1e-9
@@ -111,7 +111,7 @@ def build_model(scene: Scene, joints: Joints | None = None) -> Model:
         raise SceneError("scene: the free blocks weigh nothing; the load multiplier is undefined")
     centroid = (centroid_mm - origin) / length_scale
 
-    friction = _joint_friction(scene, joints)
+    friction = joint_values(scene, joints, "friction", scene.friction)
     normal_part, tangent_part = _generator_matrices(joints, free_index, centroid, origin, length_scale)
 
     frame = Frame(free_index, centroid, origin, length_scale, force_scale)
@@ -128,22 +128,6 @@ def build_model(scene: Scene, joints: Joints | None = None) -> Model:
                  centroid=centroid, weight=weight, friction=friction,
                  normal_part=normal_part, tangent_part=tangent_part, dead=dead, live=live,
                  bounded=bounded, capacity=capacity, bounded_labels=labels)
-
-
-def _joint_friction(scene: Scene, joints: Joints) -> np.ndarray:
-    friction = np.full(joints.count, float(scene.friction))
-    if scene.joint_overrides:
-        index = {b.id: i for i, b in enumerate(scene.blocks)}
-        lo, hi = np.minimum(joints.block_a, joints.block_b), np.maximum(joints.block_a, joints.block_b)
-        for override in scene.joint_overrides:  # a handful of user overrides, not a hot path
-            if override.friction is None:
-                continue
-            i, j = sorted(index[k] for k in override.blocks)
-            hit = (lo == i) & (hi == j)
-            if not hit.any():
-                raise SceneError(f"joint {list(override.blocks)}: these blocks do not touch")
-            friction[hit] = override.friction
-    return friction
 
 
 def _generator_matrices(joints: Joints, free_index: np.ndarray, centroid: np.ndarray,
