@@ -24,6 +24,7 @@ import numpy as np
 import qdldl
 import scipy.sparse as sp
 
+from .engine.select import choose as choose_engine, solve_with_engine
 from .model import Model
 
 
@@ -64,14 +65,32 @@ class LPSolution:
 
 
 def solve_lp(model: Model, *, tolerance: float = 1e-11, max_iter: int = 200,
-             equilibrium: sp.csc_matrix | None = None) -> LPSolution:
-    """Solve Eq. 10 with Clarabel and certify the value from both sides."""
+             equilibrium: sp.csc_matrix | None = None, engine: str = "clarabel") -> LPSolution:
+    """Solve Eq. 10 with Clarabel (or ``engine="ipm"|"auto"``: alma.engine) and certify the value from both sides."""
     H = model.equilibrium if equilibrium is None else equilibrium
     n, k = H.shape
     start = time.perf_counter()
     if k == 0:
         # No joint: any motion is free, no load can be carried.
         return _trivial(model, "no_equilibrium", "no joint carries the free blocks")
+    ran, solver_name, note = None, "Clarabel", ""
+    if choose_engine(engine, model.n_free) == "ipm":  # alma's interior point; Clarabel if it fails
+        ran = solve_with_engine(H, model.dead, model.live, NORMALISATION * float(model.n_free))
+        solver_name = ran.label
+        if ran.raw_status != "Solved":
+            note = f"; {ran.label}: {ran.raw_status} after {ran.iterations} iterations, Clarabel used"
+            ran, solver_name = None, "Clarabel"
+    if ran is not None:
+        solve_time, status, iterations = time.perf_counter() - start, ran.raw_status, ran.iterations
+        sol_x, sol_z = ran.x, ran.z
+    else:
+        solve_time, status, iterations, sol_x, sol_z = _clarabel(model, H, tolerance, max_iter, start)
+    return _certified(model, H, status, iterations, sol_x, sol_z, solve_time, solver_name, note)
+
+
+def _clarabel(model: Model, H: sp.csc_matrix, tolerance: float, max_iter: int, start: float) -> tuple:
+    """Clarabel's solve of Eq. 10: (solve time, status, iterations, x, z)."""
+    n, k = H.shape
     P = sp.csc_matrix((n, n))
     A = sp.vstack([sp.csr_matrix(model.live), -H.T]).tocsc()
     b = np.zeros(1 + k)
@@ -92,20 +111,22 @@ def solve_lp(model: Model, *, tolerance: float = 1e-11, max_iter: int = 200,
     settings.iterative_refinement_enable = False
     solver = clarabel.DefaultSolver(P, -model.dead, A, b, cones, settings)
     sol = solver.solve()
-    solve_time = time.perf_counter() - start
-    status = str(sol.status)
-    iterations = int(sol.iterations)
+    return time.perf_counter() - start, str(sol.status), int(sol.iterations), sol.x, sol.z
 
+
+def _certified(model: Model, H: sp.csc_matrix, status: str, iterations: int, sol_x, sol_z,
+               solve_time: float, solver_name: str = "Clarabel", note: str = "") -> LPSolution:
+    """The certificate's verdict on a solver's primal–dual pair (the solver's flag does not decide)."""
     if status == "PrimalInfeasible":  # no mechanism lets the live load do positive work
-        return _trivial(model, "no_collapse", "no kinematically admissible mechanism with positive live-load work",
+        return _trivial(model, "no_collapse", "no kinematically admissible mechanism with positive live-load work" + note,
                         iterations=iterations, solve_time=solve_time)
     if status == "DualInfeasible":  # dead-load work unbounded below: no equilibrium for any α
-        return _trivial(model, "no_equilibrium", "no statically admissible stress field for any load multiplier",
+        return _trivial(model, "no_equilibrium", "no statically admissible stress field for any load multiplier" + note,
                         iterations=iterations, solve_time=solve_time)
 
     t0 = time.perf_counter()
-    u = np.asarray(sol.x, dtype=float)
-    z = np.asarray(sol.z, dtype=float)
+    u = np.asarray(sol_x, dtype=float)
+    z = np.asarray(sol_z, dtype=float)
     u, mu, alpha_static, static_residual, kinematic_residual = _certify(H, model, u, z[1:].copy(), -z[0])
     # A mechanism that breaks the flow rule by v_j only proves α ≤ (−f_0ᵀu + Σ v_j μ*_j) / f_Lᵀu:
     # the violation work is charged with the certified stress field's multipliers.
@@ -128,11 +149,11 @@ def solve_lp(model: Model, *, tolerance: float = 1e-11, max_iter: int = 200,
         result_status, message = "no_equilibrium", "the structure cannot carry its dead load (α_c < 0)"
     elif static_ok and kinematic_ok and gap <= GAP_TOLERANCE and status in ("Solved", "AlmostSolved"):
         result_status = "optimal"
-        message = f"certified: relative gap {gap:.1e} (Clarabel: {status})"
+        message = f"certified: relative gap {gap:.1e} ({solver_name}: {status}){note}"
     else:
         result_status = "not_converged"
-        message = (f"Clarabel status {status}; relative gap {gap:.2e}, residuals static "
-                   f"{static_residual:.1e}, kinematic {kinematic_residual:.1e}")
+        message = (f"{solver_name} status {status}; relative gap {gap:.2e}, residuals static "
+                   f"{static_residual:.1e}, kinematic {kinematic_residual:.1e}{note}")
     alpha = upper if np.isfinite(upper) else float(-model.dead @ u / (model.live @ u))
     return LPSolution(status=result_status, message=message, alpha=alpha, lower=lower, upper=upper,
                       mechanism=u, multipliers=mu, static_residual=static_residual,
