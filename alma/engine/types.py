@@ -22,13 +22,13 @@ class IPMSettings:
     tol_feas: float = 1e-10
     #: Static residual ‖Hμ + f₀ + αf_L‖∞ (per mean block weight) at the stop: alma's certificate
     #: projects the field onto equilibrium, so only the gap and the support of μ must be sharp.
-    tol_static: float = 1e-6
+    tol_static: float = 1e-8
     #: Fraction of the step to the boundary of μ ≥ 0, s ≥ 0 (keeps the iterates interior).
     step_fraction: float = 0.99
     #: Mehrotra's centring exponent σ = (τ_aff / τ)^exponent.
     centring_exponent: float = 3.0
     #: Gondzio centrality correctors per iteration (one bordered solve each, no factorisation).
-    correctors: int = 2
+    correctors: int = 1
     #: A corrector aims at the step reach·α + 0.1 (α: the current step to the boundary).
     corrector_reach: float = 1.0
     #: ... and pushes the trial products s∘μ into this box, in units of σ τ.
@@ -36,7 +36,7 @@ class IPMSettings:
     #: A corrector is kept while it lengthens the shorter step by at least gain·0.1.
     corrector_gain: float = 0.1
     #: Diagonal regularisation δ of K = H D Hᵀ + δ I, relative to the largest diagonal entry of K.
-    regularisation: float = 1e-13
+    regularisation: float = 1e-17
     #: Iterative-refinement steps of each Newton direction on the static equation.
     refinement_steps: int = 3
     #: Refinement stops when the static equation's error is below this × max(‖r_d‖∞, floor):
