@@ -40,6 +40,8 @@ class _Newton:
         self.schur = 1.0
         self.factor_time = self.solve_time = 0.0
         self.factorisations = self.solves = 0
+        self.boost = 1.0  # multiplies δ after a direction the refinement could not make accurate
+        self.last_error = 0.0
 
     def factor(self, d: np.ndarray) -> None:
         """Factorise K = H D Hᵀ + δ I (D clipped to [1/cap, cap]); δ grows 100× on failure."""
@@ -48,7 +50,7 @@ class _Newton:
         t0 = time.perf_counter()
         values = self.pattern.values(self.d)
         top = float(values[self.pattern.diagonal].max(initial=1.0))
-        shift = self.settings.regularisation * max(top, 1.0)
+        shift = self.settings.regularisation * self.boost * max(top, 1.0)
         for attempt in range(4):
             try:
                 values[self.pattern.diagonal] += shift
@@ -98,6 +100,8 @@ class _Newton:
             cu, ca = self.bordered(e_static, -e_norm)
             cs = self.HT @ cu
             du, da, ds, dmu = du + cu, da + ca, ds + cs, dmu - self.d * cs
+        if refine:
+            self.last_error = float(np.abs(self.H @ dmu + self.live * da + res.dual).max(initial=0.0)) / target
         return du, ds, dmu, da
 
 
@@ -210,7 +214,7 @@ def solve_eq10(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value:
         factoriser.close()
     timings = dict(pattern_s=t_pattern, factor_s=newton.factor_time, solve_s=newton.solve_time,
                    total_s=time.perf_counter() - t_start, factorisations=newton.factorisations,
-                   solves=newton.solves)
+                   solves=newton.solves, boost=newton.boost)
     return IPMResult(status=status, u=state.u, mu=state.mu, alpha=float(state.alpha), iterations=iterations,
                      gap=measures[0], primal_residual=measures[1], dual_residual=measures[2],
                      backend=factoriser.name, timings=timings)
@@ -231,17 +235,11 @@ def _iterate(newton: _Newton, state: _State, dead: np.ndarray, norm_value: float
             return "diverged", iteration, measures
         if iteration == settings.max_iter:
             break
-        newton.factor(state.mu / state.s)
-        # predictor (affine scaling): target s∘μ = 0
-        du, ds, dmu, da = newton.direction(state, state.s * state.mu, res, refine=False)
-        ap, ad = _max_step(state.s, ds), _max_step(state.mu, dmu)
-        tau_aff = _dot(state.s + ap * ds, state.mu + ad * dmu) / state.s.size
-        sigma = min(1.0, (tau_aff / max(res.tau, 1e-300)) ** settings.centring_exponent)
-        # corrector: second-order term and centring
-        rc = state.s * state.mu + ds * dmu - sigma * res.tau
-        step = newton.direction(state, rc, res)
-        step = _centrality_correctors(newton, state, res, rc, step, sigma * res.tau, settings)
-        du, ds, dmu, da = step
+        for _ in range(settings.boost_attempts + 1):
+            du, ds, dmu, da = _direction(newton, state, res, settings)
+            if newton.last_error <= settings.refinement_failure:
+                break
+            newton.boost *= 100.0  # the factors were too inaccurate for this D: regularise more
         ap = min(1.0, eta * _max_step(state.s, ds))
         ad = min(1.0, eta * _max_step(state.mu, dmu))
         state.u = state.u + ap * du
@@ -249,6 +247,22 @@ def _iterate(newton: _Newton, state: _State, dead: np.ndarray, norm_value: float
         state.mu = state.mu + ad * dmu
         state.alpha = state.alpha + ad * da
     return "max_iterations", settings.max_iter, measures
+
+
+def _direction(newton: _Newton, state: _State, res: _Residuals, settings: IPMSettings) -> tuple:
+    """Factorise at the current D and return the predictor–corrector(–centrality) direction."""
+    newton.factor(state.mu / state.s)
+    # predictor (affine scaling): target s∘μ = 0
+    du, ds, dmu, da = newton.direction(state, state.s * state.mu, res, refine=False)
+    ap, ad = _max_step(state.s, ds), _max_step(state.mu, dmu)
+    tau_aff = _dot(state.s + ap * ds, state.mu + ad * dmu) / state.s.size
+    sigma = min(1.0, (tau_aff / max(res.tau, 1e-300)) ** settings.centring_exponent)
+    # corrector: second-order term and centring
+    rc = state.s * state.mu + ds * dmu - sigma * res.tau
+    step = newton.direction(state, rc, res)
+    if newton.last_error > settings.refinement_failure:
+        return step
+    return _centrality_correctors(newton, state, res, rc, step, sigma * res.tau, settings)
 
 
 def _centrality_correctors(newton: _Newton, state: _State, res: _Residuals, rc: np.ndarray, step: tuple,

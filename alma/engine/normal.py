@@ -84,19 +84,20 @@ def normal_pattern(H: sp.csc_matrix) -> NormalPattern:
             rows_b.append(rb[keep])
             cols.append(j[keep])
             vals.append(H.data[ia[keep]] * H.data[ib[keep]])
-    diag = np.arange(n)
-    r = np.concatenate(rows_a + [diag])
-    c = np.concatenate(rows_b + [diag])  # CSC column of the upper entry (row ≤ column)
-    col_j = np.concatenate(cols + [np.zeros(n, dtype=np.int64)])
-    v = np.concatenate(vals + [np.zeros(n)])
-    key = c.astype(np.int64) * n + r
-    unique, position = np.unique(key, return_inverse=True)
-    entry_col, entry_row = unique // n, unique % n
-    indptr = np.zeros(n + 1, dtype=np.int64)
-    np.add.at(indptr, entry_col + 1, 1)
-    indptr = np.cumsum(indptr)
-    gather = sp.csr_matrix((v, (position, col_j)), shape=(unique.size, k))
+    # The pattern itself from one symbolic product |H||H|ᵀ (plus the diagonal), then each
+    # contribution's position by a search in the sorted keys (column-major) of that pattern.
+    absH = abs(H)
+    upper = sp.triu(absH @ absH.T + sp.identity(n, format="csc"), format="csc")
+    upper.sort_indices()
+    indptr = upper.indptr.astype(np.int64)
+    indices = upper.indices.astype(np.int64)
+    entry_col = np.repeat(np.arange(n, dtype=np.int64), np.diff(indptr))
+    keys = entry_col * n + indices  # sorted: by column, then row
+    r = np.concatenate(rows_a).astype(np.int64)
+    c = np.concatenate(rows_b).astype(np.int64)
+    position = np.searchsorted(keys, c * n + r)
+    gather = sp.csr_matrix((np.concatenate(vals), (position, np.concatenate(cols))), shape=(keys.size, k))
     gather.sum_duplicates()
-    diagonal = np.searchsorted(unique, diag.astype(np.int64) * n + diag)
-    return NormalPattern(n=n, indptr=indptr, indices=entry_row.astype(np.int64), diagonal=diagonal,
-                         gather=gather)
+    diag = np.arange(n, dtype=np.int64)
+    diagonal = np.searchsorted(keys, diag * n + diag)
+    return NormalPattern(n=n, indptr=indptr, indices=indices, diagonal=diagonal, gather=gather)

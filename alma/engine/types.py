@@ -44,6 +44,11 @@ class IPMSettings:
     refinement_target: float = 1e-1
     #: ... floor (per mean block weight): below it the certificate's projection does the rest.
     refinement_floor: float = 1e-9
+    #: A direction whose static-equation error stays above this × the refinement target after
+    #: refinement is recomputed with δ multiplied by 100 (from then on) ...
+    refinement_failure: float = 10.0
+    #: ... at most this many times per iteration (QDLDL, without pivoting, needs it on some walls).
+    boost_attempts: int = 3
     #: D = μ / s is clipped to [1/cap, cap] in K only (refinement uses the same clipped D).
     scaling_cap: float = 1e14
     #: |u| / N, |α| or ‖μ‖∞ beyond this: the iterates diverge (an infeasible problem).
