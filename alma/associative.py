@@ -65,8 +65,13 @@ class LPSolution:
 
 
 def solve_lp(model: Model, *, tolerance: float = 1e-11, max_iter: int = 200,
-             equilibrium: sp.csc_matrix | None = None, engine: str = "clarabel") -> LPSolution:
-    """Solve Eq. 10 with Clarabel (or ``engine="ipm"|"auto"``: alma.engine) and certify the value from both sides."""
+             equilibrium: sp.csc_matrix | None = None, engine: str = "auto") -> LPSolution:
+    """Solve Eq. 10 and certify the value from both sides.
+
+    ``engine``: "clarabel", "ipm" (alma.engine, Clarabel if it does not converge) or "auto"
+    (the interior point from alma.engine.select.AUTO_MIN_BLOCKS free blocks on, when a fast
+    factorisation backend is installed; Clarabel otherwise).
+    """
     H = model.equilibrium if equilibrium is None else equilibrium
     n, k = H.shape
     start = time.perf_counter()

@@ -128,6 +128,7 @@ def test_no_equilibrium_falls_back_to_clarabel_and_says_so():
 def test_auto_without_fast_backend_warns_once_and_uses_clarabel(monkeypatch, wall):
     monkeypatch.setattr(select, "available_backends", lambda: ("qdldl",))
     monkeypatch.setattr(select, "_warned", False)
+    assert select.choose("auto", select.AUTO_MIN_BLOCKS - 1) == "clarabel"  # small: no warning needed
     with pytest.warns(RuntimeWarning, match="Clarabel"):
         assert select.choose("auto", 10_000) == "clarabel"
     with warnings.catch_warnings():
@@ -135,3 +136,10 @@ def test_auto_without_fast_backend_warns_once_and_uses_clarabel(monkeypatch, wal
         assert select.choose("auto", 10_000) == "clarabel"  # said once only
     result = solve_lp(wall, engine="auto")
     assert result.status == "optimal" and "Clarabel" in result.message and "alma-ipm" not in result.message
+
+
+def test_auto_chooses_by_size(monkeypatch):
+    monkeypatch.setattr(select, "available_backends", lambda: ("feral", "qdldl"))
+    assert select.choose("auto", select.AUTO_MIN_BLOCKS - 1) == "clarabel"
+    assert select.choose("auto", select.AUTO_MIN_BLOCKS) == "ipm"
+    assert select.choose("clarabel", 10**6) == "clarabel" and select.choose("ipm", 1) == "ipm"
