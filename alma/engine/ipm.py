@@ -235,9 +235,10 @@ def _iterate(newton: _Newton, state: _State, dead: np.ndarray, norm_value: float
             return "diverged", iteration, measures
         if iteration == settings.max_iter:
             break
-        for _ in range(settings.boost_attempts + 1):
+        for attempt in range(settings.boost_attempts + 1):
             du, ds, dmu, da = _direction(newton, state, res, settings)
-            if newton.last_error <= settings.refinement_failure:
+            if (newton.last_error <= settings.refinement_failure or attempt == settings.boost_attempts
+                    or newton.boost >= settings.boost_limit):
                 break
             newton.boost *= 100.0  # the factors were too inaccurate for this D: regularise more
         ap = min(1.0, eta * _max_step(state.s, ds))

@@ -46,9 +46,12 @@ class IPMSettings:
     refinement_floor: float = 1e-9
     #: A direction whose static-equation error stays above this × the refinement target after
     #: refinement is recomputed with δ multiplied by 100 (from then on) ...
-    refinement_failure: float = 10.0
-    #: ... at most this many times per iteration (QDLDL, without pivoting, needs it on some walls).
+    #: (10 let δ run away on flemish 1:2 1:1 f = 0.27, where errors of 1e-9 are harmless)
+    refinement_failure: float = 1e3
+    #: ... at most this many times per iteration (QDLDL, without pivoting, needs it on some walls),
     boost_attempts: int = 3
+    #: ... and δ at most this × its base value.
+    boost_limit: float = 1e6
     #: D = μ / s is clipped to [1/cap, cap] in K only (refinement uses the same clipped D).
     scaling_cap: float = 1e14
     #: |u| / N, |α| or ‖μ‖∞ beyond this: the iterates diverge (an infeasible problem).
