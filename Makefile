@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test test-latest explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded venv clean
+.PHONY: demo test test-latest explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded bench-engine venv clean
 
 venv: $(STAMP)
 
@@ -74,6 +74,10 @@ bench-ipopt: $(STAMP)
 # What Clarabel itself costs per iteration on the largest panel and the walls (the speed floor).
 bench-floor: $(STAMP)
 	$(BIN)/python benchmarks/bench_clarabel_floor.py
+
+# alma's interior point (alma.engine) against the Clarabel path: panel, walls, 108 panels.
+bench-engine: $(STAMP)
+	$(BIN)/python benchmarks/bench_engine.py --panels
 
 clean:
 	rm -rf $(VENV) $(LATEST) demo .pytest_cache .hypothesis

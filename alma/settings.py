@@ -32,6 +32,9 @@ class AssociativeSettings:
     gap_tolerance: float = 1e-7
     #: Largest admissibility residual (equilibrium, flow rule) of a field that counts as proof.
     residual_tolerance: float = 1e-9
+    #: "clarabel", "ipm" (alma.engine; Clarabel if it does not converge) or "auto" (the interior
+    #: point from alma.engine.select.AUTO_MIN_BLOCKS free blocks when a fast factorisation is installed).
+    engine: str = "auto"
 
 
 @dataclass(frozen=True)

@@ -16,6 +16,7 @@ status.
 """
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 
@@ -23,7 +24,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from alma.associative.certificate import certify_pair
-from alma.backends.clarabel_backend import solve_conic_lp
+from alma.backends.clarabel_backend import ConicSolution, solve_conic_lp
+from alma.engine.select import choose, solve_with_engine
+from alma.engine.types import IPMSettings
 from alma.mechanics.model import Model
 from alma.settings import AssociativeSettings
 from alma.status import Status
@@ -51,6 +54,8 @@ class LPSolution:
     certify_time: float
     #: (q,) τ of the bounded forces (cohesion, ties: ``Model.bounded``), 0 ≤ τ ≤ capacity.
     bounded_forces: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: The interior point's own record (factorisations, solves, their seconds), when it ran.
+    engine: dict[str, float] = field(default_factory=dict)
 
     @property
     def solved(self) -> bool:
@@ -60,13 +65,17 @@ class LPSolution:
 
 def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, tolerance: float | None = None,
              max_iter: int | None = None, equilibrium: sp.csc_matrix | None = None,
-             time_limit: float | None = None) -> LPSolution:
-    """Solve Eq. 10 with Clarabel and certify the value from both sides.
+             time_limit: float | None = None, engine: str | None = None,
+             ipm_settings: IPMSettings | None = None) -> LPSolution:
+    """Solve Eq. 10 (Clarabel, or alma's interior point) and certify the value from both sides.
 
-    ``tolerance`` and ``max_iter`` override the fields of ``settings``; ``time_limit`` (s) is a
-    user's cap (its cut gives ``limit_reached``).  ``equilibrium`` replaces the model's H.
+    ``tolerance``, ``max_iter`` and ``engine`` override the fields of ``settings``;
+    ``ipm_settings`` the interior point's (e.g. its factorisation backend); ``time_limit`` (s)
+    is a user's cap (its cut gives ``limit_reached``).  ``equilibrium`` replaces the model's H.
     """
     s = settings or AssociativeSettings()
+    if engine is not None:
+        s = dataclasses.replace(s, engine=engine)
     tol = s.tolerance if tolerance is None else tolerance
     iters = s.max_iter if max_iter is None else max_iter
     H = model.equilibrium if equilibrium is None else equilibrium
@@ -74,13 +83,12 @@ def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, toler
     if k == 0:  # no joint: any motion is free, no load can be carried
         return _trivial(model, Status.NO_EQUILIBRIUM, "no joint carries the free blocks")
     q_count = model.n_bounded
-    q, A, b = _kinematic_form(model, H, s.normalisation)
-    sol = solve_conic_lp(q, A, b, 1, A.shape[0] - 1, tolerance=tol, max_iter=iters, time_limit=time_limit)
+    sol, label, note, record = _solve_pair(model, H, s, tol, iters, time_limit, ipm_settings)
     if sol.status in (Status.NO_COLLAPSE, Status.NO_EQUILIBRIUM):
         message = ("no kinematically admissible mechanism with positive live-load work"
                    if sol.status == Status.NO_COLLAPSE else
                    "no statically admissible stress field for any load multiplier")
-        return _trivial(model, sol.status, message, iterations=sol.iterations, solve_time=sol.solve_time)
+        return _trivial(model, sol.status, message + note, iterations=sol.iterations, solve_time=sol.solve_time)
     t0 = time.perf_counter()
     static = sp.hstack([H, model.bounded]).tocsc() if q_count else None
     bound = np.concatenate([np.full(k, np.inf), model.capacity]) if q_count else None
@@ -93,13 +101,38 @@ def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, toler
     # dissipation of the bounded forces, Σ capacity · max(0, −Gᵀu).
     violation_work = float(np.maximum(-(H.T @ u), 0.0) @ mu)
     upper = float((-model.dead @ u + dissipation(model, u) + violation_work) / (model.live @ u))
-    status, message, lower, upper = _judge(s, sol.status, sol.raw_status, lower, upper,
+    status, message, lower, upper = _judge(s, sol.status, f"{label}: {sol.raw_status}", lower, upper,
                                            static_residual, kinematic_residual)
+    message += note
     alpha = upper if np.isfinite(upper) else float((-model.dead @ u + dissipation(model, u)) / (model.live @ u))
     return LPSolution(status=status, message=message, alpha=alpha, lower=lower, upper=upper,
                       mechanism=u, multipliers=mu, static_residual=static_residual,
                       kinematic_residual=kinematic_residual, iterations=sol.iterations,
-                      solve_time=sol.solve_time, certify_time=time.perf_counter() - t0, bounded_forces=tau)
+                      solve_time=sol.solve_time, certify_time=time.perf_counter() - t0, bounded_forces=tau,
+                      engine=record)
+
+
+def _solve_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: float, iters: int,
+                time_limit: float | None, ipm_settings: IPMSettings | None
+                ) -> tuple[ConicSolution, str, str, dict[str, float]]:
+    """The primal–dual pair of Eq. 10 from the chosen engine: (solution, solver label, note, the
+    interior point's record).
+
+    alma's interior point (``alma.engine``) takes Eq. 10 without bounded forces; when it does
+    not converge Clarabel solves the problem and the note says so.
+    """
+    if not model.n_bounded and choose(s.engine, model.n_free) == "ipm":
+        start = time.perf_counter()
+        ans = solve_with_engine(H, model.dead, model.live, s.normalisation * float(model.n_free), ipm_settings)
+        if ans.raw_status == "Solved":
+            return (ConicSolution(Status.OPTIMAL, ans.raw_status, ans.x, ans.z, ans.iterations,
+                                  time.perf_counter() - start), ans.label, "", dict(ans.result.timings))
+        note = f"; {ans.label}: {ans.raw_status} after {ans.iterations} iterations, Clarabel used"
+    else:
+        note = ""
+    q, A, b = _kinematic_form(model, H, s.normalisation)
+    sol = solve_conic_lp(q, A, b, 1, A.shape[0] - 1, tolerance=tol, max_iter=iters, time_limit=time_limit)
+    return sol, "Clarabel", note, {}
 
 
 def dissipation(model: Model, u: np.ndarray) -> float:
@@ -162,9 +195,9 @@ def _judge(s: AssociativeSettings, solver_status: Status, raw: str, lower: float
         # An admissible mechanism in which the dead load alone does positive work: α_c < 0.
         return Status.NO_EQUILIBRIUM, "the structure cannot carry its dead load (α_c < 0)", lower, upper
     if static_ok and kinematic_ok and gap <= s.gap_tolerance and solver_status == Status.OPTIMAL:
-        return Status.OPTIMAL, f"certified: relative gap {gap:.1e} (Clarabel: {raw})", lower, upper
+        return Status.OPTIMAL, f"certified: relative gap {gap:.1e} ({raw})", lower, upper
     status = Status.LIMIT_REACHED if solver_status == Status.LIMIT_REACHED else Status.NOT_CONVERGED
-    return status, (f"Clarabel status {raw}; relative gap {gap:.2e}, residuals static "
+    return status, (f"{raw}; relative gap {gap:.2e}, residuals static "
                     f"{static_residual:.1e}, kinematic {kinematic_residual:.1e}"), lower, upper
 
 

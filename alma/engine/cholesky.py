@@ -1,0 +1,236 @@
+"""Sparse symmetric factorisations of the normal matrix K = H D Hᵀ behind one small interface.
+
+A backend is created once per geometry on a :class:`~alma.engine.normal.NormalPattern`; its
+first :meth:`Factoriser.factor` does the ordering and symbolic analysis, every later call only
+the numeric factorisation on the same pattern.  Backends (measured in ``docs/engine.md``):
+
+- ``pardiso``: Intel MKL Pardiso through ``pypardiso`` (optional extra ``alma[mkl]``), symmetric
+  positive definite mode, METIS nested-dissection ordering;
+- ``feral``: ``feral-solver`` (MIT, Rust), supernodal multifrontal LDLᵀ with threshold pivoting;
+- ``qdldl``: QDLDL after AMD (Clarabel's own factorisation; a dependency of alma already).
+
+:func:`make_factoriser` returns the first one importable in :data:`PREFERENCE` (or the named
+one).  No backend decides anything from the clock.
+"""
+from __future__ import annotations
+
+import functools
+import importlib.util
+from abc import ABC, abstractmethod
+
+import numpy as np
+import scipy.sparse as sp
+
+from .normal import NormalPattern
+
+#: Fastest first, as measured on the walls and the largest paper panel (docs/engine.md).
+PREFERENCE = ("pardiso", "feral", "qdldl")
+
+
+class FactorisationError(RuntimeError):
+    """The numeric factorisation failed (e.g. a zero pivot); the caller regularises more."""
+
+
+class Factoriser(ABC):
+    """Factorise K (given by its upper-triangle values on a fixed pattern) and solve with it."""
+
+    name = "abstract"
+
+    def __init__(self, pattern: NormalPattern):
+        self.pattern = pattern
+        self.analysed = False
+
+    @abstractmethod
+    def factor(self, values: np.ndarray) -> None:
+        """Numeric factorisation of K with these upper-triangle values (analysis on first call)."""
+
+    @abstractmethod
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """Solve K x = rhs with the last factorisation; rhs is (n,) or (n, r)."""
+
+    def close(self) -> None:
+        """Release native memory (a no-op unless the backend holds some)."""
+
+
+def _lower_permutation(pattern: NormalPattern) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(indptr, indices, perm) of the lower triangle in CSC order, values = upper_values[perm].
+
+    The lower triangle in CSC order is also the upper triangle in CSR order (Pardiso's input).
+    """
+    upper = sp.csc_matrix((np.arange(pattern.nnz, dtype=float), pattern.indices, pattern.indptr),
+                          shape=(pattern.n, pattern.n))
+    lower = upper.T.tocsc()
+    lower.sort_indices()
+    return lower.indptr.astype(np.int64), lower.indices.astype(np.int64), lower.data.astype(np.int64)
+
+
+class QdldlFactoriser(Factoriser):
+    """QDLDL (Apache-2.0): LDLᵀ without pivoting after AMD; symbolic once, ``update`` after."""
+
+    name = "qdldl"
+
+    def __init__(self, pattern: NormalPattern):
+        super().__init__(pattern)
+        self._solver = None
+
+    def _matrix(self, values: np.ndarray) -> sp.csc_matrix:
+        p = self.pattern
+        return sp.csc_matrix((values, p.indices, p.indptr), shape=(p.n, p.n))
+
+    def factor(self, values: np.ndarray) -> None:
+        import qdldl
+
+        try:
+            if self._solver is None:
+                self._solver = qdldl.Solver(self._matrix(values), upper=True)
+                self.analysed = True
+            else:
+                self._solver.update(self._matrix(values), upper=True)
+        except Exception as exc:  # qdldl raises ValueError on a zero pivot
+            raise FactorisationError(f"qdldl: {exc}") from exc
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        if rhs.ndim == 2:
+            return np.column_stack([self._solver.solve(np.ascontiguousarray(c)) for c in rhs.T])
+        return self._solver.solve(np.ascontiguousarray(rhs))
+
+
+class FeralFactoriser(Factoriser):
+    """feral-solver (MIT): multifrontal LDLᵀ, cached symbolic analysis, ``refactor`` after."""
+
+    name = "feral"
+
+    def __init__(self, pattern: NormalPattern):
+        super().__init__(pattern)
+        import feral
+
+        self._feral = feral
+        indptr, indices, self._perm = _lower_permutation(pattern)
+        cols = np.repeat(np.arange(pattern.n, dtype=np.int64), np.diff(indptr))
+        self._matrix = feral.CscMatrix.from_triplet(pattern.n, indices, cols, np.ones(pattern.nnz))
+        self._solver = feral.Solver(parallel=True, ordering="amd")
+
+    def factor(self, values: np.ndarray) -> None:
+        self._matrix.set_values(np.ascontiguousarray(values[self._perm]))
+        try:
+            status = (self._solver.refactor if self.analysed else self._solver.factor)(self._matrix)
+        except self._feral.FeralError as exc:
+            raise FactorisationError(f"feral: {exc}") from exc
+        self.analysed = True
+        code = status[0] if isinstance(status, tuple) else status
+        if int(code) not in (int(self._feral.FactorStatus.SUCCESS), int(self._feral.FactorStatus.WRONG_INERTIA)):
+            raise FactorisationError(f"feral: factor status {code}")
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        return np.asarray(self._solver.solve(np.ascontiguousarray(rhs)))
+
+
+class PardisoFactoriser(Factoriser):
+    """MKL Pardiso (Intel Simplified Software License), called through the ctypes handle of
+    ``pypardiso`` with the 1-based int32 structure converted once (pypardiso's own ``solve``
+    converts it at every call, which costs more than the solve on the paper panels).
+
+    Phases: 11 (METIS ordering, symbolic) once, 22 (numeric) per iteration, 33 (solve).  Matrix
+    type 2 (real symmetric positive definite): K + δ I is positive definite, and a zero pivot
+    raises :class:`FactorisationError` so the caller adds more δ.
+    """
+
+    name = "pardiso"
+
+    def __init__(self, pattern: NormalPattern):
+        super().__init__(pattern)
+        self._pardiso = _pardiso_function()
+        indptr, indices, self._perm = _lower_permutation(pattern)
+        self._ia = np.ascontiguousarray(indptr + 1, dtype=np.int32)
+        self._ja = np.ascontiguousarray(indices + 1, dtype=np.int32)
+        self._values = np.zeros(pattern.nnz)
+        self._pt = np.zeros(64, dtype=np.int64)  # Pardiso's internal handle (64-bit pointers)
+        self._iparm = np.zeros(64, dtype=np.int32)
+        # iparm[0] = 1: the values below, zero (Pardiso's default) elsewhere.  Pardiso's own
+        # defaults refine every solve twice, 3x the cost of a solve on the paper panel; the
+        # interior point refines where it needs to itself.
+        self._iparm[0] = 1
+        self._iparm[1] = 2  # METIS nested-dissection ordering
+        self._iparm[9] = 13  # pivot perturbation 1e-13 (a zero pivot is reported, not hidden)
+        self._iparm[17] = -1  # report the factor's nonzeros
+        self._no_perm = np.zeros(0, dtype=np.int32)
+
+    def _call(self, phase: int, rhs: np.ndarray) -> np.ndarray:
+        import ctypes
+
+        rhs = np.asfortranarray(rhs, dtype=float)
+        x = np.zeros_like(rhs)
+        error = ctypes.c_int32(0)
+        i32 = ctypes.POINTER(ctypes.c_int32)
+        f64 = ctypes.POINTER(ctypes.c_double)
+        one = ctypes.byref(ctypes.c_int32(1))
+        self._pardiso(self._pt.ctypes.data_as(ctypes.POINTER(ctypes.c_int64)), one, one,
+                      ctypes.byref(ctypes.c_int32(2)), ctypes.byref(ctypes.c_int32(phase)),
+                      ctypes.byref(ctypes.c_int32(self.pattern.n)), self._values.ctypes.data_as(f64),
+                      self._ia.ctypes.data_as(i32), self._ja.ctypes.data_as(i32), self._no_perm.ctypes.data_as(i32),
+                      ctypes.byref(ctypes.c_int32(1 if rhs.ndim == 1 else rhs.shape[1])),
+                      self._iparm.ctypes.data_as(i32), ctypes.byref(ctypes.c_int32(0)),
+                      rhs.ctypes.data_as(f64), x.ctypes.data_as(f64), ctypes.byref(error))
+        if error.value != 0:
+            raise FactorisationError(f"pardiso phase {phase}: error {error.value}")
+        return np.ascontiguousarray(x)
+
+    def factor(self, values: np.ndarray) -> None:
+        np.take(values, self._perm, out=self._values)
+        dummy = np.zeros(self.pattern.n)
+        if not self.analysed:
+            self._call(11, dummy)
+            self.analysed = True
+        self._call(22, dummy)
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        return self._call(33, rhs)
+
+    def close(self) -> None:
+        if self.analysed:
+            self._call(-1, np.zeros(self.pattern.n))
+            self.analysed = False
+
+
+_BACKENDS: dict[str, tuple[str, type[Factoriser]]] = {
+    "pardiso": ("pypardiso", PardisoFactoriser),
+    "feral": ("feral", FeralFactoriser),
+    "qdldl": ("qdldl", QdldlFactoriser),
+}
+
+
+@functools.lru_cache(maxsize=1)
+def available_backends() -> tuple[str, ...]:
+    """Names of the backends whose library can be loaded here, fastest first (looked up once)."""
+    found = []
+    for name in PREFERENCE:
+        module, _ = _BACKENDS[name]
+        if importlib.util.find_spec(module) is None:
+            continue
+        if name == "pardiso":
+            try:
+                _pardiso_function()
+            except Exception:  # pypardiso installed without a loadable MKL runtime
+                continue
+        found.append(name)
+    return tuple(found)
+
+
+@functools.lru_cache(maxsize=1)
+def _pardiso_function():
+    """MKL's ``pardiso`` entry point with its ctypes signature, located once by pypardiso."""
+    from pypardiso.pardiso_wrapper import PyPardisoSolver
+
+    return PyPardisoSolver(mtype=2)._mkl_pardiso
+
+
+def make_factoriser(pattern: NormalPattern, backend: str = "auto") -> Factoriser:
+    """The named backend, or with ``auto`` the first available in :data:`PREFERENCE`."""
+    if backend == "auto":
+        names = available_backends()
+        if not names:
+            raise FactorisationError("no sparse factorisation backend is importable")
+        backend = names[0]
+    if backend not in _BACKENDS:
+        raise ValueError(f"unknown factorisation backend {backend!r}; known: {sorted(_BACKENDS)}")
+    return _BACKENDS[backend][1](pattern)

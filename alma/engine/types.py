@@ -1,0 +1,81 @@
+"""Settings and result of alma's interior point for Eq. 10 (plain data, no alma internals)."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class IPMSettings:
+    """Tuned numbers of the interior point (dimensionless: forces per mean block weight).
+
+    Every limit is an iteration count or a tolerance, never a time: the answer of a given
+    problem does not depend on the machine or its load.
+    """
+
+    #: Iteration budget: the 108 paper panels and the walls up to 20,000 blocks need 20-45.
+    max_iter: int = 120
+    #: Relative complementarity gap sᵀμ / (N max(1, |α|)) at which the iteration stops.
+    tol_gap: float = 1e-10
+    #: Relative primal residual (flow rule Hᵀu = s, normalisation f_Lᵀu = N) at the stop.
+    tol_feas: float = 1e-10
+    #: Static residual ‖Hμ + f₀ + αf_L‖∞ (per mean block weight) at the stop: alma's certificate
+    #: projects the field onto equilibrium, so only the gap and the support of μ must be sharp.
+    tol_static: float = 1e-8
+    #: Fraction of the step to the boundary of μ ≥ 0, s ≥ 0 (keeps the iterates interior).
+    step_fraction: float = 0.99
+    #: Mehrotra's centring exponent σ = (τ_aff / τ)^exponent.
+    centring_exponent: float = 3.0
+    #: Gondzio centrality correctors per iteration (one bordered solve each, no factorisation).
+    correctors: int = 1
+    #: A corrector aims at the step reach·α + 0.1 (α: the current step to the boundary).
+    corrector_reach: float = 1.0
+    #: ... and pushes the trial products s∘μ into this box, in units of σ τ.
+    corrector_box: tuple = (0.1, 10.0)
+    #: A corrector is kept while it lengthens the shorter step by at least gain·0.1.
+    corrector_gain: float = 0.1
+    #: Diagonal regularisation δ of K = H D Hᵀ + δ I, relative to the largest diagonal entry of K.
+    regularisation: float = 1e-17
+    #: Iterative-refinement steps of each Newton direction on the static equation.
+    refinement_steps: int = 3
+    #: Refinement stops when the static equation's error is below this × max(‖r_d‖∞, floor):
+    #: the step then reduces the static residual as the Newton step intends.
+    refinement_target: float = 1e-1
+    #: ... floor (per mean block weight): below it the certificate's projection does the rest.
+    refinement_floor: float = 1e-9
+    #: A direction whose static-equation error stays above this × the refinement target after
+    #: refinement is recomputed with δ multiplied by 100 (from then on) ...
+    #: (10 let δ run away on flemish 1:2 1:1 f = 0.27, where errors of 1e-9 are harmless)
+    refinement_failure: float = 1e3
+    #: ... at most this many times per iteration (QDLDL, without pivoting, needs it on some walls),
+    boost_attempts: int = 3
+    #: ... and δ at most this × its base value.
+    boost_limit: float = 1e6
+    #: D = μ / s is clipped to [1/cap, cap] in K only (refinement uses the same clipped D).
+    scaling_cap: float = 1e14
+    #: |u| / N, |α| or ‖μ‖∞ beyond this: the iterates diverge (an infeasible problem).
+    blowup: float = 1e10
+    #: Factorisation backend: "auto" (fastest importable) or a name of alma.engine.cholesky.
+    backend: str = "auto"
+
+
+@dataclass(frozen=True)
+class IPMResult:
+    """The interior point's answer for Eq. 10 (kinematic u, static μ and α).
+
+    ``status`` is ``optimal`` (tolerances met), ``max_iterations``, ``diverged`` (iterates blow
+    up: no mechanism or no static field, for Clarabel's infeasibility certificates to decide),
+    or ``numerical_error``.  Only alma's certificate turns ``optimal`` into a proven answer.
+    """
+
+    status: str
+    u: np.ndarray  # (3 n_free,) mechanism, f_Lᵀu = N
+    mu: np.ndarray  # (k,) generator multipliers, μ ≥ 0
+    alpha: float  # load multiplier of the static field H μ + f_0 + α f_L ≈ 0
+    iterations: int
+    gap: float  # relative duality gap at the end
+    primal_residual: float  # relative ‖Hᵀu − s‖∞ and |f_Lᵀu − N| / N, the larger
+    dual_residual: float  # ‖H μ + f_0 + α f_L‖∞ / max(1, ‖f_0‖∞)
+    backend: str
+    timings: dict = field(default_factory=dict)  # seconds per phase: pattern, factor, solve, total

@@ -1,0 +1,145 @@
+"""alma.engine: the normal-matrix pattern, the factorisation backends, the interior point for
+Eq. 10, and the hook in ``solve_lp`` (the certificate, not the engine, decides every status)."""
+from __future__ import annotations
+
+import ast
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+import alma
+from alma.associative.lp import NORMALISATION, solve_lp  # NORMALISATION: the default's value
+from alma.engine import IPMSettings, available_backends, make_factoriser, normal_pattern, solve_eq10
+from alma.engine import select
+
+ENGINE_DIR = Path(alma.__file__).parent / "engine"
+
+
+def _rect(x0, y0, x1, y1):
+    return [[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
+
+
+def _wall(courses: int, per_course: int, friction: float = 0.6, live=(1.0, 0.0)) -> alma.Model:
+    scene = alma.wall("running", 240.0 * per_course, 60.0 * courses, 240.0).with_friction(friction)
+    if live != (1.0, 0.0):
+        data = scene.to_dict()
+        data["live_load"] = {"direction": list(live)}
+        scene = alma.Scene.from_dict(data)
+    return alma.build_model(scene)
+
+
+@pytest.fixture(scope="module")
+def wall() -> alma.Model:
+    return _wall(6, 5)
+
+
+def test_engine_imports_nothing_of_alma():
+    """The engine takes plain data: its modules import numpy, scipy and backends only."""
+    for path in ENGINE_DIR.glob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom):
+                assert node.level <= 1, (path.name, node.module)  # "from .x" inside the engine only
+                assert not (node.module or "").startswith("alma"), (path.name, node.module)
+            if isinstance(node, ast.Import):
+                assert not any(a.name.startswith("alma") for a in node.names), path.name
+
+
+def test_pattern_values_equal_h_d_ht(wall):
+    H = wall.equilibrium
+    pattern = normal_pattern(H)
+    d = np.random.default_rng(1).uniform(0.1, 10.0, H.shape[1])
+    expected = sp.triu(H @ sp.diags(d) @ H.T).toarray()
+    got = pattern.matrix(d, shift=0.5).toarray()
+    assert np.allclose(got, expected + 0.5 * np.eye(H.shape[0]), rtol=1e-13, atol=1e-12)
+    assert pattern.nnz == np.count_nonzero(np.triu(np.ones_like(expected)) * ((expected != 0) | np.eye(H.shape[0], dtype=bool)))
+
+
+def test_pattern_depends_on_geometry_not_friction(wall):
+    a, b = normal_pattern(wall.equilibrium), normal_pattern(wall.with_friction(1.3).equilibrium)
+    assert np.array_equal(a.indptr, b.indptr) and np.array_equal(a.indices, b.indices)
+
+
+@pytest.mark.parametrize("backend", available_backends())
+def test_backend_solves_k(wall, backend):
+    H = wall.equilibrium
+    pattern = normal_pattern(H)
+    rng = np.random.default_rng(2)
+    d = 10.0 ** rng.uniform(-4, 4, H.shape[1])
+    full = (H @ sp.diags(d) @ H.T + 1e-8 * sp.eye(H.shape[0])).tocsc()
+    factoriser = make_factoriser(pattern, backend)
+    rhs = rng.standard_normal((H.shape[0], 2))
+    for _ in range(2):  # the second factorisation reuses the symbolic analysis
+        factoriser.factor(pattern.values(d, 1e-8))
+        x = factoriser.solve(rhs)
+        assert np.abs(full @ x - rhs).max() <= 1e-8 * np.abs(rhs).max() * max(1.0, float(np.abs(full).max()))
+    factoriser.close()
+
+
+def test_unknown_backend_and_engine_are_refused(wall):
+    with pytest.raises(ValueError):
+        make_factoriser(normal_pattern(wall.equilibrium), "nonesuch")
+    with pytest.raises(ValueError):
+        select.choose("nonesuch", 10)
+
+
+@pytest.mark.parametrize("backend", available_backends())
+def test_ipm_agrees_with_clarabel_and_is_certified(wall, backend):
+    clarabel = solve_lp(wall, engine="clarabel")
+    raw = solve_eq10(wall.equilibrium, wall.dead, wall.live, NORMALISATION * wall.n_free,
+                     IPMSettings(backend=backend))
+    assert raw.status == "optimal" and raw.backend == backend
+    assert abs(raw.alpha - clarabel.alpha) <= 1e-7 * max(1.0, abs(clarabel.alpha))
+    assert float(raw.mu.min()) >= 0.0
+    assert abs(float(wall.live @ raw.u) - NORMALISATION * wall.n_free) <= 1e-8 * NORMALISATION * wall.n_free
+    ipm = solve_lp(wall, engine="ipm")
+    assert ipm.status == "optimal", ipm.message
+    assert "alma-ipm" in ipm.message and "Clarabel used" not in ipm.message
+    assert ipm.lower <= clarabel.upper + 1e-9 and clarabel.lower <= ipm.upper + 1e-9
+
+
+def test_iteration_budget_is_a_count(wall):
+    """max_iter stops the iteration at that count whatever the machine (no clock)."""
+    raw = solve_eq10(wall.equilibrium, wall.dead, wall.live, NORMALISATION * wall.n_free, IPMSettings(max_iter=3))
+    assert raw.status == "max_iterations" and raw.iterations == 3
+
+
+def test_no_collapse_falls_back_to_clarabel_and_says_so():
+    """Live load pushing down into the ground: no mechanism does positive live work."""
+    model = _wall(2, 2, live=(0.0, -1.0))
+    result = solve_lp(model, engine="ipm")
+    assert result.status == "no_collapse"
+    assert "Clarabel used" in result.message
+
+
+def test_no_equilibrium_falls_back_to_clarabel_and_says_so():
+    """Gravity pulling the blocks up off the ground: no stress field for any α."""
+    scene = alma.wall("running", 480.0, 120.0, 240.0)
+    data = scene.to_dict()
+    data["gravity"] = [0.0, 1.0]
+    model = alma.build_model(alma.Scene.from_dict(data))
+    result = solve_lp(model, engine="ipm")
+    assert result.status == "no_equilibrium"
+    assert "Clarabel used" in result.message
+
+
+def test_auto_without_fast_backend_warns_once_and_uses_clarabel(monkeypatch, wall):
+    monkeypatch.setattr(select, "available_backends", lambda: ("qdldl",))
+    monkeypatch.setattr(select, "_warned", False)
+    assert select.choose("auto", select.AUTO_MIN_BLOCKS - 1) == "clarabel"  # small: no warning needed
+    with pytest.warns(RuntimeWarning, match="Clarabel"):
+        assert select.choose("auto", 10_000) == "clarabel"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert select.choose("auto", 10_000) == "clarabel"  # said once only
+    result = solve_lp(wall, engine="auto")
+    assert result.status == "optimal" and "Clarabel" in result.message and "alma-ipm" not in result.message
+
+
+def test_auto_chooses_by_size(monkeypatch):
+    monkeypatch.setattr(select, "available_backends", lambda: ("feral", "qdldl"))
+    assert select.choose("auto", select.AUTO_MIN_BLOCKS - 1) == "clarabel"
+    assert select.choose("auto", select.AUTO_MIN_BLOCKS) == "ipm"
+    assert select.choose("clarabel", 10**6) == "clarabel" and select.choose("ipm", 1) == "ipm"
