@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from alma.report.overlays import draw_settlements, draw_ties
 from alma.results.types import BlockMotion, Result
 from alma.geometry.scene import Scene
 
@@ -134,6 +135,8 @@ def plot_mechanism(scene: Scene, result: "Result | MechanismPicture", path: str 
         line_colours.append(colour)
     if lines:
         ax.add_collection(LineCollection(lines, colors=line_colours, linewidths=1.2))
+    draw_ties(ax, scene, result)
+    draw_settlements(ax, scene)
     ax.autoscale_view()
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm]")
