@@ -20,7 +20,7 @@ MODELS = ("associative", "nonassociative", "both")
 
 def solve(scene: Scene | Model, model: str = "associative", *, tolerance: float = 1e-11,
           joints: Joints | None = None, effort: str = "auto", certify: bool = False,
-          time_limit: float = 60.0) -> Result:
+          time_limit: float | None = None) -> Result:
     """Collapse multiplier and mechanism of a scene.
 
     ``model="associative"`` solves the dilatant LP (Eq. 10) with certified

@@ -18,13 +18,13 @@ the lowest are made exact and verified like every other candidate.
 """
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass
 
 import numpy as np
 
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
+from alma.nonassociative.limits import Cap, no_cap
 
 
 @dataclass(frozen=True)
@@ -39,7 +39,7 @@ class RockingCandidate:
 
 
 def rocking_candidates(model: Model, points: ContactPoints, *, max_blocks: int | None = None,
-                       keep: int | None = None, deadline: float | None = None,
+                       keep: int | None = None, max_seeds: int | None = None, cap: Cap | None = None,
                        tolerance: float = 1e-9) -> list[RockingCandidate]:
     """All macro-block rotations grown from single blocks (see module docstring), lowest bound first.
 
@@ -51,8 +51,9 @@ def rocking_candidates(model: Model, points: ContactPoints, *, max_blocks: int |
     on the paper panels the lowest candidates include wedges of 450-850 blocks (a stepped
     diagonal crack), which gave the only verified states of four 600-1,176-block panels.
     ``keep``: only the lowest ``keep`` candidates (each carries a mechanism of 3 n_free numbers).
-    ``deadline`` (``time.perf_counter()`` seconds): seeds not grown by then give no candidate (on
-    large walls the macro-blocks of tens of thousands of seeds can each reach thousands of blocks).
+    ``max_seeds``: only the first seeds (in block order) are grown (on large walls the macro-blocks
+    of tens of thousands of seeds can each reach thousands of blocks).  Seeds not grown when the
+    user's ``cap`` passes give no candidate.
     """
     joints = model.joints
     n_free = model.n_free
@@ -101,11 +102,13 @@ def rocking_candidates(model: Model, points: ContactPoints, *, max_blocks: int |
             seed_block.append(block)
             seed_pivot.append(xy[inc_point[pivot_id]])
             seed_omega.append(omega)
+    if max_seeds is not None:
+        seed_block, seed_pivot, seed_omega = seed_block[:max_seeds], seed_pivot[:max_seeds], seed_omega[:max_seeds]
     if not seed_block:
         return []
     grown = _grow(np.asarray(seed_block), np.asarray(seed_pivot), np.asarray(seed_omega), indptr, offset,
                   normal_x, normal_y, inc_other, n_free, n_free if max_blocks is None else max_blocks, tolerance,
-                  deadline)
+                  cap or no_cap())
 
     seen: set[tuple[bytes, tuple[float, float]]] = set()
     ranked: list[tuple[float, int, np.ndarray, np.ndarray, float, float]] = []
@@ -147,10 +150,9 @@ _BATCH_ENTRIES = 8_000_000
 
 def _grow(seeds: np.ndarray, pivots: np.ndarray, omegas: np.ndarray, indptr: np.ndarray,
           offset: np.ndarray, normal_x: np.ndarray, normal_y: np.ndarray, inc_other: np.ndarray,
-          n_free: int, max_blocks: int, tolerance: float,
-          deadline: float | None = None) -> list[np.ndarray | None]:
+          n_free: int, max_blocks: int, tolerance: float, cap: Cap) -> list[np.ndarray | None]:
     """Members of the macro-block grown from each seed (sorted), or None (ground pushed, too large,
-    or not grown by the ``deadline``).
+    or not grown before the user's ``cap`` passed).
 
     Per incidence i (point p seen from its block), the opening under a rotation ω about c is
     ω (offset_i + normal_x_i c_y − normal_y_i c_x), the normal carrying the incidence's sign.
@@ -163,16 +165,16 @@ def _grow(seeds: np.ndarray, pivots: np.ndarray, omegas: np.ndarray, indptr: np.
     for first in range(0, seeds.size, batch):
         out.extend(_grow_batch(seeds[first:first + batch], pivots[first:first + batch],
                                omegas[first:first + batch], indptr, offset, normal_x, normal_y, inc_other,
-                               n_free, max_blocks, tolerance, deadline))
+                               n_free, max_blocks, tolerance, cap))
     return out
 
 
 def _grow_batch(seeds: np.ndarray, pivots: np.ndarray, omegas: np.ndarray, indptr: np.ndarray,
                 offset: np.ndarray, normal_x: np.ndarray, normal_y: np.ndarray, inc_other: np.ndarray,
-                n_free: int, max_blocks: int, tolerance: float,
-                deadline: float | None) -> list[np.ndarray | None]:
+                n_free: int, max_blocks: int, tolerance: float, cap: Cap) -> list[np.ndarray | None]:
+    """:func:`_grow` for one batch of seeds."""
     count = seeds.size
-    if deadline is not None and time.perf_counter() > deadline:
+    if cap.expired():
         return [None] * count
     members = np.zeros((count, n_free), dtype=bool)
     members[np.arange(count), seeds] = True
@@ -181,7 +183,7 @@ def _grow_batch(seeds: np.ndarray, pivots: np.ndarray, omegas: np.ndarray, indpt
     size = np.ones(count, dtype=np.int64)
     frontier_seed, frontier_block = np.arange(count), seeds.copy()
     while frontier_seed.size:
-        if deadline is not None and time.perf_counter() > deadline:
+        if cap.expired():
             return [None] * count
         starts, lengths = indptr[frontier_block], indptr[frontier_block + 1] - indptr[frontier_block]
         total = int(lengths.sum())
