@@ -73,6 +73,8 @@ class SearchSettings:
     gilbert_pivots_verified: int = 10_000
     #: Capped-LP solves (each with one projection QP) of the projected Gilbert iteration.
     projected_iterations: int = 400
+    #: Its iterations times the free blocks: the projection QP's cost grows with the scene.
+    projected_block_iterations: int = 40_000
     #: Simplex iterations of the projected Gilbert iteration's capped LPs.
     projected_pivots: int = 100_000
     #: Projected iterations without settling after which it restarts once from the LP field.
@@ -91,6 +93,8 @@ class SearchSettings:
     lp_vertex_points: int = 1000
     #: Above this many contact points the Gilbert LPs are solved by Clarabel, not warm HiGHS.
     interior_points: int = 6000
+    #: LP solves of a fixed Gilbert start on Clarabel's path (above :attr:`interior_points`).
+    gilbert_interior_iterations: int = 8
     #: Macro-block rotations made exact by the ``rocking`` start, lowest lifting bound first.
     rocking_tries: int = 4
     #: Seeds (block, pivot) the rocking generator grows into macro-blocks, in block order.

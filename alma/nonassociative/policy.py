@@ -36,12 +36,23 @@ def _work(settings: SearchSettings, iterations: int, pivots: int | None) -> Work
                 floor_pivots=settings.last_state_pivots, interior_iterations=settings.interior_iterations)
 
 
-def gilbert_work(settings: SearchSettings, effort: str, verified: bool) -> Work:
-    """A fixed Gilbert start's budget: its iterations, and with "fast" a total of simplex iterations."""
+def gilbert_work(settings: SearchSettings, effort: str, verified: bool, points: int) -> Work:
+    """A fixed Gilbert start's budget: its LP solves (fewer on Clarabel's path, where each is a
+    cold interior-point solve), and with "fast" a total of simplex iterations."""
+    iterations = settings.gilbert_iterations
+    if points > settings.interior_points:
+        iterations = min(iterations, settings.gilbert_interior_iterations)
     if effort == "thorough":
-        return _work(settings, settings.gilbert_iterations, None)
+        return _work(settings, iterations, None)
     pivots = settings.gilbert_pivots_verified if verified else settings.gilbert_pivots
-    return _work(settings, settings.gilbert_iterations, pivots)
+    return _work(settings, iterations, pivots)
+
+
+def projected_work(settings: SearchSettings, n_free: int) -> Work:
+    """The projected iteration's budget: LP solves (each with a projection QP), fewer on larger
+    scenes (:attr:`~alma.settings.SearchSettings.projected_block_iterations`), and simplex iterations."""
+    iterations = min(settings.projected_iterations, settings.projected_block_iterations // max(n_free, 1))
+    return _work(settings, max(iterations, 1), settings.projected_pivots)
 
 
 def plan(settings: SearchSettings, effort: str) -> list[str]:
@@ -75,9 +86,10 @@ def make_start(kind: str, ctx: Context) -> Start:
     if kind.startswith("gilbert:"):
         starts = s.gilbert_fast if ctx.effort == "fast" else s.gilbert_thorough
         scale, relaxation, steps = starts[int(kind.split(":")[1])]
-        return GilbertStart(scale, relaxation, steps, gilbert_work(s, ctx.effort, bool(ctx.verified())))
+        return GilbertStart(scale, relaxation, steps,
+                            gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count))
     if kind == "projected":
-        return ProjectedStart(_work(s, s.projected_iterations, s.projected_pivots))
+        return ProjectedStart(projected_work(s, ctx.model.n_free))
     if kind == "ipopt":
         return IpoptStart()
     if kind == "milp":
