@@ -43,7 +43,7 @@ class CertifySettings:
 
     #: Branch-and-bound nodes of HiGHS's MIP: the 12-block scenes prove within ~10^4.
     node_limit: int = 200_000
-    #: Simplex iterations of the LPs that derive the big-M constants (per LP).
+    #: Simplex iterations of each LP that derives a big-M constant (a stall guard).
     bound_lp_iterations: int = 200_000
     #: Velocity bound U as a multiple of the largest candidate mechanism's |u|∞.
     velocity_factor: float = 10.0
@@ -53,12 +53,63 @@ class CertifySettings:
 
 @dataclass(frozen=True)
 class SearchSettings:
-    """The non-associative search (Eq. 9): which starts run and the work each may spend."""
+    """The non-associative search (Eq. 9): which starts run and the work each may spend.
+
+    Work is counted in solver units (LP solves, simplex iterations, interior-point
+    iterations, branch-and-bound nodes, seeds), never in seconds.
+    """
 
     #: "fast", "thorough", or "auto" (thorough up to :attr:`thorough_blocks` free blocks).
     effort: str = "auto"
     #: Free blocks up to which "auto" means "thorough".
     thorough_blocks: int = 200
+    #: Gilbert starts of "fast": (N̄ as a multiple of N_LP, relaxation of N̄, slope-halving steps).
+    gilbert_fast: tuple[tuple[float, float, int], ...] = ((0.0, 1.0, 1), (1.0, 0.5, 0))
+    #: Gilbert starts of "thorough": the fast ones first, then slower variants.
+    gilbert_thorough: tuple[tuple[float, float, int], ...] = (
+        (0.0, 1.0, 1), (1.0, 0.5, 0), (0.0, 1.0, 4), (1.0, 0.5, 4), (0.5, 0.5, 1), (2.0, 1.0, 1), (1.0, 1.0, 0))
+    #: Capped-LP solves of one fixed Gilbert start.
+    gilbert_iterations: int = 40
+    #: "fast": simplex iterations of one fixed Gilbert start while no state is verified.
+    gilbert_pivots: int = 20_000
+    #: "fast": simplex iterations of one fixed Gilbert start once a state is verified.
+    gilbert_pivots_verified: int = 10_000
+    #: Capped-LP solves (each with one projection QP) of the projected Gilbert iteration.
+    projected_iterations: int = 400
+    #: Its iterations times the free blocks: the projection QP's cost grows with the scene.
+    projected_block_iterations: int = 40_000
+    #: Simplex iterations of the projected Gilbert iteration's capped LPs.
+    projected_pivots: int = 100_000
+    #: Projected iterations without settling after which it restarts once from the LP field.
+    projected_restart_after: int = 60
+    #: Plain (vertex) iterations before projecting again, after that restart.
+    projected_restart_plain_steps: int = 20
+    #: Simplex iterations of one static or kinematic LP of an exact state (a stall guard).
+    lp_pivots: int = 200_000
+    #: Simplex iterations of the HiGHS vertex of the ``lp`` and ``rocking`` starts on large scenes.
+    vertex_pivots: int = 20_000
+    #: Simplex iterations of each LP of the exact state a Gilbert start makes of its last iterate.
+    last_state_pivots: int = 2_000
+    #: Interior-point iterations of Clarabel's fixed-active-set LP.
+    interior_iterations: int = 200
+    #: Scenes up to this many contact points take the ``lp`` start's static LP from HiGHS's simplex.
+    lp_vertex_points: int = 1000
+    #: Above this many contact points the Gilbert LPs are solved by Clarabel, not warm HiGHS.
+    interior_points: int = 6000
+    #: LP solves of a fixed Gilbert start on Clarabel's path (above :attr:`interior_points`).
+    gilbert_interior_iterations: int = 8
+    #: Macro-block rotations made exact by the ``rocking`` start, lowest lifting bound first.
+    rocking_tries: int = 4
+    #: Seeds (block, pivot) the rocking generator grows into macro-blocks, in block order.
+    rocking_seeds: int = 20_000
+    #: "thorough": scenes up to this many free blocks get the IPOPT polish.
+    ipopt_blocks: int = 60
+    #: IPOPT iterations of each relaxed solve of the polish.
+    ipopt_iterations: int = 300
+    #: "thorough": scenes up to this many free blocks get the MILP of ``alma.certify`` as a start.
+    milp_start_blocks: int = 12
+    #: Branch-and-bound nodes of that MILP start.
+    milp_start_nodes: int = 20_000
 
 
 @dataclass(frozen=True)

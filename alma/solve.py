@@ -13,7 +13,7 @@ from alma.mechanics.model import Model, build_model
 from alma.nonassociative.search import solve_nonassociative
 from alma.results.build import associative_result, comparison, nonassociative_result
 from alma.results.types import AssociativeResult, Comparison, NonAssociativeResult
-from alma.settings import SearchSettings, Settings
+from alma.settings import Settings
 
 MODELS = ("associative", "nonassociative", "both")
 EFFORTS = ("auto", "fast", "thorough")
@@ -95,20 +95,14 @@ def _build(scene: Scene | Model, joints: Joints | None) -> tuple[Model, dict[str
     return built, {"joints_s": t1 - t0, "build_s": time.perf_counter() - t1}
 
 
-def _effort(search: SearchSettings, model: Model) -> str:
-    if search.effort != "auto":
-        return search.effort
-    return "thorough" if model.n_free <= search.thorough_blocks else "fast"
-
-
 def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settings,
                     certify: bool) -> NonAssociativeResult:
     """Eq. 9: the search from the LP's mechanism and field, and the MILP proof if asked."""
     t0 = time.perf_counter()
     timings = dict(assoc.timings)
     solution = solve_nonassociative(built, lp.mechanism if lp.solved else None,
-                                    lp.multipliers if lp.solved else None, effort=_effort(settings.search, built),
-                                    time_limit=settings.time_limit,
+                                    lp.multipliers if lp.solved else None, effort=settings.search.effort,
+                                    settings=settings.search, time_limit=settings.time_limit,
                                     associative_alpha=lp.alpha if lp.solved else None)
     timings["nonassociative_s"] = time.perf_counter() - t0
     timings.update({k: float(v) for k, v in solution.timings.items() if k.endswith("_s")})
@@ -119,8 +113,8 @@ def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settin
     if certify:
         mechanisms = [c.mechanism for c in solution.candidates] + ([lp.mechanism] if lp.solved else [])
         best = solution.best.alpha if solution.best is not None else None
-        certificate = certify_milp(built, lp.alpha, mechanisms, time_limit=settings.time_limit or 60.0,
-                                   alpha_best=best)
+        certificate = certify_milp(built, lp.alpha, mechanisms, settings=settings.certify,
+                                   time_limit=settings.time_limit, alpha_best=best)
         timings["certification_s"] = certificate.time_s
     return nonassociative_result(built, assoc, solution, timings, certificate, radenkovic)
 

@@ -1,18 +1,17 @@
-"""Certification of the non-associative optimum (``--certify``): old vs new MILP formulation.
+"""Certification of the non-associative optimum (``--certify``): the largest scenes proven.
 
 For every scene alma's default non-associative search runs once (α_LP, the candidate
-mechanisms and the best verified α), then ``alma.certify.certify`` is called with the first
-formulation (``classic``: global big-M, binaries per point, ``scipy.optimize.milp``) and the
-current one (``tight``: per-joint slip states, LP-derived big-M per point, energy balance,
-highspy with the verified state as cutoff), one after the other in the same process, each
-with the same time limit.  A family stops for a formulation after two consecutive sizes it
-could not prove (later rows say ``skipped``).
+mechanisms and the best verified α), then ``alma.certify.milp.certify`` (per-joint slip states,
+LP-derived big-M per point, energy balance, highspy with the verified state as cutoff) within
+its node budget and a wall-clock cap of ``--time-limit`` seconds.  A family stops after two
+consecutive sizes it could not prove (later rows say ``skipped``).  The first formulation
+(``classic``) it was once compared with is deleted; its measurements are in ``docs/decisions.md``.
 
 Families: k blocks 1 × 2 side by side on the ground (f = 1.0 and 0.6), stack-bond panels and
 running-bond walls (``alma.wall``, blocks 120 × 60, f = 0.6) from 6 to 40 blocks.
 
     python benchmarks/bench_certify.py [--time-limit 60] [--families side1.0,side0.6,stack,running]
-                                       [--formulations classic,tight] [--out benchmarks/results]
+                                       [--out benchmarks/results]
 
 Prints a table and the largest scene proven within the time limit per family and formulation;
 writes ``certify.csv`` (one row per scene and formulation).
@@ -66,7 +65,7 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--time-limit", type=float, default=60.0)
     parser.add_argument("--families", default="side1,side0.6,stack,running")
-    parser.add_argument("--formulations", default="classic,tight")
+    parser.add_argument("--formulations", default="tight", help="only 'tight' remains")
     parser.add_argument("--stop-after", type=int, default=2, help="unproven sizes in a row before a family stops")
     parser.add_argument("--out", default=str(Path(__file__).resolve().parent / "results"))
     args = parser.parse_args(argv)
@@ -87,8 +86,7 @@ def main(argv: list[str] | None = None) -> None:
                 if misses[formulation] >= args.stop_after:
                     row.update(status="skipped", lower=np.nan, upper=best, gap=np.nan, seconds=np.nan)
                 else:
-                    cert = certify(model, alpha_lp, mechanisms, time_limit=args.time_limit, alpha_best=best,
-                                   formulation=formulation)
+                    cert = certify(model, alpha_lp, mechanisms, time_limit=args.time_limit, alpha_best=best)
                     upper = min(best, cert.upper) if best is not None else cert.upper
                     proven = cert.status == "proven"
                     misses[formulation] = 0 if proven else misses[formulation] + 1

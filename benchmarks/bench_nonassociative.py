@@ -4,9 +4,9 @@ For every paper panel up to ``--max-blocks`` blocks (all three frictions), the a
 solved once, then each method alone:
 
 - ``lp``                     the exact state of the associative mechanism (its dilatant openings
-                             read as slips), :func:`alma.nonassociative.exact_state`;
+                             read as slips), :func:`alma.nonassociative.states.exact_state`;
 - ``gilbert(s, r, k)``       one Gilbert iterative-LP run from N̄ = s·N_LP, relaxation r, k
-                             slope-halving steps (every entry of ``GILBERT_STARTS``);
+                             slope-halving steps (every entry of ``SearchSettings.gilbert_fast``/``gilbert_thorough``);
 - ``effort=fast``, ``effort=thorough``  alma's default searches (all their starts, lowest
                              verified state), as :func:`alma.solve` runs them.
 
@@ -39,7 +39,10 @@ import alma  # noqa: E402
 from alma.associative.lp import solve_lp  # noqa: E402
 from alma.mechanics.contact_points import ContactPoints  # noqa: E402
 from alma.mechanics.model import build_model  # noqa: E402
-from alma.nonassociative.search import GILBERT_STARTS, exact_state, gilbert, solve_nonassociative  # noqa: E402
+from alma.nonassociative.gilbert import gilbert  # noqa: E402
+from alma.nonassociative.search import solve_nonassociative  # noqa: E402
+from alma.nonassociative.states import exact_state  # noqa: E402
+from alma.settings import SearchSettings  # noqa: E402
 
 RESULTS = ROOT / "benchmarks" / "results"
 FRICTIONS = (0.27, 0.6, 1.0)
@@ -59,7 +62,8 @@ def paper_geometries(max_blocks: int) -> list[tuple[int, str, str, str]]:
 def methods(model, points, lp) -> dict[str, callable]:
     n_lp = lp.multipliers.reshape(-1, 2).sum(axis=1)
     out = {"lp": lambda: exact_state(model, points, lp.mechanism, "lp", dilatant=True)}
-    starts = dict.fromkeys(GILBERT_STARTS["fast"] + GILBERT_STARTS["thorough"])
+    settings = SearchSettings()
+    starts = dict.fromkeys(settings.gilbert_fast + settings.gilbert_thorough)
     for scale, relaxation, steps in starts:
         out[f"gilbert({scale:g}, {relaxation:g}, {steps})"] = (
             lambda s=scale, r=relaxation, k=steps: gilbert(model, points, s * n_lp, relaxation=r,

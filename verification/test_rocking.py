@@ -14,7 +14,8 @@ from hypothesis import strategies as st
 import alma
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
-from alma.nonassociative.search import exact_state, rocking_start
+from alma.nonassociative.starts import rocking_start
+from alma.nonassociative.states import exact_state
 from alma.nonassociative.rocking import rocking_candidates
 
 from helpers import assemblies, single_block_scene
@@ -77,7 +78,8 @@ def test_corner_column_of_a_flemish_panel():
 def test_interior_fixed_set_lp_agrees_with_highs(data):
     """The smallest α with a fixed active set: Clarabel on the generator form (used by the rocking
     start) and HiGHS on (N, T) (every other exact state) agree, or both find no field."""
-    from alma.nonassociative.search import LP_METHOD, active_set, fixed_set_static_interior, static_lp
+    from alma.nonassociative.states import active_set
+    from alma.nonassociative.static_lps import LP_METHOD, fixed_set_static_interior, static_lp
 
     model = build_model(alma.Scene.from_dict(data))
     points = ContactPoints.from_model(model)

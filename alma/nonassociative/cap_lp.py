@@ -12,29 +12,18 @@ against 1–2 s cold.  The mechanism u is read from the equilibrium rows' duals.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
+import clarabel
 import highspy
 import numpy as np
 import scipy.sparse as sp
 
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
-
+from alma.nonassociative.solvers import clarabel_settings, quiet_highs
+from alma.nonassociative.static_lps import StaticLP, failed
 
 #: Feasibility tolerances of the warm-started HiGHS model (absolute, dimensionless units).
 DUAL_TOLERANCE = 1e-10
-
-
-@dataclass(frozen=True)
-class StaticLP:
-    """Solution of a static LP over (α, N, T) at the contact points, with its mechanism."""
-
-    status: str  # optimal | unbounded | infeasible | error
-    alpha: float
-    normal: np.ndarray
-    shear: np.ndarray
-    mechanism: np.ndarray | None  # f_Lᵀu = n_free
 
 
 class CapLP:
@@ -46,11 +35,11 @@ class CapLP:
     block plus 2 per contact point), which the dual simplex re-solves in about half the time.
     """
 
-    def __init__(self, model: Model, points: ContactPoints, *, time_limit: float = 60.0) -> None:
+    def __init__(self, model: Model, points: ContactPoints, *, max_pivots: int = 200_000) -> None:
         self.model = model
         self.points = points
         self._n = model.dead.shape[0]
-        self._time_limit = float(time_limit)
+        self._max_pivots = int(max_pivots)
         self._slope = np.zeros(points.count)
         self._rows: highspy.Highs | None = None
         self._bounded: highspy.Highs | None = None
@@ -87,8 +76,7 @@ class CapLP:
         lp.a_matrix_.value_ = A.data
         lp.a_matrix_.num_col_ = 1 + 2 * P
         lp.a_matrix_.num_row_ = A.shape[0]
-        h = highspy.Highs()
-        h.setOptionValue("output_flag", False)
+        h = quiet_highs()
         # The mechanism is read from the duals: HiGHS's default dual feasibility (1e-7, absolute)
         # leaves interpenetrations of ~1e-5 of the largest velocity on large panels, more than
         # the verification accepts.
@@ -100,53 +88,60 @@ class CapLP:
         h.setOptionValue("solver", "ipm")
         return h
 
-    def solve(self, slope: np.ndarray, cap: np.ndarray, time_limit: float | None = None) -> StaticLP:
-        """Re-solve with new slopes and caps; ``time_limit`` (s) overrides the per-solve limit."""
+    def _model_for(self, slope: np.ndarray, cap: np.ndarray) -> highspy.Highs:
+        """The persistent model for this slope (built on first use), with the new caps set."""
         P = self.points.count
-        limit = self._time_limit if time_limit is None else float(time_limit)
-        cap = np.asarray(cap, dtype=float)
         if not np.any(slope):
             if self._bounded is None:
                 self._bounded = self._new_highs(with_yield_rows=False)
-            h = self._bounded
-            h.changeColsBounds(P, self._shear_cols, -cap, cap)
-        else:
-            if self._rows is None:
-                self._rows = self._new_highs(with_yield_rows=True)
-            h = self._rows
-            changed = np.flatnonzero(slope != self._slope)
-            for p in changed:  # only during the first (slope > 0) steps
-                h.changeCoeff(int(self._slope_rows[0][p]), int(1 + p), float(-slope[p]))
-                h.changeCoeff(int(self._slope_rows[1][p]), int(1 + p), float(-slope[p]))
-            self._slope = np.array(slope, dtype=float, copy=True)
-            h.changeRowsBounds(2 * P, self._cap_rows, np.full(2 * P, -highspy.kHighsInf),
-                               np.concatenate([cap, cap]))
-        # HiGHS's clock runs over the object's whole life: the limit is per solve from now.
-        h.setOptionValue("time_limit", h.getRunTime() + limit)
+            self._bounded.changeColsBounds(P, self._shear_cols, -cap, cap)
+            return self._bounded
+        if self._rows is None:
+            self._rows = self._new_highs(with_yield_rows=True)
+        h = self._rows
+        for p in np.flatnonzero(slope != self._slope):  # only during the first (slope > 0) steps
+            h.changeCoeff(int(self._slope_rows[0][p]), int(1 + p), float(-slope[p]))
+            h.changeCoeff(int(self._slope_rows[1][p]), int(1 + p), float(-slope[p]))
+        self._slope = np.array(slope, dtype=float, copy=True)
+        h.changeRowsBounds(2 * P, self._cap_rows, np.full(2 * P, -highspy.kHighsInf), np.concatenate([cap, cap]))
+        return h
+
+    @staticmethod
+    def _run(h: highspy.Highs, max_pivots: int) -> int:
+        """One solve within ``max_pivots`` simplex (and interior-point) iterations; returns those spent."""
+        h.setOptionValue("simplex_iteration_limit", int(max_pivots))
+        h.setOptionValue("ipm_iteration_limit", int(max_pivots))
         h.run()
         h.setOptionValue("solver", "simplex")
+        info = h.getInfo()
+        return int(info.simplex_iteration_count) + int(info.ipm_iteration_count) + int(info.crossover_iteration_count)
+
+    def solve(self, slope: np.ndarray, cap: np.ndarray, max_pivots: int | None = None) -> StaticLP:
+        """Re-solve with new slopes and caps within ``max_pivots`` iterations (default: the model's)."""
+        P = self.points.count
+        limit = self._max_pivots if max_pivots is None else max(1, int(max_pivots))
+        h = self._model_for(slope, np.asarray(cap, dtype=float))
+        pivots = self._run(h, limit)
         status = h.getModelStatus()
         if status == highspy.HighsModelStatus.kUnknown:
             # The warm simplex can stop without a verdict (numerical trouble at the 1e-10
             # tolerances); a cold interior-point solve with crossover usually settles it.
             h.clearSolver()
             h.setOptionValue("solver", "ipm")
-            h.setOptionValue("time_limit", h.getRunTime() + limit)
-            h.run()
-            h.setOptionValue("solver", "simplex")
+            pivots += self._run(h, limit)
             status = h.getModelStatus()
         if status == highspy.HighsModelStatus.kUnbounded:
-            return StaticLP("unbounded", np.inf, np.zeros(P), np.zeros(P), None)
+            return failed("unbounded", P, pivots, np.inf)
         if status in (highspy.HighsModelStatus.kInfeasible, highspy.HighsModelStatus.kUnboundedOrInfeasible):
-            return StaticLP("infeasible", np.nan, np.zeros(P), np.zeros(P), None)
+            return failed("infeasible", P, pivots)
         if status != highspy.HighsModelStatus.kOptimal:
-            return StaticLP("error", np.nan, np.zeros(P), np.zeros(P), None)
+            return failed("error", P, pivots)
         solution = h.getSolution()
         x = np.asarray(solution.col_value)
         y = -np.asarray(solution.row_dual)[:self._n]  # ∂(−α)/∂b of the equilibrium rows: u with f_Lᵀu = 1
         work = float(self.model.live @ y)
         mechanism = y * (self.model.n_free / work) if work > 0 else None
-        return StaticLP("optimal", float(x[0]), x[1:1 + P].copy(), x[1 + P:].copy(), mechanism)
+        return StaticLP("optimal", float(x[0]), x[1:1 + P].copy(), x[1 + P:].copy(), mechanism, pivots)
 
 
 class ClosestField:
@@ -160,9 +155,8 @@ class ClosestField:
     (α, caps) change.
     """
 
-    def __init__(self, model: Model, points: ContactPoints, *, tolerance: float = 1e-10) -> None:
-        import clarabel
-
+    def __init__(self, model: Model, points: ContactPoints, *, tolerance: float = 1e-10,
+                 max_iter: int = 200) -> None:
         P = points.count
         self.model = model
         self._P = P
@@ -172,11 +166,8 @@ class ClosestField:
                        sp.hstack([zero, -eye])]).tocsc()
         quadratic = sp.block_diag([sp.identity(P), zero], format="csc")
         self._n_eq = equilibrium.shape[0]
-        settings = clarabel.DefaultSettings()
-        settings.verbose = False
-        settings.presolve_enable = False  # data updates need the problem as given
-        settings.tol_gap_abs = settings.tol_gap_rel = settings.tol_feas = tolerance
-        settings.direct_solve_method = "qdldl"
+        # presolve off: data updates need the problem as given.
+        settings = clarabel_settings(tolerance, max_iter, presolve=False)
         self._solver = clarabel.DefaultSolver(quadratic, np.zeros(2 * P), A, self._rhs(0.0, np.zeros(P)),
                                               [clarabel.ZeroConeT(self._n_eq), clarabel.NonnegativeConeT(3 * P)],
                                               settings)

@@ -7,17 +7,18 @@ the slip split γ = γ⁺ − γ⁻ (γ± ≥ 0).  Constraints: equilibrium (Eq.
 zero: N ξ ≤ ε, (f N + T) γ⁺ ≤ ε, (f N − T) γ⁻ ≤ ε.  A tiny regularisation of
 the slips keeps multipliers of unloaded points bounded.  Sparse Jacobians and
 exact Hessians come from CasADi.  The result is only a start: its mechanism is
-turned into an exact, verified state by :func:`alma.nonassociative.exact_state`.
+turned into an exact, verified state by :func:`alma.nonassociative.states.exact_state`.
+Each relaxed solve is bounded by IPOPT's iteration count, never by its clock.
 """
 from __future__ import annotations
-
-import time
 
 import numpy as np
 import scipy.sparse as sp
 
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
+from alma.nonassociative.limits import Cap, no_cap
+from alma.nonassociative.states import CollapseState, exact_state
 
 
 def _dm(matrix: sp.spmatrix):
@@ -28,21 +29,19 @@ def _dm(matrix: sp.spmatrix):
     return ca.DM(ca.Sparsity(m.shape[0], m.shape[1], m.indptr.tolist(), m.indices.tolist()), m.data.tolist())
 
 
-def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, seed=None,
+def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, seed: CollapseState | None = None,
                  relaxations: tuple[float, ...] = (1e-2, 1e-4, 1e-6, 1e-8), max_iter: int = 300,
-                 time_limit: float | None = None):
+                 cap: Cap | None = None) -> CollapseState | None:
     """A candidate collapse state from IPOPT started at ``mechanism`` (and the seed's forces).
 
-    ``time_limit`` (s, wall clock) bounds the whole sequence of relaxed solves: each IPOPT run
-    gets what is left (IPOPT's ``max_wall_time``); a run stopped by it ends the sequence, and
-    the last relaxation that converged is the answer.
+    The relaxations ε of the complementarity (Eq. 7) are solved in turn, each warm from the
+    last and within ``max_iter`` IPOPT iterations; a run that does not converge ends the
+    sequence, and the last relaxation that converged is the answer.  No relaxed solve begins
+    once the user's ``cap`` has passed.
     """
     import casadi as ca
 
-    deadline = None if time_limit is None else time.perf_counter() + time_limit
-
-    from alma.nonassociative.search import exact_state
-
+    cap = cap or no_cap()
     P, n = points.count, model.dead.shape[0]
     alpha = ca.SX.sym("alpha")
     N = ca.SX.sym("N", P)
@@ -83,16 +82,10 @@ def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, see
     else:
         x0 = np.concatenate([[0.0], np.zeros(2 * P), u0, np.maximum(slip, 0), np.maximum(-slip, 0)])
     best_u = None
-    solver = None
+    solver = ca.nlpsol("alma_nlncp", "ipopt", problem, options)
     for epsilon in relaxations:
-        if deadline is not None:
-            left = deadline - time.perf_counter()
-            if left <= 0:
-                break
-            options["ipopt.max_wall_time"] = left
-            solver = None  # the option is fixed when the solver is built
-        if solver is None:
-            solver = ca.nlpsol("alma_nlncp", "ipopt", problem, options)
+        if cap.expired():
+            break
         sol = solver(x0=x0, p=epsilon, lbg=lbg, ubg=ubg, lbx=lbx, ubx=ubx)
         if not solver.stats().get("success", False):
             break

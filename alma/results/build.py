@@ -43,7 +43,10 @@ def nonassociative_result(model: Model, associative: AssociativeResult, solution
     (:mod:`alma.associative.radenkovic`).
     """
     best = solution.best
-    proven = certificate is not None and certificate.status != "failed"
+    # The MILP's bound counts when it proved its problem, or when a node or time limit left it a
+    # positive bound; its 0.0 placeholder of a failure proves nothing.
+    proven = certificate is not None and (certificate.status == "proven" or
+                                          (certificate.status != "failed" and certificate.lower > 0))
     lower = max(float(certificate.lower) if proven else -math.inf, radenkovic)
     record = _record(solution, certificate)
     record["search"]["radenkovic_lower_bound"] = finite(radenkovic)

@@ -1,0 +1,181 @@
+"""Big-M constants of the certification MILP, derived per scene by warm-started LPs.
+
+M_N,p = max N_p over the statically admissible fields (Eqs. 3, 5) with α ∈ [0, α_cap]
+(unbounded → no certificate); ℓ_j = min N_j of each joint over the same fields (for the
+energy-balance cut); M_ξ,p and M_γ±,j = the largest opening / slips over {ξ ≥ 0, f_Lᵀu = n_free,
+|u|∞ ≤ U, −f₀ᵀu + Σ f ℓ_j |γ_j| ≤ α_cap n_free}.  Every LP is bounded by a simplex iteration
+count; the user's wall-clock cap is checked between them.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import highspy
+import numpy as np
+import scipy.sparse as sp
+
+from alma.mechanics.contact_points import ContactPoints
+from alma.mechanics.model import Model
+from alma.nonassociative.limits import Cap
+from alma.nonassociative.solvers import quiet_highs
+
+#: Relative safety margin on every derived big-M (bounds come from LPs solved to ~1e-9).
+BIG_M_MARGIN = 1.01
+
+
+class BoundsFailed(Exception):
+    """A big-M LP failed (message), or the user's cap stopped the derivation (``by_cap``)."""
+
+    def __init__(self, message: str, by_cap: bool = False) -> None:
+        super().__init__(message)
+        self.by_cap = by_cap
+
+
+@dataclass(frozen=True)
+class BigM:
+    """The big-M constants of one scene (per point p and per joint j; dimensionless)."""
+
+    normal: np.ndarray  # M_N,p
+    opening: np.ndarray  # M_ξ,p
+    slip_plus: np.ndarray  # M_γ⁺ of each point's joint
+    slip_minus: np.ndarray  # M_γ⁻ of each point's joint
+    joint_minimum: np.ndarray  # ℓ_j ≤ N_j in every admissible field
+    point_minimum: np.ndarray | None  # min N_p (None: not derived)
+
+
+def pass_model(h: highspy.Highs, cost: np.ndarray, col_lo: np.ndarray, col_hi: np.ndarray, A: sp.spmatrix,
+               row_lo: np.ndarray, row_hi: np.ndarray, integrality: np.ndarray | None = None) -> None:
+    """Pass an LP (or, with ``integrality``, a MIP) in column-wise form to a HiGHS object."""
+    A = sp.csc_matrix(A)
+    A.sort_indices()
+    lp = highspy.HighsLp()
+    lp.num_col_, lp.num_row_ = int(A.shape[1]), int(A.shape[0])
+    lp.col_cost_ = np.asarray(cost, dtype=float)
+    lp.col_lower_ = np.asarray(col_lo, dtype=float)
+    lp.col_upper_ = np.asarray(col_hi, dtype=float)
+    lp.row_lower_ = np.asarray(row_lo, dtype=float)
+    lp.row_upper_ = np.asarray(row_hi, dtype=float)
+    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+    lp.a_matrix_.start_ = A.indptr.astype(np.int32)
+    lp.a_matrix_.index_ = A.indices.astype(np.int32)
+    lp.a_matrix_.value_ = A.data.astype(float)
+    if integrality is not None:
+        lp.integrality_ = [highspy.HighsVarType.kInteger if v else highspy.HighsVarType.kContinuous
+                           for v in integrality]
+    h.passModel(lp)
+
+
+def _column_maxima(h: highspy.Highs, nvar: int, objectives: list[np.ndarray], max_pivots: int,
+                   cap: Cap) -> np.ndarray:
+    """max cᵀx of a passed LP for each c (warm-started simplex, ``max_pivots`` iterations each)."""
+    out = np.empty(len(objectives))
+    idx = np.arange(nvar, dtype=np.int32)
+    h.setOptionValue("simplex_iteration_limit", int(max_pivots))
+    for k, c in enumerate(objectives):
+        if cap.expired():
+            raise BoundsFailed("the time limit passed while deriving the big-M bounds", by_cap=True)
+        h.changeColsCost(nvar, idx, -np.asarray(c, dtype=float))
+        h.run()
+        if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
+            raise BoundsFailed(f"a big-M LP ended {h.modelStatusToString(h.getModelStatus())}")
+        out[k] = -h.getInfo().objective_function_value
+    return out
+
+
+def _static_field_model(model: Model, points: ContactPoints, alpha_max: float) -> highspy.Highs:
+    """A HiGHS model of the statically admissible fields (Eqs. 3, 5) over (α, N, T), 0 ≤ α ≤ alpha_max,
+    with zero cost: the callers set one objective after another on it (warm re-solves)."""
+    P = points.count
+    A_eq, b_eq, A_ub = points.static_constraints(model, points.friction)
+    lo = np.concatenate([b_eq, np.full(2 * P, -np.inf)])
+    hi = np.concatenate([b_eq, np.zeros(2 * P)])
+    col_lo = np.concatenate([[0.0], np.zeros(P), np.full(P, -np.inf)])
+    col_hi = np.concatenate([[alpha_max], np.full(2 * P, np.inf)])
+    h = quiet_highs()
+    pass_model(h, np.zeros(1 + 2 * P), col_lo, col_hi, sp.vstack([A_eq, A_ub]), lo, hi)
+    return h
+
+
+def static_point_bounds(model: Model, points: ContactPoints, alpha_max: float, *, max_pivots: int, cap: Cap,
+                        minimise: bool = False, weights: np.ndarray | None = None) -> np.ndarray:
+    """max N_p (min N_p with ``minimise``) over statically admissible fields with 0 ≤ α ≤ alpha_max,
+    for every p; with ``weights`` (rows w), max wᵀN for each row instead."""
+    P = points.count
+    h = _static_field_model(model, points, alpha_max)
+    sign = -1.0 if minimise else 1.0
+    rows = np.eye(P) if weights is None else np.atleast_2d(weights)
+    objectives = [np.concatenate([[0.0], sign * w, np.zeros(P)]) for w in rows]
+    return sign * _column_maxima(h, 1 + 2 * P, objectives, max_pivots, cap)
+
+
+def joint_normal_minima(model: Model, points: ContactPoints, first: np.ndarray, alpha_max: float, *,
+                        max_pivots: int, cap: Cap) -> np.ndarray:
+    """min N_a + N_b of every joint (points first[j] to first[j + 1] − 1) over statically admissible
+    fields with 0 ≤ α ≤ alpha_max."""
+    P = points.count
+    ends = np.r_[first[1:], P]
+    weights = np.zeros((first.size, P))
+    for j, (a, b) in enumerate(zip(first, ends)):
+        weights[j, a:b] = 1.0
+    return static_point_bounds(model, points, alpha_max, max_pivots=max_pivots, cap=cap, minimise=True,
+                               weights=weights)
+
+
+def kinematic_point_bounds(model: Model, points: ContactPoints, U: float, first: np.ndarray, alpha_max: float,
+                           slip_cost: np.ndarray, *, max_pivots: int,
+                           cap: Cap) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Largest opening ξ_p and slips ±γ (per point, of its joint) over {ξ ≥ 0, f_Lᵀu = n_free, |u|∞ ≤ U}
+    and the energy balance of a state at α ≤ alpha_max: −f₀ᵀu + Σ_j slip_cost_j |γ_j| ≤ alpha_max n_free
+    (slip_cost_j = f ℓ_j ≤ f N_j), which bounds every mechanism that lifts weight or slips under load."""
+    P, n = points.count, model.dead.shape[0]
+    m = first.size
+    tangent_j = points.tangent[:, first]
+    # x = (u, γ⁺_j, γ⁻_j)
+    A = sp.vstack([sp.hstack([points.normal.T, sp.csr_matrix((P, 2 * m))]),
+                   sp.hstack([sp.csr_matrix(model.live[None, :]), sp.csr_matrix((1, 2 * m))]),
+                   sp.hstack([tangent_j.T, -sp.identity(m), sp.identity(m)]),
+                   sp.csr_matrix(np.concatenate([-model.dead, slip_cost, slip_cost])[None, :])])
+    lo = np.concatenate([np.zeros(P), [model.n_free], np.zeros(m), [-np.inf]])
+    hi = np.concatenate([np.full(P, np.inf), [model.n_free], np.zeros(m), [alpha_max * model.n_free]])
+    h = quiet_highs()
+    nv = n + 2 * m
+    col_lo = np.concatenate([np.full(n, -U), np.zeros(2 * m)])
+    col_hi = np.concatenate([np.full(n, U), np.full(2 * m, np.inf)])
+    pass_model(h, np.zeros(nv), col_lo, col_hi, A, lo, hi)
+    directions = np.hstack([points.normal.toarray(), tangent_j.toarray(), -tangent_j.toarray()])  # (n, P + 2m)
+    objectives = [np.concatenate([directions[:, k], np.zeros(2 * m)]) for k in range(P + 2 * m)]
+    values = np.maximum(_column_maxima(h, nv, objectives, max_pivots, cap), 0.0)
+    joint_of = np.searchsorted(first, np.arange(P), side="right") - 1
+    return values[:P], values[P:P + m][joint_of], values[P + m:][joint_of]
+
+
+def derive_big_m(model: Model, points: ContactPoints, alpha_hi: float, U: float, first: np.ndarray, *,
+                 per_point: bool, max_pivots: int, cap: Cap) -> BigM:
+    """All big-M constants (see module docstring), with the margin :data:`BIG_M_MARGIN`.
+
+    Scenes above the per-point size (``per_point`` False) get one global normal-force bound and
+    row-norm velocity bounds instead of per-point LPs.  Raises :class:`BoundsFailed`.
+    """
+    P = points.count
+    limits = dict(max_pivots=max_pivots, cap=cap)
+    try:
+        if per_point:
+            m_n = static_point_bounds(model, points, alpha_hi, **limits)
+        else:  # one LP (the largest total normal force) bounds every point
+            m_n = np.full(P, static_point_bounds(model, points, alpha_hi, weights=np.ones(P), **limits)[0])
+    except BoundsFailed as error:
+        if error.by_cap:
+            raise
+        raise BoundsFailed("normal forces are unbounded (self-stress): no big-M bound exists") from error
+    m_n = BIG_M_MARGIN * np.maximum(m_n, 0.0) + 1e-9
+    if not per_point:
+        row_n = np.asarray(abs(points.normal).sum(axis=0)).ravel()
+        row_t = np.asarray(abs(points.tangent).sum(axis=0)).ravel()
+        return BigM(m_n, BIG_M_MARGIN * row_n * U, BIG_M_MARGIN * row_t * U, BIG_M_MARGIN * row_t * U,
+                    np.zeros(first.size), None)
+    ell = joint_normal_minima(model, points, first, alpha_hi, **limits)
+    ell = np.maximum(ell / BIG_M_MARGIN - 1e-9, 0.0)
+    n_min = static_point_bounds(model, points, alpha_hi, minimise=True, **limits)
+    kin = kinematic_point_bounds(model, points, U, first, alpha_hi, points.friction[first] * ell, **limits)
+    m_xi, m_gp, m_gm = (BIG_M_MARGIN * v + 1e-9 for v in kin)
+    return BigM(m_n, m_xi, m_gp, m_gm, ell, n_min)

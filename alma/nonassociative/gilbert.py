@@ -1,0 +1,183 @@
+"""The iterative LP of Gilbert, Casapulla & Ahmed (2006), plain and projected.
+
+Coulomb's friction slope is driven to zero while the shear capacity is carried as a fictitious
+cohesion f N̄ from the previous normal forces, until N = N̄: then the sliding flow rule has no
+dilatancy and the iterate is a collapse state of Eq. 9.  Both variants spend a :class:`Work`
+budget (LP solves and simplex iterations) and stop early only at the user's :class:`Cap`.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from alma.mechanics.contact_points import ContactPoints
+from alma.mechanics.model import Model
+from alma.nonassociative.cap_lp import CapLP, ClosestField
+from alma.nonassociative.limits import Cap, Work, no_cap
+from alma.nonassociative.states import CollapseState, Tally, active_set, exact_state, lower, verify
+from alma.nonassociative.static_lps import StaticLP, static_lp_clarabel
+
+
+def _settled(lp: StaticLP, n_bar: np.ndarray, tolerance: float) -> bool:
+    """N = N̄ to ``tolerance`` of the largest normal force."""
+    change = float(np.abs(lp.normal - n_bar).max(initial=0.0))
+    return change <= tolerance * max(1.0, float(np.abs(lp.normal).max(initial=0.0)))
+
+
+def _as_state(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray, shear: np.ndarray,
+              mechanism: np.ndarray, start: str) -> CollapseState | None:
+    """The iterate itself as a verified collapse state, or None if it fails verification."""
+    residuals, ok = verify(model, points, alpha, normal, shear, mechanism)
+    if not ok:
+        return None
+    return CollapseState(alpha=alpha, normal=normal, shear=shear, mechanism=mechanism, start=start,
+                         residuals=residuals, verified=True)
+
+
+def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, start: str = "gilbert",
+            relaxation: float = 0.5, slope_steps: int = 4, tolerance: float = 1e-7, ipm_above: int = 6000,
+            work: Work = Work(), cap: Cap | None = None,
+            tally: Tally | None = None) -> tuple[CollapseState | None, int]:
+    """Iterative LP of Gilbert, Casapulla & Ahmed (2006) on Eqs. 3 and 5.
+
+    The friction slope is halved each step down to zero while the rest of the shear capacity
+    is a fictitious cohesion (f − slope) N̄ from the previous normal forces.  An iterate whose
+    own forces already satisfy Coulomb's law with its mechanism (:func:`verify`) is an exact
+    collapse state; the loop stops when N = N̄, when an active set that came back verifies, or
+    when ``work`` is spent.  Scenes up to ``ipm_above`` contact points re-solve one persistent
+    HiGHS model warm (:class:`CapLP`); larger ones use Clarabel.  Returns the best verified
+    state (or the exact state of the last mechanism) and the LP solves used.
+    """
+    cap, tally = cap or no_cap(), tally if tally is not None else Tally()
+    f = points.friction
+    n_bar = np.maximum(initial_normal, 0.0)
+    interior = points.count > ipm_above
+    cap_lp = None if interior else CapLP(model, points, max_pivots=work.lp_pivots)
+    last, best, used = None, None, 0
+    seen: set[tuple[bytes, bytes]] = set()
+    tried: set[tuple[bytes, bytes]] = set()
+    for iteration in range(work.iterations):
+        if cap.expired() or work.spent(tally):
+            break
+        ratio = 0.5 ** (iteration + 1) if iteration < slope_steps else 0.0
+        slope = f * ratio
+        if interior:
+            lp = static_lp_clarabel(model, points, slope=slope, cap=(f - slope) * n_bar,
+                                    max_iter=work.interior_iterations)
+        else:
+            lp = cap_lp.solve(slope, (f - slope) * n_bar, max_pivots=work.lp_limit(tally))
+        tally.add(lp.pivots)
+        used += 1
+        if lp.status != "optimal" or lp.mechanism is None:
+            break
+        last = lp
+        if ratio == 0.0:
+            state = _as_state(model, points, lp.alpha, lp.normal, lp.shear, lp.mechanism, start)
+            if state is not None and (best is None or state.alpha < best.alpha):
+                best = state
+            if _settled(lp, n_bar, tolerance):
+                break
+        if ratio == 0.0 and not interior:
+            # Once an active set comes back (the iterates settle or cycle), its exact state usually
+            # verifies: try each such set once, and stop at the first verified state.
+            open_points, slip_sign = active_set(model, points, lp.mechanism)
+            current = (open_points.tobytes(), slip_sign.tobytes())
+            if current in seen and current not in tried:
+                tried.add(current)
+                state = exact_state(model, points, lp.mechanism, start, limits=work.exact_limits(tally),
+                                    tally=tally)
+                if state is not None and state.verified:
+                    return lower(state, best), used
+            seen.add(current)
+        n_bar = n_bar + relaxation * (lp.normal - n_bar)
+    if last is None:
+        return best, used
+    final = exact_state(model, points, last.mechanism, start, limits=work.exact_limits(tally), tally=tally)
+    return lower(final, best), used
+
+
+class _Anderson:
+    """Anderson mixing (type II) of the fixed-point map N̄ ↦ N over the last ``memory`` steps."""
+
+    def __init__(self, memory: int) -> None:
+        self.memory = memory
+        self.x: list[np.ndarray] = []
+        self.g: list[np.ndarray] = []
+
+    def reset(self) -> None:
+        """Forget the history (after a restart)."""
+        self.x, self.g = [], []
+
+    def step(self, n_bar: np.ndarray, step: np.ndarray) -> np.ndarray:
+        """The next N̄: the combination of the last steps that best cancels the residual."""
+        self.x = (self.x + [n_bar.copy()])[-(self.memory + 1):]
+        self.g = (self.g + [step])[-(self.memory + 1):]
+        if len(self.x) == 1:
+            return n_bar + step
+        d_g = np.diff(np.array(self.g), axis=0).T
+        d_x = np.diff(np.array(self.x), axis=0).T
+        gamma = np.linalg.lstsq(d_g, step, rcond=None)[0]
+        return np.maximum(n_bar + step - (d_x + d_g) @ gamma, 0.0)
+
+
+def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *,
+                      start: str = "gilbert-projected", plain_steps: int = 0, memory: int = 5,
+                      tolerance: float = 1e-7, restart_after: int = 60, restart_plain_steps: int = 20,
+                      work: Work = Work(iterations=400), cap: Cap | None = None,
+                      tally: Tally | None = None) -> tuple[CollapseState | None, int]:
+    """Gilbert's iteration at slope zero with the normal forces chosen by projection.
+
+    Each iteration takes α* and the mechanism u from the capped LP (cap f N̄, warm HiGHS),
+    then, among the static fields that carry α*, the one closest to N̄ (:class:`ClosestField`).
+    On large panels the plain iteration jumps between distant vertices of a large optimal face
+    and never settles; the projected one moves N̄ only as far as the face forces it to, and its
+    fixed point (N = N̄) is a collapse state: |T| ≤ f N̄ = f N, and u slips only where |T| = f N.
+    N̄ ← N is accelerated by Anderson mixing of the last ``memory`` steps.  The first
+    ``plain_steps`` iterations are plain (vertex N, relaxation 0.5).  When ``restart_after``
+    projected iterations have not settled, the iteration starts again (once) from the initial
+    field with ``restart_plain_steps`` plain iterations first, whose vertex jumps get it off a
+    face it drifts along.  A verified iterate ends the loop; its mechanism's exact state is also
+    taken, whichever is lower.  Returns the state and the LP solves used.
+    """
+    cap, tally = cap or no_cap(), tally if tally is not None else Tally()
+    f = points.friction
+    n_bar = np.maximum(initial_normal, 0.0)
+    cap_lp, closest, anderson = CapLP(model, points, max_pivots=work.lp_pivots), None, _Anderson(memory)
+    best, lp, used = None, None, 0
+    plain_left, projected_run, restarted = plain_steps, 0, False
+    for _ in range(work.iterations):
+        if cap.expired() or work.spent(tally):
+            break
+        lp = cap_lp.solve(np.zeros(points.count), f * n_bar, max_pivots=work.lp_limit(tally))
+        tally.add(lp.pivots)
+        used += 1
+        if lp.status != "optimal" or lp.mechanism is None:
+            break
+        normal, shear = lp.normal, lp.shear
+        if plain_left == 0:
+            closest = closest or ClosestField(model, points, max_iter=work.interior_iterations)
+            # α* less a hair: the face at α* exactly is only feasible to the LP's tolerance.
+            nearest = closest.solve(lp.alpha - 1e-9 * max(1.0, abs(lp.alpha)), f * n_bar, n_bar)
+            if nearest is None:
+                break
+            normal, shear = nearest
+        best = _as_state(model, points, lp.alpha, normal, shear, lp.mechanism, start)
+        if best is not None:
+            break
+        step = normal - n_bar
+        if plain_left > 0:
+            plain_left -= 1
+            n_bar = n_bar + 0.5 * step
+            continue
+        if float(np.abs(step).max(initial=0.0)) <= tolerance * max(1.0, float(np.abs(normal).max(initial=0.0))):
+            break
+        projected_run += 1
+        if projected_run >= restart_after and not restarted and restart_plain_steps > 0:
+            plain_left, projected_run, restarted = restart_plain_steps, 0, True
+            anderson.reset()
+            n_bar = np.maximum(initial_normal, 0.0)  # the earlier path: plain steps from the start field
+            continue
+        n_bar = anderson.step(n_bar, step)
+    if lp is None or lp.mechanism is None:
+        return best, used
+    final = exact_state(model, points, lp.mechanism, start, limits=work.exact_limits(tally), tally=tally)
+    return lower(final, best), used

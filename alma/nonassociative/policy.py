@@ -1,0 +1,107 @@
+"""Which starts the search runs for each effort, in which order, and with what work.
+
+- ``"fast"`` (large scenes): ``lp``, ``rocking``, the fast Gilbert starts (each within
+  :attr:`~alma.settings.SearchSettings.gilbert_pivots`, or the smaller
+  :attr:`~alma.settings.SearchSettings.gilbert_pivots_verified` once a state is verified),
+  then ``gilbert-projected`` only when no start verified a state: when the fixed starts verify
+  at all they do so early, and the projected iteration settles where their vertex iterates jump.
+- ``"thorough"`` (small scenes): ``lp``, ``rocking``, the thorough Gilbert starts (their
+  iterations only), ``gilbert-projected`` when no start other than ``rocking`` verified (it can
+  go below a rocking state), ``ipopt`` up to :attr:`~alma.settings.SearchSettings.ipopt_blocks`
+  free blocks and ``milp`` up to :attr:`~alma.settings.SearchSettings.milp_start_blocks`.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from alma.nonassociative.limits import Work
+from alma.nonassociative.starts import (Context, GilbertStart, IpoptStart, LpStart, MilpStart, ProjectedStart,
+                                        RockingStart, Start)
+from alma.settings import SearchSettings
+
+EFFORTS = ("fast", "thorough")
+
+
+def resolve_effort(effort: str, settings: SearchSettings, n_free: int) -> str:
+    """"fast" or "thorough"; "auto" is thorough up to ``settings.thorough_blocks`` free blocks."""
+    if effort == "auto":
+        return "thorough" if n_free <= settings.thorough_blocks else "fast"
+    if effort not in EFFORTS:
+        raise ValueError(f"effort must be 'auto', 'fast' or 'thorough', got {effort!r}")
+    return effort
+
+
+def _work(settings: SearchSettings, iterations: int, pivots: int | None) -> Work:
+    return Work(iterations=iterations, pivots=pivots, lp_pivots=settings.lp_pivots,
+                floor_pivots=settings.last_state_pivots, interior_iterations=settings.interior_iterations)
+
+
+def gilbert_work(settings: SearchSettings, effort: str, verified: bool, points: int) -> Work:
+    """A fixed Gilbert start's budget: its LP solves (fewer on Clarabel's path, where each is a
+    cold interior-point solve), and with "fast" a total of simplex iterations."""
+    iterations = settings.gilbert_iterations
+    if points > settings.interior_points:
+        iterations = min(iterations, settings.gilbert_interior_iterations)
+    if effort == "thorough":
+        return _work(settings, iterations, None)
+    pivots = settings.gilbert_pivots_verified if verified else settings.gilbert_pivots
+    return _work(settings, iterations, pivots)
+
+
+def projected_work(settings: SearchSettings, n_free: int) -> Work:
+    """The projected iteration's budget: LP solves (each with a projection QP), fewer on larger
+    scenes (:attr:`~alma.settings.SearchSettings.projected_block_iterations`), and simplex iterations."""
+    iterations = min(settings.projected_iterations, settings.projected_block_iterations // max(n_free, 1))
+    return _work(settings, max(iterations, 1), settings.projected_pivots)
+
+
+def plan(settings: SearchSettings, effort: str) -> list[str]:
+    """The starts of an effort in the order they run (names of kinds; see :func:`make_start`)."""
+    count = len(settings.gilbert_fast if effort == "fast" else settings.gilbert_thorough)
+    return ["lp", "rocking"] + [f"gilbert:{k}" for k in range(count)] + ["projected", "ipopt", "milp"]
+
+
+def wanted(kind: str, ctx: Context, polish: bool | None = None) -> bool:
+    """Whether a start of this kind runs now, given the candidates so far."""
+    s, thorough = ctx.settings, ctx.effort == "thorough"
+    if kind == "projected":
+        others = [c for c in ctx.verified() if not thorough or c.start != "rocking"]
+        return not others
+    if kind == "ipopt":
+        return (thorough and ctx.model.n_free <= s.ipopt_blocks) if polish is None else polish
+    if kind == "milp":
+        alpha = ctx.associative_alpha
+        return (thorough and ctx.model.n_free <= s.milp_start_blocks and alpha is not None
+                and bool(np.isfinite(alpha)) and alpha >= 0)
+    return True
+
+
+def make_start(kind: str, ctx: Context) -> Start:
+    """The start of this kind, with the work the policy gives it now."""
+    s = ctx.settings
+    if kind == "lp":
+        return LpStart()
+    if kind == "rocking":
+        return RockingStart()
+    if kind.startswith("gilbert:"):
+        starts = s.gilbert_fast if ctx.effort == "fast" else s.gilbert_thorough
+        scale, relaxation, steps = starts[int(kind.split(":")[1])]
+        return GilbertStart(scale, relaxation, steps,
+                            gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count))
+    if kind == "projected":
+        return ProjectedStart(projected_work(s, ctx.model.n_free))
+    if kind == "ipopt":
+        return IpoptStart()
+    if kind == "milp":
+        return MilpStart()
+    raise ValueError(f"unknown start {kind!r}")
+
+
+def start_name(kind: str, settings: SearchSettings, effort: str) -> str:
+    """The name a start of this kind reports (for the list of skipped starts)."""
+    if kind.startswith("gilbert:"):
+        starts = settings.gilbert_fast if effort == "fast" else settings.gilbert_thorough
+        scale, relaxation, steps = starts[int(kind.split(":")[1])]
+        return GilbertStart(scale, relaxation, steps, Work()).name
+    return {"lp": "lp", "rocking": "rocking", "projected": "gilbert-projected", "ipopt": "ipopt",
+            "milp": "milp"}[kind]

@@ -1,0 +1,244 @@
+"""Collapse states of Eq. 9: active sets, verification, and the exact state of a mechanism.
+
+A *collapse state* is a load multiplier α, contact forces (N, T) at every contact point and a
+mechanism u (f_Lᵀu > 0) such that equilibrium holds (Eq. 3), forces are admissible (Eq. 5:
+N ≥ 0, |T| ≤ f N), the mechanism is compatible (Eq. 2) with no interpenetration, an open point
+carries no force (N ξ = 0) and a slipping point has its friction fully mobilised against the
+slip (T = −f N sign γ; Eqs. 6–7 without dilatancy).  Then α f_Lᵀu = −f_0ᵀu + Σ f N |γ|.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from alma.mechanics.contact_points import ContactPoints
+from alma.mechanics.model import Model
+from alma.nonassociative.static_lps import (LP_METHOD, StaticLP, fixed_set_static_interior, kinematic_lp,
+                                            static_lp)
+
+#: Verification tolerances (forces in mean block weights, velocities with f_Lᵀu = n_free).
+EQUILIBRIUM_TOLERANCE = 1e-7
+YIELD_TOLERANCE = 1e-7
+KINEMATIC_TOLERANCE = 1e-7
+ENERGY_TOLERANCE = 1e-6
+#: Relative velocity below this fraction of the largest counts as zero when reading an active set.
+ACTIVE_TOLERANCE = 1e-6
+
+
+@dataclass(frozen=True)
+class CollapseState:
+    """A candidate collapse state and its verification residuals (all dimensionless)."""
+
+    alpha: float
+    normal: np.ndarray  # N at each contact point
+    shear: np.ndarray  # T at each contact point
+    mechanism: np.ndarray  # u (3 n_free), f_Lᵀu = n_free
+    start: str
+    residuals: dict[str, float] = field(default_factory=dict)
+    verified: bool = False
+
+
+@dataclass
+class Tally:
+    """Work one start has spent so far: LP solves and simplex (or interior-point) iterations."""
+
+    solves: int = 0
+    pivots: int = 0
+
+    def add(self, pivots: int) -> None:
+        """Count one more LP solve of ``pivots`` iterations."""
+        self.solves += 1
+        self.pivots += int(pivots)
+
+
+@dataclass(frozen=True)
+class ExactLimits:
+    """Iteration caps of the LPs that make a mechanism an exact state."""
+
+    #: Simplex iterations of each HiGHS static or kinematic LP.
+    lp_pivots: int = 200_000
+    #: Simplex iterations of the HiGHS vertex asked for after Clarabel's interior field.
+    vertex_pivots: int = 200_000
+    #: Clarabel iterations of the fixed-active-set LP.
+    interior_iterations: int = 200
+
+
+def active_set(model: Model, points: ContactPoints, mechanism: np.ndarray, *,
+               dilatant: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Open points and slip signs of a mechanism (relative velocities below a threshold are zero).
+
+    ``dilatant``: the mechanism obeys the associative flow rule (Eq. 6), where a
+    sliding point opens by f |γ|; such a point is read as closed and slipping, and
+    only an opening beyond f |γ| as a separation.
+    """
+    opening = points.normal.T @ mechanism
+    slip = points.tangent.T @ mechanism
+    scale = max(float(np.abs(opening).max(initial=0.0)), float(np.abs(slip).max(initial=0.0)), 1e-300)
+    tol = ACTIVE_TOLERANCE * scale
+    if dilatant:
+        opening = opening - points.friction * np.abs(slip)
+    open_points = opening > tol
+    slip_sign = np.where(slip > tol, 1.0, np.where(slip < -tol, -1.0, 0.0))
+    return open_points, slip_sign
+
+
+def force_active_set(points: ContactPoints, normal: np.ndarray, shear: np.ndarray,
+                     tolerance: float = 1e-9) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The most permissive mechanism set a force field allows (complementarity of Eq. 7).
+
+    Returns (may_open, may_slip_sign, free_slip): a point with N = 0 may open and slip either way;
+    a point at the friction limit T = −s f N (N > 0) may slip in direction s; any other point
+    must stay closed and stick.  "= 0" and "at the limit" are read to ``tolerance`` times the
+    largest normal force.
+    """
+    scale = max(1.0, float(np.abs(normal).max(initial=0.0)))
+    unloaded = normal <= tolerance * scale
+    limit = points.friction * normal
+    at_plus = (~unloaded) & (shear <= -limit + tolerance * scale)  # T = −f N: slip in +t
+    at_minus = (~unloaded) & (shear >= limit - tolerance * scale)  # T = +f N: slip in −t
+    sign = np.where(at_plus, 1.0, np.where(at_minus, -1.0, 0.0))
+    return unloaded, sign, unloaded
+
+
+def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray, shear: np.ndarray,
+           mechanism: np.ndarray) -> tuple[dict[str, float], bool]:
+    """Residuals of a collapse state (Eqs. 2, 3, 5, 7 and the energy balance) and whether all pass."""
+    force_scale = max(1.0, float(np.abs(normal).max(initial=0.0)))
+    equilibrium = float(np.abs(points.normal @ normal + points.tangent @ shear + model.dead
+                               + alpha * model.live).max(initial=0.0))
+    yield_violation = float(max(np.maximum(-normal, 0).max(initial=0.0),
+                                np.maximum(np.abs(shear) - points.friction * normal, 0).max(initial=0.0)))
+    work = float(model.live @ mechanism)
+    u = mechanism * (model.n_free / work) if work > 0 else mechanism
+    opening = points.normal.T @ u
+    slip = points.tangent.T @ u
+    vel_scale = max(float(np.abs(opening).max(initial=0.0)), float(np.abs(slip).max(initial=0.0)), 1e-300)
+    penetration = float(np.maximum(-opening, 0).max(initial=0.0)) / vel_scale
+    open_force = float((np.maximum(normal, 0) * np.maximum(opening, 0)).max(initial=0.0)) / (force_scale * vel_scale)
+    # friction fully mobilised against the slip: f N |γ| + T γ = 0
+    slip_gap = float(np.abs(points.friction * np.maximum(normal, 0) * np.abs(slip) + shear * slip).max(initial=0.0)) \
+        / (force_scale * vel_scale)
+    dissipation = float(np.sum(points.friction * np.maximum(normal, 0) * np.abs(slip)))
+    energy = abs(alpha * (model.live @ u) + model.dead @ u - dissipation) / max(1.0, abs(model.dead @ u), dissipation)
+    residuals = {"equilibrium": equilibrium / force_scale, "yield": yield_violation / force_scale,
+                 "interpenetration": penetration, "open_with_force": open_force, "slip_not_mobilised": slip_gap,
+                 "energy_balance": float(energy), "live_load_work": work}
+    ok = (work > 0 and residuals["equilibrium"] <= EQUILIBRIUM_TOLERANCE
+          and residuals["yield"] <= YIELD_TOLERANCE
+          and penetration <= KINEMATIC_TOLERANCE and open_force <= KINEMATIC_TOLERANCE
+          and slip_gap <= KINEMATIC_TOLERANCE and energy <= ENERGY_TOLERANCE)
+    return residuals, bool(ok)
+
+
+def lower(state: CollapseState | None, other: CollapseState | None) -> CollapseState | None:
+    """The verified state with the smaller α (an unverified one only if neither is verified)."""
+    if state is None or (other is not None and other.verified and (not state.verified or other.alpha < state.alpha)):
+        return other
+    return state
+
+
+def _fixed_set_field(model: Model, points: ContactPoints, open_points: np.ndarray, slip_sign: np.ndarray,
+                     method: str, limits: ExactLimits, tally: Tally) -> StaticLP:
+    """The smallest α with the active set fixed: a HiGHS vertex, or Clarabel's interior field."""
+    coulomb = dict(slope=points.friction, cap=np.zeros(points.count), maximise=False,
+                   open_points=open_points, slip_sign=slip_sign)
+    if method != "clarabel":
+        lp = static_lp(model, points, **coulomb, max_pivots=limits.lp_pivots, method=method)
+        tally.add(lp.pivots)
+        return lp
+    lp = fixed_set_static_interior(model, points, open_points, slip_sign, max_iter=limits.interior_iterations)
+    tally.add(lp.pivots)
+    if lp.status == "error":  # Clarabel did not converge: HiGHS decides, within the vertex's iterations
+        lp = static_lp(model, points, **coulomb, max_pivots=min(limits.lp_pivots, limits.vertex_pivots),
+                       method="highs-ipm")
+        tally.add(lp.pivots)
+    return lp
+
+
+def _vertex(model: Model, points: ContactPoints, open_points: np.ndarray, slip_sign: np.ndarray,
+            limits: ExactLimits, tally: Tally) -> StaticLP:
+    """A simplex vertex of the fixed-set static LP (its widest set is read from it)."""
+    lp = static_lp(model, points, slope=points.friction, cap=np.zeros(points.count), maximise=False,
+                   open_points=open_points, slip_sign=slip_sign,
+                   max_pivots=min(limits.lp_pivots, limits.vertex_pivots), method="highs")
+    tally.add(lp.pivots)
+    return lp
+
+
+def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, start: str, *,
+                dilatant: bool = False, method: str = LP_METHOD, limits: ExactLimits = ExactLimits(),
+                tally: Tally | None = None) -> CollapseState | None:
+    """Turn a candidate mechanism into an exact collapse state and verify it.
+
+    Its active set is fixed (:func:`active_set`); one static LP takes the smallest
+    α with that set (N = 0 where open, T = −f N sign γ where slipping, |T| ≤ f N
+    elsewhere) and one kinematic LP (:func:`kinematic_lp`) a mechanism with the same
+    set.  The pair satisfies Eq. 9 by construction; :func:`verify` checks it.  When no
+    mechanism has exactly that set, the kinematic LP is asked for one within the widest set
+    the static field allows (:func:`force_active_set`); failing that, the candidate's own
+    mechanism is verified.  ``method``: a HiGHS method of ``scipy.optimize.linprog`` for the
+    static LP (a vertex), or ``"clarabel"`` (:func:`fixed_set_static_interior`; then, when no
+    mechanism has exactly the set, a HiGHS simplex vertex gives the widest set).
+    """
+    tally = Tally() if tally is None else tally
+    work = float(model.live @ mechanism)
+    if not work > 0:
+        return None
+    mechanism = mechanism * (model.n_free / work)
+    open_points, slip_sign = active_set(model, points, mechanism, dilatant=dilatant)
+    lp = _fixed_set_field(model, points, open_points, slip_sign, method, limits, tally)
+    if lp.status != "optimal":
+        return None
+    clean, pivots = kinematic_lp(model, points, open_points, slip_sign, max_pivots=limits.lp_pivots)
+    tally.add(pivots)
+    if clean is None and method == "clarabel":
+        # Clarabel's field lies inside the optimal face, where fewest points are unloaded or at
+        # the friction limit; the widest set is read from a simplex vertex instead.
+        vertex = _vertex(model, points, open_points, slip_sign, limits, tally)
+        if vertex.status == "optimal":
+            lp = vertex
+    if clean is None:
+        # No mechanism has exactly the candidate's set: take the widest set the static field
+        # allows (open and free slip where N = 0, slip where friction is at its limit).
+        may_open, may_slip, free = force_active_set(points, lp.normal, lp.shear)
+        clean, pivots = kinematic_lp(model, points, may_open, may_slip, free_slip=free, max_pivots=limits.lp_pivots)
+        tally.add(pivots)
+    return _verified_pair(model, points, lp, clean, mechanism, start, dilatant)
+
+
+def _verified_pair(model: Model, points: ContactPoints, lp: StaticLP, clean: np.ndarray | None,
+                   mechanism: np.ndarray, start: str, dilatant: bool) -> CollapseState | None:
+    """The field with the kinematic LP's mechanism, else with the candidate's own (first verified)."""
+    best = None
+    for u in ((clean, mechanism) if clean is not None else (mechanism,)):
+        if dilatant and u is mechanism:
+            continue  # an associative mechanism opens where it slips: never a non-associative state
+        residuals, ok = verify(model, points, lp.alpha, lp.normal, lp.shear, u)
+        state = CollapseState(alpha=lp.alpha, normal=lp.normal, shear=lp.shear, mechanism=u, start=start,
+                              residuals=residuals, verified=ok)
+        if best is None or (ok and not best.verified):
+            best = state
+        if ok:
+            break
+    return best
+
+
+def fast_exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, start: str, *,
+                     dilatant: bool = False, limits: ExactLimits = ExactLimits(),
+                     tally: Tally | None = None) -> CollapseState | None:
+    """:func:`exact_state` with Clarabel's static LP; HiGHS's vertex within ``limits.vertex_pivots``.
+
+    When a mechanism has exactly the candidate's set, it complements every optimal field, so the
+    interior point of :func:`fixed_set_static_interior` serves as well as a vertex and is far
+    cheaper on large panels.  A vertex is needed when the widest set of the field has to be read
+    (see :func:`exact_state`) or when the interior field's round-off fails the verification.
+    """
+    state = exact_state(model, points, mechanism, start, dilatant=dilatant, method="clarabel", limits=limits,
+                        tally=tally)
+    if state is not None and not state.verified:
+        vertex_limits = ExactLimits(min(limits.lp_pivots, limits.vertex_pivots), limits.vertex_pivots,
+                                    limits.interior_iterations)
+        state = exact_state(model, points, mechanism, start, dilatant=dilatant, method="highs-ipm",
+                            limits=vertex_limits, tally=tally)
+    return state

@@ -1,0 +1,202 @@
+"""The static and kinematic LPs of the non-associative search (Eqs. 2, 3, 5).
+
+Every LP here is bounded by an iteration count (HiGHS's simplex iterations through
+``scipy.optimize.linprog``'s ``maxiter``, Clarabel's ``max_iter``): a stalled LP counts as
+a failed attempt after the same work on every machine.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import clarabel
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import linprog
+
+from alma.mechanics.contact_points import ContactPoints
+from alma.mechanics.model import Model
+from alma.nonassociative.solvers import clarabel_settings
+from alma.settings import AssociativeSettings
+
+#: HiGHS method for the static LPs (vertex solutions: simplex, or IPM with crossover).
+LP_METHOD = "highs"
+
+
+@dataclass(frozen=True)
+class StaticLP:
+    """Solution of a static LP over (α, N, T) at the contact points, with its mechanism."""
+
+    status: str  # optimal | unbounded | infeasible | error
+    alpha: float
+    normal: np.ndarray
+    shear: np.ndarray
+    mechanism: np.ndarray | None  # f_Lᵀu = n_free
+    pivots: int = 0  # simplex (or interior-point) iterations spent
+
+
+def failed(status: str, count: int, pivots: int = 0, alpha: float = np.nan) -> StaticLP:
+    """A StaticLP without a field (unbounded, infeasible or error)."""
+    return StaticLP(status, alpha, np.zeros(count), np.zeros(count), None, pivots)
+
+
+def _fixed_set_rows(points: ContactPoints, width: int, slip_sign: np.ndarray) -> sp.csr_matrix:
+    """Rows T_p + s_p f_p N_p = 0 of the slipping points (T = −f N sign γ) over x = (α, N, T)."""
+    P = points.count
+    sliding = np.flatnonzero(slip_sign != 0)
+    values = np.concatenate([slip_sign[sliding] * points.friction[sliding], np.ones(sliding.size)])
+    rows = np.tile(np.arange(sliding.size), 2)
+    cols = np.concatenate([1 + sliding, 1 + P + sliding])
+    return sp.csr_matrix((values, (rows, cols)), shape=(sliding.size, width))
+
+
+def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np.ndarray,
+              maximise: bool = True, open_points: np.ndarray | None = None,
+              slip_sign: np.ndarray | None = None, max_pivots: int = 200_000,
+              method: str = LP_METHOD) -> StaticLP:
+    """The static problem on contact points (Eqs. 3 and 5), solved with HiGHS.
+
+    Yield: |T_p| ≤ slope_p N_p + cap_p (Coulomb: slope = f, cap = 0; Gilbert: slope
+    → 0, cap = (f − slope) N̄).  With an active set: N_p = 0 at ``open_points`` and
+    T_p = −slip_sign_p f_p N_p where ``slip_sign`` ≠ 0.  Variables (α, N, T), forces in
+    mean block weights; the mechanism is read from the equality duals (f_Lᵀu = n_free).
+    ``method``: the ``scipy.optimize.linprog`` HiGHS method; ``max_pivots``: its iteration cap.
+    """
+    P = points.count
+    n = model.dead.shape[0]
+    A_eq, b_eq, A_ub = points.static_constraints(model, slope)
+    bounds = np.zeros((1 + 2 * P, 2))
+    bounds[0] = (-np.inf, np.inf)
+    bounds[1:1 + P] = (0, np.inf)
+    bounds[1 + P:] = (-np.inf, np.inf)
+    if open_points is not None and open_points.any():
+        bounds[1 + np.flatnonzero(open_points), 1] = 0.0
+    if slip_sign is not None and np.any(slip_sign != 0):
+        extra = _fixed_set_rows(points, 1 + 2 * P, slip_sign)
+        A_eq = sp.vstack([A_eq, extra]).tocsr()
+        b_eq = np.concatenate([b_eq, np.zeros(extra.shape[0])])
+    c = np.zeros(1 + 2 * P)
+    c[0] = -1.0 if maximise else 1.0
+    res = linprog(c, A_ub=A_ub, b_ub=np.concatenate([cap, cap]), A_eq=A_eq, b_eq=b_eq, bounds=bounds,
+                  method=method, options={"maxiter": int(max_pivots)})
+    pivots = int(getattr(res, "nit", 0) or 0)
+    if res.status == 3:
+        return failed("unbounded", P, pivots, np.inf if maximise else -np.inf)
+    if res.status == 2:
+        return failed("infeasible", P, pivots)
+    if res.status != 0:
+        return failed("error", P, pivots)
+    mechanism = None
+    if maximise and res.eqlin is not None:
+        y = -np.asarray(res.eqlin.marginals)[:n]  # ∂(−α)/∂b: f_Lᵀu = 1 at the optimum
+        work = model.live @ y
+        if work > 0:
+            mechanism = y * (model.n_free / work)
+    x = res.x
+    return StaticLP("optimal", float(x[0]), x[1:1 + P], x[1 + P:], mechanism, pivots)
+
+
+def fixed_set_static_interior(model: Model, points: ContactPoints, open_points: np.ndarray,
+                              slip_sign: np.ndarray, *, max_iter: int = 200,
+                              tolerance: float = 1e-12) -> StaticLP:
+    """The smallest α with a fixed active set (as :func:`static_lp` there), by Clarabel.
+
+    Written on the cone generators n ± f t of each point (Eq. 5): an open point keeps neither,
+    a point slipping in +t (T = −f N) keeps only n − f t, one slipping in −t only n + f t.  Then
+
+        min α  s.t.  H_S μ + f_0 + α f_L = 0,  μ ≥ 0
+
+    is solved through its kinematic dual, min f_0ᵀv s.t. f_Lᵀv = c, H_Sᵀv ≤ 0 (the shape and
+    size of Eq. 10), and (α, μ) are read from its duals.  An interior point of the optimal face
+    rather than a vertex, which is enough: with the set fixed, any optimal field complements a
+    mechanism with that set.  ``max_iter``: Clarabel's iteration cap.
+    """
+    P = points.count
+    plus_kept = ~open_points & (slip_sign <= 0)  # n + f t (T = +f N) only where not slipping in +t
+    minus_kept = ~open_points & (slip_sign >= 0)
+    kept = np.empty(2 * P, dtype=bool)
+    kept[0::2], kept[1::2] = plus_kept, minus_kept
+    columns = np.flatnonzero(kept)
+    H = model.equilibrium[:, columns]
+    n = H.shape[0]
+    A = sp.vstack([sp.csr_matrix(model.live[None, :]), H.T]).tocsc()
+    b = np.zeros(1 + columns.size)
+    b[0] = AssociativeSettings().normalisation * float(model.n_free)
+    settings = clarabel_settings(tolerance, max_iter)
+    settings.iterative_refinement_enable = False
+    solver = clarabel.DefaultSolver(sp.csc_matrix((n, n)), model.dead.copy(), A, b,
+                                    [clarabel.ZeroConeT(1), clarabel.NonnegativeConeT(columns.size)], settings)
+    sol = solver.solve()
+    status, used = str(sol.status), int(sol.iterations)
+    if status == "DualInfeasible":  # the kinematic side unbounded: no static field has this set
+        return failed("infeasible", P, used)
+    if status == "PrimalInfeasible":  # no mechanism: α unbounded below
+        return failed("unbounded", P, used, -np.inf)
+    if status not in ("Solved", "AlmostSolved"):
+        return failed("error", P, used)
+    z = np.asarray(sol.z)
+    mu = np.zeros(2 * P)
+    mu[columns] = np.maximum(z[1:], 0.0)
+    plus, minus = mu[0::2], mu[1::2]
+    return StaticLP("optimal", float(z[0]), plus + minus, points.friction * (plus - minus), None, used)
+
+
+def static_lp_clarabel(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np.ndarray,
+                       max_iter: int = 200, tolerance: float = 1e-9) -> StaticLP:
+    """``static_lp`` (maximise α, no fixed active set) with Clarabel's interior point.
+
+    Much faster than simplex on large scenes; its mechanism is the interior-point
+    one (a blend on degenerate faces), so states built from it are always passed
+    through :func:`alma.nonassociative.states.exact_state` before they count.
+    """
+    P = points.count
+    n = model.dead.shape[0]
+    A_eq, b_eq, A_ub = points.static_constraints(model, slope)
+    non_negative = sp.hstack([sp.csr_matrix((P, 1)), -sp.identity(P), sp.csr_matrix((P, P))])  # −N ≤ 0
+    A = sp.vstack([A_eq, A_ub, non_negative]).tocsc()
+    b = np.concatenate([b_eq, cap, cap, np.zeros(P)])
+    q = np.zeros(1 + 2 * P)
+    q[0] = -1.0
+    settings = clarabel_settings(tolerance, max_iter, qdldl=False)
+    sol = clarabel.DefaultSolver(sp.csc_matrix((1 + 2 * P, 1 + 2 * P)), q, A, b,
+                                 [clarabel.ZeroConeT(n), clarabel.NonnegativeConeT(3 * P)], settings).solve()
+    status, used = str(sol.status), int(sol.iterations)
+    if status == "DualInfeasible":
+        return failed("unbounded", P, used, np.inf)
+    if status == "PrimalInfeasible":
+        return failed("infeasible", P, used)
+    if status not in ("Solved", "AlmostSolved"):
+        return failed("error", P, used)
+    x = np.asarray(sol.x)
+    y = np.asarray(sol.z)[:n]  # equality duals: the mechanism, up to sign and scale
+    work = model.live @ y
+    mechanism = y * (model.n_free / work) if work > 0 else None
+    return StaticLP("optimal", float(x[0]), np.maximum(x[1:1 + P], 0.0), x[1 + P:], mechanism, used)
+
+
+def kinematic_lp(model: Model, points: ContactPoints, open_points: np.ndarray, slip_sign: np.ndarray,
+                 *, max_pivots: int = 200_000,
+                 free_slip: np.ndarray | None = None) -> tuple[np.ndarray | None, int]:
+    """A mechanism with a prescribed active set (Eq. 2), or None; and the simplex iterations spent.
+
+    Closed points do not open (ξ = 0), open points do not interpenetrate (ξ ≥ 0),
+    sticking points do not slip (γ = 0), slipping points slip only in their sign's
+    direction (s γ ≥ 0); f_Lᵀu = n_free.  Any such u complements every force field of
+    the same active set, so it removes the round-off of the candidate's small velocities.
+    """
+    closed = ~open_points
+    free = np.zeros(points.count, dtype=bool) if free_slip is None else free_slip
+    sticking = closed & (slip_sign == 0) & ~free
+    slipping = closed & (slip_sign != 0) & ~free
+    normal_t = points.normal.T.tocsr()
+    tangent_t = points.tangent.T.tocsr()
+    A_eq = sp.vstack([sp.csr_matrix(model.live[None, :]), normal_t[np.flatnonzero(closed)],
+                      tangent_t[np.flatnonzero(sticking)]]).tocsr()
+    b_eq = np.zeros(A_eq.shape[0])
+    b_eq[0] = float(model.n_free)
+    A_ub = sp.vstack([-normal_t[np.flatnonzero(open_points)],
+                      -sp.diags(slip_sign[slipping]) @ tangent_t[np.flatnonzero(slipping)]]).tocsr()
+    rows = A_ub.shape[0]
+    res = linprog(np.zeros(model.dead.shape[0]), A_ub=A_ub if rows else None, b_ub=np.zeros(rows) if rows else None,
+                  A_eq=A_eq, b_eq=b_eq, bounds=(None, None), method=LP_METHOD, options={"maxiter": int(max_pivots)})
+    pivots = int(getattr(res, "nit", 0) or 0)
+    return (np.asarray(res.x) if res.status == 0 else None), pivots
