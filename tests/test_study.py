@@ -247,7 +247,7 @@ def test_forked_workers_never_collect_the_parents_objects(tmp_path, monkeypatch)
     from the parent.  Here the parent holds a garbage cycle when it forks, and every worker runs
     a full collection before its task: the cycle's finaliser must run in the parent only.
     """
-    import alma.study.doe as study
+    import alma.study.tasks as study
 
     if "fork" not in __import__("multiprocessing").get_all_start_methods():
         pytest.skip("no fork start method on this platform")

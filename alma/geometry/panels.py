@@ -20,6 +20,7 @@ BLOCK_HEIGHT = 60.0
 PANEL_HEIGHTS = {"2:1": 720.0, "1:1": 1440.0, "1:2": 2880.0}
 BLOCK_LENGTHS = {"4:1": 240.0, "2:1": 120.0, "1:1": 60.0}
 BONDS = ("running", "stack", "english", "flemish")
+FRICTIONS = (0.27, 0.60, 1.00)
 
 
 def course_lengths(bond: str, block_length: float, panel_length: float, course: int) -> np.ndarray:

@@ -1,0 +1,360 @@
+"""The markdown report of ``alma compare`` (``compare.md``)."""
+from __future__ import annotations
+
+import json
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+import alma
+from alma.stats.anova import pareto_reference
+from alma.study.compare_stats import _Anova
+from alma.study.compare_table import (BOUND_TOLERANCE, DIFFER_TOLERANCE, FACTOR_COLUMNS, SIGNIFICANCE, VERIFIED,
+                                      CompareReport, _LABELS, _panel_name)
+from alma.study.design import Design
+
+
+
+def _f(x: Any, fmt: str = ".4f") -> str:
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        return str(x) if x not in (None, "") else "–"
+    return format(v, fmt) if math.isfinite(v) else "–"
+
+
+def _md_table(header: list[str], rows: list[list[Any]]) -> list[str]:
+    out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    out += ["| " + " | ".join(str(x) for x in r) + " |" for r in rows]
+    return out
+
+
+def _anova_lines(a: _Anova) -> list[str]:
+    lines = [f"### ANOVA of {a.label}", ""]
+    if a.result is None:
+        lines += [f"ANOVA of {a.label} {a.note}.", ""]
+        return lines
+    res = a.result
+    if a.note:
+        lines += [f"Note: {a.note}.", ""]
+    lines += _md_table(["Source", "DoF", "Adj SS", "Adj MS", "F-Value", "P-Value"],
+                       [[r.source, r.dof, _f(r.adj_ss, ".6g"), _f(r.adj_ms, ".6g"),
+                         _f(r.f_value, ".2f"), _f(r.p_value, ".3f")] for r in res.rows])
+    lines.append("")
+    lines.append(f"R² = {100 * res.r2:.2f} %, R²(adj) = {100 * res.r2_adj:.2f} %, "
+                 f"R²(pred) = {100 * res.r2_pred:.2f} % (S = {res.s:.4g}, {res.n} panels, DFE = {res.dfe}).")
+    lines.append("")
+
+    ref = pareto_reference(res.dfe, SIGNIFICANCE)
+    order = " > ".join(f"{e.source} ({e.effect:.2f}{'*' if e.significant else ''})" for e in a.effects)
+    lines.append(f"Pareto ordering of the standardized effects (* = beyond the reference "
+                 f"t = {ref:.3f}, α = {SIGNIFICANCE}): {order}.")
+    lines.append("")
+    return lines
+
+
+def _level_means(table: pd.DataFrame, col: str, response: str) -> pd.Series:
+    return table.groupby(col, sort=False)[response].mean()
+
+
+def _changes_paragraph(table: pd.DataFrame, stats: dict[str, _Anova]) -> list[str]:
+    """Which factors change their effect without dilatancy: from the ANOVAs and level means."""
+    a_lp, a_nl, a_ratio = stats["alpha_lp"], stats["alpha_nl"], stats["ratio"]
+    valid = table[np.isfinite(table["ratio"].to_numpy(dtype=float))]
+    if valid.empty:
+        return ["No panel has both multipliers: nothing to compare."]
+    factors = [c for c in FACTOR_COLUMNS if valid[c].nunique() >= 2]
+    if not factors:
+        return ["Every factor has a single level in this design: no factor effect to compare."]
+
+    def share(a: _Anova, name: str) -> float:
+        if a.result is None:
+            return math.nan
+        try:
+            row = a.result.row(name)
+        except KeyError:
+            return math.nan
+        total = a.result.row("Total").adj_ss
+        return row.adj_ss / total if total > 0 else math.nan
+
+    def rank(a: _Anova, name: str) -> int | None:
+        names = [e.source for e in a.effects]
+        return names.index(name) + 1 if name in names else None
+
+    def p_value(a: _Anova, name: str) -> float:
+        if a.result is None:
+            return math.nan
+        try:
+            return float(a.result.row(name).p_value)
+        except KeyError:
+            return math.nan
+
+    changed, unchanged = [], []
+    for col in factors:
+        name = _LABELS[col]
+        m_lp = _level_means(valid, col, "alpha_lp")
+        m_nl = _level_means(valid, col, "alpha_nl")
+        m_r = _level_means(valid, col, "ratio")
+        range_lp, range_nl = float(m_lp.max() - m_lp.min()), float(m_nl.max() - m_nl.min())
+        order_lp = [str(v) for v in m_lp.sort_values(ascending=False, kind="stable").index]
+        order_nl = [str(v) for v in m_nl.sort_values(ascending=False, kind="stable").index]
+        p_ratio = p_value(a_ratio, name)
+        reasons = []
+        if math.isfinite(p_ratio) and p_ratio < SIGNIFICANCE:
+            lo, hi = m_r.idxmin(), m_r.idxmax()
+            reasons.append(f"it is significant for the ratio (p = {p_ratio:.3g}; mean ratio "
+                           f"{m_r[lo]:.3f} at {_lvl(col, lo)} against {m_r[hi]:.3f} at {_lvl(col, hi)})")
+        sig_lp = math.isfinite(p_value(a_lp, name)) and p_value(a_lp, name) < SIGNIFICANCE
+        sig_nl = math.isfinite(p_value(a_nl, name)) and p_value(a_nl, name) < SIGNIFICANCE
+        tested = a_lp.result is not None and a_nl.result is not None
+        # The order of the level means of a factor without significant effect is noise.
+        if order_lp != order_nl and (sig_lp or sig_nl or not tested):
+            reasons.append(f"the order of its level means changes ({' > '.join(_lvl(col, v) for v in order_lp)} "
+                           f"with dilatancy, {' > '.join(_lvl(col, v) for v in order_nl)} without"
+                           + ("" if tested else "; no ANOVA to test it") + ")")
+        if a_lp.result is not None and a_nl.result is not None and sig_lp != sig_nl:
+            reasons.append("it is significant for α " + ("with dilatancy only" if sig_lp else "without dilatancy only"))
+        detail = (f"effect range (largest minus smallest level mean) {range_lp:.4f} → {range_nl:.4f}")
+        s_lp, s_nl = share(a_lp, name), share(a_nl, name)
+        if math.isfinite(s_lp) and math.isfinite(s_nl):
+            detail += f", share of the total sum of squares {100 * s_lp:.1f} % → {100 * s_nl:.1f} %"
+        r_lp, r_nl = rank(a_lp, name), rank(a_nl, name)
+        if r_lp and r_nl:
+            detail += f", Pareto rank {r_lp} → {r_nl}"
+        if reasons:
+            changed.append(f"**{name}** ({detail}): {'; '.join(reasons)}")
+        else:
+            unchanged.append(f"{name} ({detail})")
+
+    text = ("Without dilatancy, a factor changes its effect when it moves the ratio α_NL/α_LP (a "
+            "factor without effect on the ratio scales both multipliers alike), when the order of "
+            "its level means changes while it is significant (p < 0.05) in either model, or when it "
+            "is significant in one model only. ")
+    if changed:
+        text += "By these tests the effect changes for " + "; ".join(changed) + ". "
+    else:
+        text += "By these tests no factor changes its effect. "
+    if unchanged:
+        text += "It is unchanged for " + "; ".join(unchanged) + " (values: with dilatancy → without). "
+    inter = [e for e in a_ratio.effects if "*" in e.source and e.significant]
+    if inter:
+        text += ("Significant interactions for the ratio: "
+                 + ", ".join(f"{e.source} (p = {e.p_value:.3g})" for e in inter) + ".")
+    elif a_ratio.result is not None and a_ratio.order >= 2:
+        text += "No two-way interaction is significant for the ratio."
+    return [text.strip()]
+
+
+def _lvl(col: str, v: Any) -> str:
+    return f"f = {float(v):.2f}" if col == "friction" else str(v)
+
+
+def start_times(table: pd.DataFrame) -> pd.DataFrame:
+    """Time and outcome of each start of the non-associative searches, one row per start run.
+
+    Read from the ``starts_nl`` column (JSON ``[[start, seconds, verified, α], ...]``; α, of the
+    start's state or null, is missing in rows of an older alma and then NaN); panels solved by an
+    alma that did not record the column contribute nothing.
+    """
+    rows = []
+    for r in table.itertuples():
+        text = getattr(r, "starts_nl", "") or ""
+        try:
+            runs = json.loads(text) if isinstance(text, str) and text.strip() else []
+        except ValueError:
+            runs = []
+        for run in runs:
+            if isinstance(run, list) and len(run) in (3, 4):
+                alpha = run[3] if len(run) == 4 and run[3] is not None else math.nan
+                rows.append({"start": str(run[0]), "time_s": float(run[1]), "verified": bool(run[2]),
+                             "alpha": float(alpha), "won": str(run[0]) == r.start_nl,
+                             "panel_converged": r.status_nl in VERIFIED, "n_blocks": r.n_blocks})
+    return pd.DataFrame(rows, columns=["start", "time_s", "verified", "alpha", "won", "panel_converged",
+                                       "n_blocks"])
+
+
+def _time_by_start(t: pd.DataFrame) -> list[str]:
+    """The report's section on where the search time goes, per start."""
+    runs = start_times(t)
+    lines = ["## Where the search time goes", ""]
+    if runs.empty:
+        return lines + ["No per-start times recorded (results written by an older alma).", ""]
+    total = float(runs["time_s"].sum())
+    lost = float(runs.loc[~runs["panel_converged"], "time_s"].sum())
+    lines.append(f"{total:.0f} s of search over {t['starts_nl'].astype(bool).sum()} panels; "
+                 f"{lost:.0f} s ({100 * lost / max(total, 1e-300):.0f} %) of it on the panels that ended "
+                 "without a verified state. Each start in the order of the search; a start that ran out of "
+                 "its share of the time limit without a verified state counts its whole share.")
+    lines.append("")
+    table = []
+    for name, g in runs.groupby("start", sort=False):
+        table.append([name, len(g), f"{g['time_s'].sum():.1f}", f"{g['time_s'].median():.2f}",
+                      int(g["verified"].sum()), int(g["won"].sum()),
+                      f"{g.loc[~g['panel_converged'], 'time_s'].sum():.1f}"])
+    lines += _md_table(["Start", "Panels run", "Time [s]", "Median [s]", "Verified", "Won",
+                        "Time on unconverged panels [s]"], table)
+    lines.append("")
+    return lines
+
+
+def write_report(report: CompareReport, design: Design, stats: dict[str, Any], mech: pd.DataFrame, *,
+                 effort: str | None, wall: float, solve_wall: float, resumed: int, n_results: int,
+                 time_limit: float | None = None,
+                 results_path: Path) -> Path:
+    t = report.table
+    out = report.out
+    ratio = t["ratio"].to_numpy(dtype=float)
+    valid = t[np.isfinite(ratio)]
+    gap = 1.0 - valid["ratio"]
+    lines = ["# Associative against non-associative collapse multipliers", ""]
+    lines.append(f"alma {getattr(alma, '__version__', '?')}; {len(t)} panels "
+                 f"({' × '.join(str(len(getattr(design, c))) for c in FACTOR_COLUMNS)} design: "
+                 + "; ".join(f"{c} {', '.join(_lvl(c, v) if c == 'friction' else str(v) for v in getattr(design, c))}"
+                             for c in FACTOR_COLUMNS)
+                 + f"); non-associative effort {effort or 'auto'} (auto: thorough up to 200 blocks, fast above), "
+                 f"time limit {time_limit if time_limit is not None else 60:g} s per search. "
+                 f"Results: `{_rel(results_path, out)}` ({n_results} rows, {resumed} resumed from an earlier run); "
+                 f"table: `compare.csv`.")
+    lines.append("")
+    lines.append("α_LP: the associative LP (dilatant sliding, certified). α_NL: the lowest verified "
+                 "collapse state of the non-associative search (an upper bound of the frictional "
+                 "collapse multiplier, not proven global). Ratio = α_NL/α_LP ≤ 1.")
+    lines.append("")
+
+    # -- summary
+    lines += ["## Summary", ""]
+    summary: list[list[Any]] = []
+    summary.append(["Panels", len(t)])
+    summary.append(["Panels with both α (ratio defined)", len(valid)])
+    n_diff = int((valid["ratio"] < 1.0 - DIFFER_TOLERANCE).sum())
+    summary.append([f"Panels where α_NL < α_LP (relative gap > {DIFFER_TOLERANCE:g})", n_diff])
+    if not valid.empty:
+        i = gap.idxmax()
+        r = t.loc[i]
+        summary.append(["Largest gap 1 − α_NL/α_LP",
+                        f"{gap.max():.4f} ({_panel_name(r)}: α_LP = {r.alpha_lp:.4f}, α_NL = {r.alpha_nl:.4f})"])
+        summary.append(["Median gap (all panels with both α)", f"{float(gap.median()):.4f}"])
+        if n_diff:
+            summary.append(["Median gap (panels where the models differ)",
+                            f"{float(gap[valid['ratio'] < 1.0 - DIFFER_TOLERANCE].median()):.4f}"])
+        summary.append(["Mean ratio α_NL/α_LP", f"{float(valid['ratio'].mean()):.4f}"])
+    above = t[(t["alpha_nl"] > t["alpha_lp"] + BOUND_TOLERANCE)]
+    summary.append([f"Panels with α_NL > α_LP + {BOUND_TOLERANCE:g} (must be 0)", len(above)])
+    # multi-start against the LP-started candidate
+    has_lp = t[t["lp_start_verified"].isin(["True", "False"])]
+    lp_ok = t[t["lp_start_verified"] == "True"]
+    gains = lp_ok["lp_start_gain"].to_numpy(dtype=float)
+    tol = 1e-9 * np.maximum(1.0, np.abs(lp_ok["alpha_nl"].to_numpy(dtype=float)))
+    improved = lp_ok[gains > tol]
+    summary.append(["LP-started candidate ('lp') present / verified", f"{len(has_lp)} / {len(lp_ok)}"])
+    if len(improved):
+        g = improved["lp_start_gain"]
+        rel = g / improved["alpha_lp_start"]
+        summary.append(["Multi-start below the verified LP-started candidate",
+                        f"{len(improved)} panels; by up to {g.max():.4f} ({100 * rel.max():.2f} %), "
+                        f"median {g.median():.4f}"])
+    else:
+        summary.append(["Multi-start below the verified LP-started candidate", f"0 of {len(lp_ok)} panels"])
+    no_lp = t[(t["lp_start_verified"] != "True") & np.isfinite(t["alpha_nl"].to_numpy(dtype=float))]
+    summary.append(["Panels solved only by the other starts (no verified 'lp' candidate)", len(no_lp)])
+    starts = t["start_nl"].replace("", np.nan).dropna().value_counts()
+    summary.append(["Winning starts", ", ".join(f"{s} × {n}" for s, n in starts.items()) or "–"])
+    errors = t[(t["status_lp"] == "error") | (t["status_nl"] == "error")]
+    summary.append(["Failures (status error)", len(errors)])
+    unverified = t[t["status_nl"] == "not_converged"]
+    summary.append(["Non-associative not converged (no verified state)", len(unverified)])
+    summary.append(["Non-associative verified states: feasible / optimal (proven minimum)",
+                    f"{int((t['status_nl'] == 'feasible').sum())} / {int((t['status_nl'] == 'optimal').sum())}"])
+    other = t[~t["status_nl"].isin([*VERIFIED, "not_converged", "error"])]
+    if len(other):
+        summary.append(["Other non-associative statuses",
+                        ", ".join(f"{s} × {n}" for s, n in other["status_nl"].value_counts().items())])
+    lp_not_opt = t[t["status_lp"] != "optimal"]
+    if len(lp_not_opt):
+        summary.append(["Associative status not optimal",
+                        ", ".join(f"{s} × {n}" for s, n in lp_not_opt["status_lp"].value_counts().items())])
+    summary.append(["Mechanism class changes (LP → NL)", _class_changes(t)])
+    tl, tn = t["time_lp_s"].to_numpy(dtype=float), t["time_nl_s"].to_numpy(dtype=float)
+    summary.append(["Solve time, associative LP (sum / median / max per panel)",
+                    f"{np.nansum(tl):.1f} s / {_f(np.nanmedian(tl) if np.isfinite(tl).any() else math.nan, '.3f')} s / "
+                    f"{_f(np.nanmax(tl) if np.isfinite(tl).any() else math.nan, '.3f')} s"])
+    summary.append(["Solve time, non-associative search (sum / median / max per panel)",
+                    f"{np.nansum(tn):.1f} s / {_f(np.nanmedian(tn) if np.isfinite(tn).any() else math.nan, '.3f')} s / "
+                    f"{_f(np.nanmax(tn) if np.isfinite(tn).any() else math.nan, '.3f')} s"])
+    summary.append(["Wall time of this run (study / report with figures)",
+                    f"{wall:.1f} s ({solve_wall:.1f} s / {wall - solve_wall:.1f} s)"])
+    lines += _md_table(["Item", "Value"], summary)
+    lines.append("")
+    for r in errors.itertuples():
+        lines.append(f"- error: {_panel_name(r)}: {r.message_nl or 'associative row failed'}")
+    for r in unverified.itertuples():
+        lines.append(f"- not converged: {_panel_name(r)}: {r.message_nl}")
+    for r in above.itertuples():
+        lines.append(f"- **α_NL > α_LP**: {_panel_name(r)}: α_LP = {r.alpha_lp:.9f}, α_NL = {r.alpha_nl:.9f}")
+    if report.notes:
+        lines.append("")
+        lines += [f"- note: {n}" for n in report.notes]
+    lines.append("")
+
+    lines += _time_by_start(t)
+
+    # -- the panels that differ most
+    lines += ["## Where the two models differ most", ""]
+    if mech.empty:
+        lines.append("The two models give the same α (within the relative tolerance "
+                     f"{DIFFER_TOLERANCE:g}) on every panel: no mechanism figure.")
+    else:
+        lines += _md_table(["Panel", "α_LP", "α_NL", "Ratio", "Mechanism LP → NL", "Winning start", "Figure"],
+                           [[_panel_name(r), _f(r.alpha_lp), _f(r.alpha_nl), _f(r.ratio),
+                             f"{r.mechanism_lp} → {r.mechanism_nl}", r.start_nl,
+                             f"[png]({r.png})" if r.png else "–"] for r in mech.itertuples()])
+    lines.append("")
+
+    # -- statistics
+    lines += ["## Beyond the paper: ANOVA without dilatancy", "",
+              "The two-way ANOVA of Table 2 of the paper (main effects and two-way interactions, "
+              "adjusted sums of squares) on the non-associative α and on the ratio α_NL/α_LP; the "
+              "ANOVA of α_LP of the same panels is given for reference.", ""]
+    for key in ("alpha_nl", "ratio", "alpha_lp"):
+        lines += _anova_lines(stats[key])
+    lines += ["### Which factors change their effect when sliding has no dilatancy", ""]
+    lines += _changes_paragraph(t, stats)
+    lines.append("")
+    lines += ["Main effects plots (as Fig. 5 of the paper): `figures/main_effects_alpha_nl.png`, "
+              "`figures/main_effects_ratio.png`, both models on the same axes "
+              "`figures/main_effects_lp_vs_nl.png`; Pareto charts `figures/pareto_alpha_nl.png`, "
+              "`figures/pareto_ratio.png` (when the ANOVA is defined).", ""]
+
+    # -- all panels
+    lines += ["## All panels", ""]
+    lines += _md_table(
+        ["Panel", "Block", "Bond", "f", "Blocks", "α_LP", "α_NL", "Ratio", "Mech. LP", "Mech. NL",
+         "t_LP [s]", "t_NL [s]", "Winning start", "α 'lp' start", "Status NL"],
+        [[r.panel_ratio, r.block_ratio, r.bond, f"{float(r.friction):.2f}", _f(r.n_blocks, ".0f"),
+          _f(r.alpha_lp), _f(r.alpha_nl), _f(r.ratio), r.mechanism_lp, r.mechanism_nl,
+          _f(r.time_lp_s, ".3f"), _f(r.time_nl_s, ".2f"), r.start_nl or "–",
+          (_f(r.alpha_lp_start) + ("" if r.lp_start_verified == "True" else " (not verified)"))
+          if r.lp_start_verified else "none", r.status_nl] for r in t.itertuples()])
+    lines.append("")
+    report.markdown.write_text("\n".join(lines), encoding="utf-8")
+    return report.markdown
+
+
+def _class_changes(t: pd.DataFrame) -> str:
+    both = t[(t["mechanism_lp"] != "") & (t["mechanism_nl"] != "")]
+    changed = both[both["mechanism_lp"] != both["mechanism_nl"]]
+    if changed.empty:
+        return f"none ({len(both)} panels with both classes)"
+    counts = changed.groupby(["mechanism_lp", "mechanism_nl"]).size()
+    return f"{len(changed)} of {len(both)}: " + ", ".join(f"{a} → {b} × {n}" for (a, b), n in counts.items())
+
+
+def _rel(path: Path, base: Path) -> str:
+    try:
+        return str(Path(os.path.relpath(path, base)))
+    except ValueError:
+        return str(path)

@@ -1,0 +1,42 @@
+"""Keys of study rows: a hash of everything that changes a row (factors, model, the alma version,
+the settings), so that a results file never serves a row computed otherwise."""
+from __future__ import annotations
+
+import hashlib
+import json
+from typing import Any
+
+from alma.settings import Settings
+
+
+def _alma_version() -> str:
+    import alma
+
+    return str(getattr(alma, "__version__", "unknown"))
+
+
+def key_settings(settings: Settings, model: str) -> dict[str, Any]:
+    """What of ``settings`` changes a row of ``model``: the associative LP's settings for the
+    associative model (so fast and thorough runs share those rows), all of them otherwise."""
+    data = settings.to_dict()
+    return {"associative": data["associative"]} if model == "associative" else data
+
+
+def _friction_text(f: float) -> str:
+    return format(float(f), ".12g")
+
+
+def panel_key(panel_ratio: str, block_ratio: str, bond: str, friction: float, model: str,
+              *, version: str | None = None, settings: Settings | dict[str, Any] | None = None) -> str:
+    """Stable key of one result row: hash of factors, model, alma version and every setting
+    that changes the row (:func:`key_settings`; a dict is taken as it is)."""
+    if not isinstance(settings, dict):
+        settings = key_settings(settings if settings is not None else Settings(), model)
+    payload = {
+        "panel_ratio": panel_ratio, "block_ratio": block_ratio, "bond": bond,
+        "friction": _friction_text(friction), "model": model,
+        "alma": _alma_version() if version is None else version,
+        "solver": settings,
+    }
+    text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()[:20]

@@ -1,0 +1,186 @@
+"""The worker side of a study: one task is one geometry with all its frictions and models."""
+from __future__ import annotations
+
+import json
+import math
+import signal
+import time
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import alma
+from alma.geometry.contacts import find_joints
+from alma.geometry.panels import BLOCK_LENGTHS, PANEL_HEIGHTS
+from alma.settings import Settings
+from alma.report.plot import MechanismPicture
+from alma.study.store import PICTURE
+
+#: Relative cost of a bond's panels (measured on Table 5), to hand out the largest tasks first.
+_BOND_COST = {"running": 1.0, "stack": 0.6, "english": 1.6, "flemish": 1.3}
+
+
+@dataclass(frozen=True)
+class _Task:
+    panel_ratio: str
+    block_ratio: str
+    bond: str
+    items: tuple[tuple[float, str, str], ...]  # (friction, model, key) still to do
+    version: str
+    settings: Settings = Settings()
+
+    @property
+    def size(self) -> float:
+        """Rough relative cost (LP time grows faster than the block count; measured on Table 5)."""
+        n_blocks = PANEL_HEIGHTS.get(self.panel_ratio, 1.0) / 60.0 * 1440.0 / BLOCK_LENGTHS.get(self.block_ratio, 1.0)
+        return n_blocks ** 1.7 * _BOND_COST.get(self.bond, 1.0) * len(self.items)
+
+
+def _num(x: Any) -> float:
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        return math.nan
+    return v
+
+
+def _row(task: _Task, friction: float, model: str, key: str, *, result: Any = None,
+         error: str = "", timings: dict[str, float] | None = None) -> dict[str, Any]:
+    row: dict[str, Any] = {
+        "panel_ratio": task.panel_ratio, "block_ratio": task.block_ratio, "bond": task.bond,
+        "friction": float(friction), "model": model, "alma_version": task.version, "key": key,
+    }
+    t = dict(timings or {})
+    row["effort"] = "" if model == "associative" else task.settings.search.effort
+    if result is not None:
+        t.update({k: v for k, v in result.timings.items() if k in ("solve_s", "certify_s")})
+        row.update({
+            "alpha_c": _num(result.alpha), "status": str(result.status),
+            "alpha_lower": _num(result.bounds.lower), "alpha_upper": _num(result.bounds.upper),
+            "gap": _num(result.bounds.gap), "mechanism_class": str(result.mechanism_class or ""),
+            "message": str(getattr(result, "message", "") or ""),
+        })
+        row.update(_comparison_fields(result, model))
+        try:
+            row[PICTURE] = MechanismPicture.from_result(result)
+        except Exception:  # a picture is a convenience: it must not lose the result
+            pass
+    else:
+        row.update({"alpha_c": math.nan, "status": "error", "alpha_lower": math.nan,
+                    "alpha_upper": math.nan, "gap": math.nan, "mechanism_class": "",
+                    "message": error})
+    for name in ("joints_s", "build_s", "solve_s", "certify_s"):
+        row[name] = float(t.get(name, 0.0))
+    return row
+
+
+def _comparison_fields(result: Any, model: str) -> dict[str, Any]:
+    """Columns of the model comparison: the associative α beside the non-associative one,
+    their ratio, the winning start, the α of the start from the LP mechanism ("lp"; NaN
+    when the search has no such candidate), candidate counts and the search time."""
+    extra = getattr(result, "extra", None) or {}
+    alpha_lp = _num(getattr(result, "alpha_associative", math.nan))
+    n_blocks = extra.get("n_blocks")
+    out: dict[str, Any] = {"alpha_associative": alpha_lp,
+                           "n_blocks": int(n_blocks) if isinstance(n_blocks, (int, float)) else math.nan}
+    if model == "associative":
+        return out
+    alpha = _num(result.alpha)
+    ratio = alpha / alpha_lp if math.isfinite(alpha) and math.isfinite(alpha_lp) and alpha_lp > 0 else math.nan
+    candidates = [c for c in extra.get("candidates") or [] if isinstance(c, dict)]
+    lp = [c for c in candidates if c.get("start") == "lp"]
+    out.update({
+        "ratio": ratio,
+        "start": str(extra.get("start") or ""),
+        "alpha_lp_start": _num(lp[0].get("alpha")) if lp else math.nan,
+        "lp_start_verified": str(bool(lp[0].get("verified"))) if lp else "",
+        "n_candidates": len(candidates),
+        "n_verified": sum(bool(c.get("verified")) for c in candidates),
+        "nonassociative_s": _num(result.timings.get("nonassociative_s", math.nan)),
+        # [start, seconds, verified, α of its state (null if none)]
+        "starts": json.dumps([[r.get("start"), round(float(r.get("time_s", math.nan)), 3), bool(r.get("verified")),
+                               r.get("alpha")]  # already None when not finite (alma.result)
+                              for r in extra.get("starts") or [] if isinstance(r, dict)], ensure_ascii=False),
+    })
+    return out
+
+
+def _error_text(exc: BaseException) -> str:
+    return f"{type(exc).__name__}: {exc}".replace("\n", " ").strip()
+
+
+def _solve_task(task: _Task, emit: Callable[[dict[str, Any]], None] | None = None) -> list[dict[str, Any]]:
+    """Build the geometry once and solve all (friction, model) items; rows are emitted as done.
+
+    ``joints_s`` and ``build_s`` of the geometry are charged to the first row solved from it;
+    the other rows carry the (small) cost of :meth:`Model.with_friction` as ``build_s``.
+    Exceptions become rows with status ``error`` and the message; nothing is raised.
+    """
+
+    rows: list[dict[str, Any]] = []
+
+    def out(row: dict[str, Any]) -> None:
+        rows.append(row)
+        if emit is not None:
+            emit(row)
+
+    first = {"joints_s": 0.0, "build_s": 0.0}
+    try:
+        t0 = time.perf_counter()
+        friction0 = task.items[0][0]
+        scene = alma.paper_panel(task.bond, task.panel_ratio, task.block_ratio, friction0)
+        joints = find_joints(scene)
+        t1 = time.perf_counter()
+        base = alma.build_model(scene, joints)
+        t2 = time.perf_counter()
+        first = {"joints_s": t1 - t0, "build_s": t2 - t1}
+    except Exception as exc:  # geometry failed: every item of the task fails with it
+        msg = _error_text(exc)
+        for friction, model, key in task.items:
+            out(_row(task, friction, model, key, error=msg, timings=first))
+            first = {"joints_s": 0.0, "build_s": 0.0}
+        return rows
+
+    by_friction: dict[float, dict[str, str]] = {}
+    for friction, model, key in task.items:
+        by_friction.setdefault(friction, {})[model] = key
+    for friction, keys in by_friction.items():
+        timings = dict(first)
+        try:
+            t0 = time.perf_counter()
+            built = base.with_friction(friction)
+            timings["build_s"] += time.perf_counter() - t0
+            results = _solve_models(built, tuple(keys), task.settings)
+        except Exception as exc:
+            for model, key in keys.items():
+                out(_row(task, friction, model, key, error=_error_text(exc), timings=timings))
+        else:
+            for model, key in keys.items():
+                out(_row(task, friction, model, key, result=results[model], timings=timings))
+        first = {"joints_s": 0.0, "build_s": 0.0}
+    return rows
+
+
+def _solve_models(built: Any, models: tuple[str, ...], settings: Settings) -> dict[str, Any]:
+    """Each model's result for one panel and friction, the associative LP solved once: with
+    both models, one ``alma.solve(model="both")`` gives both rows."""
+
+    if set(models) == {"associative", "nonassociative"}:
+        both = alma.solve(built, model="both", settings=settings)
+        return {"associative": both.associative, "nonassociative": both.nonassociative}
+    return {m: alma.solve(built, model=m, settings=settings) for m in models}
+
+
+# Local process pool: rows stream back through a queue given to each worker at start-up.
+_WORKER_QUEUE: Any = None
+
+
+def _init_worker(q: Any) -> None:
+    global _WORKER_QUEUE
+    _WORKER_QUEUE = q
+    # Ctrl-C is handled by the parent, which stops the workers itself.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _solve_task_pooled(task: _Task) -> list[dict[str, Any]]:
+    q = _WORKER_QUEUE
+    return _solve_task(task, emit=None if q is None else q.put)
