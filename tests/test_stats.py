@@ -16,11 +16,10 @@ from alma.stats import anova as anova_mod
 from alma.stats.anova import (
     RESULT_COLUMNS,
     anova,
-    equivalent_t,
     load_results,
     press_balanced,
-    tukey_bond,
 )
+from alma.stats.effects import equivalent_t, tukey_bond
 
 TABLE5 = ROOT / "verification" / "data" / "table5_collapse_multipliers.csv"
 

@@ -21,14 +21,12 @@ ROOT = Path(__file__).resolve().parents[1]
 
 from alma.stats.anova import (
     anova,
-    equivalent_t,
     fit_model,
     load_results,
-    pareto_reference,
     press_balanced,
     r2_pred_balanced,
-    standardized_effects,
 )
+from alma.stats.effects import equivalent_t, pareto_reference, standardized_effects
 
 DATA = ROOT / "verification" / "data"
 TABLE5 = DATA / "table5_collapse_multipliers.csv"

@@ -11,21 +11,15 @@ from alma.stats.anova import (
     RESULT_COLUMNS,
     AnovaResult,
     AnovaRow,
-    StandardizedEffect,
-    TukeyComparison,
-    TukeyResult,
     anova,
-    equivalent_t,
     fit_model,
     load_results,
-    pareto_reference,
     press_balanced,
     press_from_leverage,
     r2_pred_balanced,
-    standardized_effects,
-    tukey_bond,
     varying_factors,
 )
+from alma.stats.effects import StandardizedEffect, TukeyComparison, TukeyResult, equivalent_t, pareto_reference, standardized_effects, tukey_bond
 
 __all__ = [
     "FACTOR_LEVELS",

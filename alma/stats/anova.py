@@ -14,7 +14,6 @@ from __future__ import annotations
 import itertools
 import math
 import re
-from dataclasses import dataclass
 from os import PathLike
 from typing import Any, Iterable, Sequence
 
@@ -24,14 +23,13 @@ import scipy.stats
 import statsmodels.formula.api as smf
 from statsmodels.regression.linear_model import RegressionResultsWrapper
 from statsmodels.stats.anova import anova_lm
-from statsmodels.stats.multicomp import pairwise_tukeyhsd
+
+from alma.geometry.panels import BLOCK_LENGTHS, FRICTIONS, PANEL_HEIGHTS, PANEL_LENGTH
+from alma.stats.results import _GROUP_NAMES, AnovaResult, AnovaRow
 
 __all__ = [
     "AnovaRow",
     "AnovaResult",
-    "StandardizedEffect",
-    "TukeyComparison",
-    "TukeyResult",
     "FACTORS",
     "FACTOR_LEVELS",
     "RESULT_COLUMNS",
@@ -44,10 +42,6 @@ __all__ = [
     "press_balanced",
     "press_from_leverage",
     "r2_pred_balanced",
-    "equivalent_t",
-    "pareto_reference",
-    "standardized_effects",
-    "tukey_bond",
     "varying_factors",
 ]
 
@@ -59,168 +53,25 @@ FACTORS: tuple[tuple[str, str], ...] = (
     ("friction", "Friction"),
 )
 
-# Levels of Table 1, in the paper's order (used for validation and for plot axes).
+# Levels of Table 1 (alma.geometry.panels), bonds in the order the paper's figures show them
+# (used for validation and for plot axes).
 FACTOR_LEVELS: dict[str, tuple[Any, ...]] = {
-    "panel_ratio": ("2:1", "1:1", "1:2"),
-    "block_ratio": ("4:1", "2:1", "1:1"),
+    "panel_ratio": tuple(PANEL_HEIGHTS),
+    "block_ratio": tuple(BLOCK_LENGTHS),
     "bond": ("running", "flemish", "english", "stack"),
-    "friction": (0.27, 0.60, 1.00),
+    "friction": FRICTIONS,
 }
 
 RESULT_COLUMNS: tuple[str, ...] = ("panel_ratio", "block_ratio", "bond", "friction", "alpha_c")
 
 # Geometry of Table 1 (SPEC section 4): B fixed, H from the panel ratio B:H, b from the block
 # ratio b:h with h = 60 mm. Used for the scale factors H/b and B/b of Figures 9 and 10.
-PANEL_LENGTH_MM: float = 1440.0
-PANEL_HEIGHT_MM: dict[str, float] = {"2:1": 720.0, "1:1": 1440.0, "1:2": 2880.0}
-BLOCK_LENGTH_MM: dict[str, float] = {"4:1": 240.0, "2:1": 120.0, "1:1": 60.0}
+PANEL_LENGTH_MM: float = PANEL_LENGTH
+PANEL_HEIGHT_MM: dict[str, float] = dict(PANEL_HEIGHTS)
+BLOCK_LENGTH_MM: dict[str, float] = dict(BLOCK_LENGTHS)
 
-_GROUP_NAMES = {1: "Linear", 2: "Two-Way Interactions", 3: "Three-Way Interactions"}
 _TERM_SEP = "*"
 _MAX_ORDER = 3  # order 4 is saturated for a single replicate: no error DoF left
-
-
-# --------------------------------------------------------------------------------------------
-# Result types
-# --------------------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class AnovaRow:
-    """One line of the ANOVA table (Table 2); ``None`` where the published table is blank."""
-
-    source: str
-    dof: int
-    adj_ss: float
-    adj_ms: float | None
-    f_value: float | None
-    p_value: float | None
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "source": self.source,
-            "dof": int(self.dof),
-            "adj_ss": _plain(self.adj_ss),
-            "adj_ms": _plain(self.adj_ms),
-            "f_value": _plain(self.f_value),
-            "p_value": _plain(self.p_value),
-        }
-
-
-@dataclass(frozen=True)
-class AnovaResult:
-    """ANOVA table plus model summary (R-sq, R-sq(adj), R-sq(pred)) as in the paper.
-
-    ``rows`` are in the order of Table 2: Model, Linear, main effects, interaction group(s)
-    and their terms, Error, Total. ``r2``, ``r2_adj`` and ``r2_pred`` are fractions (0..1);
-    ``press`` is the prediction error sum of squares behind ``r2_pred``. ``fitted``,
-    ``residuals``, ``leverage`` and ``std_residuals`` follow the row order of the input
-    frame (the "observation order" of Figure 8).
-    """
-
-    response: str
-    order: int
-    n: int
-    rows: tuple[AnovaRow, ...]
-    r2: float
-    r2_adj: float
-    r2_pred: float
-    press: float
-    dfe: int
-    mse: float
-    n_params: int
-    fitted: tuple[float, ...]
-    residuals: tuple[float, ...]
-    leverage: tuple[float, ...]
-    std_residuals: tuple[float, ...]
-
-    def row(self, source: str) -> AnovaRow:
-        """The row named ``source`` (e.g. ``"Panel*Friction"``)."""
-        for r in self.rows:
-            if r.source == source:
-                return r
-        raise KeyError(f"no ANOVA row named {source!r}")
-
-    @property
-    def terms(self) -> tuple[AnovaRow, ...]:
-        """Rows of the individual model terms (main effects and interactions)."""
-        skip = {"Model", "Error", "Total", *_GROUP_NAMES.values()}
-        return tuple(r for r in self.rows if r.source not in skip)
-
-    @property
-    def s(self) -> float:
-        """Standard deviation of the error, S = sqrt(MSE) (Minitab's model summary)."""
-        return math.sqrt(self.mse)
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON object of ``alma anova --json`` (SPEC section 3)."""
-        return {
-            "rows": [r.to_dict() for r in self.rows],
-            "r2": float(self.r2),
-            "r2_adj": float(self.r2_adj),
-            "r2_pred": float(self.r2_pred),
-        }
-
-    def format_table(self) -> str:
-        """Text table in the layout and rounding of Table 2 plus the R-sq lines (percent).
-
-        Rounding as printed by the paper/Minitab: 4 decimals for Adj SS and Adj MS,
-        2 for F-Value, 3 for P-Value.
-        """
-        width = max(len("Source"), *(len(r.source) for r in self.rows))
-        head = (
-            f"{'Source':<{width}}  {'DoF':>4}  {'Adj SS':>8}  {'Adj MS':>8}"
-            f"  {'F-Value':>8}  {'P-Value':>7}"
-        )
-        lines = [head]
-        for r in self.rows:
-            lines.append(
-                f"{r.source:<{width}}  {r.dof:>4d}  {_fmt(r.adj_ss, 4):>8}  {_fmt(r.adj_ms, 4):>8}"
-                f"  {_fmt(r.f_value, 2):>8}  {_fmt(r.p_value, 3):>7}".rstrip()
-            )
-        lines.append("")
-        lines.append(f"S          = {self.s:.6f}")
-        lines.append(f"R-sq       = {100.0 * self.r2:.2f}%")
-        lines.append(f"R-sq(adj)  = {100.0 * self.r2_adj:.2f}%")
-        lines.append(f"R-sq(pred) = {100.0 * self.r2_pred:.2f}%")
-        return "\n".join(lines)
-
-
-@dataclass(frozen=True)
-class StandardizedEffect:
-    """One bar of the Pareto chart of standardized effects (Figure 7)."""
-
-    source: str
-    dof: int
-    effect: float
-    p_value: float
-    significant: bool
-
-
-@dataclass(frozen=True)
-class TukeyComparison:
-    """One pairwise comparison of Tukey's HSD (family-wise confidence level 1 - alpha)."""
-
-    group1: str
-    group2: str
-    mean_diff: float
-    p_adj: float
-    lower: float
-    upper: float
-    reject: bool
-
-
-@dataclass(frozen=True)
-class TukeyResult:
-    """Tukey's simultaneous comparisons of the bond means (paper, Results and discussion)."""
-
-    factor: str
-    alpha: float
-    means: tuple[tuple[str, float], ...]
-    comparisons: tuple[TukeyComparison, ...]
-
-    def significant_pairs(self) -> tuple[tuple[str, str], ...]:
-        return tuple((c.group1, c.group2) for c in self.comparisons if c.reject)
 
 
 # --------------------------------------------------------------------------------------------
@@ -493,90 +344,3 @@ def r2_pred_balanced(sse: float, sst: float, n: int, p: int) -> float:
 # --------------------------------------------------------------------------------------------
 # Pareto chart of standardized effects (Figure 7)
 # --------------------------------------------------------------------------------------------
-
-
-def equivalent_t(p_value: float, dfe: int) -> float:
-    """The |t| whose two-sided p-value with ``dfe`` DoF equals ``p_value``.
-
-    Uses the inverse survival function: ``t.ppf(1 - p/2)`` would round 1 - p/2 to 1.0 for
-    p below ~1e-16 and return inf.
-    """
-    if not 0.0 <= p_value <= 1.0:
-        raise ValueError(f"p-value must lie in [0, 1] (got {p_value!r})")
-    return float(scipy.stats.t.isf(p_value / 2.0, dfe))
-
-
-def pareto_reference(dfe: int, alpha: float = 0.05) -> float:
-    """Reference line of the Pareto chart: t_{1-alpha/2, DFE} (1.995 for DFE = 68)."""
-    return float(scipy.stats.t.isf(alpha / 2.0, dfe))
-
-
-def standardized_effects(
-    result: AnovaResult, alpha: float = 0.05
-) -> tuple[StandardizedEffect, ...]:
-    """Standardized effects of the model terms for the Pareto chart (Figure 7).
-
-    One-DoF terms: |t| of the coefficient, which equals sqrt(F). Several-DoF terms: the t
-    value with the same two-sided p-value as the term's F-test (Minitab's convention for
-    categorical terms). Sorted by decreasing effect.
-    """
-    ref = pareto_reference(result.dfe, alpha)
-    effects = []
-    for r in result.terms:
-        assert r.f_value is not None and r.p_value is not None
-        if r.dof == 1:
-            eff = math.sqrt(r.f_value)
-        else:
-            eff = equivalent_t(r.p_value, result.dfe)
-        effects.append(StandardizedEffect(r.source, r.dof, eff, r.p_value, eff > ref))
-    return tuple(sorted(effects, key=lambda e: e.effect, reverse=True))
-
-
-# --------------------------------------------------------------------------------------------
-# Tukey's multiple comparisons of the bond types (Results and discussion)
-# --------------------------------------------------------------------------------------------
-
-
-def tukey_bond(df: pd.DataFrame, response: str = "alpha_c", alpha: float = 0.05) -> TukeyResult:
-    """Tukey's HSD pairwise comparisons of the mean response of the bond types.
-
-    The paper finds stack differs from every other bond and running/english/flemish do not
-    differ from one another.
-    """
-    for col in ("bond", response):
-        if col not in df.columns:
-            raise ValueError(f"missing column {col!r}")
-    groups = df["bond"].astype(str).str.strip().str.lower().to_numpy()
-    y = pd.to_numeric(df[response], errors="coerce").to_numpy(dtype=float)
-    if not np.all(np.isfinite(y)):
-        raise ValueError(f"column {response!r} has missing or non-finite values")
-    hsd = pairwise_tukeyhsd(endog=y, groups=groups, alpha=alpha)
-    g1, g2 = np.triu_indices(len(hsd.groupsunique), 1)
-    names = [str(g) for g in hsd.groupsunique]
-    comparisons = tuple(
-        TukeyComparison(
-            group1=names[i],
-            group2=names[j],
-            mean_diff=float(hsd.meandiffs[k]),
-            p_adj=float(hsd.pvalues[k]),
-            lower=float(hsd.confint[k, 0]),
-            upper=float(hsd.confint[k, 1]),
-            reject=bool(hsd.reject[k]),
-        )
-        for k, (i, j) in enumerate(zip(g1, g2))
-    )
-    means = tuple((g, float(y[groups == g].mean())) for g in names)
-    return TukeyResult(factor="bond", alpha=alpha, means=means, comparisons=comparisons)
-
-
-# --------------------------------------------------------------------------------------------
-# Helpers
-# --------------------------------------------------------------------------------------------
-
-
-def _plain(x: float | None) -> float | None:
-    return None if x is None else float(x)
-
-
-def _fmt(x: float | None, decimals: int) -> str:
-    return "" if x is None else f"{x:.{decimals}f}"

@@ -33,9 +33,8 @@ from alma.stats.anova import (  # noqa: E402
     PANEL_LENGTH_MM,
     AnovaResult,
     anova,
-    pareto_reference,
-    standardized_effects,
 )
+from alma.stats.effects import pareto_reference, standardized_effects
 
 __all__ = [
     "pareto_chart",

@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 
 import alma
-from alma.stats.anova import pareto_reference
+from alma.stats.effects import pareto_reference
 from alma.study.compare_stats import _Anova
 from alma.study.compare_table import (BOUND_TOLERANCE, DIFFER_TOLERANCE, FACTOR_COLUMNS, SIGNIFICANCE, VERIFIED,
                                       CompareReport, _LABELS, _panel_name)

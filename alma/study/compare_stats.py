@@ -8,7 +8,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from alma.stats.anova import anova, standardized_effects, varying_factors
+from alma.stats.anova import anova, varying_factors
+from alma.stats.effects import standardized_effects
 from alma.study.compare_table import FACTOR_COLUMNS, SIGNIFICANCE, CompareReport, _LABELS
 
 
