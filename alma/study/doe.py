@@ -79,6 +79,31 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
     model, ``friction`` and the α columns as floats.
     """
     models = _models(model)
+    design, n_workers = _check(design, workers, effort, time_limit)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    results = _ResultsFile(out / RESULTS_FILE)
+    settings = Settings(search=SearchSettings(effort=effort or "auto"), time_limit=time_limit)
+    try:
+        wanted, tasks = _plan(design, models, settings, results, retry_errors)
+        sink = _Sink(out, results, tasks, len(wanted), progress)
+        _execute(tasks, sink, scheduler, n_workers, results)
+    finally:
+        results.close()
+    if sink.lost_rows:
+        raise RuntimeError(
+            f"{len(sink.lost_rows)} panel(s) were not solved ({sink.lost_rows[0]}); the other results are in "
+            f"{results.path}; run again to retry them")
+    df = read_results(out / RESULTS_FILE)
+    df = df[df["key"].isin(set(wanted))]
+    order = {k: i for i, k in enumerate(wanted)}
+    df = df.assign(_order=df["key"].map(order)).sort_values("_order").drop(columns="_order")
+    return df.reset_index(drop=True)
+
+
+def _check(design: Design | str | os.PathLike[str] | None, workers: int | None, effort: str | None,
+           time_limit: float | None) -> tuple[Design, int]:
+    """The design and the number of local workers, every option checked before any work."""
     if effort is not None and effort not in ("auto", "fast", "thorough"):
         raise ValueError(f"effort must be auto, fast or thorough, got {effort!r}")
     if time_limit is not None and not (math.isfinite(time_limit) and time_limit > 0):
@@ -89,84 +114,79 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
         design = load_design(design)
     if workers is not None and int(workers) < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
-    n_workers = int(workers) if workers is not None else (os.cpu_count() or 1)
+    return design, int(workers) if workers is not None else (os.cpu_count() or 1)
 
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    results = _ResultsFile(out / RESULTS_FILE)
+
+def _plan(design: Design, models: tuple[str, ...], settings: Settings, results: _ResultsFile,
+          retry_errors: bool) -> tuple[list[str], list[_Task]]:
+    """Every wanted row's key (Table 5 order), and the tasks of those not yet in the file,
+    largest first (better load balance)."""
+    version = _alma_version()
+    wanted: list[str] = []
+    todo: dict[tuple[str, str, str], list[tuple[float, str, str]]] = {}
+    for friction in design.friction:
+        for geometry in design.geometries:
+            for m in models:
+                key = panel_key(*geometry, friction, m, version=version, settings=settings)
+                wanted.append(key)
+                done = results.rows.get(key)
+                if done is not None and not (retry_errors and done["status"] == "error"):
+                    continue
+                todo.setdefault(geometry, []).append((friction, m, key))
+    tasks = [_Task(p, b, bond, tuple(items), version, settings) for (p, b, bond), items in todo.items()]
+    tasks.sort(key=lambda task: task.size, reverse=True)
+    return wanted, tasks
+
+
+class _Sink:
+    """Where finished rows go: their picture, then the results file, then the progress line."""
+
+    def __init__(self, out: Path, results: _ResultsFile, tasks: list[_Task], n_wanted: int, progress: bool):
+        self.out, self.results = out, results
+        self.weight = {k: task.size / len(task.items) for task in tasks for _, _, k in task.items}
+        remaining = sum(len(task.items) for task in tasks)
+        self.bar = _Progress(total=n_wanted, resumed=n_wanted - remaining, enabled=progress,
+                             work=sum(self.weight.values()))
+        self.written: set[str] = set()
+        self.lost_rows: list[str] = []
+
+    def record(self, row: dict[str, Any]) -> None:
+        key = str(row["key"])
+        if key in self.written:
+            return
+        self.written.add(key)
+        picture = row.pop(PICTURE, None)
+        if picture is not None:
+            try:  # before the row: a row on disk has its picture
+                picture.save(picture_path(self.out, key))
+            except Exception:  # the report solves the panel again to draw it
+                picture_path(self.out, key).unlink(missing_ok=True)
+        self.results.append(row)
+        self.bar.update(failed=row["status"] == "error", work=self.weight.get(key, 0.0))
+
+    def lost(self, task: _Task, message: str) -> None:
+        for _, _, key in task.items:
+            if key not in self.written:
+                self.lost_rows.append(message)
+                self.bar.update(failed=True, work=self.weight.get(key, 0.0))
+
+
+def _execute(tasks: list[_Task], sink: _Sink, scheduler: Any, n_workers: int, results: _ResultsFile) -> None:
+    """Run the tasks here, in a local pool or on a Dask cluster; Ctrl-C leaves what is done on disk."""
+    bar = sink.bar
+    bar.show(force=True)
     try:
-        version = _alma_version()
-        settings = Settings(search=SearchSettings(effort=effort or "auto"), time_limit=time_limit)
-        wanted: list[str] = []
-        todo: dict[tuple[str, str, str], list[tuple[float, str, str]]] = {}
-        for friction in design.friction:
-            for geometry in design.geometries:
-                for m in models:
-                    key = panel_key(*geometry, friction, m, version=version, settings=settings)
-                    wanted.append(key)
-                    done = results.rows.get(key)
-                    if done is not None and not (retry_errors and done["status"] == "error"):
-                        continue
-                    todo.setdefault(geometry, []).append((friction, m, key))
-        tasks = [_Task(p, b, bond, tuple(items), version, settings)
-                 for (p, b, bond), items in todo.items()]
-        tasks.sort(key=lambda t: t.size, reverse=True)  # largest first: better load balance
-
-        remaining = sum(len(t.items) for t in tasks)
-        weight = {k: t.size / len(t.items) for t in tasks for _, _, k in t.items}
-        bar = _Progress(total=len(wanted), resumed=len(wanted) - remaining, enabled=progress,
-                        work=sum(weight.values()))
-        written: set[str] = set()
-
-        def record(row: dict[str, Any]) -> None:
-            key = str(row["key"])
-            if key in written:
-                return
-            written.add(key)
-            picture = row.pop(PICTURE, None)
-            if picture is not None:
-                try:  # before the row: a row on disk has its picture
-                    picture.save(picture_path(out, key))
-                except Exception:  # the report solves the panel again to draw it
-                    picture_path(out, key).unlink(missing_ok=True)
-            results.append(row)
-            bar.update(failed=row["status"] == "error", work=weight.get(key, 0.0))
-
-        lost_rows: list[str] = []
-
-        def lost(task: _Task, message: str) -> None:
-            for _, _, key in task.items:
-                if key not in written:
-                    lost_rows.append(message)
-                    bar.update(failed=True, work=weight.get(key, 0.0))
-
-        bar.show(force=True)
-        note = ""
-        try:
-            if not tasks:
-                pass
-            elif scheduler is not None:
-                _run_dask(tasks, scheduler, record, lost)
-            elif n_workers == 1 or len(tasks) == 1:
-                for task in tasks:
-                    _solve_task(task, emit=record)
-            else:
-                _run_local(tasks, min(n_workers, len(tasks)), record, lost)
-        except KeyboardInterrupt:
-            note = (f"interrupted: {bar.done} of {bar.total} results are in {results.path}; "
-                    "run the same command again to resume")
-            bar.close(note)
-            raise
-        bar.close(f"{bar.failed} failed" if bar.failed else "")
-    finally:
-        results.close()
-    if lost_rows:
-        raise RuntimeError(
-            f"{len(lost_rows)} panel(s) were not solved ({lost_rows[0]}); the other results are in "
-            f"{results.path}; run again to retry them")
-
-    df = read_results(out / RESULTS_FILE)
-    df = df[df["key"].isin(set(wanted))]
-    order = {k: i for i, k in enumerate(wanted)}
-    df = df.assign(_order=df["key"].map(order)).sort_values("_order").drop(columns="_order")
-    return df.reset_index(drop=True)
+        if not tasks:
+            pass
+        elif scheduler is not None:
+            _run_dask(tasks, scheduler, sink.record, sink.lost)
+        elif n_workers == 1 or len(tasks) == 1:
+            for task in tasks:
+                _solve_task(task, emit=sink.record)
+        else:
+            _run_local(tasks, min(n_workers, len(tasks)), sink.record, sink.lost)
+    except KeyboardInterrupt:
+        bar.close(f"interrupted: {bar.done} of {bar.total} results are in {results.path}; "
+                  "run the same command again to resume")
+        raise
+    bar.close(f"{bar.failed} failed" if bar.failed else "")
