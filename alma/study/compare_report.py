@@ -205,18 +205,29 @@ def write_report(report: CompareReport, design: Design, stats: dict[str, Any], m
                  effort: str | None, wall: float, solve_wall: float, resumed: int, n_results: int,
                  time_limit: float | None = None,
                  results_path: Path) -> Path:
+    """Write ``compare.md``: header, summary, times by start, where the models differ, the
+    ANOVA, every panel."""
     t = report.table
-    out = report.out
-    ratio = t["ratio"].to_numpy(dtype=float)
-    valid = t[np.isfinite(ratio)]
-    gap = 1.0 - valid["ratio"]
+    lines = _header_lines(report, design, effort, time_limit, results_path, n_results, resumed)
+    lines += _summary_lines(report, wall, solve_wall)
+    lines += _time_by_start(t)
+    lines += _differ_lines(mech)
+    lines += _anova_section(t, stats)
+    lines += _all_panel_lines(t)
+    report.markdown.write_text("\n".join(lines), encoding="utf-8")
+    return report.markdown
+
+
+def _header_lines(report: CompareReport, design: Design, effort: str | None, time_limit: float | None,
+                  results_path: Path, n_results: int, resumed: int) -> list[str]:
+    t, out = report.table, report.out
     lines = ["# Associative against non-associative collapse multipliers", ""]
     lines.append(f"alma {getattr(alma, '__version__', '?')}; {len(t)} panels "
                  f"({' × '.join(str(len(getattr(design, c))) for c in FACTOR_COLUMNS)} design: "
                  + "; ".join(f"{c} {', '.join(_lvl(c, v) if c == 'friction' else str(v) for v in getattr(design, c))}"
                              for c in FACTOR_COLUMNS)
                  + f"); non-associative effort {effort or 'auto'} (auto: thorough up to 200 blocks, fast above), "
-                 f"time limit {time_limit if time_limit is not None else 60:g} s per search. "
+                 f"{'time limit ' + format(time_limit, 'g') + ' s per search' if time_limit is not None else 'no time limit (work budgets)'}. "
                  f"Results: `{_rel(results_path, out)}` ({n_results} rows, {resumed} resumed from an earlier run); "
                  f"table: `compare.csv`.")
     lines.append("")
@@ -225,8 +236,13 @@ def write_report(report: CompareReport, design: Design, stats: dict[str, Any], m
                  "collapse multiplier, not proven global). Ratio = α_NL/α_LP ≤ 1.")
     lines.append("")
 
-    # -- summary
-    lines += ["## Summary", ""]
+    return lines
+
+
+def _gap_rows(t: pd.DataFrame) -> list[list[Any]]:
+    """How far α_NL lies below α_LP over the panels."""
+    valid = t[np.isfinite(t["ratio"].to_numpy(dtype=float))]
+    gap = 1.0 - valid["ratio"]
     summary: list[list[Any]] = []
     summary.append(["Panels", len(t)])
     summary.append(["Panels with both α (ratio defined)", len(valid)])
@@ -242,9 +258,12 @@ def write_report(report: CompareReport, design: Design, stats: dict[str, Any], m
             summary.append(["Median gap (panels where the models differ)",
                             f"{float(gap[valid['ratio'] < 1.0 - DIFFER_TOLERANCE].median()):.4f}"])
         summary.append(["Mean ratio α_NL/α_LP", f"{float(valid['ratio'].mean()):.4f}"])
-    above = t[(t["alpha_nl"] > t["alpha_lp"] + BOUND_TOLERANCE)]
-    summary.append([f"Panels with α_NL > α_LP + {BOUND_TOLERANCE:g} (must be 0)", len(above)])
-    # multi-start against the LP-started candidate
+    return summary
+
+
+def _start_rows(t: pd.DataFrame) -> list[list[Any]]:
+    """What the multi-start adds over the candidate started from the LP mechanism."""
+    summary: list[list[Any]] = []
     has_lp = t[t["lp_start_verified"].isin(["True", "False"])]
     lp_ok = t[t["lp_start_verified"] == "True"]
     gains = lp_ok["lp_start_gain"].to_numpy(dtype=float)
@@ -263,6 +282,17 @@ def write_report(report: CompareReport, design: Design, stats: dict[str, Any], m
     summary.append(["Panels solved only by the other starts (no verified 'lp' candidate)", len(no_lp)])
     starts = t["start_nl"].replace("", np.nan).dropna().value_counts()
     summary.append(["Winning starts", ", ".join(f"{s} × {n}" for s, n in starts.items()) or "–"])
+    return summary
+
+
+def _summary_lines(report: CompareReport, wall: float, solve_wall: float) -> list[str]:
+    t = report.table
+    lines: list[str] = ["## Summary", ""]
+    summary: list[list[Any]] = []
+    summary += _gap_rows(t)
+    above = t[(t["alpha_nl"] > t["alpha_lp"] + BOUND_TOLERANCE)]
+    summary.append([f"Panels with α_NL > α_LP + {BOUND_TOLERANCE:g} (must be 0)", len(above)])
+    summary += _start_rows(t)
     errors = t[(t["status_lp"] == "error") | (t["status_nl"] == "error")]
     summary.append(["Failures (status error)", len(errors)])
     unverified = t[t["status_nl"] == "not_converged"]
@@ -300,9 +330,11 @@ def write_report(report: CompareReport, design: Design, stats: dict[str, Any], m
         lines += [f"- note: {n}" for n in report.notes]
     lines.append("")
 
-    lines += _time_by_start(t)
+    return lines
 
-    # -- the panels that differ most
+
+def _differ_lines(mech: pd.DataFrame) -> list[str]:
+    lines: list[str] = []
     lines += ["## Where the two models differ most", ""]
     if mech.empty:
         lines.append("The two models give the same α (within the relative tolerance "
@@ -314,7 +346,11 @@ def write_report(report: CompareReport, design: Design, stats: dict[str, Any], m
                              f"[png]({r.png})" if r.png else "–"] for r in mech.itertuples()])
     lines.append("")
 
-    # -- statistics
+    return lines
+
+
+def _anova_section(t: pd.DataFrame, stats: dict[str, Any]) -> list[str]:
+    lines: list[str] = []
     lines += ["## Beyond the paper: ANOVA without dilatancy", "",
               "The two-way ANOVA of Table 2 of the paper (main effects and two-way interactions, "
               "adjusted sums of squares) on the non-associative α and on the ratio α_NL/α_LP; the "
@@ -329,7 +365,11 @@ def write_report(report: CompareReport, design: Design, stats: dict[str, Any], m
               "`figures/main_effects_lp_vs_nl.png`; Pareto charts `figures/pareto_alpha_nl.png`, "
               "`figures/pareto_ratio.png` (when the ANOVA is defined).", ""]
 
-    # -- all panels
+    return lines
+
+
+def _all_panel_lines(t: pd.DataFrame) -> list[str]:
+    lines: list[str] = []
     lines += ["## All panels", ""]
     lines += _md_table(
         ["Panel", "Block", "Bond", "f", "Blocks", "α_LP", "α_NL", "Ratio", "Mech. LP", "Mech. NL",
@@ -340,8 +380,7 @@ def write_report(report: CompareReport, design: Design, stats: dict[str, Any], m
           (_f(r.alpha_lp_start) + ("" if r.lp_start_verified == "True" else " (not verified)"))
           if r.lp_start_verified else "none", r.status_nl] for r in t.itertuples()])
     lines.append("")
-    report.markdown.write_text("\n".join(lines), encoding="utf-8")
-    return report.markdown
+    return lines
 
 
 def _class_changes(t: pd.DataFrame) -> str:
