@@ -61,75 +61,83 @@ def _level_means(table: pd.DataFrame, col: str, response: str) -> pd.Series:
     return table.groupby(col, sort=False)[response].mean()
 
 
+def _share(a: _Anova, name: str) -> float:
+    """The term's share of the total adjusted sum of squares (NaN when not estimable)."""
+    if a.result is None:
+        return math.nan
+    try:
+        row = a.result.row(name)
+    except KeyError:
+        return math.nan
+    total = a.result.row("Total").adj_ss
+    return row.adj_ss / total if total > 0 else math.nan
+
+
+def _rank(a: _Anova, name: str) -> int | None:
+    names = [e.source for e in a.effects]
+    return names.index(name) + 1 if name in names else None
+
+
+def _p_value(a: _Anova, name: str) -> float:
+    if a.result is None:
+        return math.nan
+    try:
+        return float(a.result.row(name).p_value)
+    except KeyError:
+        return math.nan
+
+
+def _factor_change(valid: pd.DataFrame, col: str, stats: dict[str, _Anova]) -> tuple[list[str], str]:
+    """Why factor ``col`` changes its effect without dilatancy (empty: it does not), and its figures."""
+    a_lp, a_nl, a_ratio = stats["alpha_lp"], stats["alpha_nl"], stats["ratio"]
+    name = _LABELS[col]
+    m_lp, m_nl = _level_means(valid, col, "alpha_lp"), _level_means(valid, col, "alpha_nl")
+    m_r = _level_means(valid, col, "ratio")
+    order_lp = [str(v) for v in m_lp.sort_values(ascending=False, kind="stable").index]
+    order_nl = [str(v) for v in m_nl.sort_values(ascending=False, kind="stable").index]
+    p_ratio = _p_value(a_ratio, name)
+    reasons = []
+    if math.isfinite(p_ratio) and p_ratio < SIGNIFICANCE:
+        lo, hi = m_r.idxmin(), m_r.idxmax()
+        reasons.append(f"it is significant for the ratio (p = {p_ratio:.3g}; mean ratio "
+                       f"{m_r[lo]:.3f} at {_lvl(col, lo)} against {m_r[hi]:.3f} at {_lvl(col, hi)})")
+    sig_lp = math.isfinite(_p_value(a_lp, name)) and _p_value(a_lp, name) < SIGNIFICANCE
+    sig_nl = math.isfinite(_p_value(a_nl, name)) and _p_value(a_nl, name) < SIGNIFICANCE
+    tested = a_lp.result is not None and a_nl.result is not None
+    # The order of the level means of a factor without significant effect is noise.
+    if order_lp != order_nl and (sig_lp or sig_nl or not tested):
+        reasons.append(f"the order of its level means changes ({' > '.join(_lvl(col, v) for v in order_lp)} "
+                       f"with dilatancy, {' > '.join(_lvl(col, v) for v in order_nl)} without"
+                       + ("" if tested else "; no ANOVA to test it") + ")")
+    if tested and sig_lp != sig_nl:
+        reasons.append("it is significant for α " + ("with dilatancy only" if sig_lp else "without dilatancy only"))
+    detail = (f"effect range (largest minus smallest level mean) {float(m_lp.max() - m_lp.min()):.4f} → "
+              f"{float(m_nl.max() - m_nl.min()):.4f}")
+    s_lp, s_nl = _share(a_lp, name), _share(a_nl, name)
+    if math.isfinite(s_lp) and math.isfinite(s_nl):
+        detail += f", share of the total sum of squares {100 * s_lp:.1f} % → {100 * s_nl:.1f} %"
+    r_lp, r_nl = _rank(a_lp, name), _rank(a_nl, name)
+    if r_lp and r_nl:
+        detail += f", Pareto rank {r_lp} → {r_nl}"
+    return reasons, detail
+
+
 def _changes_paragraph(table: pd.DataFrame, stats: dict[str, _Anova]) -> list[str]:
     """Which factors change their effect without dilatancy: from the ANOVAs and level means."""
-    a_lp, a_nl, a_ratio = stats["alpha_lp"], stats["alpha_nl"], stats["ratio"]
+    a_ratio = stats["ratio"]
     valid = table[np.isfinite(table["ratio"].to_numpy(dtype=float))]
     if valid.empty:
         return ["No panel has both multipliers: nothing to compare."]
     factors = [c for c in FACTOR_COLUMNS if valid[c].nunique() >= 2]
     if not factors:
         return ["Every factor has a single level in this design: no factor effect to compare."]
-
-    def share(a: _Anova, name: str) -> float:
-        if a.result is None:
-            return math.nan
-        try:
-            row = a.result.row(name)
-        except KeyError:
-            return math.nan
-        total = a.result.row("Total").adj_ss
-        return row.adj_ss / total if total > 0 else math.nan
-
-    def rank(a: _Anova, name: str) -> int | None:
-        names = [e.source for e in a.effects]
-        return names.index(name) + 1 if name in names else None
-
-    def p_value(a: _Anova, name: str) -> float:
-        if a.result is None:
-            return math.nan
-        try:
-            return float(a.result.row(name).p_value)
-        except KeyError:
-            return math.nan
-
     changed, unchanged = [], []
     for col in factors:
-        name = _LABELS[col]
-        m_lp = _level_means(valid, col, "alpha_lp")
-        m_nl = _level_means(valid, col, "alpha_nl")
-        m_r = _level_means(valid, col, "ratio")
-        range_lp, range_nl = float(m_lp.max() - m_lp.min()), float(m_nl.max() - m_nl.min())
-        order_lp = [str(v) for v in m_lp.sort_values(ascending=False, kind="stable").index]
-        order_nl = [str(v) for v in m_nl.sort_values(ascending=False, kind="stable").index]
-        p_ratio = p_value(a_ratio, name)
-        reasons = []
-        if math.isfinite(p_ratio) and p_ratio < SIGNIFICANCE:
-            lo, hi = m_r.idxmin(), m_r.idxmax()
-            reasons.append(f"it is significant for the ratio (p = {p_ratio:.3g}; mean ratio "
-                           f"{m_r[lo]:.3f} at {_lvl(col, lo)} against {m_r[hi]:.3f} at {_lvl(col, hi)})")
-        sig_lp = math.isfinite(p_value(a_lp, name)) and p_value(a_lp, name) < SIGNIFICANCE
-        sig_nl = math.isfinite(p_value(a_nl, name)) and p_value(a_nl, name) < SIGNIFICANCE
-        tested = a_lp.result is not None and a_nl.result is not None
-        # The order of the level means of a factor without significant effect is noise.
-        if order_lp != order_nl and (sig_lp or sig_nl or not tested):
-            reasons.append(f"the order of its level means changes ({' > '.join(_lvl(col, v) for v in order_lp)} "
-                           f"with dilatancy, {' > '.join(_lvl(col, v) for v in order_nl)} without"
-                           + ("" if tested else "; no ANOVA to test it") + ")")
-        if a_lp.result is not None and a_nl.result is not None and sig_lp != sig_nl:
-            reasons.append("it is significant for α " + ("with dilatancy only" if sig_lp else "without dilatancy only"))
-        detail = (f"effect range (largest minus smallest level mean) {range_lp:.4f} → {range_nl:.4f}")
-        s_lp, s_nl = share(a_lp, name), share(a_nl, name)
-        if math.isfinite(s_lp) and math.isfinite(s_nl):
-            detail += f", share of the total sum of squares {100 * s_lp:.1f} % → {100 * s_nl:.1f} %"
-        r_lp, r_nl = rank(a_lp, name), rank(a_nl, name)
-        if r_lp and r_nl:
-            detail += f", Pareto rank {r_lp} → {r_nl}"
+        reasons, detail = _factor_change(valid, col, stats)
         if reasons:
-            changed.append(f"**{name}** ({detail}): {'; '.join(reasons)}")
+            changed.append(f"**{_LABELS[col]}** ({detail}): {'; '.join(reasons)}")
         else:
-            unchanged.append(f"{name} ({detail})")
-
+            unchanged.append(f"{_LABELS[col]} ({detail})")
     text = ("Without dilatancy, a factor changes its effect when it moves the ratio α_NL/α_LP (a "
             "factor without effect on the ratio scales both multipliers alike), when the order of "
             "its level means changes while it is significant (p < 0.05) in either model, or when it "
