@@ -1,7 +1,6 @@
 """The markdown report of ``alma compare`` (``compare.md``)."""
 from __future__ import annotations
 
-import json
 import math
 import os
 from pathlib import Path
@@ -12,7 +11,7 @@ import pandas as pd
 
 import alma
 from alma.stats.effects import pareto_reference
-from alma.study.compare_stats import _Anova
+from alma.study.compare_stats import _Anova, start_times
 from alma.study.compare_table import (BOUND_TOLERANCE, DIFFER_TOLERANCE, FACTOR_COLUMNS, SIGNIFICANCE, VERIFIED,
                                       CompareReport, _LABELS, _panel_name)
 from alma.study.design import Design
@@ -159,30 +158,6 @@ def _changes_paragraph(table: pd.DataFrame, stats: dict[str, _Anova]) -> list[st
 
 def _lvl(col: str, v: Any) -> str:
     return f"f = {float(v):.2f}" if col == "friction" else str(v)
-
-
-def start_times(table: pd.DataFrame) -> pd.DataFrame:
-    """Time and outcome of each start of the non-associative searches, one row per start run.
-
-    Read from the ``starts_nl`` column (JSON ``[[start, seconds, verified, α], ...]``; α, of the
-    start's state or null, is missing in rows of an older alma and then NaN); panels solved by an
-    alma that did not record the column contribute nothing.
-    """
-    rows = []
-    for r in table.itertuples():
-        text = getattr(r, "starts_nl", "") or ""
-        try:
-            runs = json.loads(text) if isinstance(text, str) and text.strip() else []
-        except ValueError:
-            runs = []
-        for run in runs:
-            if isinstance(run, list) and len(run) in (3, 4):
-                alpha = run[3] if len(run) == 4 and run[3] is not None else math.nan
-                rows.append({"start": str(run[0]), "time_s": float(run[1]), "verified": bool(run[2]),
-                             "alpha": float(alpha), "won": str(run[0]) == r.start_nl,
-                             "panel_converged": r.status_nl in VERIFIED, "n_blocks": r.n_blocks})
-    return pd.DataFrame(rows, columns=["start", "time_s", "verified", "alpha", "won", "panel_converged",
-                                       "n_blocks"])
 
 
 def _time_by_start(t: pd.DataFrame) -> list[str]:

@@ -1,6 +1,9 @@
 """The ANOVA of ``alma compare``: Table 2's model on α_NL, on the ratio and on α_LP."""
 from __future__ import annotations
 
+import json
+import math
+
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -10,7 +13,7 @@ import pandas as pd
 
 from alma.stats.anova import anova, varying_factors
 from alma.stats.effects import standardized_effects
-from alma.study.compare_table import FACTOR_COLUMNS, SIGNIFICANCE, CompareReport, _LABELS
+from alma.study.compare_table import FACTOR_COLUMNS, SIGNIFICANCE, VERIFIED, CompareReport, _LABELS
 
 
 @dataclass
@@ -107,3 +110,27 @@ def _statistics(table: pd.DataFrame, figures_dir: Path, report: CompareReport) -
     except Exception as exc:  # a figure must not lose the report
         report.notes.append(f"a statistics figure failed: {type(exc).__name__}: {exc}")
     return stats
+
+
+def start_times(table: pd.DataFrame) -> pd.DataFrame:
+    """Time and outcome of each start of the non-associative searches, one row per start run.
+
+    Read from the ``starts_nl`` column (JSON ``[[start, seconds, verified, α], ...]``; α, of the
+    start's state or null, is missing in rows of an older alma and then NaN); panels solved by an
+    alma that did not record the column contribute nothing.
+    """
+    rows = []
+    for r in table.itertuples():
+        text = getattr(r, "starts_nl", "") or ""
+        try:
+            runs = json.loads(text) if isinstance(text, str) and text.strip() else []
+        except ValueError:
+            runs = []
+        for run in runs:
+            if isinstance(run, list) and len(run) in (3, 4):
+                alpha = run[3] if len(run) == 4 and run[3] is not None else math.nan
+                rows.append({"start": str(run[0]), "time_s": float(run[1]), "verified": bool(run[2]),
+                             "alpha": float(alpha), "won": str(run[0]) == r.start_nl,
+                             "panel_converged": r.status_nl in VERIFIED, "n_blocks": r.n_blocks})
+    return pd.DataFrame(rows, columns=["start", "time_s", "verified", "alpha", "won", "panel_converged",
+                                       "n_blocks"])
