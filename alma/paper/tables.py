@@ -24,7 +24,6 @@ package: :func:`make_paper` is given that folder (``published``).
 """
 from __future__ import annotations
 
-import math
 import sys
 import time
 from pathlib import Path
@@ -34,36 +33,23 @@ import pandas as pd
 
 import alma
 from alma.stats.anova import anova, load_results
+from alma.paper.printed import TABLE5_DECIMALS, _printed
+from alma.paper.report import write_report
+from alma.study.compare import run_compare
 from alma.study.doe import run_doe
 
 #: The files of the published tables that ``published`` must hold.
-PUBLISHED_FILES = ("table5_collapse_multipliers.csv", "table2_anova.csv", "figure_captions.csv",
-                   "figure_titles.csv")
+PUBLISHED_FILES = ("table5_collapse_multipliers.csv", "table2_anova.csv", "table3_r2.csv",
+                   "figure_captions.csv", "figure_titles.csv")
 FACTORS = ["panel_ratio", "block_ratio", "bond", "friction"]
 #: Table 2 columns and the decimals the paper prints.
 TABLE2_DECIMALS = {"adj_ss": 4, "adj_ms": 4, "f_value": 2, "p_value": 3}
-#: R² figures of Table 3 / the text (percent, 2 decimals); R²(adj) is not printed.
-PUBLISHED_R2 = {"R2": 96.75, "R2_pred": 91.81}
-TABLE5_DECIMALS = 4
 
 
 def _key(df: pd.DataFrame) -> pd.Series:
     return (df["panel_ratio"].astype(str) + "|" + df["block_ratio"].astype(str) + "|"
             + df["bond"].astype(str).str.lower() + "|"
             + df["friction"].astype(float).map(lambda f: f"{f:.2f}"))
-
-
-def _printed(x: float | None, decimals: int) -> str:
-    if x is None or (isinstance(x, float) and math.isnan(x)):
-        return ""
-    return f"{x:.{decimals}f}"
-
-
-def _distance_to_printed(value: float, printed: float, decimals: int) -> float:
-    """How far ``value`` lies from the interval of numbers that print as ``printed``."""
-    half = 0.5 * 10.0 ** (-decimals)
-    lo, hi = printed - half, printed + half
-    return 0.0 if lo <= value < hi else min(abs(value - lo), abs(value - hi))
 
 
 # ------------------------------------------------------------------------------------------
@@ -129,11 +115,12 @@ def table2_comparison(ours_anova: Any, exact_anova: Any, t5_anova: Any,
     return pd.DataFrame(rows)
 
 
-def table3_r2(ours_anova: Any, exact_anova: Any, t5_anova: Any) -> pd.DataFrame:
+def table3_r2(ours_anova: Any, exact_anova: Any, t5_anova: Any, published: dict[str, float]) -> pd.DataFrame:
+    """R², R²(adj), R²(pred) of alma's ANOVA beside the ``published`` percentages (R²(adj) is not printed)."""
     rows = []
     for name, attr in (("R2", "r2"), ("R2_adj", "r2_adj"), ("R2_pred", "r2_pred")):
         mine = 100.0 * getattr(ours_anova, attr)
-        pub = PUBLISHED_R2.get(name)
+        pub = published.get(name)
         rows.append({"quantity": name, "published_percent": "" if pub is None else f"{pub:.2f}",
                      "alma_percent": f"{mine:.2f}", "alma_exact": repr(mine),
                      "alma_unrounded_percent": f"{100.0 * getattr(exact_anova, attr):.2f}",
@@ -215,164 +202,40 @@ def mechanism_figures(captions: pd.DataFrame, t5cmp: pd.DataFrame, titles: dict[
 
 
 # ------------------------------------------------------------------------------------------
-# Report
-# ------------------------------------------------------------------------------------------
-
-
-def _md_table(header: list[str], rows: list[list[Any]]) -> list[str]:
-    out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    out += ["| " + " | ".join(str(x) for x in r) + " |" for r in rows]
-    return out
-
-
-def _table5_reason(r: Any) -> str:
-    a = float(r.alpha_alma_exact)
-    pub = float(r.alpha_published)
-    dist = _distance_to_printed(a, pub, TABLE5_DECIMALS)
-    lo, hi = float(r.alpha_lower), float(r.alpha_upper)
-    certified = f"alma's bounds [{lo:.7f}, {hi:.7f}] are certified (both exclude every value printing as {pub:.4f})" \
-        if not (pub - 5e-5 <= lo < pub + 5e-5 or pub - 5e-5 <= hi < pub + 5e-5) else \
-        f"alma's bounds [{lo:.7f}, {hi:.7f}] straddle the rounding boundary"
-    if dist < 2e-5:
-        return (f"alma's α = {a:.6f} lies only {dist:.1e} beyond the values that print as {pub:.4f}: "
-                f"a difference of the order of an LP solver's stopping tolerance (most likely the "
-                f"original solver's; the geometry and the model give every other panel to 4 "
-                f"decimals); {certified}")
-    return f"alma's α = {a:.6f} differs by {a - pub:+.6f}; {certified}; not explained"
-
-
-def write_report(out: Path, t5cmp: pd.DataFrame, t2cmp: pd.DataFrame, r2: pd.DataFrame,
-                 mech: pd.DataFrame, mech_note: str, figs: list[Path], elapsed: float) -> Path:
-    lines: list[str] = ["# alma against the published values of the paper", ""]
-    n5 = int(t5cmp["match"].sum())
-    lines.append(f"alma {getattr(alma, '__version__', '?')}, associative LP (Eq. 10), "
-                 f"{len(t5cmp)} panels; run time {elapsed:.0f} s.")
-    lines.append("")
-    lines.append("Every value is compared after rounding to the digits the paper prints.")
-    lines.append("")
-    lines.append("## Summary")
-    lines.append("")
-    n2 = int(t2cmp["match"].sum())
-    r2p = r2[r2["published_percent"] != ""]
-    lines += _md_table(["Item", "Agree to the printed digits", "File"], [
-        ["Table 5, collapse multipliers", f"{n5} / {len(t5cmp)}", "table5_comparison.csv"],
-        ["Table 2, ANOVA cells", f"{n2} / {len(t2cmp)}", "table2_comparison.csv"],
-        ["Table 3, R² and R²(pred)", f"{int(r2p['match'].astype(bool).sum())} / {len(r2p)}", "table3_r2.csv"],
-        ["Figs. 11-15, printed α", f"{int((mech['match_printed'] == True).sum())} / "  # noqa: E712
-         f"{int((mech['alpha_printed'] != '').sum())}", "mechanisms.csv"],
-        ["Figs. 11-15, α against Table 5", f"{int(mech['match_table5'].sum())} / {len(mech)}", "mechanisms.csv"],
-    ])
-    lines.append("")
-
-    lines.append("## Table 5: differences larger than the rounding (4 decimals)")
-    lines.append("")
-    bad5 = t5cmp[~t5cmp["match"]]
-    if bad5.empty:
-        lines.append("None: all 108 collapse multipliers agree to the printed 4 decimals.")
-    else:
-        lines += _md_table(["Panel", "Block", "Bond", "f", "Published", "alma", "alma (exact)", "Why"],
-                           [[r.panel_ratio, r.block_ratio, r.bond, f"{r.friction:.2f}", r.alpha_published,
-                             r.alpha_alma, f"{float(r.alpha_alma_exact):.7f}", _table5_reason(r)]
-                            for r in bad5.itertuples()])
-    lines.append("")
-
-    lines.append("## Table 2: differences larger than the rounding (SS, MS 4 decimals; F 2; P 3)")
-    lines.append("")
-    n_unrounded = int((t2cmp["alma_unrounded"] == t2cmp["published"]).sum())
-    n_t5 = int((t2cmp["from_table5"] == t2cmp["published"]).sum())
-    lines.append(
-        f"Table 2 is the ANOVA of Table 5 *as printed* (4 decimals): the ANOVA of the published "
-        f"Table 5 gives {n_t5} / {len(t2cmp)} printed cells, whereas the ANOVA of unrounded "
-        f"multipliers — alma's, which agree with Table 5 to 4 decimals in {n5} of 108 panels — "
-        f"gives only {n_unrounded} / {len(t2cmp)}: with an error mean square of ~0.003, the "
-        f"rounding of the 108 inputs (up to 5e-5 each) moves the last printed digit of several "
-        f"SS and F values. alma's Table 5, rounded to the same 4 decimals, is therefore the input "
-        f"compared here (column `alma`); the unrounded ANOVA is in column `alma_unrounded` of "
-        f"table2_comparison.csv and in table2_alma.txt.")
-    lines.append("")
-    bad2 = t2cmp[~t2cmp["match"]]
-    if bad2.empty:
-        lines.append("No difference: every printed cell of Table 2 is reproduced from alma's own results.")
-    else:
-        rows = []
-        for r in bad2.itertuples():
-            if r.from_table5 == r.published and not bad5.empty:
-                why = (f"alma's Table 5, printed, differs from the published one only in the "
-                       f"{len(bad5)} panel(s) listed above (4th decimal), and the ANOVA of the "
-                       f"published Table 5 gives the printed value: the difference comes from "
-                       f"those α values, not from the statistics")
-            elif r.from_table5 == r.published:
-                why = "the ANOVA of the published Table 5 gives the printed value"
-            else:
-                why = "the ANOVA of the published Table 5 does not give the printed value either"
-            rows.append([r.source, r.column, r.published, r.alma, f"{float(r.alma_exact):.6g}",
-                         r.from_table5, why])
-        lines += _md_table(["Source", "Column", "Published", "alma", "alma (more digits)",
-                            "From Table 5", "Why"], rows)
-    lines.append("")
-
-    lines.append("## Table 3: R²")
-    lines.append("")
-    lines += _md_table(["Quantity", "Published %", "alma %", "alma, unrounded α %", "From Table 5 %", "Agree"],
-                       [[r.quantity, r.published_percent or "(not printed)", r.alma_percent,
-                         r.alma_unrounded_percent, r.from_table5_percent, r.match] for r in r2.itertuples()])
-    lines.append("")
-
-    lines.append("## Figures 11-15: collapse mechanisms")
-    lines.append("")
-    if mech_note:
-        lines.append(f"**Note:** {mech_note}")
-        lines.append("")
-    rows = []
-    for r in mech.itertuples():
-        printed = f"{r.alpha_printed} ({r.printed_where})" if r.alpha_printed else "(not in the text)"
-        rows.append([f"{r.figure}{r.panel}", r.subcaption, f"{r.bond}, {r.panel_ratio}, {r.block_ratio}, "
-                     f"f = {r.friction:.2f}", printed, r.alpha_table5, r.alpha_alma,
-                     r.mechanism_text or "-", r.mechanism_alma, f"![]({r.png})" if r.png else "-"])
-    lines += _md_table(["Fig.", "Sub-caption", "Panel", "Printed α", "Table 5", "alma", "Mechanism (text)",
-                        "Mechanism (alma)", "Figure"], rows)
-    lines.append("")
-    lines.append("### Differences in the figures")
-    lines.append("")
-    diffs = mech[(mech["match_printed"] == False) | (~mech["match_table5"])]  # noqa: E712
-    if diffs.empty:
-        lines.append("None.")
-    for r in diffs.itertuples():
-        what = []
-        if r.match_printed is False:
-            what.append(f"printed {r.alpha_printed}, alma {float(r.alpha_alma_exact):.{len(r.alpha_printed.split('.')[-1])}f}")
-        if not r.match_table5:
-            what.append(f"Table 5 {r.alpha_table5}, alma {r.alpha_alma}")
-        why = r.note or "not explained"
-        lines.append(f"- **Fig. {r.figure}{r.panel}** ({r.bond}, {r.panel_ratio}, {r.block_ratio}, "
-                     f"f = {r.friction:.2f}): {'; '.join(what)} (exact {float(r.alpha_alma_exact):.6f}). {why}")
-    mech_diff = mech[(mech["mechanism_text"] != "") & (mech["mechanism_text"] != mech["mechanism_alma"])]
-    if not mech_diff.empty:
-        lines.append("")
-        lines.append("Mechanism class described in the text and alma's class (alma calls a mechanism "
-                     "`mixed` as soon as one joint slides while others hinge, and `rocking` only when "
-                     "no joint slides; the paper's words are qualitative):")
-        lines.append("")
-        for r in mech_diff.itertuples():
-            lines.append(f"- Fig. {r.figure}{r.panel}: text {r.mechanism_text}, alma {r.mechanism_alma}.")
-    lines.append("")
-
-    lines.append("## Figures 5-10")
-    lines.append("")
-    lines.append("Drawn from alma's results (`_alma`) and from the published Table 5 (`_table5`), "
-                 "side by side; the published bitmaps are not part of the text version of the paper.")
-    lines.append("")
-    for p in figs:
-        lines.append(f"- [{p.name}]({p.relative_to(out)})")
-    lines.append("")
-    path = out / "comparison.md"
-    path.write_text("\n".join(lines), encoding="utf-8")
-    return path
-
-
-# ------------------------------------------------------------------------------------------
 # Driver
 # ------------------------------------------------------------------------------------------
+
+
+def _tables(ours: pd.DataFrame, t5: pd.DataFrame, DATA: Path, out: Path) -> tuple:
+    """Tables 5, 2 and 3 of alma beside the published ones, written into ``out``."""
+    t5_raw = pd.read_csv(DATA / "table5_collapse_multipliers.csv", dtype={"panel_ratio": str, "block_ratio": str})
+    t2 = pd.read_csv(DATA / "table2_anova.csv", dtype={"source": str})
+    t5cmp = table5_comparison(ours, t5_raw)
+    t5cmp.to_csv(out / "table5_comparison.csv", index=False)
+
+    # alma's values in Table 5 order (the observation order of Figure 8).
+    mine = ours.set_index(_key(ours)).loc[_key(t5).to_numpy()].reset_index(drop=True)
+    ours_t5order = t5[FACTORS].copy()
+    ours_t5order["alpha_c"] = mine["alpha_c"].to_numpy(dtype=float)
+    ours_t5order.to_csv(out / "alma_table5.csv", index=False, float_format="%.10g")
+    # Table 2 is the ANOVA of Table 5 as printed (4 decimals): alma's Table 5, printed, is the
+    # input that corresponds; the ANOVA of the unrounded values is reported beside it.
+    ours_printed = ours_t5order.copy()
+    ours_printed["alpha_c"] = [float(f"{a:.{TABLE5_DECIMALS}f}") for a in ours_t5order["alpha_c"]]
+    ours_anova = anova(ours_printed, order=2)
+    exact_anova = anova(ours_t5order, order=2)
+    t5_anova = anova(t5, order=2)
+    t2cmp = table2_comparison(ours_anova, exact_anova, t5_anova, t2)
+    t2cmp.to_csv(out / "table2_comparison.csv", index=False)
+    r2_published = {r.quantity: float(r.published_percent) for r in pd.read_csv(DATA / "table3_r2.csv").itertuples()}
+    r2 = table3_r2(ours_anova, exact_anova, t5_anova, r2_published)
+    r2.to_csv(out / "table3_r2.csv", index=False)
+    (out / "table2_alma.txt").write_text(
+        "ANOVA of alma's Table 5 as printed (4 decimals), the paper's input:\n\n"
+        + ours_anova.format_table() + "\n\nANOVA of alma's unrounded collapse multipliers:\n\n"
+        + exact_anova.format_table() + "\n", encoding="utf-8")
+
+    return t5cmp, t2cmp, r2, ours_t5order, ours_anova, exact_anova, t5_anova
 
 
 def make_paper(out_dir: str | Path, published: str | Path, workers: int | None = None, progress: bool = True,
@@ -401,35 +264,9 @@ def make_paper(out_dir: str | Path, published: str | Path, workers: int | None =
     ours["bond"] = ours["bond"].str.lower()
 
     t5 = load_results(DATA / "table5_collapse_multipliers.csv")
-    t5_raw = pd.read_csv(DATA / "table5_collapse_multipliers.csv", dtype={"panel_ratio": str, "block_ratio": str})
-    t2 = pd.read_csv(DATA / "table2_anova.csv", dtype={"source": str})
+    t5cmp, t2cmp, r2, ours_t5order, ours_anova, exact_anova, t5_anova = _tables(ours, t5, DATA, out)
     captions = pd.read_csv(DATA / "figure_captions.csv", dtype=str)
     titles = {int(r.figure): r.caption for r in pd.read_csv(DATA / "figure_titles.csv").itertuples()}
-
-    t5cmp = table5_comparison(ours, t5_raw)
-    t5cmp.to_csv(out / "table5_comparison.csv", index=False)
-
-    # alma's values in Table 5 order (the observation order of Figure 8).
-    mine = ours.set_index(_key(ours)).loc[_key(t5).to_numpy()].reset_index(drop=True)
-    ours_t5order = t5[FACTORS].copy()
-    ours_t5order["alpha_c"] = mine["alpha_c"].to_numpy(dtype=float)
-    ours_t5order.to_csv(out / "alma_table5.csv", index=False, float_format="%.10g")
-    # Table 2 is the ANOVA of Table 5 as printed (4 decimals): alma's Table 5, printed, is the
-    # input that corresponds; the ANOVA of the unrounded values is reported beside it.
-    ours_printed = ours_t5order.copy()
-    ours_printed["alpha_c"] = [float(f"{a:.{TABLE5_DECIMALS}f}") for a in ours_t5order["alpha_c"]]
-    ours_anova = anova(ours_printed, order=2)
-    exact_anova = anova(ours_t5order, order=2)
-    t5_anova = anova(t5, order=2)
-    t2cmp = table2_comparison(ours_anova, exact_anova, t5_anova, t2)
-    t2cmp.to_csv(out / "table2_comparison.csv", index=False)
-    r2 = table3_r2(ours_anova, exact_anova, t5_anova)
-    r2.to_csv(out / "table3_r2.csv", index=False)
-    (out / "table2_alma.txt").write_text(
-        "ANOVA of alma's Table 5 as printed (4 decimals), the paper's input:\n\n"
-        + ours_anova.format_table() + "\n\nANOVA of alma's unrounded collapse multipliers:\n\n"
-        + exact_anova.format_table() + "\n", encoding="utf-8")
-
     figs = statistics_figures(ours_t5order, exact_anova, t5, t5_anova, out / "figures")
     mech, mech_note = mechanism_figures(captions, t5cmp, titles, out / "figures")
     mech.to_csv(out / "mechanisms.csv", index=False)
@@ -437,8 +274,6 @@ def make_paper(out_dir: str | Path, published: str | Path, workers: int | None =
         print(mech_note, file=sys.stderr)
     compare_report = None
     if nonassociative:
-        from alma.study.compare import run_compare
-
         compare_report = run_compare(out / "nonassociative", workers=workers, effort=effort,
                                      results_dir=out / "doe", progress=progress)
     elapsed = time.perf_counter() - start
