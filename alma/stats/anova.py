@@ -228,18 +228,34 @@ def anova(df: pd.DataFrame, response: str = "alpha_c", order: int = 2,
     dfe = int(round(res.df_resid))
     if dfe <= 0:
         raise ValueError(f"no error degrees of freedom left (n = {n}, order = {order})")
-    sse = float(res.ssr)
+    sse, sst = float(res.ssr), float(res.centered_tss)
     mse = sse / dfe
-    sst = float(res.centered_tss)
+    rows = _table_rows(res, order, factors, mse, dfe)
+    rows += [AnovaRow("Error", dfe, sse, mse, None, None), AnovaRow("Total", n - 1, sst, None, None, None)]
+    influence = res.get_influence()
+    leverage = np.asarray(influence.hat_matrix_diag, dtype=float)
+    resid = np.asarray(res.resid, dtype=float)
+    press = press_from_leverage(resid, leverage)
+    std_resid = np.asarray(influence.resid_studentized_internal, dtype=float)
+    return AnovaResult(
+        response=response, order=order, n=n, rows=tuple(rows), r2=1.0 - sse / sst,
+        r2_adj=1.0 - mse / (sst / (n - 1)), r2_pred=1.0 - press / sst, press=press, dfe=dfe, mse=mse,
+        n_params=int(round(res.df_model)) + 1, fitted=tuple(float(v) for v in np.asarray(res.fittedvalues)),
+        residuals=tuple(float(v) for v in resid), leverage=tuple(float(v) for v in leverage),
+        std_residuals=tuple(float(v) for v in std_resid),
+    )
 
+
+def _table_rows(res: RegressionResultsWrapper, order: int, factors: Sequence[str] | None, mse: float,
+                dfe: int) -> list[AnovaRow]:
+    """Model, the group rows (Linear, Two-Way Interactions, ...) and every term's row."""
     table = anova_lm(res, typ=3)
     columns = _term_columns(res.model.exog_names)
 
     def term_row(term: tuple[str, ...]) -> AnovaRow:
         key = _patsy_term(term)
-        dof = int(round(table.loc[key, "df"]))
-        ss = float(table.loc[key, "sum_sq"])
-        return _row(_TERM_SEP.join(term), dof, ss, mse, dfe)
+        return _row(_TERM_SEP.join(term), int(round(table.loc[key, "df"])), float(table.loc[key, "sum_sq"]),
+                    mse, dfe)
 
     def group_row(name: str, terms: Sequence[tuple[str, ...]]) -> AnovaRow:
         # Joint Wald test of all coefficients of the group = extra SS of dropping the group.
@@ -248,42 +264,15 @@ def anova(df: pd.DataFrame, response: str = "alpha_c", order: int = 2,
         restriction[np.arange(len(cols)), cols] = 1.0
         test = res.f_test(restriction)
         dof = int(round(float(test.df_num)))
-        ss = float(np.squeeze(test.fvalue)) * dof * mse
-        return _row(name, dof, ss, mse, dfe)
+        return _row(name, dof, float(np.squeeze(test.fvalue)) * dof * mse, mse, dfe)
 
     terms = _sources(order, factors)
-    df_model = int(round(res.df_model))
-    rows: list[AnovaRow] = [_row("Model", df_model, sst - sse, mse, dfe)]
+    rows = [_row("Model", int(round(res.df_model)), float(res.centered_tss) - float(res.ssr), mse, dfe)]
     for k in range(1, order + 1):
         group = [t for t in terms if len(t) == k]
         rows.append(group_row(_GROUP_NAMES[k], group))
         rows.extend(term_row(t) for t in group)
-    rows.append(AnovaRow("Error", dfe, sse, mse, None, None))
-    rows.append(AnovaRow("Total", n - 1, sst, None, None, None))
-
-    influence = res.get_influence()
-    leverage = np.asarray(influence.hat_matrix_diag, dtype=float)
-    resid = np.asarray(res.resid, dtype=float)
-    press = press_from_leverage(resid, leverage)
-    std_resid = np.asarray(influence.resid_studentized_internal, dtype=float)
-
-    return AnovaResult(
-        response=response,
-        order=order,
-        n=n,
-        rows=tuple(rows),
-        r2=1.0 - sse / sst,
-        r2_adj=1.0 - mse / (sst / (n - 1)),
-        r2_pred=1.0 - press / sst,
-        press=press,
-        dfe=dfe,
-        mse=mse,
-        n_params=int(round(res.df_model)) + 1,
-        fitted=tuple(float(v) for v in np.asarray(res.fittedvalues)),
-        residuals=tuple(float(v) for v in resid),
-        leverage=tuple(float(v) for v in leverage),
-        std_residuals=tuple(float(v) for v in std_resid),
-    )
+    return rows
 
 
 _COLUMN_FACTOR = re.compile(r"C\((\w+), Sum\)")

@@ -25,25 +25,12 @@ import pandas as pd  # noqa: E402
 import scipy.stats  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
-from alma.stats.anova import (  # noqa: E402
-    BLOCK_LENGTH_MM,
-    FACTOR_LEVELS,
-    FACTORS,
-    PANEL_HEIGHT_MM,
-    PANEL_LENGTH_MM,
-    AnovaResult,
-    anova,
-)
+from alma.stats.anova import (BLOCK_LENGTH_MM, FACTOR_LEVELS, FACTORS, PANEL_HEIGHT_MM,  # noqa: E402
+                              PANEL_LENGTH_MM, AnovaResult, anova)
 from alma.stats.effects import pareto_reference, standardized_effects
 
-__all__ = [
-    "pareto_chart",
-    "main_effects_plot",
-    "main_effects_overlay",
-    "interaction_plot_matrix",
-    "residual_plots",
-    "scale_factor_plots",
-]
+__all__ = ["pareto_chart", "main_effects_plot", "main_effects_overlay", "interaction_plot_matrix", "residual_plots",
+           "scale_factor_plots"]
 
 _LABELS = {
     "panel_ratio": "Panel ratio",
