@@ -104,6 +104,15 @@ def find_joints(scene: "Scene") -> Joints:
     """
     edges = scene_edges(scene)  # flattened once: gathering the blocks' vertices is the one pass over blocks
     lref = float(np.sqrt(_areas_and_centroids(edges)[0].mean()))  # reference_length(scene)
+    pairs = _candidate_pairs(edges, DISTANCE_TOLERANCE * lref)
+    if pairs is None:
+        return _empty_joints()
+    return _contact_segments(scene, edges, *pairs, DISTANCE_TOLERANCE * lref)
+
+
+def _candidate_pairs(edges: Edges, tol_len: float) -> tuple[np.ndarray, ...] | None:
+    """Edge pairs (i, j) of two blocks on nearly the same line with opposite outward normals,
+    with each edge's direction, outward normal and length; None when there is none."""
     vec = edges.end - edges.start
     length = np.hypot(vec[:, 0], vec[:, 1])
     direction = vec / length[:, None]
@@ -117,7 +126,6 @@ def find_joints(scene: "Scene") -> Joints:
     offset = (midpoint * d).sum(axis=1)
     along = midpoint[:, 0] * -d[:, 1] + midpoint[:, 1] * d[:, 0]
 
-    tol_len = DISTANCE_TOLERANCE * lref
     facing_sign = np.where((outward * d).sum(axis=1) > 0, 1.0, -1.0)  # outward = ±d
     # Lines near angle 0 ≡ π are duplicated on the other side of the wrap so the search sees them close.
     wrap = angle > np.pi - 1e3 * ANGLE_TOLERANCE
@@ -141,7 +149,7 @@ def find_joints(scene: "Scene") -> Joints:
     close = np.abs(points[plus[p]] - points[minus[q]]).max(axis=1, initial=0.0) <= reach
     p, q = p[close], q[close]
     if p.size == 0:
-        return _empty_joints()
+        return None
     i, j = ids[plus[p]], ids[minus[q]]
     keep = edges.block[i] != edges.block[j]
     i, j = i[keep], j[keep]
@@ -149,7 +157,13 @@ def find_joints(scene: "Scene") -> Joints:
     lo, hi = np.minimum(i, j), np.maximum(i, j)
     _, unique = np.unique(lo * (len(angle) + 1) + hi, return_index=True)
     i, j = lo[unique], hi[unique]
+    return i, j, direction, outward, length
 
+
+def _contact_segments(scene: "Scene", edges: Edges, i: np.ndarray, j: np.ndarray, direction: np.ndarray,
+                      outward: np.ndarray, length: np.ndarray, tol_len: float) -> Joints:
+    """The joints of the candidate pairs: collinear edges and their overlap of positive length,
+    numbered with block_a < block_b; pairs of two fixed blocks dropped."""
     # Exact collinearity: both ends of edge j lie on the line of edge i.
     n_i = outward[i]
     dist_start = ((edges.start[j] - edges.start[i]) * n_i).sum(axis=1)
