@@ -6,13 +6,12 @@ import hashlib
 import json
 from typing import Any
 
+import alma
 from alma.settings import Settings
 
 
 def _alma_version() -> str:
-    import alma
-
-    return str(getattr(alma, "__version__", "unknown"))
+    return str(alma.__version__)
 
 
 def key_settings(settings: Settings, model: str) -> dict[str, Any]:
