@@ -111,6 +111,21 @@ def _positive_int(text: str) -> int:
     return n
 
 
+def _guarded(run: Any) -> tuple[Any, int | None]:
+    """``run()`` and None, or None and the exit code of its failure (130 interrupted, 2 bad
+    input, 1 a failed run), the message on stderr."""
+    try:
+        return run(), None
+    except KeyboardInterrupt:
+        return None, 130
+    except ValueError as exc:
+        _error(str(exc))
+        return None, 2
+    except (RuntimeError, OSError) as exc:
+        _error(str(exc))
+        return None, 1
+
+
 def _error(message: str) -> None:
     print(f"alma: error: {message}", file=sys.stderr)
 
@@ -139,19 +154,12 @@ def doe_handler(args: argparse.Namespace) -> int:
     design, failed = _design_argument(args)
     if failed:
         return 2
-    try:
-        df = run_doe(args.out, model=args.model, workers=args.workers,
-                     scheduler=args.scheduler, design=design,
-                     progress=not getattr(args, "quiet", False),
-                     retry_errors=getattr(args, "retry_errors", False))
-    except KeyboardInterrupt:
-        return 130
-    except ValueError as exc:
-        _error(str(exc))
-        return 2
-    except (RuntimeError, OSError) as exc:
-        _error(str(exc))
-        return 1
+    df, code = _guarded(lambda: run_doe(args.out, model=args.model, workers=args.workers,
+                                        scheduler=args.scheduler, design=design,
+                                        progress=not getattr(args, "quiet", False),
+                                        retry_errors=getattr(args, "retry_errors", False)))
+    if code is not None:
+        return code
     path = Path(args.out) / RESULTS_FILE
     failed = int((df["status"] == "error").sum())
     counts = ", ".join(f"{n} {s}" for s, n in df["status"].value_counts().items())
@@ -271,21 +279,14 @@ def compare_handler(args: argparse.Namespace) -> int:
     if getattr(args, "figures", 6) < 0:
         _error("--figures must be >= 0")
         return 2
-    try:
-        report = run_compare(args.out, design=design, workers=args.workers, effort=args.effort,
-                             scheduler=getattr(args, "scheduler", None),
-                             progress=not getattr(args, "quiet", False),
-                             retry_errors=getattr(args, "retry_errors", False),
-                             n_figures=getattr(args, "figures", 6),
-                             time_limit=getattr(args, "time_limit", None))
-    except KeyboardInterrupt:
-        return 130
-    except ValueError as exc:
-        _error(str(exc))
-        return 2
-    except (RuntimeError, OSError) as exc:
-        _error(str(exc))
-        return 1
+    report, code = _guarded(lambda: run_compare(args.out, design=design, workers=args.workers, effort=args.effort,
+                                                scheduler=getattr(args, "scheduler", None),
+                                                progress=not getattr(args, "quiet", False),
+                                                retry_errors=getattr(args, "retry_errors", False),
+                                                n_figures=getattr(args, "figures", 6),
+                                                time_limit=getattr(args, "time_limit", None)))
+    if code is not None:
+        return code
     t = report.table
     ratio = t["ratio"].dropna()
     gap = f", largest gap 1 - α_NL/α_LP = {1 - ratio.min():.4f}" if len(ratio) else ""
