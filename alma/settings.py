@@ -77,7 +77,7 @@ class SearchSettings:
     #: Capped-LP solves (each with one projection QP) of the projected Gilbert iteration.
     projected_iterations: int = 400
     #: Its iterations times the free blocks: the projection QP's cost grows with the scene.
-    projected_block_iterations: int = 40_000
+    projected_block_iterations: int = 60_000
     #: Simplex iterations of the projected Gilbert iteration's capped LPs.
     projected_pivots: int = 100_000
     #: Projected iterations without settling after which it restarts once from the LP field.
@@ -92,6 +92,9 @@ class SearchSettings:
     last_state_pivots: int = 2_000
     #: Interior-point iterations of Clarabel's fixed-active-set LP.
     interior_iterations: int = 200
+    #: Above this many contact points the exact states of Gilbert iterates take HiGHS's interior
+    #: point (with crossover): it proves an infeasible active set in a few dozen iterations.
+    exact_ipm_points: int = 1000
     #: Scenes up to this many contact points take the ``lp`` start's static LP from HiGHS's simplex.
     lp_vertex_points: int = 1000
     #: Above this many contact points the Gilbert LPs are solved by Clarabel, not warm HiGHS.

@@ -84,14 +84,15 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
             if current in seen and current not in tried:
                 tried.add(current)
                 state = exact_state(model, points, lp.mechanism, start, limits=work.exact_limits(tally),
-                                    tally=tally)
+                                    method=work.exact_method, tally=tally)
                 if state is not None and state.verified:
                     return lower(state, best), used
             seen.add(current)
         n_bar = n_bar + relaxation * (lp.normal - n_bar)
     if last is None:
         return best, used
-    final = exact_state(model, points, last.mechanism, start, limits=work.exact_limits(tally), tally=tally)
+    final = exact_state(model, points, last.mechanism, start, limits=work.exact_limits(tally),
+                        method=work.exact_method, tally=tally)
     return lower(final, best), used
 
 
@@ -179,5 +180,6 @@ def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.nd
         n_bar = anderson.step(n_bar, step)
     if lp is None or lp.mechanism is None:
         return best, used
-    final = exact_state(model, points, lp.mechanism, start, limits=work.exact_limits(tally), tally=tally)
+    final = exact_state(model, points, lp.mechanism, start, limits=work.exact_limits(tally),
+                        method=work.exact_method, tally=tally)
     return lower(final, best), used

@@ -26,6 +26,8 @@ class Work:
     floor_pivots: int = 2_000
     #: Clarabel iterations of one interior-point solve.
     interior_iterations: int = 200
+    #: HiGHS method (``scipy.optimize.linprog``) of the static LP of the exact states taken.
+    exact_method: str = "highs"
 
     def spent(self, tally: Tally) -> bool:
         """Whether the total is used up."""

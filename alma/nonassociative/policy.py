@@ -31,9 +31,11 @@ def resolve_effort(effort: str, settings: SearchSettings, n_free: int) -> str:
     return effort
 
 
-def _work(settings: SearchSettings, iterations: int, pivots: int | None) -> Work:
+def _work(settings: SearchSettings, iterations: int, pivots: int | None, points: int) -> Work:
+    method = "highs-ipm" if points > settings.exact_ipm_points else "highs"
     return Work(iterations=iterations, pivots=pivots, lp_pivots=settings.lp_pivots,
-                floor_pivots=settings.last_state_pivots, interior_iterations=settings.interior_iterations)
+                floor_pivots=settings.last_state_pivots, interior_iterations=settings.interior_iterations,
+                exact_method=method)
 
 
 def gilbert_work(settings: SearchSettings, effort: str, verified: bool, points: int) -> Work:
@@ -43,16 +45,16 @@ def gilbert_work(settings: SearchSettings, effort: str, verified: bool, points: 
     if points > settings.interior_points:
         iterations = min(iterations, settings.gilbert_interior_iterations)
     if effort == "thorough":
-        return _work(settings, iterations, None)
+        return _work(settings, iterations, None, points)
     pivots = settings.gilbert_pivots_verified if verified else settings.gilbert_pivots
-    return _work(settings, iterations, pivots)
+    return _work(settings, iterations, pivots, points)
 
 
-def projected_work(settings: SearchSettings, n_free: int) -> Work:
+def projected_work(settings: SearchSettings, n_free: int, points: int) -> Work:
     """The projected iteration's budget: LP solves (each with a projection QP), fewer on larger
     scenes (:attr:`~alma.settings.SearchSettings.projected_block_iterations`), and simplex iterations."""
     iterations = min(settings.projected_iterations, settings.projected_block_iterations // max(n_free, 1))
-    return _work(settings, max(iterations, 1), settings.projected_pivots)
+    return _work(settings, max(iterations, 1), settings.projected_pivots, points)
 
 
 def plan(settings: SearchSettings, effort: str) -> list[str]:
@@ -89,7 +91,7 @@ def make_start(kind: str, ctx: Context) -> Start:
         return GilbertStart(scale, relaxation, steps,
                             gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count))
     if kind == "projected":
-        return ProjectedStart(projected_work(s, ctx.model.n_free))
+        return ProjectedStart(projected_work(s, ctx.model.n_free, ctx.points.count))
     if kind == "ipopt":
         return IpoptStart()
     if kind == "milp":
