@@ -61,13 +61,13 @@ COLUMN_BESIDE_SHORT_BLOCK = columns_on_ground_scene(1.4, [20.0, 20.0], [[20.0], 
 #: Found by this test (hypothesis, 2026-11-23): three blocks side by side, the last one 194 × 21,
 #: f = 0.45. With the lp start's static LP from Clarabel the verified state sat at 0.45 − 2e-14,
 #: and with that cap the MILP settled at 0.4499977 (2.3e-6 below); the lp start now takes HiGHS's
-#: vertex on scenes this small (LP_VERTEX_POINTS in alma/nonassociative.py).
+#: vertex on scenes this small (SearchSettings.lp_vertex_points in alma/settings.py).
 THREE_SIDE_BY_SIDE = columns_on_ground_scene(0.45, [225.0, 194.0, 194.0], [[106.0], [133.0], [21.0]])
 
 #: Found by this test (hypothesis, 2026-11-23, fourth session): a 178 × 176 block beside a 20 × 20
 #: one, f = 0.3. Every verified state is at 0.3, but the MILP (|u|∞ ≤ 793 from a candidate that
 #: throws the small block) settled at 0.2999932 with HiGHS's default integrality tolerance of 1e-6;
-#: alma.certify now sets MIP_INTEGRALITY_TOLERANCE = 1e-9.
+#: alma.certify.milp sets MIP_INTEGRALITY_TOLERANCE = 1e-9.
 BLOCK_BESIDE_SMALL_CUBE = columns_on_ground_scene(0.3, [178.0, 20.0], [[176.0], [20.0]])
 
 
