@@ -170,8 +170,8 @@ def _time_by_start(t: pd.DataFrame) -> list[str]:
     lost = float(runs.loc[~runs["panel_converged"], "time_s"].sum())
     lines.append(f"{total:.0f} s of search over {t['starts_nl'].astype(bool).sum()} panels; "
                  f"{lost:.0f} s ({100 * lost / max(total, 1e-300):.0f} %) of it on the panels that ended "
-                 "without a verified state. Each start in the order of the search; a start that ran out of "
-                 "its share of the time limit without a verified state counts its whole share.")
+                 "without a verified state. Each start in the order of the search; a start that spent "
+                 "its work budget without a verified state counts all of it.")
     lines.append("")
     table = []
     for name, g in runs.groupby("start", sort=False):
