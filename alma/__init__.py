@@ -13,8 +13,10 @@ from alma.settings import AssociativeSettings, CertifySettings, SearchSettings, 
 from alma.settle import SettlementResult, settle
 from alma.solve import solve
 from alma.status import Status
+from alma.tilt import TiltResult, TiltSettings, tilt
 
 __all__ = ["AssociativeResult", "AssociativeSettings", "Block", "Bounds", "CertifySettings", "Comparison",
            "Joints", "Model", "NonAssociativeResult", "Result", "Scene", "SceneError", "SearchSettings",
-           "Settings", "SettlementResult", "Status", "build_model", "find_joints", "load_scene", "paper_panel", "settle", "solve", "wall"]
+           "Settings", "SettlementResult", "Status", "TiltResult", "TiltSettings", "build_model", "find_joints",
+           "load_scene", "paper_panel", "settle", "solve", "tilt", "wall"]
 __version__ = "0.2.0"

@@ -35,6 +35,9 @@ class AssociativeSettings:
     #: "clarabel", "ipm" (alma.engine; Clarabel if it does not converge) or "auto" (the interior
     #: point from alma.engine.select.AUTO_MIN_BLOCKS free blocks when a fast factorisation is installed).
     engine: str = "auto"
+    #: Re-solve by HiGHS's dual simplex when the interior point's pair does not certify: a vertex
+    #: is exact on the degenerate faces (noisy drawings of walls sliding at α = f) where it is not.
+    simplex_fallback: bool = True
 
 
 @dataclass(frozen=True)

@@ -55,10 +55,11 @@ def solve(scene: Scene | Model, model: str = "associative", *, settings: Setting
                          "search does not take bounded forces yet (use model='associative')")
     lp = solve_lp(built, settings.associative, time_limit=settings.time_limit)
     timings.update(solve_s=lp.solve_time, certify_s=lp.certify_time)
-    assoc = associative_result(built, lp, timings)
+    warned = built.joints.warnings
+    assoc = dataclasses.replace(associative_result(built, lp, timings), warnings=warned)
     if model == "associative":
         return assoc
-    nl = _nonassociative(built, lp, assoc, settings, certify)
+    nl = dataclasses.replace(_nonassociative(built, lp, assoc, settings, certify), warnings=warned)
     return comparison(assoc, nl) if model == "both" else nl
 
 

@@ -40,8 +40,49 @@ def test_rotated_pair_found(angle):
 
 
 def test_parallel_but_separated_edges_are_no_joint():
-    s = _scene([[0, -10], [100, -10], [100, 0], [0, 0]], [[0, 1e-3], [100, 1e-3], [100, 20], [0, 20]])
-    assert find_joints(s).count == 0
+    """1 mm apart on blocks of √area 45 mm: beyond the near-miss band (1e-2 of 45 mm), silent."""
+    s = _scene([[0, -10], [100, -10], [100, 0], [0, 0]], [[0, 1.0], [100, 1.0], [100, 20], [0, 20]])
+    joints = find_joints(s)
+    assert joints.count == 0 and joints.warnings == ()
+
+
+@pytest.mark.parametrize("gap", [1e-3, -1e-3, 1e-9, -1e-9])
+def test_gap_or_overlap_within_the_tolerance_is_snapped_midway(gap):
+    """A gap or an overlap below the contact tolerance (1e-4 of √area = 4.5e-3 mm) is a joint
+    lying halfway between the two edges."""
+    s = _scene([[0, -10], [100, -10], [100, 0], [0, 0]], [[0, gap], [100, gap], [100, 20], [0, 20]])
+    joints = find_joints(s)
+    assert joints.count == 1 and joints.warnings == ()
+    assert joints.length[0] == pytest.approx(100)
+    assert joints.start[0, 1] == pytest.approx(gap / 2, abs=1e-15)
+    assert joints.end[0, 1] == pytest.approx(gap / 2, abs=1e-15)
+
+
+def test_near_miss_is_reported_naming_the_blocks():
+    s = _scene([[0, -10], [100, -10], [100, 0], [0, 0]], [[0, 0.1], [100, 0.1], [100, 20], [0, 20]])
+    joints = find_joints(s)
+    assert joints.count == 0
+    assert len(joints.warnings) == 1
+    assert "'b0' and 'b1' nearly touch" in joints.warnings[0] and "0.1 mm" in joints.warnings[0]
+
+
+def test_contact_tolerance_is_a_scene_setting():
+    blocks = [{"id": "g", "fixed": True, "vertices": [[0, -10], [100, -10], [100, 0], [0, 0]]},
+              {"id": "b", "vertices": [[0, 0.1], [100, 0.1], [100, 20], [0, 20]]}]
+    with pytest.raises(alma.SceneError, match="touches nothing"):
+        alma.Scene.from_dict({"blocks": blocks})
+    scene = alma.Scene.from_dict({"blocks": blocks, "contact_tolerance": 0.005})
+    assert find_joints(scene).count == 1
+    assert alma.Scene.from_dict(scene.to_dict()).contact_tolerance == 0.005
+    with pytest.raises(alma.SceneError, match="contact_tolerance"):
+        alma.Scene.from_dict({"blocks": blocks, "contact_tolerance": 0.5})
+
+
+def test_overlap_deeper_than_the_tolerance_is_refused():
+    blocks = [{"id": "g", "fixed": True, "vertices": [[0, -10], [100, -10], [100, 0], [0, 0]]},
+              {"id": "b", "vertices": [[0, -0.1], [100, -0.1], [100, 20], [0, 20]]}]
+    with pytest.raises(alma.SceneError, match="'g' and 'b' overlap"):
+        alma.Scene.from_dict({"blocks": blocks})
 
 
 def test_wall_joint_count():

@@ -258,10 +258,12 @@ def test_projected_iteration_settles_on_large_panels(bond, panel, block, frictio
     """Two panels (228 and 444 blocks) where no fixed start of the 108-panel run of 2026-11-21
     gave a verified state (their vertex iterates jump across the capped LPs' optimal faces):
     the projected iteration settles on a verified state below the associative α (Radenkovic),
-    and the default search (effort "fast" above 200 blocks) reports it or a lower one (checked on
-    the smaller panel only).  Measured with the work budgets (the same on every machine): on
-    english 1:1 4:1 f = 1 the projected iteration settles at 0.7143726 after 145 LPs, the default
-    search reports gilbert(1, 0.5, 0)'s 0.7141536.  Under the wall-clock shares this case was a
+    and the default search (effort "fast" above 200 blocks) reports a verified state below the
+    associative α too (checked on the smaller panel only).  Measured with the work budgets (the
+    same on every machine): on english 1:1 4:1 f = 1 the projected iteration (60,000 / free
+    blocks iterations) settles at 0.7124146; the default search reports gilbert(1, 0.5, 0)'s
+    0.7141536, since effort "fast" runs the projected iteration only when no fixed start has
+    verified a state (docs/decisions.md).  Under the wall-clock shares this case was a
     strict xfail that passed or failed with the machine's load (issue 15)."""
     from alma.associative.lp import solve_lp
     from alma.mechanics.contact_points import ContactPoints
@@ -276,7 +278,7 @@ def test_projected_iteration_settles_on_large_panels(bond, panel, block, frictio
     assert state.alpha <= lp.alpha + 1e-7
     if whole_search:
         result = alma.solve(model, "nonassociative")
-        assert result.status == "feasible" and result.alpha <= state.alpha + 1e-9
+        assert result.status == "feasible" and result.alpha <= lp.alpha + 1e-7
 
 
 def test_warm_highs_model_iteration_limit_is_per_solve():

@@ -25,6 +25,7 @@ import scipy.sparse as sp
 
 from alma.associative.certificate import certify_pair
 from alma.backends.clarabel_backend import ConicSolution, solve_conic_lp
+from alma.backends.highs_backend import solve_conic_form
 from alma.engine.select import choose, solve_with_engine
 from alma.engine.types import IPMSettings
 from alma.mechanics.model import Model
@@ -33,6 +34,10 @@ from alma.status import Status
 
 #: The default normalisation of Eq. 10 (see :class:`alma.settings.AssociativeSettings`).
 NORMALISATION = AssociativeSettings().normalisation
+#: f_Lᵀu per free block for the simplex fallback, tried in turn: HiGHS's dual simplex fails on
+#: the interior point's scale (1000) and its absolute tolerances (1e-10) leave a flow-rule
+#: violation above the certificate's on some vertices at f_Lᵀu = 1, none at 10 per block.
+SIMPLEX_NORMALISATIONS = (1e-3, 10.0)
 
 
 @dataclass(frozen=True)
@@ -82,13 +87,34 @@ def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, toler
     n, k = H.shape
     if k == 0:  # no joint: any motion is free, no load can be carried
         return _trivial(model, Status.NO_EQUILIBRIUM, "no joint carries the free blocks")
-    q_count = model.n_bounded
     sol, label, note, record = _solve_pair(model, H, s, tol, iters, time_limit, ipm_settings)
     if sol.status in (Status.NO_COLLAPSE, Status.NO_EQUILIBRIUM):
         message = ("no kinematically admissible mechanism with positive live-load work"
                    if sol.status == Status.NO_COLLAPSE else
                    "no statically admissible stress field for any load multiplier")
         return _trivial(model, sol.status, message + note, iterations=sol.iterations, solve_time=sol.solve_time)
+    result = _certified(model, H, s, sol, label, note, record)
+    if result.status == Status.NOT_CONVERGED and s.simplex_fallback:
+        # An interior point ends ill-conditioned on a degenerate optimal face (a noisy drawing
+        # of a wall that slides at α = f); a simplex vertex of the same LP certifies exactly.
+        for normalisation in SIMPLEX_NORMALISATIONS:
+            q, A, b = _kinematic_form(model, H, normalisation)
+            vertex = solve_conic_form(q, A, b, 1, time_limit=time_limit)
+            if vertex.status != Status.OPTIMAL:
+                continue
+            again = _certified(model, H, s, vertex, "HiGHS simplex",
+                               f" (after {label}: {sol.raw_status}, not certified)" + note, record)
+            if again.status == Status.OPTIMAL:
+                return dataclasses.replace(again, solve_time=sol.solve_time + vertex.solve_time,
+                                           iterations=sol.iterations + vertex.iterations)
+    return result
+
+
+def _certified(model: Model, H: sp.csc_matrix, s: AssociativeSettings, sol: ConicSolution, label: str,
+               note: str, record: dict[str, float]) -> LPSolution:
+    """The certificate of a primal–dual pair of Eq. 10 (``certify_pair``) and the status it proves."""
+    n, k = H.shape
+    q_count = model.n_bounded
     t0 = time.perf_counter()
     static = sp.hstack([H, model.bounded]).tocsc() if q_count else None
     bound = np.concatenate([np.full(k, np.inf), model.capacity]) if q_count else None

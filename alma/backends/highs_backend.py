@@ -40,3 +40,58 @@ def static_status(h: highspy.Highs) -> Status:
     """The model status of ``h`` in alma's words (:data:`STATIC_STATUS`)."""
     name = str(h.getModelStatus()).rsplit(".", 1)[-1]
     return STATIC_STATUS.get(name, Status.NOT_CONVERGED)
+
+
+def solve_conic_form(q, A, b, n_eq: int, *, tolerance: float = 1e-10, iteration_limit: int = 1_000_000,
+                     time_limit: float | None = None):
+    """``min qᵀx s.t. A x + s = b``, s = 0 on the first ``n_eq`` rows and s ≥ 0 on the rest (the
+    form of :func:`alma.backends.clarabel_backend.solve_conic_lp`), by HiGHS's dual simplex.
+
+    A vertex solution: exact where an interior point ends ill-conditioned on a degenerate face.
+    Returns a :class:`~alma.backends.clarabel_backend.ConicSolution` with Clarabel's sign
+    convention for the duals (q + Aᵀz = 0, z ≥ 0 on the inequality rows).
+    """
+    import time
+
+    import numpy as np
+    import scipy.sparse as sp
+
+    from alma.backends.clarabel_backend import ConicSolution
+
+    start = time.perf_counter()
+    A = sp.csc_matrix(A)
+    A.sort_indices()
+    m, n = A.shape
+    inf = highspy.kHighsInf
+    lp = highspy.HighsLp()
+    lp.num_col_, lp.num_row_ = n, m
+    lp.col_cost_ = np.asarray(q, dtype=float)
+    lp.col_lower_, lp.col_upper_ = np.full(n, -inf), np.full(n, inf)
+    lp.row_lower_ = np.concatenate([b[:n_eq], np.full(m - n_eq, -inf)])
+    lp.row_upper_ = np.asarray(b, dtype=float)
+    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+    lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = A.indptr, A.indices, A.data
+    lp.a_matrix_.num_col_, lp.a_matrix_.num_row_ = n, m
+    h = quiet_highs(solver="simplex", simplex_strategy=1, primal_feasibility_tolerance=tolerance,
+                    dual_feasibility_tolerance=tolerance, simplex_iteration_limit=iteration_limit)
+    if time_limit is not None:
+        h.setOptionValue("time_limit", float(time_limit))
+    h.passModel(lp)
+    h.run()
+    name = str(h.getModelStatus()).rsplit(".", 1)[-1]
+    status = KINEMATIC_STATUS.get(name, Status.NOT_CONVERGED)
+    sol = h.getSolution()
+    x = np.asarray(sol.col_value, dtype=float)
+    z = -np.asarray(sol.row_dual, dtype=float)
+    iterations = int(h.getInfo().simplex_iteration_count)
+    return ConicSolution(status, f"HiGHS {name}", x, z, iterations, time.perf_counter() - start)
+
+
+#: HiGHS model statuses for a problem in kinematic form (minimise the dead load's work): an
+#: infeasible one has no mechanism (no collapse), an unbounded one no static field.
+KINEMATIC_STATUS: dict[str, Status] = {
+    **STATIC_STATUS,
+    "kUnbounded": Status.NO_EQUILIBRIUM,
+    "kInfeasible": Status.NO_COLLAPSE,
+    "kUnboundedOrInfeasible": Status.NOT_CONVERGED,
+}

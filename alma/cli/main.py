@@ -1,7 +1,8 @@
-"""Command line (SPEC §3): ``alma solve``, ``alma panel`` and the study commands."""
+"""Command line (SPEC §3): ``alma solve``, ``panel``, ``settle``, ``tilt`` and the study commands."""
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import sys
 import types
@@ -12,6 +13,7 @@ from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, paper_pane
 from alma.geometry.scene import Scene, SceneError, load_scene
 from alma.settle import after_settlement, settle
 from alma.solve import MODELS, solve
+from alma.tilt import tilt
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -25,6 +27,9 @@ def main(argv: list[str] | None = None) -> int:
     p_solve.add_argument("scene", help="scene JSON file")
     p_solve.add_argument("--after-settlement", action="store_true",
                          help="solve the settled structure: cohesion lost on every joint its settlement opens")
+    p_solve.add_argument("--contact-tolerance", type=float, metavar="REL",
+                         help="gaps and overlaps snapped to a joint, relative to the median block size "
+                              "(default 1e-4; overrides the scene's contact_tolerance)")
     _add_common(p_solve)
     p_solve.set_defaults(func=_cmd_solve)
 
@@ -47,6 +52,11 @@ def main(argv: list[str] | None = None) -> int:
     p_settle.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p_settle.add_argument("--plot", metavar="OUT.png", help="write a picture of the settlement mechanism")
     p_settle.set_defaults(func=_cmd_settle)
+
+    p_tilt = sub.add_parser("tilt", help="the critical tilt angle on a tilting table (SPEC §3)")
+    p_tilt.add_argument("scene", help="scene JSON file")
+    p_tilt.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
+    p_tilt.set_defaults(func=_cmd_tilt)
 
     try:
         from alma.cli import study as study_cli
@@ -76,6 +86,9 @@ def _add_common(p: argparse.ArgumentParser) -> None:
 def _cmd_solve(args: argparse.Namespace) -> int:
     try:
         scene = load_scene(args.scene)
+        if args.contact_tolerance is not None:
+            scene = dataclasses.replace(scene, contact_tolerance=args.contact_tolerance, validated=False)
+            scene.validate()
         if args.after_settlement:
             scene = after_settlement(scene)
     except (SceneError, ValueError) as exc:
@@ -109,6 +122,23 @@ def _cmd_settle(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_tilt(args: argparse.Namespace) -> int:
+    try:
+        scene = load_scene(args.scene)
+    except SceneError as exc:
+        return _invalid(exc, args)
+    result = tilt(scene)
+    if args.json:
+        print(json.dumps(result.to_dict()))
+        return 0
+    lo, hi = result.bounds_deg
+    print(f"{scene.name or 'scene'}")
+    print(f"  status     {result.status} — {result.message}")
+    print(f"  angle      {result.angle_deg:.6f}°  (bounds [{lo:.6f}°, {hi:.6f}°], {result.method}, "
+          f"{result.steps} LP solves)")
+    return 0
+
+
 def _cmd_panel(args: argparse.Namespace) -> int:
     try:
         scene = paper_panel(args.bond, args.panel_ratio, args.block_ratio, args.friction)
@@ -134,6 +164,8 @@ def _run(scene: Scene, args: argparse.Namespace) -> int:
                        time_limit=args.time_limit)
     except SceneError as exc:
         return _invalid(exc, args)
+    for warning in result.warnings:
+        print(f"alma: warning: {warning}", file=sys.stderr)
     if args.plot:
         from alma.report.plot import plot_mechanism
 

@@ -16,21 +16,14 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from alma.geometry.edges import Edges, areas_and_centroids, contact_lengths, local_origin, scene_edges
+
 if TYPE_CHECKING:  # pragma: no cover
     from alma.geometry.scene import Scene
 
-#: Relative tolerances (of the scene's reference length / radians) for contact detection.
-DISTANCE_TOLERANCE = 1e-9
-ANGLE_TOLERANCE = 1e-9
-
-
-@dataclass(frozen=True)
-class Edges:
-    """All block edges of a scene, flattened (one row per edge)."""
-
-    block: np.ndarray  # (E,) block index
-    start: np.ndarray  # (E, 2)
-    end: np.ndarray  # (E, 2)
+#: The widest angle (rad) between two edges still paired as candidates: caps the pruning slack
+#: where a scene has very short edges.
+MAX_ANGLE_TOLERANCE = 1e-2
 
 
 @dataclass(frozen=True)
@@ -40,6 +33,8 @@ class Joints:
     ``normal`` points from block ``block_a`` into block ``block_b``; ``tangent``
     is ``normal`` turned +90°; ``start`` and ``end`` are the two end points of
     the contact segment (the two contact points of the yield surface, Eq. 5).
+    ``warnings`` names the facing edges that miss each other by more than the contact
+    tolerance but less than the near-miss band (no joint is made there).
     """
 
     block_a: np.ndarray  # (m,) int
@@ -47,6 +42,7 @@ class Joints:
     start: np.ndarray  # (m, 2)
     end: np.ndarray  # (m, 2)
     normal: np.ndarray  # (m, 2)
+    warnings: tuple[str, ...] = ()
 
     @property
     def count(self) -> int:
@@ -73,50 +69,39 @@ def reference_length(scene: "Scene") -> float:
 
 def block_areas_and_centroids(scene: "Scene") -> tuple[np.ndarray, np.ndarray]:
     """Areas (n,) and centroids (n, 2) of all blocks, vectorised over the flattened edges."""
-    return _areas_and_centroids(scene_edges(scene))
-
-
-def _areas_and_centroids(edges: Edges) -> tuple[np.ndarray, np.ndarray]:
-    first = np.concatenate([[0], np.flatnonzero(np.diff(edges.block)) + 1])
-    origin = edges.start[first][edges.block]  # each polygon about its first vertex, for accuracy
-    p, q = edges.start - origin, edges.end - origin
-    cross = p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]
-    area = 0.5 * np.add.reduceat(cross, first)
-    cx = np.add.reduceat((p[:, 0] + q[:, 0]) * cross, first) / (6 * area)
-    cy = np.add.reduceat((p[:, 1] + q[:, 1]) * cross, first) / (6 * area)
-    return area, origin[first] + np.column_stack([cx, cy])
-
-
-def scene_edges(scene: "Scene") -> Edges:
-    counts = np.array([len(b.vertices) for b in scene.blocks])
-    start = np.concatenate([b.vertices for b in scene.blocks])
-    # next vertex of each polygon: roll within each block, vectorised via offsets
-    index = np.arange(start.shape[0])
-    first = np.repeat(np.cumsum(counts) - counts, counts)
-    nxt = np.where(index + 1 - first < np.repeat(counts, counts), index + 1, first)
-    return Edges(block=np.repeat(np.arange(len(counts)), counts), start=start, end=start[nxt])
+    return areas_and_centroids(scene_edges(scene))
 
 
 def find_joints(scene: "Scene") -> Joints:
     """All joints of the scene (contacts of positive length between two blocks).
 
-    Joints between two fixed blocks carry nothing and are dropped.
+    Two facing edges make a joint where both lie within the contact tolerance of each other's
+    line (a gap or an overlap that small is snapped: the joint lies midway) and overlap along
+    it by more than the tolerance.  Joints between two fixed blocks carry nothing and are
+    dropped.  Detection runs about a local origin, so that it does not depend on where the
+    drawing sits.
     """
-    edges = scene_edges(scene)  # flattened once: gathering the blocks' vertices is the one pass over blocks
-    lref = float(np.sqrt(_areas_and_centroids(edges)[0].mean()))  # reference_length(scene)
-    pairs = _candidate_pairs(edges, DISTANCE_TOLERANCE * lref)
+    origin = local_origin(scene)
+    edges = scene_edges(scene, origin)  # flattened once: gathering the vertices is the one pass over blocks
+    snap, band = contact_lengths(scene, edges)
+    pairs = _candidate_pairs(edges, snap, band)
     if pairs is None:
         return _empty_joints()
-    return _contact_segments(scene, edges, *pairs, DISTANCE_TOLERANCE * lref)
+    joints, near = _contact_segments(scene, edges, *pairs, snap, band)
+    return Joints(block_a=joints.block_a, block_b=joints.block_b, start=joints.start + origin,
+                  end=joints.end + origin, normal=joints.normal, warnings=near)
 
 
-def _candidate_pairs(edges: Edges, tol_len: float) -> tuple[np.ndarray, ...] | None:
-    """Edge pairs (i, j) of two blocks on nearly the same line with opposite outward normals,
-    with each edge's direction, outward normal and length; None when there is none."""
+def _candidate_pairs(edges: Edges, snap: float, band: float) -> tuple[np.ndarray, ...] | None:
+    """Edge pairs (i, j) of two blocks on nearly the same line (offsets within ``band``) with
+    opposite outward normals, with each edge's direction, outward normal and length; None when
+    there is none."""
     vec = edges.end - edges.start
     length = np.hypot(vec[:, 0], vec[:, 1])
     direction = vec / length[:, None]
     outward = np.column_stack([direction[:, 1], -direction[:, 0]])  # CCW polygon: outward = right of edge
+    # Two edges whose ends lie within ``snap`` of each other's line differ in angle by ≤ 2 snap / length.
+    angle_tol = min(MAX_ANGLE_TOLERANCE, max(2.0 * snap / float(length.min()), 1e-12))
 
     # Canonical line: unit normal d with angle in [0, π); its sign s relates to the outward normal.
     angle = np.mod(np.arctan2(outward[:, 1], outward[:, 0]), np.pi)
@@ -128,24 +113,20 @@ def _candidate_pairs(edges: Edges, tol_len: float) -> tuple[np.ndarray, ...] | N
 
     facing_sign = np.where((outward * d).sum(axis=1) > 0, 1.0, -1.0)  # outward = ±d
     # Lines near angle 0 ≡ π are duplicated on the other side of the wrap so the search sees them close.
-    wrap = angle > np.pi - 1e3 * ANGLE_TOLERANCE
+    wrap = angle > np.pi - 4.0 * angle_tol
     ids = np.concatenate([np.arange(len(angle)), np.flatnonzero(wrap)])
     key_angle = np.concatenate([angle, angle[wrap] - np.pi])
     key_offset = np.concatenate([offset, -offset[wrap]])
     key_along = np.concatenate([along, -along[wrap]])
     key_sign = np.concatenate([facing_sign, -facing_sign[wrap]])
     reach = float(length.max())
-    points = np.column_stack([
-        key_angle * (reach / ANGLE_TOLERANCE),
-        key_offset * (reach / tol_len),
-        key_along,
-    ])
+    points = np.column_stack([key_angle * (reach / angle_tol), key_offset * (reach / band), key_along])
     # Facing edges have opposite outward normals: pair only across the two orientations.
     plus, minus = np.flatnonzero(key_sign > 0), np.flatnonzero(key_sign < 0)
     p, q = _facing_candidates(key_angle, key_offset, key_along, length[ids], np.abs(midpoint[ids]).sum(axis=1),
-                              tol_len, plus, minus)
-    # The candidate rule of the original k-d tree query, kept exactly (sup-norm distance ≤ reach
-    # between the scaled keys); the line search above only prunes pairs that cannot overlap.
+                              band, plus, minus, angle_tol)
+    # Sup-norm distance ≤ reach between the scaled keys: the pruning above only drops pairs
+    # that cannot overlap.
     close = np.abs(points[plus[p]] - points[minus[q]]).max(axis=1, initial=0.0) <= reach
     p, q = p[close], q[close]
     if p.size == 0:
@@ -157,53 +138,80 @@ def _candidate_pairs(edges: Edges, tol_len: float) -> tuple[np.ndarray, ...] | N
     lo, hi = np.minimum(i, j), np.maximum(i, j)
     _, unique = np.unique(lo * (len(angle) + 1) + hi, return_index=True)
     i, j = lo[unique], hi[unique]
-    return i, j, direction, outward, length
+    return i, j, direction, outward, length, angle_tol
 
 
 def _contact_segments(scene: "Scene", edges: Edges, i: np.ndarray, j: np.ndarray, direction: np.ndarray,
-                      outward: np.ndarray, length: np.ndarray, tol_len: float) -> Joints:
-    """The joints of the candidate pairs: collinear edges and their overlap of positive length,
-    numbered with block_a < block_b; pairs of two fixed blocks dropped."""
-    # Exact collinearity: both ends of edge j lie on the line of edge i.
-    n_i = outward[i]
-    dist_start = ((edges.start[j] - edges.start[i]) * n_i).sum(axis=1)
-    dist_end = ((edges.end[j] - edges.start[i]) * n_i).sum(axis=1)
-    collinear = (np.abs(dist_start) <= 10 * tol_len) & (np.abs(dist_end) <= 10 * tol_len)
-    i, j = i[collinear], j[collinear]
-
+                      outward: np.ndarray, length: np.ndarray, angle_tol: float, snap: float,
+                      band: float) -> tuple[Joints, tuple[str, ...]]:
+    """The joints of the candidate pairs, numbered with block_a < block_b (pairs of two fixed
+    blocks dropped), and the near misses: facing, overlapping edges apart by (snap, band]."""
     # Overlap along edge i's direction.
     t_i = direction[i]
     origin = edges.start[i]
-    a0 = np.zeros(len(i))
-    a1 = length[i]
     b0 = ((edges.start[j] - origin) * t_i).sum(axis=1)
     b1 = ((edges.end[j] - origin) * t_i).sum(axis=1)
-    lo_b, hi_b = np.minimum(b0, b1), np.maximum(b0, b1)
-    s0, s1 = np.maximum(a0, lo_b), np.minimum(a1, hi_b)
-    positive = s1 - s0 > 10 * tol_len
-    i, j, s0, s1, t_i, origin = i[positive], j[positive], s0[positive], s1[positive], t_i[positive], origin[positive]
-    block_a, block_b = edges.block[i], edges.block[j]
+    s0 = np.maximum(0.0, np.minimum(b0, b1))
+    s1 = np.minimum(length[i], np.maximum(b0, b1))
+    overlapping = s1 - s0 > snap
+    # The gap from edge i's line to edge j's at both ends of the common part (> 0 open, < 0 an
+    # overlap), and the tilt between the two lines.
+    n_j = outward[j]
+    gap = np.column_stack([((origin + s0[:, None] * t_i - edges.start[j]) * n_j).sum(axis=1),
+                           ((origin + s1[:, None] * t_i - edges.start[j]) * n_j).sum(axis=1)])
+    apart = np.abs(gap).max(axis=1)
+    tilt = np.abs(outward[i, 0] * n_j[:, 1] - outward[i, 1] * n_j[:, 0])
+    parallel = tilt <= angle_tol
     fixed = np.array([b.fixed for b in scene.blocks])
-    both_fixed = fixed[block_a] & fixed[block_b]
-    keep = ~both_fixed
+    both_fixed = fixed[edges.block[i]] & fixed[edges.block[j]]
+    joint = overlapping & parallel & (apart <= snap) & ~both_fixed
+    near = overlapping & parallel & (apart > snap) & (apart <= band) & ~both_fixed
+    warnings = _near_misses(scene, edges.block[i[near]], edges.block[j[near]], gap[near].mean(axis=1),
+                            (s1 - s0)[near], snap)
+
+    i, j, s0, s1, t_i, origin = i[joint], j[joint], s0[joint], s1[joint], t_i[joint], origin[joint]
+    block_a, block_b = edges.block[i], edges.block[j]
     # Orient joints so block_a < block_b for a stable numbering independent of edge order.
     swap = block_a > block_b
-    normal = np.where(swap[:, None], -outward[i], outward[i])
-    start = origin + s0[:, None] * t_i
-    end = origin + s1[:, None] * t_i
+    bisector = outward[i] - outward[j]  # the two outward normals are nearly opposite: their mean line
+    bisector /= np.hypot(bisector[:, 0], bisector[:, 1])[:, None]
+    normal = np.where(swap[:, None], -bisector, bisector)
+    start = _midway(origin + s0[:, None] * t_i, edges.start[j], outward[j])
+    end = _midway(origin + s1[:, None] * t_i, edges.start[j], outward[j])
     a = np.where(swap, block_b, block_a)
     b = np.where(swap, block_a, block_b)
-    order = np.lexsort((start[keep, 1], start[keep, 0], b[keep], a[keep]))
-    sel = np.flatnonzero(keep)[order]
-    return Joints(block_a=a[sel], block_b=b[sel], start=start[sel], end=end[sel], normal=normal[sel])
+    order = np.lexsort((start[:, 1], start[:, 0], b, a))
+    joints = Joints(block_a=a[order], block_b=b[order], start=start[order], end=end[order], normal=normal[order])
+    return joints, warnings
+
+
+def _midway(point: np.ndarray, on_line: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """Points halfway between ``point`` (on one edge's line) and its projection on the facing
+    edge's line (through ``on_line``, unit ``normal``): a snapped gap or overlap is split evenly."""
+    return point - 0.5 * ((point - on_line) * normal).sum(axis=1)[:, None] * normal
+
+
+def _near_misses(scene: "Scene", a: np.ndarray, b: np.ndarray, gap: np.ndarray, overlap: np.ndarray,
+                 snap: float) -> tuple[str, ...]:
+    """One message per pair of blocks whose facing edges miss each other (see _contact_segments)."""
+    if a.size == 0:
+        return ()
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    _, first = np.unique(lo * len(scene.blocks) + hi, return_index=True)
+    ids = [blk.id for blk in scene.blocks]
+    return tuple(
+        f"blocks '{ids[lo[k]]}' and '{ids[hi[k]]}' nearly touch: facing edges "
+        f"{'apart' if gap[k] > 0 else 'overlapping'} by {abs(gap[k]):.3g} mm over {overlap[k]:.3g} mm, "
+        f"beyond the contact tolerance ({snap:.3g} mm): no joint is made there"
+        for k in first.tolist())
 
 
 def _facing_candidates(angle: np.ndarray, offset: np.ndarray, along: np.ndarray, length: np.ndarray,
-                       size: np.ndarray, tol_len: float, plus: np.ndarray,
-                       minus: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                       size: np.ndarray, tol_len: float, plus: np.ndarray, minus: np.ndarray,
+                       angle_tol: float) -> tuple[np.ndarray, np.ndarray]:
     """Pairs (p, q) of key rows ``plus[p]``, ``minus[q]`` that may face each other.
 
-    A superset of the pairs whose line keys differ by at most ANGLE_TOLERANCE in angle and
+    A superset of the pairs whose line keys differ by at most ``angle_tol`` in angle and
     ``tol_len`` in offset and whose extents along the line intersect.  The extents are widened
     by a slack covering round-off and the tilt allowed between two such lines (their along
     coordinates are measured on slightly different axes), so every pair with a positive
@@ -213,7 +221,7 @@ def _facing_candidates(angle: np.ndarray, offset: np.ndarray, along: np.ndarray,
     a fixed radius (the longest edge, e.g. a ground as long as the wall) paired every edge
     with all edges of its course and made the candidates grow as n^1.5.
     """
-    width_a = 2.0 * ANGLE_TOLERANCE
+    width_a = 2.0 * angle_tol
     # Cells stay exact integers in floating point (|index| < 2^49) whatever the scene's extent.
     width_o = max(2.0 * tol_len, 2.0 ** -48 * float(np.abs(offset).max(initial=0.0)))
     cell = (np.floor(angle / width_a) + 0.0) + 1j * (np.floor(offset / width_o) + 0.0)  # + 0.0: no -0
@@ -235,9 +243,9 @@ def _facing_candidates(angle: np.ndarray, offset: np.ndarray, along: np.ndarray,
     # Each row joins every cell pair of its cell; the pair index is its group in the join.
     p, group_p = _expand(which[plus], pair_u, len(cells))
     q, group_q = _expand(which[minus], pair_v, len(cells))
-    # Half extent + slack: a tilt ≤ ANGLE_TOLERANCE between two lines moves the along coordinate
+    # Half extent + slack: a tilt ≤ angle_tol between two lines moves the along coordinate
     # of a point by ≤ |point| · tilt (size = |midpoint|₁); 4× and 1e-12 are margins for round-off.
-    half = 0.5 * length + 10.0 * tol_len + (4.0 * ANGLE_TOLERANCE + 1e-12) * (size + length)
+    half = 0.5 * length + 10.0 * tol_len + (4.0 * angle_tol + 1e-12) * (size + length)
     rows_p, rows_q = plus[p], minus[q]
     x, y = _overlapping_intervals(group_p, along[rows_p] - half[rows_p], along[rows_p] + half[rows_p],
                                   group_q, along[rows_q] - half[rows_q], along[rows_q] + half[rows_q])
@@ -286,29 +294,6 @@ def _overlapping_intervals(gx: np.ndarray, lox: np.ndarray, hix: np.ndarray, gy:
     # x starts strictly inside y: the x starts after y's start, up to y's end
     y2, k2 = _ranges(starts_x[position[nx:nx + ny]], starts_x[position[2 * nx + ny:]])
     return np.concatenate([x1, by_start_x[k2]]), np.concatenate([by_start_y[k1], y2])
-
-
-def find_overlaps(scene: "Scene") -> list[tuple[int, int]]:
-    """Pairs of blocks whose interiors intersect (area above a relative tolerance)."""
-    import shapely
-
-    polygons = shapely.polygons([b.vertices for b in scene.blocks]) if _same_size(scene) else \
-        np.array([shapely.Polygon(b.vertices) for b in scene.blocks])
-    tree = shapely.STRtree(polygons)
-    pairs = tree.query(polygons, predicate="intersects")
-    a, b = pairs[0], pairs[1]
-    keep = a < b
-    a, b = a[keep], b[keep]
-    if a.size == 0:
-        return []
-    areas = shapely.area(shapely.intersection(polygons[a], polygons[b]))
-    smaller = np.minimum(shapely.area(polygons[a]), shapely.area(polygons[b]))
-    bad = areas > 1e-7 * smaller
-    return [(int(x), int(y)) for x, y in zip(a[bad], b[bad])]
-
-
-def _same_size(scene: "Scene") -> bool:
-    return len({len(b.vertices) for b in scene.blocks}) == 1
 
 
 def _empty_joints() -> Joints:

@@ -14,13 +14,14 @@ from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
 
-from alma.geometry.contacts import find_joints, find_overlaps
+from alma.geometry.contacts import find_joints
+from alma.geometry.polygons import check_polygons, find_overlaps
 from alma.geometry.loads import (PointLoad, Settlement, Tie, check_items, load_from_dict, load_to_dict,
                                  settlement_from_dict, settlement_to_dict, tie_from_dict, tie_to_dict)
 from alma.geometry.parsing import SceneError, direction as _direction, number as _number
 
 _SCENE_KEYS = {"name", "thickness", "unit_weight", "friction", "cohesion", "blocks",
-               "live_load", "gravity", "joints", "loads", "ties"}
+               "live_load", "gravity", "joints", "loads", "ties", "contact_tolerance"}
 _BLOCK_KEYS = {"id", "vertices", "fixed", "weight", "settlement"}
 _LIVE_KEYS = {"direction", "self_weight"}
 _JOINT_KEYS = {"blocks", "friction", "cohesion"}
@@ -71,6 +72,9 @@ class Scene:
     ties: tuple[Tie, ...] = ()
     #: The live load includes each free block's weight along ``live_load_direction``.
     live_self_weight: bool = True
+    #: Gaps and overlaps snapped to a joint, relative to the median √area of the free blocks
+    #: (None: :data:`alma.geometry.edges.CONTACT`'s default).
+    contact_tolerance: float | None = None
     #: Set by :meth:`validate`: a scene built by hand is validated before it is solved.
     validated: bool = field(default=False, compare=False, repr=False)
 
@@ -111,6 +115,7 @@ class Scene:
             loads=tuple(load_from_dict(raw, i) for i, raw in enumerate(_list(data, "loads"))),
             ties=tuple(tie_from_dict(raw, i) for i, raw in enumerate(_list(data, "ties"))),
             live_self_weight=_flag(live.get("self_weight", True), "live_load: self_weight"),
+            contact_tolerance=_optional_number(data.get("contact_tolerance"), "scene: contact_tolerance"),
         )
         if validate:
             scene.validate()
@@ -141,6 +146,8 @@ class Scene:
             out["loads"] = [load_to_dict(load) for load in self.loads]
         if self.ties:
             out["ties"] = [tie_to_dict(tie) for tie in self.ties]
+        if self.contact_tolerance is not None:
+            out["contact_tolerance"] = self.contact_tolerance
         if self.joint_overrides:
             out["joints"] = [
                 {k: v for k, v in (("blocks", list(o.blocks)), ("friction", o.friction),
@@ -168,6 +175,9 @@ class Scene:
             raise SceneError(f"scene: friction must be >= 0, got {self.friction}")
         if self.cohesion < 0:
             raise SceneError(f"scene: cohesion must be >= 0, got {self.cohesion}")
+        if self.contact_tolerance is not None and not 0 < self.contact_tolerance <= 0.01:
+            raise SceneError("scene: contact_tolerance (relative to the blocks' size) must lie in (0, 0.01], "
+                             f"got {self.contact_tolerance}")
         ids = [b.id for b in self.blocks]
         seen: set[str] = set()
         for block_id in ids:
@@ -178,8 +188,7 @@ class Scene:
             for block_id in override.blocks:
                 if block_id not in seen:
                     raise SceneError(f"joint {list(override.blocks)}: unknown block '{block_id}'")
-        for block in self.blocks:
-            _check_polygon(block)
+        check_polygons(self)
         if not any(b.fixed for b in self.blocks):
             raise SceneError("scene: no support — at least one block must be 'fixed': true")
         if all(b.fixed for b in self.blocks):
@@ -269,28 +278,6 @@ def _ccw(vertices: np.ndarray) -> np.ndarray:
     return vertices if polygon_area(vertices) >= 0 else vertices[::-1].copy()
 
 
-def _check_polygon(block: Block) -> None:
-    v = block.vertices
-    k = len(v)
-    edges = np.roll(v, -1, axis=0) - v
-    lengths = np.hypot(edges[:, 0], edges[:, 1])
-    scale = max(float(np.ptp(v[:, 0])), float(np.ptp(v[:, 1])))
-    if scale == 0 or np.any(lengths <= 1e-12 * scale):
-        raise SceneError(f"block '{block.id}': degenerate polygon — repeated vertices or zero size")
-    area = polygon_area(v)
-    if not area > 1e-9 * scale * scale:
-        raise SceneError(f"block '{block.id}': degenerate polygon — zero area")
-    cross = edges[:, 0] * np.roll(edges[:, 1], -1) - edges[:, 1] * np.roll(edges[:, 0], -1)
-    if np.any(cross < -1e-12 * scale * scale):
-        raise SceneError(f"block '{block.id}': polygon is not convex (a reflex corner)")
-    # A star polygon has all left turns but winds more than once.
-    turning = np.arctan2(cross, (edges * np.roll(edges, -1, axis=0)).sum(axis=1)).sum()
-    if abs(turning - 2 * np.pi) > 1e-6:
-        raise SceneError(f"block '{block.id}': polygon is not convex (self-intersecting)")
-    if k < 3:  # pragma: no cover — caught above, kept for clarity
-        raise SceneError(f"block '{block.id}': a polygon needs at least 3 vertices")
-
-
 def _block_from_dict(raw: Any, index: int) -> Block:
     if not isinstance(raw, Mapping):
         raise SceneError(f"block #{index}: must be an object")
@@ -353,6 +340,10 @@ def _list(data: Mapping[str, Any], key: str) -> list[Any]:
     if not isinstance(value, list):
         raise SceneError(f"scene: '{key}' must be a list")
     return value
+
+
+def _optional_number(value: Any, what: str) -> float | None:
+    return None if value is None else _number(value, what)
 
 
 def _flag(value: Any, what: str) -> bool:

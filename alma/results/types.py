@@ -78,6 +78,8 @@ class Result:
     timings: dict[str, float]  # seconds only
     n_blocks: int = 0
     n_joints: int = 0
+    #: Near misses of the contact detection (facing edges apart beyond the contact tolerance).
+    warnings: tuple[str, ...] = ()
 
     @property
     def success(self) -> bool:
@@ -107,6 +109,7 @@ class Result:
                        for j in self.joints],
             "residuals": {k: finite(v) for k, v in self.residuals.items()},
             "timings": dict(self.timings),
+            "warnings": list(self.warnings),
         }
         for key, value in self.extra.items():
             out[key] = finite(value) if isinstance(value, float) else value
