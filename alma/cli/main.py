@@ -24,7 +24,15 @@ def main(argv: list[str] | None = None) -> int:
     sub = parser.add_subparsers(dest="command", required=True)
 
     p_solve = sub.add_parser("solve", help="solve a scene file (SPEC §2)")
-    p_solve.add_argument("scene", help="scene JSON file")
+    p_solve.add_argument("scene", help="scene file: JSON (SPEC §2) or a DXF drawing (one polyline per block)")
+    dxf = p_solve.add_argument_group("DXF drawings (materials of the scene; ignored for JSON)")
+    dxf.add_argument("--thickness", type=float, default=None, help="mm (default 120)")
+    dxf.add_argument("--unit-weight", type=float, default=None, help="kN/m³ (default 18)")
+    dxf.add_argument("--friction", type=float, default=None, help="(default 0.6)")
+    dxf.add_argument("--cohesion", type=float, default=None, help="kPa (default 0)")
+    dxf.add_argument("--supports", choices=("layers", "lowest"), default=None,
+                     help="supports from layer names (fixed/support/ground, the default) or every block "
+                          "reaching the lowest y")
     p_solve.add_argument("--after-settlement", action="store_true",
                          help="solve the settled structure: cohesion lost on every joint its settlement opens")
     p_solve.add_argument("--contact-tolerance", type=float, metavar="REL",
@@ -38,7 +46,8 @@ def main(argv: list[str] | None = None) -> int:
     p_panel.add_argument("--panel-ratio", required=True, choices=sorted(PANEL_HEIGHTS))
     p_panel.add_argument("--block-ratio", required=True, choices=sorted(BLOCK_LENGTHS))
     p_panel.add_argument("--friction", required=True, type=float)
-    p_panel.add_argument("--export-scene", metavar="OUT.json", help="write the panel as a scene file")
+    p_panel.add_argument("--export-scene", metavar="OUT.json|OUT.dxf",
+                         help="write the panel as a scene file (JSON) or a drawing (DXF)")
     p_panel.add_argument("--chain", action="append", default=[], metavar="HEIGHT:STRENGTH",
                          help="a horizontal chain at HEIGHT mm of STRENGTH kN across the panel, anchored on its "
                               "two end blocks (repeatable)")
@@ -85,7 +94,7 @@ def _add_common(p: argparse.ArgumentParser) -> None:
 
 def _cmd_solve(args: argparse.Namespace) -> int:
     try:
-        scene = load_scene(args.scene)
+        scene = load_scene(args.scene, **_dxf_options(args))
         if args.contact_tolerance is not None:
             scene = dataclasses.replace(scene, contact_tolerance=args.contact_tolerance, validated=False)
             scene.validate()
@@ -94,6 +103,14 @@ def _cmd_solve(args: argparse.Namespace) -> int:
     except (SceneError, ValueError) as exc:
         return _invalid(exc, args)
     return _run(scene, args)
+
+
+def _dxf_options(args: argparse.Namespace) -> dict[str, object]:
+    """The material options of a DXF scene (none for JSON, which holds its own)."""
+    if not str(args.scene).lower().endswith(".dxf"):
+        return {}
+    return {"thickness": args.thickness, "unit_weight": args.unit_weight, "friction": args.friction,
+            "cohesion": args.cohesion, "supports": args.supports}
 
 
 def _cmd_settle(args: argparse.Namespace) -> int:
@@ -150,7 +167,7 @@ def _cmd_panel(args: argparse.Namespace) -> int:
     except SceneError as exc:
         return _invalid(exc, args)
     if args.export_scene:
-        Path(args.export_scene).write_text(json.dumps(scene.to_dict(), indent=1))
+        export_scene(scene, args.export_scene)
     return _run(scene, args)
 
 
@@ -198,6 +215,16 @@ def _print_text(scene: Scene, result, picture: str | None) -> None:
     print(f"  time       {', '.join(parts)}")
     if picture:
         print(f"  picture    {picture}")
+
+
+def export_scene(scene: Scene, path: str) -> None:
+    """Write ``scene`` as JSON (SPEC §2) or, for a ``.dxf`` path, as a drawing."""
+    if path.lower().endswith(".dxf"):
+        from alma.geometry.dxf import write_dxf
+
+        write_dxf(scene, path)
+    else:
+        Path(path).write_text(json.dumps(scene.to_dict(), indent=1))
 
 
 def _invalid(exc: Exception, args: argparse.Namespace) -> int:

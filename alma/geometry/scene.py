@@ -237,9 +237,18 @@ class Scene:
         return dataclasses.replace(self, blocks=blocks, gravity=gravity, live_load_direction=live, validated=False)
 
 
-def load_scene(path: str | Path) -> Scene:
-    """Read and validate a JSON scene file (SPEC §2)."""
+def load_scene(path: str | Path, **dxf_options: Any) -> Scene:
+    """Read and validate a scene file (SPEC §2): JSON, or a DXF drawing (``.dxf``), whose
+    ``thickness``, ``unit_weight``, ``friction``, ``cohesion`` and ``supports`` ("layers" or
+    "lowest") are keyword arguments (:func:`alma.geometry.dxf.read_dxf`)."""
     path = Path(path)
+    if path.suffix.lower() == ".dxf":
+        from alma.geometry.dxf import read_dxf
+
+        return read_dxf(path, **{k: v for k, v in dxf_options.items() if v is not None})
+    if dxf_options:
+        raise SceneError(f"scene file '{path}': {sorted(dxf_options)} apply to DXF drawings only; a JSON "
+                         "scene holds its own materials")
     try:
         text = path.read_text()
     except OSError as exc:
