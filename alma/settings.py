@@ -38,6 +38,14 @@ class AssociativeSettings:
     #: Re-solve by HiGHS's dual simplex when the interior point's pair does not certify: a vertex
     #: is exact on the degenerate faces (noisy drawings of walls sliding at α = f) where it is not.
     simplex_fallback: bool = True
+    #: Show one crisp mechanism of the optimal face (a vertex, alma.associative.crisp) instead of
+    #: the interior point's blend of all of them; off by default: it costs 4.6x the solve over the
+    #: 108 paper panels (HiGHS's interior point with crossover), and the blend is the same
+    #: mechanism wherever the optimal face is a single one.
+    crisp_mechanism: bool = False
+    #: Free blocks up to which the crisp LP may fall back to its capped form (tens of solves on
+    #: the largest panels; the complementary form costs about one).
+    crisp_capped_blocks: int = 1000
 
 
 @dataclass(frozen=True)

@@ -4,6 +4,7 @@ from __future__ import annotations
 import dataclasses
 import time
 
+from alma.associative.crisp import crisp_mechanism
 from alma.associative.lp import solve_lp
 from alma.associative.radenkovic import radenkovic_lower_bound
 from alma.certify.milp import certify as certify_milp
@@ -56,7 +57,8 @@ def solve(scene: Scene | Model, model: str = "associative", *, settings: Setting
     lp = solve_lp(built, settings.associative, time_limit=settings.time_limit)
     timings.update(solve_s=lp.solve_time, certify_s=lp.certify_time)
     warned = built.joints.warnings
-    assoc = dataclasses.replace(associative_result(built, lp, timings), warnings=warned)
+    assoc = dataclasses.replace(associative_result(built, _crisp(built, lp, settings, timings), timings),
+                                warnings=warned)
     if model == "associative":
         return assoc
     nl = dataclasses.replace(_nonassociative(built, lp, assoc, settings, certify), warnings=warned)
@@ -80,6 +82,22 @@ def _settings(settings: Settings | None, tolerance: float | None, effort: str | 
     if s.search.effort not in EFFORTS:
         raise ValueError(f"effort must be one of {EFFORTS}, got {s.search.effort!r}")
     return s
+
+
+def _crisp(built: Model, lp, settings: Settings, timings: dict[str, float]):
+    """``lp`` with the crisp mechanism of its optimal face (:mod:`alma.associative.crisp`) in place
+    of the interior point's blend; α, bounds and the stress field stay.  The non-associative
+    search keeps starting from the interior point's mechanism."""
+    s = settings.associative
+    if not (s.crisp_mechanism and lp.status == "optimal" and not built.n_bounded):
+        return lp
+    t0 = time.perf_counter()
+    u, why = crisp_mechanism(built, lp.upper, s.gap_tolerance * 5e-3, lp.multipliers, lp.mechanism,
+                             max_blocks_capped=s.crisp_capped_blocks, time_limit=settings.time_limit)
+    timings["crisp_s"] = time.perf_counter() - t0
+    if u is None:
+        return dataclasses.replace(lp, message=f"{lp.message}; {why}, the interior point's mechanism is shown")
+    return dataclasses.replace(lp, mechanism=u, message=f"{lp.message}; {why}")
 
 
 def _build(scene: Scene | Model, joints: Joints | None) -> tuple[Model, dict[str, float]]:

@@ -43,7 +43,7 @@ def static_status(h: highspy.Highs) -> Status:
 
 
 def solve_conic_form(q, A, b, n_eq: int, *, tolerance: float = 1e-10, iteration_limit: int = 1_000_000,
-                     time_limit: float | None = None):
+                     time_limit: float | None = None, solver: str = "simplex"):
     """``min qᵀx s.t. A x + s = b``, s = 0 on the first ``n_eq`` rows and s ≥ 0 on the rest (the
     form of :func:`alma.backends.clarabel_backend.solve_conic_lp`), by HiGHS's dual simplex.
 
@@ -72,8 +72,13 @@ def solve_conic_form(q, A, b, n_eq: int, *, tolerance: float = 1e-10, iteration_
     lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
     lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = A.indptr, A.indices, A.data
     lp.a_matrix_.num_col_, lp.a_matrix_.num_row_ = n, m
-    h = quiet_highs(solver="simplex", simplex_strategy=1, primal_feasibility_tolerance=tolerance,
+    h = quiet_highs(solver=solver, primal_feasibility_tolerance=tolerance,
                     dual_feasibility_tolerance=tolerance, simplex_iteration_limit=iteration_limit)
+    if solver == "simplex":
+        h.setOptionValue("simplex_strategy", 1)  # dual simplex
+    else:
+        h.setOptionValue("ipm_iteration_limit", iteration_limit)
+        h.setOptionValue("run_crossover", "on")
     if time_limit is not None:
         h.setOptionValue("time_limit", float(time_limit))
     h.passModel(lp)

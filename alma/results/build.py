@@ -8,7 +8,7 @@ import numpy as np
 
 from alma.associative.lp import LPSolution
 from alma.mechanics.model import Model
-from alma.results.joints import bounded_forces, multipliers_to_forces, physical
+from alma.results.joints import bounded_forces, describe, multipliers_to_forces, physical
 from alma.results.types import AssociativeResult, Bounds, Comparison, NonAssociativeResult, finite
 from alma.status import Status
 
@@ -25,7 +25,7 @@ def associative_result(model: Model, lp: LPSolution, timings: dict[str, float]) 
     return AssociativeResult(
         model="associative", status=Status(lp.status), message=lp.message, alpha=lp.alpha,
         bounds=Bounds(lower=lp.lower, upper=lp.upper), alpha_associative=lp.alpha, blocks=blocks,
-        joints=joints, mechanism_class=klass,
+        joints=joints, mechanism_class=klass, macro_blocks=describe(model, lp.mechanism)[0] if lp.solved else (),
         residuals={"static_equilibrium": lp.static_residual, "kinematic_flow_rule": lp.kinematic_residual},
         timings=dict(timings), n_blocks=model.n_free, n_joints=model.n_joints, iterations=lp.iterations,
         ties=ties)
@@ -67,6 +67,7 @@ def nonassociative_result(model: Model, associative: AssociativeResult, solution
         model="nonassociative", status=status, message=message, alpha=best.alpha,
         bounds=Bounds(lower=lower, upper=best.alpha), alpha_associative=associative.alpha, blocks=blocks,
         joints=joints, mechanism_class=klass, residuals=dict(best.residuals), timings=dict(timings),
+        macro_blocks=describe(model, best.mechanism / model.n_free)[0],
         n_blocks=model.n_free, n_joints=model.n_joints, associative=associative, start=best.start, **record)
 
 

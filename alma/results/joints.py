@@ -12,7 +12,8 @@ import numpy as np
 
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
-from alma.results.types import BlockMotion, JointResult
+from alma.results.macro_blocks import macro_blocks
+from alma.results.types import BlockMotion, JointResult, MacroBlock
 
 #: Relative velocity below this fraction of the largest one counts as zero (the interior-point
 #: mechanism carries traces of the other optimal mechanisms at about this level).
@@ -61,6 +62,22 @@ def mechanism_class(model: Model, mechanism: np.ndarray, states: np.ndarray) -> 
     return "mixed"
 
 
+def describe(model: Model, mechanism: np.ndarray, rel: np.ndarray | None = None
+             ) -> tuple[tuple[MacroBlock, ...], str]:
+    """The moving macro-blocks of a mechanism and its class in the paper's words
+    (:mod:`alma.results.macro_blocks`)."""
+    if not model.n_joints or not np.any(mechanism):
+        return (), "none"
+    if rel is None:
+        rel = ContactPoints.from_model(model).relative_velocities(mechanism)
+    scale = max(float(np.abs(rel).max(initial=0.0)), float(np.abs(mechanism).max(initial=0.0)), 1e-300)
+    bodies, klass = macro_blocks(model, mechanism, rel, MOTION_TOLERANCE * scale)
+    ids = model.scene.block_ids
+    out = tuple(MacroBlock(blocks=tuple(ids[model.free_blocks[i]] for i in b["members"]), motion=b["motion"],
+                           centre=b["centre"], direction=b["direction"]) for b in bodies)
+    return out, klass
+
+
 def multipliers_to_forces(model: Model, multipliers: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(N, T) at each contact point from the cone multipliers μ± of Eq. 10 (N = μ⁺ + μ⁻,
     T = f (μ⁺ − μ⁻)), dimensionless."""
@@ -86,7 +103,7 @@ def physical(model: Model, mechanism: np.ndarray, normal: np.ndarray, shear: np.
                    for i, row in zip(model.free_blocks.tolist(), motion.tolist()))
     if moving and model.n_joints:
         states, rel = joint_states(model, mechanism, dilatant=dilatant)
-        klass = mechanism_class(model, mechanism, states)
+        klass = describe(model, mechanism, rel)[1]
     else:
         states = np.full(model.n_joints, "rest", dtype=object)
         rel = np.zeros((model.n_joints, 2, 2))

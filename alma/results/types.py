@@ -62,6 +62,22 @@ class JointResult:
 
 
 @dataclass(frozen=True)
+class MacroBlock:
+    """Blocks that move as one rigid body (SPEC §3 ``macro_blocks``): a ``rotation`` about
+    ``centre`` (mm) or a ``translation`` along ``direction`` (unit vector)."""
+
+    blocks: tuple[str, ...]
+    motion: str
+    centre: tuple[float, float] | None
+    direction: tuple[float, float] | None
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"blocks": list(self.blocks), "motion": self.motion,
+                "centre": list(self.centre) if self.centre is not None else None,
+                "direction": list(self.direction) if self.direction is not None else None}
+
+
+@dataclass(frozen=True)
 class Result:
     """What every analysis gives, shaped like ``scipy.optimize.OptimizeResult``."""
 
@@ -80,6 +96,8 @@ class Result:
     n_joints: int = 0
     #: Near misses of the contact detection (facing edges apart beyond the contact tolerance).
     warnings: tuple[str, ...] = ()
+    #: The moving macro-blocks of the mechanism (:mod:`alma.results.macro_blocks`).
+    macro_blocks: tuple[MacroBlock, ...] = ()
 
     @property
     def success(self) -> bool:
@@ -102,6 +120,7 @@ class Result:
                        "gap": finite(self.bounds.gap)},
             "alpha_associative": finite(self.alpha_associative),
             "mechanism_class": self.mechanism_class,
+            "macro_blocks": [m.to_dict() for m in self.macro_blocks],
             "blocks": [{"id": b.id, "u": [float(x) for x in b.u]} for b in self.blocks],
             "joints": [{"blocks": list(j.blocks), "N": j.N, "T": j.T, "M": j.M, "state": j.state,
                         "length": j.length, "slip": j.slip, "opening": list(j.opening),
