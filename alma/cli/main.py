@@ -68,6 +68,10 @@ def main(argv: list[str] | None = None) -> int:
     p_tilt.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p_tilt.set_defaults(func=_cmd_tilt)
 
+    from alma.cli import generate
+
+    generate.register(sub, _add_common, _run, export_scene, _invalid)
+
     try:
         from alma.cli import study as study_cli
     except ImportError:  # pragma: no cover — the study commands are optional extras

@@ -1,0 +1,74 @@
+"""``alma wall`` and ``alma arch`` (SPEC §3): generate a structure, write it, solve it."""
+from __future__ import annotations
+
+import argparse
+from typing import Callable
+
+from alma.geometry.generators import KINDS, arch, wall
+from alma.geometry.panels import BONDS
+from alma.geometry.scene import Scene, SceneError
+
+
+def register(sub, add_common: Callable, run: Callable, export: Callable, invalid: Callable) -> None:
+    """Add the two generator commands to the ``alma`` parser."""
+    p = sub.add_parser("wall", help="a bonded wall with openings and lintels (SPEC §3)")
+    p.add_argument("--bond", required=True, choices=BONDS)
+    p.add_argument("--width", required=True, type=float, help="mm")
+    p.add_argument("--height", required=True, type=float, help="mm (a whole number of courses)")
+    p.add_argument("--block", required=True, metavar="LxH", help="block length x height, mm (e.g. 240x60)")
+    p.add_argument("--opening", action="append", default=[], metavar="X,Y,W,H",
+                   help="a rectangular opening (mm, on course lines; repeatable); a lintel spans each")
+    p.add_argument("--overburden", type=float, default=0.0, metavar="KPA", help="pre-compression on the top course")
+    p.add_argument("--thickness", type=float, default=120.0, help="mm")
+    p.add_argument("--friction", type=float, default=0.6)
+    p.add_argument("--export-scene", metavar="OUT.json|OUT.dxf", help="write the wall as a scene file")
+    add_common(p)
+    p.set_defaults(func=lambda args: _generated(args, _wall, run, export, invalid))
+
+    p = sub.add_parser("arch", help="a semicircular, segmental or pointed arch (SPEC §3)")
+    p.add_argument("--span", required=True, type=float, help="of the centre line, mm")
+    p.add_argument("--rise", required=True, type=float, help="of the centre line, mm")
+    p.add_argument("--thickness", required=True, type=float, help="radial, mm")
+    p.add_argument("--voussoirs", required=True, type=int)
+    p.add_argument("--kind", default="semicircular", choices=KINDS)
+    p.add_argument("--springing", default="fixed", choices=("fixed", "piers"))
+    p.add_argument("--pier-height", type=float, default=0.0, help="mm (with --springing piers)")
+    p.add_argument("--pier-width", type=float, default=None, help="mm (default 1.5 x thickness)")
+    p.add_argument("--pier-courses", type=int, default=1)
+    p.add_argument("--depth", type=float, default=120.0, help="out-of-plane thickness, mm")
+    p.add_argument("--friction", type=float, default=0.6)
+    p.add_argument("--export-scene", metavar="OUT.json|OUT.dxf", help="write the arch as a scene file")
+    add_common(p)
+    p.set_defaults(func=lambda args: _generated(args, _arch, run, export, invalid))
+
+
+def _generated(args: argparse.Namespace, build: Callable, run: Callable, export: Callable, invalid: Callable) -> int:
+    try:
+        scene = build(args)
+        scene.validate()
+    except (SceneError, ValueError) as exc:
+        return invalid(exc, args)
+    if args.export_scene:
+        export(scene, args.export_scene)
+    return run(scene, args)
+
+
+def _wall(args: argparse.Namespace) -> Scene:
+    try:
+        length, height = (float(v) for v in args.block.lower().split("x"))
+    except ValueError as exc:
+        raise SceneError(f"--block: give LENGTHxHEIGHT in mm, e.g. 240x60; got {args.block!r}") from exc
+    openings = []
+    for text in args.opening:
+        try:
+            openings.append(tuple(float(v) for v in text.split(",")))
+        except ValueError as exc:
+            raise SceneError(f"--opening: give X,Y,W,H in mm; got {text!r}") from exc
+    return wall(args.bond, args.width, args.height, length, height, openings=openings,
+                overburden_kpa=args.overburden, thickness=args.thickness, friction=args.friction)
+
+
+def _arch(args: argparse.Namespace) -> Scene:
+    return arch(args.span, args.rise, args.thickness, args.voussoirs, kind=args.kind, springing=args.springing,
+                pier_height=args.pier_height, pier_width=args.pier_width, pier_courses=args.pier_courses,
+                depth=args.depth, friction=args.friction)
