@@ -79,6 +79,9 @@ class SearchSettings:
     #: Gilbert starts of "thorough": the fast ones first, then slower variants.
     gilbert_thorough: tuple[tuple[float, float, int], ...] = (
         (0.0, 1.0, 1), (1.0, 0.5, 0), (0.0, 1.0, 4), (1.0, 0.5, 4), (0.5, 0.5, 1), (2.0, 1.0, 1), (1.0, 1.0, 0))
+    #: Turned-table starts (alma.nonassociative.tilted): the table's turn in degrees, each running
+    #: Gilbert's (0.5, 0.5, 1) on the turned problem; LACT³'s Portal reaches its lowest state at 10°.
+    tilt_degrees: tuple[float, ...] = (10.0, 20.0)
     #: Capped-LP solves of one fixed Gilbert start.
     gilbert_iterations: int = 40
     #: "fast": simplex iterations of one fixed Gilbert start while no state is verified.

@@ -38,3 +38,15 @@ def test_example_nonassociative_state_is_verified_below_the_lp(name):
     both = alma.solve(scene, model="both", effort="fast")
     assert both.nonassociative.status in ("feasible", "optimal")
     assert both.nonassociative.alpha <= both.associative.bounds.upper + 1e-9
+
+
+def test_the_dxf_example_is_the_generated_facade():
+    """``examples/facade.dxf`` was written by ``alma wall --bond english --width 2400 --height 1800
+    --block 240x60 --opening 720,600,720,720 --export-scene examples/facade.dxf``: read back, it
+    gives the generator's α."""
+    drawn = alma.load_scene(EXAMPLES / "facade.dxf", thickness=120.0, friction=0.6)
+    built = alma.wall("english", 2400.0, 1800.0, 240.0, 60.0, openings=[(720, 600, 720, 720)])
+    a, b = alma.solve(drawn), alma.solve(built)
+    assert a.status == b.status == "optimal"
+    assert a.alpha == pytest.approx(b.alpha, rel=1e-9)
+    assert sum(blk.fixed for blk in drawn.blocks) == 1  # the ground, on layer "fixed"

@@ -121,11 +121,18 @@ def _dxf_options(args: argparse.Namespace) -> dict[str, object]:
             "cohesion": args.cohesion, "supports": args.supports}
 
 
-def _cmd_settle(args: argparse.Namespace) -> int:
+def _loaded(args: argparse.Namespace) -> Scene | int:
+    """The scene file of ``args``, or the exit code of its refusal."""
     try:
-        scene = load_scene(args.scene)
+        return load_scene(args.scene)
     except SceneError as exc:
         return _invalid(exc, args)
+
+
+def _cmd_settle(args: argparse.Namespace) -> int:
+    scene = _loaded(args)
+    if isinstance(scene, int):
+        return scene
     result = settle(scene)
     if args.plot:
         from alma.report.plot import plot_mechanism
@@ -148,10 +155,9 @@ def _cmd_settle(args: argparse.Namespace) -> int:
 
 
 def _cmd_tilt(args: argparse.Namespace) -> int:
-    try:
-        scene = load_scene(args.scene)
-    except SceneError as exc:
-        return _invalid(exc, args)
+    scene = _loaded(args)
+    if isinstance(scene, int):
+        return scene
     result = tilt(scene)
     if args.json:
         print(json.dumps(result.to_dict()))

@@ -1,5 +1,7 @@
 """Which starts the search runs for each effort, in which order, and with what work.
 
+- every effort runs the turned-table starts (``tilt(θ°)``, :mod:`alma.nonassociative.tilted`)
+  after its Gilbert starts;
 - ``"fast"`` (large scenes): ``lp``, ``rocking``, the fast Gilbert starts (each within
   :attr:`~alma.settings.SearchSettings.gilbert_pivots`, or the smaller
   :attr:`~alma.settings.SearchSettings.gilbert_pivots_verified` once a state is verified),
@@ -17,6 +19,7 @@ import numpy as np
 from alma.nonassociative.limits import Work
 from alma.nonassociative.starts import (Context, GilbertStart, IpoptStart, LpStart, MilpStart, ProjectedStart,
                                         RockingStart, Start)
+from alma.nonassociative.tilted import TiltStart
 from alma.settings import SearchSettings
 
 EFFORTS = ("fast", "thorough")
@@ -60,7 +63,8 @@ def projected_work(settings: SearchSettings, n_free: int, points: int) -> Work:
 def plan(settings: SearchSettings, effort: str) -> list[str]:
     """The starts of an effort in the order they run (names of kinds; see :func:`make_start`)."""
     count = len(settings.gilbert_fast if effort == "fast" else settings.gilbert_thorough)
-    return ["lp", "rocking"] + [f"gilbert:{k}" for k in range(count)] + ["projected", "ipopt", "milp"]
+    return (["lp", "rocking"] + [f"gilbert:{k}" for k in range(count)]
+            + [f"tilt:{k}" for k in range(len(settings.tilt_degrees))] + ["projected", "ipopt", "milp"])
 
 
 def wanted(kind: str, ctx: Context, polish: bool | None = None) -> bool:
@@ -90,6 +94,10 @@ def make_start(kind: str, ctx: Context) -> Start:
         scale, relaxation, steps = starts[int(kind.split(":")[1])]
         return GilbertStart(scale, relaxation, steps,
                             gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count))
+    if kind.startswith("tilt:"):
+        return TiltStart(s.tilt_degrees[int(kind.split(":")[1])],
+                         gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count),
+                         ipm_above=s.interior_points)
     if kind == "projected":
         return ProjectedStart(projected_work(s, ctx.model.n_free, ctx.points.count))
     if kind == "ipopt":
@@ -105,5 +113,7 @@ def start_name(kind: str, settings: SearchSettings, effort: str) -> str:
         starts = settings.gilbert_fast if effort == "fast" else settings.gilbert_thorough
         scale, relaxation, steps = starts[int(kind.split(":")[1])]
         return GilbertStart(scale, relaxation, steps, Work()).name
+    if kind.startswith("tilt:"):
+        return TiltStart(settings.tilt_degrees[int(kind.split(":")[1])], Work()).name
     return {"lp": "lp", "rocking": "rocking", "projected": "gilbert-projected", "ipopt": "ipopt",
             "milp": "milp"}[kind]

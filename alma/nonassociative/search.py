@@ -41,7 +41,7 @@ from alma.status import Status
 
 #: Timing keys of the starts' kinds (seconds), summed over starts of a kind.
 _TIMING_KEYS = {"lp": "lp_start_s", "rocking": "rocking_s", "gilbert": "gilbert_s", "projected": "gilbert_s",
-                "ipopt": "ipopt_s", "milp": "milp_start_s"}
+                "ipopt": "ipopt_s", "milp": "milp_start_s", "tilt": "tilt_s"}
 
 
 @dataclass(frozen=True)
