@@ -15,7 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from alma.geometry.edges import scene_edges
+from alma.geometry.edges import scene_edges, signed_areas
 from alma.mechanics.model import Model
 
 #: A macro-block translates when its rotation moves its farthest point by less than this
@@ -32,25 +32,34 @@ def macro_blocks(model: Model, mechanism: np.ndarray, rel: np.ndarray, tol: floa
     ``mechanism``: u (dimensionless, 3 per free block about its centroid); ``rel``: the joints'
     relative velocities (m, 2, 2); ``tol``: the motion threshold (same units as ``rel``).
     Returns ([{"members": free-block indices, "motion", "centre" (mm) or None, "direction" or
-    None}], class).
+    None}], class).  Vectorised over blocks, joints and macro-blocks.
     """
     u = mechanism.reshape(-1, 3)
-    speed = _vertex_speed(model, u)
-    moving = speed > tol
+    moving = _vertex_speed(model, u) > tol
     if not moving.any():
         return [], "none"
     label = _components(model, rel, moving, tol)
-    groups = [np.flatnonzero(label == g) for g in np.unique(label[moving])]
-    bodies = [_motion(model, u, members) for members in groups]
-    hinged = [_hinged(model, u, label, g, body) for g, body in zip(np.unique(label[moving]), bodies)]
-    kinds = {b["motion"] for b in bodies}
-    if kinds == {"translation"}:
-        klass = "sliding"
-    elif kinds == {"rotation"} and all(hinged):
-        klass = "rocking"
-    else:
-        klass = "mixed"
-    return bodies, klass
+    groups, group = np.unique(label[moving], return_inverse=True)
+    of_block = np.full(model.n_free, -1)
+    of_block[np.flatnonzero(moving)] = group
+    centre, theta, velocity, reach = _rigid_motions(model, u, of_block, groups.size)
+    speed = np.hypot(velocity[:, 0], velocity[:, 1])
+    translating = np.abs(theta) * reach <= TRANSLATION_TOLERANCE * (speed + np.abs(theta) * reach)
+    hinged = _hinged(model, u, of_block, centre, theta, velocity) & ~translating
+    bodies = []
+    members = np.argsort(of_block, kind="stable")[np.sort(of_block) >= 0]
+    split = np.split(members, np.cumsum(np.bincount(of_block[of_block >= 0]))[:-1])
+    for g, block_ids in enumerate(split):
+        if translating[g]:
+            bodies.append({"members": block_ids, "motion": "translation", "centre": None,
+                           "direction": tuple((velocity[g] / speed[g]).tolist())})
+        else:
+            pivot = centre[g] + np.array([-velocity[g, 1], velocity[g, 0]]) / theta[g]
+            bodies.append({"members": block_ids, "motion": "rotation", "direction": None,
+                           "centre": tuple((model.origin + pivot * model.length_scale).tolist())})
+    if translating.all():
+        return bodies, "sliding"
+    return bodies, "rocking" if hinged.all() else "mixed"
 
 
 def _vertex_speed(model: Model, u: np.ndarray) -> np.ndarray:
@@ -79,46 +88,55 @@ def _components(model: Model, rel: np.ndarray, moving: np.ndarray, tol: float) -
     return connected_components(graph, directed=False)[1]
 
 
-def _motion(model: Model, u: np.ndarray, members: np.ndarray) -> dict:
-    """Rigid motion of a macro-block: rotation about a centre (mm) or translation (a direction)."""
-    centre = model.centroid[members].mean(axis=0)
-    theta = float(u[members, 2].mean())
-    d = centre - model.centroid[members]
-    v = np.column_stack([u[members, 0] - u[members, 2] * d[:, 1], u[members, 1] + u[members, 2] * d[:, 0]]).mean(axis=0)
-    reach = float(np.hypot(*(model.centroid[members] - centre).T).max(initial=0.0)) + 1.0
-    body = {"members": members, "theta": theta, "velocity": v, "reference": centre}
-    if abs(theta) * reach <= TRANSLATION_TOLERANCE * (float(np.hypot(*v)) + abs(theta) * reach):
-        return {**body, "motion": "translation", "centre": None, "direction": tuple((v / np.hypot(*v)).tolist())}
-    pivot = centre + np.array([-v[1], v[0]]) / theta
-    return {**body, "motion": "rotation", "centre": tuple((model.origin + pivot * model.length_scale).tolist()),
-            "direction": None}
+def _velocity_at(model: Model, u: np.ndarray, blocks: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """Velocity (rows) of ``blocks`` at ``point`` (rows, dimensionless)."""
+    d = point - model.centroid[blocks]
+    return np.column_stack([u[blocks, 0] - u[blocks, 2] * d[:, 1], u[blocks, 1] + u[blocks, 2] * d[:, 0]])
 
 
-def _hinged(model: Model, u: np.ndarray, label: np.ndarray, group: int, body: dict) -> bool:
-    """The macro-block rotates about a contact point it shares with a neighbour (a support, a
+def _rigid_motions(model: Model, u: np.ndarray, of_block: np.ndarray, count: int
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Per macro-block: centre (mean centroid), rotation, velocity at the centre (means over the
+    members) and reach (farthest member centroid + one reference length), dimensionless."""
+    blocks = np.flatnonzero(of_block >= 0)
+    g = of_block[blocks]
+    size = np.bincount(g, minlength=count).astype(float)
+    centre = np.column_stack([np.bincount(g, model.centroid[blocks, i], count) for i in (0, 1)]) / size[:, None]
+    theta = np.bincount(g, u[blocks, 2], count) / size
+    v = _velocity_at(model, u, blocks, centre[g])
+    velocity = np.column_stack([np.bincount(g, v[:, i], count) for i in (0, 1)]) / size[:, None]
+    reach = np.zeros(count)
+    np.maximum.at(reach, g, np.hypot(*(model.centroid[blocks] - centre[g]).T))
+    return centre, theta, velocity, reach + 1.0
+
+
+def _hinged(model: Model, u: np.ndarray, of_block: np.ndarray, centre: np.ndarray, theta: np.ndarray,
+            velocity: np.ndarray) -> np.ndarray:
+    """Per macro-block: it turns about a contact point it shares with a neighbour (a support, a
     block at rest, or another macro-block, relative to that one's motion)."""
-    if body["motion"] != "rotation":
-        return False
     joints = model.joints
-    a, b = model.free_index[joints.block_a], model.free_index[joints.block_b]
-    mine_a, mine_b = (a >= 0) & (label[np.maximum(a, 0)] == group), (b >= 0) & (label[np.maximum(b, 0)] == group)
-    border = np.flatnonzero(mine_a ^ mine_b)
-    if border.size == 0:
-        return False
-    size = float(np.median(np.sqrt(np.abs([blk.area for blk in model.scene.blocks]))))
-    other = np.where(mine_a[border], b[border], a[border])
-    theta = np.full(border.size, body["theta"])
-    v = np.tile(body["velocity"], (border.size, 1))
-    moving = other >= 0  # relative to the neighbouring block's motion, at the reference point
-    o = other[moving]
-    d = body["reference"] - model.centroid[o]
-    theta[moving] -= u[o, 2]
-    v[moving] -= np.column_stack([u[o, 0] - u[o, 2] * d[:, 1], u[o, 1] + u[o, 2] * d[:, 0]])
-    turning = np.abs(theta) > 1e-300
-    if not turning.any():
-        return False
-    rel = body["reference"] + np.column_stack([-v[turning, 1], v[turning, 0]]) / theta[turning, None]
-    pivot = model.origin + rel * model.length_scale
-    j = border[turning]
+    sides = []
+    for mine, other in ((joints.block_a, joints.block_b), (joints.block_b, joints.block_a)):
+        fm, fo = model.free_index[mine], model.free_index[other]
+        g = np.where(fm >= 0, of_block[np.maximum(fm, 0)], -1)
+        h = np.where(fo >= 0, of_block[np.maximum(fo, 0)], -1)
+        border = np.flatnonzero((g >= 0) & (g != h))
+        sides.append((border, g[border], fo[border]))
+    j = np.concatenate([s[0] for s in sides])
+    g = np.concatenate([s[1] for s in sides])
+    other = np.concatenate([s[2] for s in sides])
+    rel_theta = theta[g].copy()
+    rel_v = velocity[g].copy()
+    free = other >= 0
+    rel_theta[free] -= u[other[free], 2]
+    rel_v[free] -= _velocity_at(model, u, other[free], centre[g[free]])
+    turning = np.abs(rel_theta) > 1e-300
+    j, g, rel_theta, rel_v = j[turning], g[turning], rel_theta[turning], rel_v[turning]
+    pivot = model.origin + (centre[g] + np.column_stack([-rel_v[:, 1], rel_v[:, 0]]) / rel_theta[:, None]) \
+        * model.length_scale
     gap = np.minimum(np.hypot(*(joints.start[j] - pivot).T), np.hypot(*(joints.end[j] - pivot).T))
-    return bool(gap.min() <= HINGE_TOLERANCE * size)
+    areas = np.abs(signed_areas(scene_edges(model.scene)))
+    near = gap <= HINGE_TOLERANCE * float(np.median(np.sqrt(areas)))
+    hinged = np.zeros(theta.size, dtype=bool)
+    np.logical_or.at(hinged, g, near)
+    return hinged
