@@ -64,7 +64,12 @@ def plan(settings: SearchSettings, effort: str) -> list[str]:
     """The starts of an effort in the order they run (names of kinds; see :func:`make_start`)."""
     count = len(settings.gilbert_fast if effort == "fast" else settings.gilbert_thorough)
     return (["lp", "rocking"] + [f"gilbert:{k}" for k in range(count)]
-            + [f"tilt:{k}" for k in range(len(settings.tilt_degrees))] + ["projected", "ipopt", "milp"])
+            + [f"tilt:{k}" for k in range(len(_turns(settings, effort)))] + ["projected", "ipopt", "milp"])
+
+
+def _turns(settings: SearchSettings, effort: str) -> tuple[float, ...]:
+    """The turned-table starts' angles (degrees) of an effort."""
+    return settings.tilt_degrees_fast if effort == "fast" else settings.tilt_degrees
 
 
 def wanted(kind: str, ctx: Context, polish: bool | None = None) -> bool:
@@ -95,7 +100,7 @@ def make_start(kind: str, ctx: Context) -> Start:
         return GilbertStart(scale, relaxation, steps,
                             gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count))
     if kind.startswith("tilt:"):
-        return TiltStart(s.tilt_degrees[int(kind.split(":")[1])],
+        return TiltStart(_turns(s, ctx.effort)[int(kind.split(":")[1])],
                          gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count),
                          ipm_above=s.interior_points)
     if kind == "projected":
@@ -114,6 +119,6 @@ def start_name(kind: str, settings: SearchSettings, effort: str) -> str:
         scale, relaxation, steps = starts[int(kind.split(":")[1])]
         return GilbertStart(scale, relaxation, steps, Work()).name
     if kind.startswith("tilt:"):
-        return TiltStart(settings.tilt_degrees[int(kind.split(":")[1])], Work()).name
+        return TiltStart(_turns(settings, effort)[int(kind.split(":")[1])], Work()).name
     return {"lp": "lp", "rocking": "rocking", "projected": "gilbert-projected", "ipopt": "ipopt",
             "milp": "milp"}[kind]
