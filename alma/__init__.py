@@ -5,7 +5,7 @@ Eqs. 1–8) → ``backends`` and the solvers (``associative``, ``nonassociative`
 ``results`` → ``study``, ``report``, ``paper`` → ``cli``.  See docs/architecture.md.
 """
 from alma.geometry.contacts import Joints, find_joints
-from alma.geometry.generators import arch, facade, wall
+from alma.geometry.generators import arch, coursed_wall, facade, wall
 from alma.geometry.panels import paper_panel
 from alma.geometry.scene import Block, Scene, SceneError, load_scene
 from alma.mechanics.model import Model, build_model
@@ -16,7 +16,7 @@ from alma.solve import solve
 from alma.status import Status
 from alma.tilt import TiltResult, TiltSettings, tilt
 
-__all__ = ["AssociativeResult", "arch", "facade", "AssociativeSettings", "Block", "Bounds", "CertifySettings", "Comparison",
+__all__ = ["AssociativeResult", "arch", "coursed_wall", "facade", "AssociativeSettings", "Block", "Bounds", "CertifySettings", "Comparison",
            "Joints", "Model", "NonAssociativeResult", "Result", "Scene", "SceneError", "SearchSettings",
            "Settings", "SettlementResult", "Status", "TiltResult", "TiltSettings", "build_model", "find_joints",
            "load_scene", "paper_panel", "settle", "solve", "tilt", "wall"]

@@ -50,3 +50,15 @@ def test_the_dxf_example_is_the_generated_facade():
     assert a.status == b.status == "optimal"
     assert a.alpha == pytest.approx(b.alpha, rel=1e-9)
     assert sum(blk.fixed for blk in drawn.blocks) == 1  # the ground, on layer "fixed"
+
+
+def test_the_coursed_wall_example_is_ferris_and_tin_lois_wall_3(capsys):
+    """``examples/ferris_tin_loi_wall3.txt`` through the command line is wall 3 of
+    ``test_ferris_tin_loi.py`` (drawn top course first there, listed bottom first here)."""
+    from alma.cli import main
+    from test_ferris_tin_loi import wall
+
+    assert main(["wall", "--courses", str(EXAMPLES / "ferris_tin_loi_wall3.txt"), "--block", "400x175",
+                 "--thickness", "1000", "--friction", "0.65", "--json"]) == 0
+    alpha = json.loads(capsys.readouterr().out)["alpha"]
+    assert alpha == pytest.approx(alma.solve(wall(3)).alpha, rel=1e-12)

@@ -98,3 +98,42 @@ def test_cli_wall_and_arch_write_the_scene(tmp_path, capsys):
     assert alma.solve(back).alpha == pytest.approx(alpha, rel=1e-9)
     assert main(["wall", "--bond", "running", "--width", "3600", "--height", "2400", "--block", "240", "--json"]) == 2
     capsys.readouterr()
+
+
+def test_a_coursed_wall_laid_like_a_paper_panel_is_that_panel():
+    from alma.geometry.panels import course_lengths
+
+    courses = [list(course_lengths("english", 240.0, 1440.0, c) / 240.0) for c in range(1440 // 60)]
+    built = alma.coursed_wall(courses, 240.0, 60.0, friction=0.6)
+    panel = alma.paper_panel("english", "1:1", "4:1", 0.6)
+    assert len(built.blocks) == len(panel.blocks)
+    assert alma.solve(built).alpha == pytest.approx(alma.solve(panel).alpha, rel=1e-9)
+
+
+def test_coursed_wall_gaps_are_openings():
+    scene = alma.coursed_wall([[1, 1, 1], [0.5, 1, 1, 0.5], [1, -1, 1], [1, 1, 1]], 300.0, 100.0)
+    assert len(scene.blocks) == 1 + 3 + 4 + 2 + 3
+    right = next(b for b in scene.blocks if b.id == "c3b2")
+    assert right.vertices[:, 0].min() == 600.0 and right.vertices[:, 1].min() == 200.0
+    assert alma.solve(scene).status == "optimal"
+
+
+@pytest.mark.parametrize("courses, match", [([], "at least one course"), ([[1, 0, 1]], "course 1"),
+                                            ([[1, 1], [1, float("nan")]], "course 2")])
+def test_bad_courses_are_refused(courses, match):
+    with pytest.raises(alma.SceneError, match=match):
+        alma.coursed_wall(courses, 300.0, 100.0)
+
+
+def test_cli_wall_from_a_courses_file(tmp_path, capsys):
+    drawing = tmp_path / "wall.txt"
+    drawing.write_text("# top course first\n1 1 1\n0.5, 1, 1, 0.5\n\n1 1 1\n")
+    assert main(["wall", "--courses", str(drawing), "--block", "300x100", "--friction", "0.6", "--json"]) == 0
+    alpha = json.loads(capsys.readouterr().out)["alpha"]
+    api = alma.coursed_wall([[1, 1, 1], [0.5, 1, 1, 0.5], [1, 1, 1]], 300.0, 100.0, friction=0.6)
+    assert alpha == pytest.approx(alma.solve(api).alpha, rel=1e-12)
+    drawing.write_text("1 1 x\n")
+    assert main(["wall", "--courses", str(drawing), "--block", "300x100", "--json"]) == 2
+    assert "line 1" in capsys.readouterr().err
+    assert main(["wall", "--width", "3000", "--block", "300x100"]) == 2
+    assert "--bond" in capsys.readouterr().err

@@ -4,7 +4,7 @@ from __future__ import annotations
 import argparse
 from typing import Callable
 
-from alma.geometry.generators import KINDS, arch, wall
+from alma.geometry.generators import KINDS, arch, coursed_wall, wall
 from alma.geometry.panels import BONDS
 from alma.geometry.scene import Scene, SceneError
 
@@ -12,9 +12,11 @@ from alma.geometry.scene import Scene, SceneError
 def register(sub, add_common: Callable, run: Callable, export: Callable, invalid: Callable) -> None:
     """Add the two generator commands to the ``alma`` parser."""
     p = sub.add_parser("wall", help="a bonded wall with openings and lintels (SPEC §3)")
-    p.add_argument("--bond", required=True, choices=BONDS)
-    p.add_argument("--width", required=True, type=float, help="mm")
-    p.add_argument("--height", required=True, type=float, help="mm (a whole number of courses)")
+    p.add_argument("--bond", choices=BONDS, help="required unless --courses is given")
+    p.add_argument("--width", type=float, help="mm (required unless --courses is given)")
+    p.add_argument("--height", type=float, help="mm, a whole number of courses (required unless --courses is given)")
+    p.add_argument("--courses", metavar="FILE", help="lay the wall from a text file instead: one course per line, "
+                   "top course first as drawn, block lengths in units of the block length, negative for a gap")
     p.add_argument("--block", required=True, metavar="LxH", help="block length x height, mm (e.g. 240x60)")
     p.add_argument("--opening", action="append", default=[], metavar="X,Y,W,H",
                    help="a rectangular opening (mm, on course lines; repeatable); a lintel spans each")
@@ -58,6 +60,13 @@ def _wall(args: argparse.Namespace) -> Scene:
         length, height = (float(v) for v in args.block.lower().split("x"))
     except ValueError as exc:
         raise SceneError(f"--block: give LENGTHxHEIGHT in mm, e.g. 240x60; got {args.block!r}") from exc
+    if args.courses:
+        return coursed_wall(read_courses(args.courses), length, height, thickness=args.thickness,
+                            friction=args.friction, name=f"coursed wall {args.courses}")
+    missing = [flag for flag, value in (("--bond", args.bond), ("--width", args.width), ("--height", args.height))
+               if value is None]
+    if missing:
+        raise SceneError(f"alma wall: give {', '.join(missing)} (or --courses FILE)")
     openings = []
     for text in args.opening:
         try:
@@ -66,6 +75,28 @@ def _wall(args: argparse.Namespace) -> Scene:
             raise SceneError(f"--opening: give X,Y,W,H in mm; got {text!r}") from exc
     return wall(args.bond, args.width, args.height, length, height, openings=openings,
                 overburden_kpa=args.overburden, thickness=args.thickness, friction=args.friction)
+
+
+def read_courses(path: str) -> list[list[float]]:
+    """Courses of :func:`alma.coursed_wall` from a text file drawn top course first.
+
+    Numbers are separated by spaces or commas; ``#`` starts a comment; blank lines are skipped.
+    """
+    try:
+        with open(path, encoding="utf-8") as fh:
+            lines = fh.readlines()
+    except OSError as exc:
+        raise SceneError(f"--courses: cannot read {path}: {exc.strerror}") from exc
+    rows = []
+    for number, line in enumerate(lines, 1):
+        text = line.split("#", 1)[0].replace(",", " ").split()
+        if not text:
+            continue
+        try:
+            rows.append([float(v) for v in text])
+        except ValueError as exc:
+            raise SceneError(f"{path}, line {number}: not a list of numbers: {line.strip()!r}") from exc
+    return rows[::-1]
 
 
 def _arch(args: argparse.Namespace) -> Scene:

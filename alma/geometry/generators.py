@@ -4,6 +4,9 @@
   openings (windows, doors), a lintel over each (one block spanning the opening and a bearing on
   each side, one course high), the piers between them, and an optional overburden written as
   dead point loads on the top course;
+- :func:`coursed_wall`: a wall laid course by course from a pattern of block lengths (gaps for
+  openings), as the walls of the literature are drawn (Ferris & Tin-Loi's walls, LMGC90's and
+  HybriDFEM's pattern walls);
 - :func:`arch`: semicircular, segmental or pointed arches of any number of voussoirs with radial
   joints, on fixed abutments or on piers standing on a ground (a portal).
 
@@ -58,6 +61,35 @@ def facade(bond: str, width: float, height: float, block_length: float, block_he
     loads = _overburden(blocks, overburden_kpa, thickness, height)
     return Scene(blocks=tuple(blocks), thickness=thickness, unit_weight=unit_weight, friction=friction,
                  loads=loads, name=name or f"{bond} facade {width:g}x{height:g} with {len(holes)} opening(s)")
+
+
+def coursed_wall(courses: Sequence[Sequence[float]], block_length: float, block_height: float = BLOCK_HEIGHT,
+                 *, friction: float = 0.6, thickness: float = 120.0, unit_weight: float = 18.0,
+                 name: str | None = None) -> Scene:
+    """A wall laid from ``courses`` (bottom course first) on a fixed ground as wide as the widest.
+
+    Each course lists its pieces from the left in units of ``block_length``: a positive entry is a
+    block of that length, a negative one a gap (an opening) of that length; every course is
+    ``block_height`` high.  ``[[.5, 1, 1, .5], [1, 1, 1]]`` is a running bond three blocks wide.
+    """
+    if not courses:
+        raise SceneError("coursed wall: give at least one course")
+    if block_length <= 0 or block_height <= 0:
+        raise SceneError(f"coursed wall: block length and height must be > 0 mm, got {block_length} x {block_height}")
+    blocks = []
+    width = 0.0
+    for c, course in enumerate(courses):
+        pieces = np.asarray(course, dtype=float).ravel()
+        if pieces.size == 0 or not np.all(np.isfinite(pieces)) or np.any(pieces == 0):
+            raise SceneError(f"coursed wall: course {c + 1} (from the bottom) needs non-zero finite lengths, got {list(course)}")
+        ends = np.concatenate([[0.0], np.cumsum(np.abs(pieces))]) * block_length
+        solid = np.flatnonzero(pieces > 0)
+        blocks += [Block(id=f"c{c + 1}b{k + 1}", vertices=_box(ends[i], ends[i + 1], c * block_height,
+                                                            (c + 1) * block_height)) for k, i in enumerate(solid)]
+        width = max(width, float(ends[-1]))
+    ground = Block(id="ground", vertices=_box(0.0, width, -block_height, 0.0), fixed=True)
+    return Scene(blocks=(ground, *blocks), thickness=thickness, unit_weight=unit_weight, friction=friction,
+                 name=name or f"coursed wall, {len(courses)} courses")
 
 
 def arch(span: float, rise: float, thickness: float, voussoirs: int, *, kind: str = "semicircular",
