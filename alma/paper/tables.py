@@ -42,6 +42,8 @@ from alma.study.doe import run_doe
 PUBLISHED_FILES = ("table5_collapse_multipliers.csv", "table2_anova.csv", "table3_r2.csv",
                    "figure_captions.csv", "figure_titles.csv")
 FACTORS = ["panel_ratio", "block_ratio", "bond", "friction"]
+#: Figs. 11-15 show one crisp mechanism of each optimal face, its macro-blocks and its crack.
+CRISP = alma.Settings(associative=alma.AssociativeSettings(crisp_mechanism=True))
 #: Table 2 columns and the decimals the paper prints.
 TABLE2_DECIMALS = {"adj_ss": 4, "adj_ms": 4, "f_value": 2, "p_value": 3}
 
@@ -168,7 +170,7 @@ def mechanism_figures(captions: pd.DataFrame, t5cmp: pd.DataFrame, titles: dict[
         fig, sub = int(c["figure"]), str(c["panel"])
         friction = float(c["friction"])
         scene = alma.paper_panel(c["bond"], c["panel_ratio"], c["block_ratio"], friction)
-        result = alma.solve(scene, model="associative")
+        result = alma.solve(scene, model="associative", settings=CRISP)
         a = float(result.alpha)
         k = f"{c['panel_ratio']}|{c['block_ratio']}|{c['bond']}|{friction:.2f}"
         t5row = t5.loc[k]

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from alma.report.overlays import draw_settlements, draw_ties
+from alma.report.overlays import draw_macro_blocks, draw_settlements, draw_ties
 from alma.results.types import BlockMotion, Result
 from alma.geometry.scene import Scene
 
@@ -81,12 +81,15 @@ class MechanismPicture:
 
 
 def plot_mechanism(scene: Scene, result: "Result | MechanismPicture", path: str | Path, *, title: str | None = None,
-                   displacement: float = 0.08, ax=None) -> Path:
+                   displacement: float = 0.08, ax=None, macro_blocks: bool = True) -> Path:
     """Draw the mechanism of ``result`` on ``scene`` and save it as PNG.
 
     Blocks are drawn displaced by the collapse velocity field scaled so that
     the largest displacement is ``displacement`` × the scene size; face colour
     is the block's speed, joint segments are coloured by state; α is in the title.
+    With ``macro_blocks`` (and a result that has them) the moving macro-blocks are outlined,
+    the crack between them drawn as one line and their rotation centres marked
+    (:func:`alma.report.overlays.draw_macro_blocks`).
     """
     import matplotlib
 
@@ -134,7 +137,11 @@ def plot_mechanism(scene: Scene, result: "Result | MechanismPicture", path: str 
         lines.append(np.array([joint.start, joint.end]))
         line_colours.append(colour)
     if lines:
-        ax.add_collection(LineCollection(lines, colors=line_colours, linewidths=1.2))
+        drawn = bool(macro_blocks and getattr(result, "macro_blocks", ()))  # thinner under the crack
+        ax.add_collection(LineCollection(lines, colors=line_colours, linewidths=0.6 if drawn else 1.2))
+    if macro_blocks:
+        draw_macro_blocks(ax, scene, result, lambda i, xy: xy + scale * velocity(i, xy),
+                          {b.id: speed / peak for b, speed in zip(scene.blocks, speeds)})
     draw_ties(ax, scene, result)
     draw_settlements(ax, scene)
     ax.autoscale_view()
