@@ -51,5 +51,14 @@ def test_macro_blocks_can_be_left_out_and_single_blocks_keep_their_outline(tmp_p
     assert not [line for line in ax.lines if line.get_marker() in ("o", "x")]
     plt.close(fig)
     fig, ax = _drawn(scene, result, tmp_path)
-    assert len(ax.lines) == 1  # the hinge only: a single block is not outlined again
+    marks = [line for line in ax.lines if line.get_marker() in ("o", "x") or line.get_linestyle() == "-"]
+    assert len(marks) == 1 and marks[0].get_marker() == "o"  # the hinge only: no outline of a single block
+    plt.close(fig)
+
+
+def test_the_line_of_thrust_passes_the_hinge(tmp_path):
+    scene = _column(1)
+    fig, ax = _drawn(scene, alma.solve(scene), tmp_path)
+    centres = [line for line in ax.lines if line.get_marker() == "."]
+    assert len(centres) == 1 and np.allclose(centres[0].get_xydata(), [(100.0, 0.0)], atol=1e-6)
     plt.close(fig)

@@ -98,6 +98,9 @@ def _add_common(p: argparse.ArgumentParser) -> None:
                         "interior point's blend of all of them (about 1-5x the solve)")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p.add_argument("--plot", metavar="OUT.png", help="write a picture of the collapse mechanism")
+    p.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the mechanism in SVG with a "
+                   "displacement slider and animation, joint states, the line of thrust, hover details, bounds "
+                   "and timings (both models side by side for --model both)")
 
 
 def _cmd_solve(args: argparse.Namespace) -> int:
@@ -202,6 +205,10 @@ def _run(scene: Scene, args: argparse.Namespace) -> int:
         from alma.report.plot import plot_mechanism
 
         plot_mechanism(scene, result, args.plot, title=scene.name or None)
+    if args.html:
+        from alma.report.html import write_html
+
+        write_html(scene, result, args.html)
     if args.json:
         print(json.dumps(result.to_dict()))
     else:

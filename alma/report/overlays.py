@@ -7,6 +7,7 @@ import numpy as np
 
 TIE_COLOUR = "tab:purple"
 SETTLEMENT_COLOUR = "tab:brown"
+THRUST_COLOUR = "#9400d3"
 
 
 def draw_ties(ax: Any, scene: Any, result: Any) -> None:
@@ -104,3 +105,39 @@ def _distance_to_segments(p: np.ndarray, seg: np.ndarray) -> float:
     d = b - a
     t = np.clip(np.einsum("ij,ij->i", p - a, d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300), 0.0, 1.0)
     return float(np.min(np.hypot(*(a + t[:, None] * d - p).T)))
+
+
+def thrust_joints(result: Any) -> list[tuple[int, Any]]:
+    """(index, joint) of the joints in compression, which the line of thrust passes."""
+    return [(i, j) for i, j in enumerate(result.joints) if j.N > 1e-9 * max(1.0, abs(j.N)) and j.N > 0]
+
+
+def thrust(result: Any) -> list[tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]]:
+    """Each compressed joint's centre of pressure (the contact points' normal forces weigh its two
+    ends) and a segment of its resultant's line of action, a quarter of the joint long each side."""
+    out = []
+    for _, j in thrust_joints(result):
+        s, e = np.asarray(j.start, dtype=float), np.asarray(j.end, dtype=float)
+        (n_s, _), (n_e, _) = j.points
+        total = n_s + n_e
+        point = (n_s * s + n_e * e) / total if total > 0 else 0.5 * (s + e)
+        n = np.asarray(j.normal, dtype=float)  # from blocks[0] into blocks[1]; the tangent is n turned +90°
+        force = j.N * n + j.T * np.array([-n[1], n[0]])
+        step = 0.25 * j.length * force / max(float(np.hypot(*force)), 1e-300)
+        out.append((point, (point - step, point + step)))
+    return out
+
+
+def draw_thrust(ax: Any, result: Any, move: Callable[[str, np.ndarray], np.ndarray]) -> None:
+    """The line of thrust on a picture: each compressed joint's centre of pressure and its
+    resultant's line of action, moved midway between the joint's two displaced sides."""
+    from matplotlib.collections import LineCollection
+
+    joints = thrust_joints(result)
+    if not joints:
+        return
+    moved = [[_midway(move, j, p) for p in (ends[0], point, ends[1])]
+             for (_, j), (point, ends) in zip(joints, thrust(result))]
+    moved = np.asarray(moved, dtype=float)
+    ax.add_collection(LineCollection(moved[:, [0, 2]], colors=THRUST_COLOUR, linewidths=0.9))
+    ax.plot(moved[:, 1, 0], moved[:, 1, 1], linestyle="none", marker=".", markersize=3, color=THRUST_COLOUR)

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from alma.report.overlays import draw_macro_blocks, draw_settlements, draw_ties
+from alma.report.overlays import THRUST_COLOUR, draw_macro_blocks, draw_settlements, draw_thrust, draw_ties
 from alma.results.types import BlockMotion, Result
 from alma.geometry.scene import Scene
 
@@ -81,7 +81,8 @@ class MechanismPicture:
 
 
 def plot_mechanism(scene: Scene, result: "Result | MechanismPicture", path: str | Path, *, title: str | None = None,
-                   displacement: float = 0.08, ax=None, macro_blocks: bool = True) -> Path:
+                   displacement: float = 0.08, ax=None, macro_blocks: bool = True,
+                   line_of_thrust: bool = True) -> Path:
     """Draw the mechanism of ``result`` on ``scene`` and save it as PNG.
 
     Blocks are drawn displaced by the collapse velocity field scaled so that
@@ -89,7 +90,8 @@ def plot_mechanism(scene: Scene, result: "Result | MechanismPicture", path: str 
     is the block's speed, joint segments are coloured by state; α is in the title.
     With ``macro_blocks`` (and a result that has them) the moving macro-blocks are outlined,
     the crack between them drawn as one line and their rotation centres marked
-    (:func:`alma.report.overlays.draw_macro_blocks`).
+    (:func:`alma.report.overlays.draw_macro_blocks`).  With ``line_of_thrust`` each compressed
+    joint's centre of pressure and line of action are drawn (:func:`alma.report.overlays.draw_thrust`).
     """
     import matplotlib
 
@@ -142,6 +144,8 @@ def plot_mechanism(scene: Scene, result: "Result | MechanismPicture", path: str 
     if macro_blocks:
         draw_macro_blocks(ax, scene, result, lambda i, xy: xy + scale * velocity(i, xy),
                           {b.id: speed / peak for b, speed in zip(scene.blocks, speeds)})
+    if line_of_thrust:
+        draw_thrust(ax, result, lambda i, xy: xy + scale * velocity(i, xy))
     draw_ties(ax, scene, result)
     draw_settlements(ax, scene)
     ax.autoscale_view()
@@ -154,6 +158,7 @@ def plot_mechanism(scene: Scene, result: "Result | MechanismPicture", path: str 
     if own_figure:
         fig.colorbar(collection, ax=ax, label="relative speed", shrink=0.7)
         handles = [plt.Line2D([], [], color=c, label=s) for s, c in STATE_COLOURS.items() if c]
+        handles += [plt.Line2D([], [], color=THRUST_COLOUR, marker=".", label="line of thrust")] if line_of_thrust else []
         ax.legend(handles=handles, loc="upper left", fontsize=7, title="joints", title_fontsize=7)
         fig.tight_layout()
         fig.savefig(path, dpi=130)

@@ -121,13 +121,14 @@ def physical(model: Model, mechanism: np.ndarray, normal: np.ndarray, shear: np.
     point_forces = np.stack([n_point, t_point], axis=2).tolist()  # (m, point, (N, T))
     joint_results = tuple(
         JointResult(blocks=(ids[a], ids[b]), N=n, T=t, M=mo, state=s, length=le, slip=sl,
-                    opening=tuple(op), start=tuple(p), end=tuple(q), points=(tuple(pf[0]), tuple(pf[1])))
-        for a, b, n, t, mo, s, le, sl, op, p, q, pf in zip(
+                    opening=tuple(op), start=tuple(p), end=tuple(q), points=(tuple(pf[0]), tuple(pf[1])),
+                    normal=tuple(nv))
+        for a, b, n, t, mo, s, le, sl, op, p, q, pf, nv in zip(
             joints.block_a.tolist(), joints.block_b.tolist(), n_point.sum(axis=1).tolist(),
             t_point.sum(axis=1).tolist(), moment.tolist(), states.astype(str).tolist(),
             np.asarray(joints.length, dtype=float).tolist(), slip.tolist(), opening.tolist(),
             np.asarray(joints.start, dtype=float).tolist(), np.asarray(joints.end, dtype=float).tolist(),
-            point_forces))
+            point_forces, np.asarray(joints.normal, dtype=float).tolist()))
     return blocks, joint_results, klass
 
 

@@ -59,6 +59,8 @@ class JointResult:
     start: tuple[float, float]
     end: tuple[float, float]
     points: tuple[tuple[float, float], tuple[float, float]] = ((0.0, 0.0), (0.0, 0.0))
+    #: Unit normal of the joint line, from ``blocks[0]`` towards ``blocks[1]`` (N acts along it).
+    normal: tuple[float, float] = (0.0, 0.0)
 
 
 @dataclass(frozen=True)
