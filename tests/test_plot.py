@@ -62,3 +62,13 @@ def test_the_line_of_thrust_passes_the_hinge(tmp_path):
     centres = [line for line in ax.lines if line.get_marker() == "."]
     assert len(centres) == 1 and np.allclose(centres[0].get_xydata(), [(100.0, 0.0)], atol=1e-6)
     plt.close(fig)
+
+
+def test_a_kept_picture_without_forces_draws_without_a_line_of_thrust(tmp_path):
+    from alma.report.plot import MechanismPicture
+
+    scene = _column(2)
+    picture = MechanismPicture.from_result(alma.solve(scene))
+    fig, ax = _drawn(scene, picture, tmp_path)
+    assert not [line for line in ax.lines if line.get_marker() == "."]
+    plt.close(fig)

@@ -108,8 +108,12 @@ def _distance_to_segments(p: np.ndarray, seg: np.ndarray) -> float:
 
 
 def thrust_joints(result: Any) -> list[tuple[int, Any]]:
-    """(index, joint) of the joints in compression, which the line of thrust passes."""
-    return [(i, j) for i, j in enumerate(result.joints) if j.N > 1e-9 * max(1.0, abs(j.N)) and j.N > 0]
+    """(index, joint) of the joints in compression, which the line of thrust passes (none for the
+    pictures a study keeps, which carry no forces)."""
+    normal = np.array([getattr(j, "N", 0.0) for j in result.joints], dtype=float)
+    if not normal.size or not normal.max() > 0:
+        return []
+    return [(int(i), result.joints[i]) for i in np.flatnonzero(normal > 1e-9 * normal.max())]
 
 
 def thrust(result: Any) -> list[tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]]:
