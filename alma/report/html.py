@@ -66,11 +66,12 @@ def _svg(scene: Scene, result: Any, k: int) -> str:
     pad = 0.15 * float((high - low).max())
     box = f"{low[0] - pad:.6g} {-(high[1] + pad):.6g} {high[0] - low[0] + 2 * pad:.6g} {high[1] - low[1] + 2 * pad:.6g}"
     speed = _speeds(scene, result)
+    motion = {m.id: m.u for m in result.blocks}
     items = []
     for i, block in enumerate(scene.blocks):
         colour = "#c8c8c8" if block.fixed else _colour(speed.get(block.id, 0.0))
         items.append(f'<polygon id="m{k}b{i}" class="block" fill="{colour}" points="{_points(block.vertices)}">'
-                     f'<title>{html.escape(_block_text(block, result))}</title></polygon>')
+                     f'<title>{html.escape(_block_text(block, motion))}</title></polygon>')
     for i, j in enumerate(result.joints):
         width = "0.6" if j.state == "rest" else "1.6"
         items.append(f'<line id="m{k}j{i}" class="joint {j.state}" stroke="{STATE_COLOURS.get(j.state, "#000")}" '
@@ -126,10 +127,10 @@ def _ends(start, end) -> str:
     return f'x1="{start[0]:.6g}" y1="{-start[1]:.6g}" x2="{end[0]:.6g}" y2="{-end[1]:.6g}"'
 
 
-def _block_text(block: Any, result: Any) -> str:
+def _block_text(block: Any, motion: dict[str, Any]) -> str:
     if block.fixed:
         return f"block {block.id} (fixed)"
-    u = next((m.u for m in result.blocks if m.id == block.id), (0.0, 0.0, 0.0))
+    u = motion.get(block.id, (0.0, 0.0, 0.0))
     return f"block {block.id}: u = {u[0]:.4g} mm, v = {u[1]:.4g} mm, θ = {u[2]:.4g} rad"
 
 
