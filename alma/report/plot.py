@@ -156,14 +156,21 @@ def plot_mechanism(scene: Scene, result: "Result | MechanismPicture", path: str 
     ax.set_title((title + "\n" if title else "") + f"{alpha_text} ({result.model}, {result.mechanism_class})",
                  fontsize=10)
     if own_figure:
-        fig.colorbar(collection, ax=ax, label="relative speed", shrink=0.7)
-        handles = [plt.Line2D([], [], color=c, label=s) for s, c in STATE_COLOURS.items() if c]
-        handles += [plt.Line2D([], [], color=THRUST_COLOUR, marker=".", label="line of thrust")] if line_of_thrust else []
-        ax.legend(handles=handles, loc="upper left", fontsize=7, title="joints", title_fontsize=7)
-        fig.tight_layout()
-        fig.savefig(path, dpi=130)
-        plt.close(fig)
+        _finish(fig, ax, collection, path, line_of_thrust)
     return path
+
+
+def _finish(fig, ax, collection, path: Path, line_of_thrust: bool) -> None:
+    """Colour bar, legend of joint states (and of the line of thrust), save and close."""
+    import matplotlib.pyplot as plt
+
+    fig.colorbar(collection, ax=ax, label="relative speed", shrink=0.7)
+    handles = [plt.Line2D([], [], color=c, label=s) for s, c in STATE_COLOURS.items() if c]
+    handles += [plt.Line2D([], [], color=THRUST_COLOUR, marker=".", label="line of thrust")] if line_of_thrust else []
+    ax.legend(handles=handles, loc="upper left", fontsize=7, title="joints", title_fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
 
 
 def plot_side_by_side(scene: Scene, results: "list[Result | MechanismPicture] | tuple[Result | MechanismPicture, ...]", path: str | Path, *,
