@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from alma.geometry.scene import Scene
+from alma.report.motion import Motion
 from alma.report.overlays import THRUST_COLOUR, thrust, thrust_joints
 
 STATE_COLOURS = {"rest": "#b0b0b0", "hinging": "#ff7f0e", "sliding": "#d62728", "separating": "#1f77b4"}
@@ -65,11 +66,12 @@ def _svg(scene: Scene, result: Any, k: int) -> str:
     low, high = xy.min(axis=0), xy.max(axis=0)
     pad = 0.15 * float((high - low).max())
     box = f"{low[0] - pad:.6g} {-(high[1] + pad):.6g} {high[0] - low[0] + 2 * pad:.6g} {high[1] - low[1] + 2 * pad:.6g}"
-    speed = _speeds(scene, result)
+    speeds = Motion.of(scene, result).speeds(scene)
+    speed = speeds / speeds.max() if speeds.max() > 0 else speeds
     motion = {m.id: m.u for m in result.blocks}
     items = []
     for i, block in enumerate(scene.blocks):
-        colour = "#c8c8c8" if block.fixed else _colour(speed.get(block.id, 0.0))
+        colour = "#c8c8c8" if block.fixed else _colour(speed[i])
         items.append(f'<polygon id="m{k}b{i}" class="block" fill="{colour}" points="{_points(block.vertices)}">'
                      f'<title>{html.escape(_block_text(block, motion))}</title></polygon>')
     for i, j in enumerate(result.joints):
@@ -77,7 +79,7 @@ def _svg(scene: Scene, result: Any, k: int) -> str:
         items.append(f'<line id="m{k}j{i}" class="joint {j.state}" stroke="{STATE_COLOURS.get(j.state, "#000")}" '
                      f'stroke-width="{width}" vector-effect="non-scaling-stroke" {_ends(j.start, j.end)}>'
                      f'<title>{html.escape(_joint_text(j))}</title></line>')
-    for i, (point, ends) in enumerate(thrust(result)):
+    for i, (point, *ends) in enumerate(zip(*thrust(result))):
         items.append(f'<g class="thrust"><line id="m{k}t{i}" stroke="{THRUST_COLOUR}" stroke-width="1.2" '
                      f'vector-effect="non-scaling-stroke" {_ends(*ends)}/><circle id="m{k}c{i}" '
                      f'r="{0.003 * pad / 0.15:.4g}" cx="{point[0]:.6g}" cy="{-point[1]:.6g}" fill="{THRUST_COLOUR}"/></g>')
@@ -96,20 +98,8 @@ def _data(scene: Scene, result: Any) -> dict[str, Any]:
     joints = [{"a": index.get(j.blocks[0], -1), "b": index.get(j.blocks[1], -1),
                "s": list(j.start), "e": list(j.end)} for j in result.joints]
     centres = [{"j": i, "p": point.tolist(), "s": ends[0].tolist(), "e": ends[1].tolist()}
-              for (i, _), (point, ends) in zip(thrust_joints(result), thrust(result))]
+              for i, point, *ends in zip(thrust_joints(result).tolist(), *thrust(result))]
     return {"blocks": blocks, "joints": joints, "thrust": centres}
-
-
-def _speeds(scene: Scene, result: Any) -> dict[str, float]:
-    centroid = {b.id: b.centroid for b in scene.blocks}
-    vertices = {b.id: b.vertices for b in scene.blocks}
-    speed = {}
-    for m in result.blocks:
-        r = vertices[m.id] - centroid[m.id]
-        v = np.asarray(m.u[:2]) + m.u[2] * np.column_stack([-r[:, 1], r[:, 0]])
-        speed[m.id] = float(np.abs(v).max()) if np.all(np.isfinite(v)) else 0.0
-    peak = max(speed.values(), default=0.0)
-    return {i: s / peak for i, s in speed.items()} if peak > 0 else speed
 
 
 def _colour(share: float) -> str:

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from alma.report.motion import Motion
 from alma.report.overlays import THRUST_COLOUR, draw_macro_blocks, draw_settlements, draw_thrust, draw_ties
 from alma.results.types import BlockMotion, Result
 from alma.geometry.scene import Scene
@@ -100,26 +101,15 @@ def plot_mechanism(scene: Scene, result: "Result | MechanismPicture", path: str 
     from matplotlib.collections import LineCollection, PolyCollection
 
     path = Path(path)
-    motions = {b.id: np.array(b.u) for b in result.blocks}
     all_xy = np.concatenate([b.vertices for b in scene.blocks])
     size = float(np.ptp(all_xy, axis=0).max())
-    centroids = {b.id: b.centroid for b in scene.blocks}
-
-    def velocity(block_id: str, xy: np.ndarray) -> np.ndarray:
-        u = motions.get(block_id)
-        if u is None:
-            return np.zeros_like(xy)
-        r = xy - centroids[block_id]
-        return u[:2] + u[2] * np.column_stack([-r[:, 1], r[:, 0]])
-
-    speeds = [np.abs(velocity(b.id, b.vertices)).max() for b in scene.blocks]
-    peak = max(max(speeds), 1e-300)
+    motion = Motion.of(scene, result)
+    speeds = motion.speeds(scene)
+    peak = max(float(speeds.max()), 1e-300)
     scale = displacement * size / peak if result.status in ("optimal", "not_converged") else 0.0
-
-    polygons, colours = [], []
-    for block, speed in zip(scene.blocks, speeds):
-        polygons.append(block.vertices + scale * velocity(block.id, block.vertices))
-        colours.append(speed / peak if not block.fixed else np.nan)
+    motion = motion.scaled(scale)
+    polygons = motion.outlines(scene)
+    colours = np.where([b.fixed for b in scene.blocks], np.nan, speeds / peak)
 
     own_figure = ax is None
     if own_figure:
@@ -142,10 +132,9 @@ def plot_mechanism(scene: Scene, result: "Result | MechanismPicture", path: str 
         drawn = bool(macro_blocks and getattr(result, "macro_blocks", ()))  # thinner under the crack
         ax.add_collection(LineCollection(lines, colors=line_colours, linewidths=0.6 if drawn else 1.2))
     if macro_blocks:
-        draw_macro_blocks(ax, scene, result, lambda i, xy: xy + scale * velocity(i, xy),
-                          {b.id: speed / peak for b, speed in zip(scene.blocks, speeds)})
+        draw_macro_blocks(ax, scene, result, motion, speeds / peak)
     if line_of_thrust:
-        draw_thrust(ax, result, lambda i, xy: xy + scale * velocity(i, xy))
+        draw_thrust(ax, result, motion)
     draw_ties(ax, scene, result)
     draw_settlements(ax, scene)
     ax.autoscale_view()
