@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test test-latest explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded bench-engine html-screenshot venv clean
+.PHONY: demo test test-latest explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded bench-engine bench-crisp html-screenshot venv clean
 
 venv: $(STAMP)
 
@@ -78,6 +78,9 @@ bench-floor: $(STAMP)
 # alma's interior point (alma.engine) against the Clarabel path: panel, walls, 108 panels.
 bench-engine: $(STAMP)
 	$(BIN)/python benchmarks/bench_engine.py --panels
+
+bench-crisp: $(STAMP)
+	$(BIN)/python benchmarks/bench_crisp.py
 
 html-screenshot: $(STAMP)
 	$(BIN)/python tools/html_screenshot.py build/html
