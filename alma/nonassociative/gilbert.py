@@ -83,9 +83,8 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
         if ratio == 0.0 and not interior:
             # Once an active set comes back (the iterates settle or cycle), its exact state usually
             # verifies: try each such set once, and stop at the first verified state.
-            open_points, slip_sign = active_set(model, points, lp.mechanism)
-            current = (open_points.tobytes(), slip_sign.tobytes(),
-                       bounded_active_set(model, points, lp.mechanism).tobytes())
+            sets = (*active_set(model, points, lp.mechanism), bounded_active_set(model, points, lp.mechanism))
+            current = tuple(part.tobytes() for part in sets)
             if current in seen and current not in tried:
                 tried.add(current)
                 state = exact_state(model, points, lp.mechanism, start, limits=work.exact_limits(tally),
