@@ -39,7 +39,9 @@ def solve(scene: Scene | Model, model: str = "associative", *, settings: Setting
         Every tuned number (:class:`alma.settings.Settings`); ``tolerance`` (the LP's),
         ``effort`` ("auto", "fast", "thorough") and ``time_limit`` (s) override its fields.
     certify
-        Non-associative models only: prove a lower bound by mixed-integer programming.
+        Non-associative models only: prove a lower bound by mixed-integer programming.  The MILP
+        is written without bounded forces: with cohesion or ties it is not run, and the result's
+        message says so (Radenkovic's bound is still reported).
     time_limit
         A user's wall-clock cap in seconds; when it cuts the work the status is
         ``limit_reached``.  Without it the answer depends on the input and settings only.
@@ -51,9 +53,6 @@ def solve(scene: Scene | Model, model: str = "associative", *, settings: Setting
         raise ValueError("certify applies to the non-associative model (the associative result is "
                          "certified by its static and kinematic bounds): use model='nonassociative' or 'both'")
     built, timings = _build(scene, joints)
-    if model != "associative" and built.n_bounded:
-        raise ValueError("cohesion and ties are solved by the associative model so far; the non-associative "
-                         "search does not take bounded forces yet (use model='associative')")
     lp = solve_lp(built, settings.associative, time_limit=settings.time_limit)
     timings.update(solve_s=lp.solve_time, certify_s=lp.certify_time)
     warned = built.joints.warnings
@@ -129,7 +128,10 @@ def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settin
     radenkovic = radenkovic_lower_bound(built, settings.associative)
     timings["radenkovic_s"] = time.perf_counter() - t0
     certificate = None
-    if certify:
+    if certify and built.n_bounded:
+        solution = dataclasses.replace(solution, message=f"{solution.message}; the MILP certification is not run: "
+                                                         "it is written without cohesion and ties")
+    elif certify:
         mechanisms = [c.mechanism for c in solution.candidates] + ([lp.mechanism] if lp.solved else [])
         best = solution.best.alpha if solution.best is not None else None
         certificate = certify_milp(built, lp.alpha, mechanisms, settings=settings.certify,

@@ -56,13 +56,15 @@ def test_no_equilibrium_and_no_collapse():
     assert alma.solve(boxed).status == "no_collapse"
 
 
-def test_cohesion_refused_by_the_nonassociative_search_only():
+def test_cohesion_solved_by_both_models_with_the_skipped_starts_named():
     scene = alma.Scene.from_dict({"cohesion": 0.1, "blocks": [
         {"id": "g", "vertices": [[-1, -1], [3, -1], [3, 0], [-1, 0]], "fixed": True},
         {"id": "b", "vertices": [[0, 0], [2, 0], [2, 1], [0, 1]]}]})
     assert alma.solve(scene).status == "optimal"
-    with pytest.raises(ValueError, match="cohesion and ties"):
-        alma.solve(scene, model="nonassociative")
+    result = alma.solve(scene, model="nonassociative", effort="thorough", certify=True)
+    assert result.status in ("optimal", "feasible")
+    assert "ipopt, milp not run" in result.message and "MILP certification is not run" in result.message
+    assert result.search["not_run"] == ["ipopt", "milp"] and result.certificate is None
 
 
 def test_large_wall_builds():

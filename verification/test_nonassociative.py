@@ -239,7 +239,8 @@ def test_closest_field_returns_a_field_that_is_already_admissible():
     # from the vertex the caps-as-bounds model returns since 2026-11-23.  The projection itself is
     # checked here at 1e-12.
     closest = ClosestField(model, points, tolerance=1e-12)
-    normal, shear = closest.solve(vertex.alpha, cap, vertex.normal)
+    normal, shear, tau = closest.solve(vertex.alpha, cap, vertex.normal)
+    assert tau.size == 0  # no cohesion, no ties
     scale = float(np.abs(vertex.normal).max())
     assert np.abs(normal - vertex.normal).max() <= 1e-6 * scale
     equilibrium = points.normal @ normal + points.tangent @ shear + model.dead + vertex.alpha * model.live
@@ -247,7 +248,7 @@ def test_closest_field_returns_a_field_that_is_already_admissible():
     assert normal.min() >= 0 and (np.abs(shear) - cap).max() <= 1e-7 * scale
     # Another target: the result is at least as close to it as the vertex is.
     target = 0.5 * vertex.normal
-    normal2, _ = closest.solve(vertex.alpha, cap, target)
+    normal2, _, _ = closest.solve(vertex.alpha, cap, target)
     assert np.linalg.norm(normal2 - target) <= np.linalg.norm(vertex.normal - target) + 1e-7 * scale
 
 

@@ -234,4 +234,4 @@ def _trivial(model: Model, status: Status, message: str, iterations: int = 0,
     return LPSolution(status=status, message=message, alpha=bound, lower=bound, upper=bound,
                       mechanism=np.zeros(3 * model.n_free), multipliers=np.zeros(4 * model.n_joints),
                       static_residual=nan, kinematic_residual=nan, iterations=iterations,
-                      solve_time=solve_time, certify_time=0.0)
+                      solve_time=solve_time, certify_time=0.0, bounded_forces=np.zeros(model.n_bounded))

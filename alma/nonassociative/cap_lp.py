@@ -3,6 +3,9 @@
     max α   s.t.  normal N + tangent T + f_0 + α f_L = 0   (Eq. 3)
                   N ≥ 0,   T − s N ≤ c,   −T − s N ≤ c       (Eq. 5 with slope s, cap c)
 
+and, with cohesion and ties, their forces G τ in the equilibrium with 0 ≤ τ ≤ capacity: the
+fictitious cohesion c = (f − s) N̄ of Gilbert's iteration adds to the real one.
+
 Between Gilbert iterations only the caps c = (f − s) N̄ change (row bounds; at
 s = 0, where |T| ≤ c is a pair of column bounds, the model has no yield rows) and,
 during the first steps, the slopes s (one coefficient per row).  HiGHS keeps
@@ -20,7 +23,7 @@ import scipy.sparse as sp
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.solvers import clarabel_settings, quiet_highs
-from alma.nonassociative.static_lps import StaticLP, failed
+from alma.nonassociative.static_lps import StaticLP, failed, with_bounded_columns
 
 #: Feasibility tolerances of the warm-started HiGHS model (absolute, dimensionless units).
 DUAL_TOLERANCE = 1e-10
@@ -50,16 +53,19 @@ class CapLP:
         self._slope_rows = (self._n + np.arange(P), self._n + P + np.arange(P))
 
     def _new_highs(self, with_yield_rows: bool) -> highspy.Highs:
-        P = self.points.count
+        P, q = self.points.count, self.model.n_bounded
         inf = highspy.kHighsInf
         A_eq, b_eq, A_ub = self.points.static_constraints(self.model, self._slope)
+        if q:
+            A_eq, A_ub = with_bounded_columns(self.model, A_eq, A_ub)
+        width = 1 + 2 * P + q
         lp = highspy.HighsLp()
-        lp.num_col_ = 1 + 2 * P
-        cost = np.zeros(1 + 2 * P)
+        lp.num_col_ = width
+        cost = np.zeros(width)
         cost[0] = -1.0
         lp.col_cost_ = cost
-        lp.col_lower_ = np.concatenate([[-inf], np.zeros(P), np.full(P, -inf)])
-        lp.col_upper_ = np.full(1 + 2 * P, inf)
+        lp.col_lower_ = np.concatenate([[-inf], np.zeros(P), np.full(P, -inf), np.zeros(q)])
+        lp.col_upper_ = np.concatenate([np.full(1 + 2 * P, inf), self.model.capacity])
         if with_yield_rows:
             A = sp.vstack([A_eq, A_ub]).tocsc()
             lp.row_lower_ = np.concatenate([b_eq, np.full(2 * P, -inf)])
@@ -74,7 +80,7 @@ class CapLP:
         lp.a_matrix_.start_ = A.indptr
         lp.a_matrix_.index_ = A.indices
         lp.a_matrix_.value_ = A.data
-        lp.a_matrix_.num_col_ = 1 + 2 * P
+        lp.a_matrix_.num_col_ = width
         lp.a_matrix_.num_row_ = A.shape[0]
         h = quiet_highs()
         # The mechanism is read from the duals: HiGHS's default dual feasibility (1e-7, absolute)
@@ -141,13 +147,17 @@ class CapLP:
         y = -np.asarray(solution.row_dual)[:self._n]  # ∂(−α)/∂b of the equilibrium rows: u with f_Lᵀu = 1
         work = float(self.model.live @ y)
         mechanism = y * (self.model.n_free / work) if work > 0 else None
+        if self.model.n_bounded:
+            return StaticLP("optimal", float(x[0]), x[1:1 + P].copy(), x[1 + P:1 + 2 * P].copy(), mechanism, pivots,
+                            np.clip(x[1 + 2 * P:], 0.0, self.model.capacity))
         return StaticLP("optimal", float(x[0]), x[1:1 + P].copy(), x[1 + P:].copy(), mechanism, pivots)
 
 
 class ClosestField:
     """Among the static fields that carry a given α, the one closest to N̄ (Eqs. 3 and 5).
 
-        min ½ ‖N − N̄‖²   s.t.  normal N + tangent T + f_0 + α f_L = 0,   N ≥ 0,   |T| ≤ cap
+        min ½ ‖N − N̄‖²   s.t.  normal N + tangent T + G τ + f_0 + α f_L = 0,   N ≥ 0,   |T| ≤ cap,
+                          0 ≤ τ ≤ capacity   (the bounded forces, when the model has them)
 
     The capped LP's optimal face is large on big panels, and a simplex vertex jumps across it
     from one Gilbert iteration to the next; the projection moves N̄ as little as the face
@@ -157,29 +167,42 @@ class ClosestField:
 
     def __init__(self, model: Model, points: ContactPoints, *, tolerance: float = 1e-10,
                  max_iter: int = 200) -> None:
-        P = points.count
+        P, k = points.count, model.n_bounded
         self.model = model
         self._P = P
         equilibrium = sp.hstack([points.normal, points.tangent]).tocsc()
         eye, zero = sp.identity(P, format="csc"), sp.csc_matrix((P, P))
-        A = sp.vstack([equilibrium, sp.hstack([-eye, zero]), sp.hstack([zero, eye]),
-                       sp.hstack([zero, -eye])]).tocsc()
-        quadratic = sp.block_diag([sp.identity(P), zero], format="csc")
+        rows = [equilibrium, sp.hstack([-eye, zero]), sp.hstack([zero, eye]), sp.hstack([zero, -eye])]
+        if k:  # τ beside (N, T): G in the equilibrium, then −τ ≤ 0 and τ ≤ capacity
+            rows = [sp.hstack([row, model.bounded if i == 0 else sp.csc_matrix((row.shape[0], k))])
+                    for i, row in enumerate(rows)]
+            eye_k = sp.identity(k, format="csc")
+            rows += [sp.hstack([sp.csc_matrix((k, 2 * P)), -eye_k]), sp.hstack([sp.csc_matrix((k, 2 * P)), eye_k])]
+        A = sp.vstack(rows).tocsc()
+        quadratic = sp.block_diag([sp.identity(P), sp.csc_matrix((P + k, P + k))], format="csc")
         self._n_eq = equilibrium.shape[0]
         # presolve off: data updates need the problem as given.
         settings = clarabel_settings(tolerance, max_iter, presolve=False)
-        self._solver = clarabel.DefaultSolver(quadratic, np.zeros(2 * P), A, self._rhs(0.0, np.zeros(P)),
-                                              [clarabel.ZeroConeT(self._n_eq), clarabel.NonnegativeConeT(3 * P)],
-                                              settings)
+        self._solver = clarabel.DefaultSolver(quadratic, np.zeros(2 * P + k), A, self._rhs(0.0, np.zeros(P)),
+                                              [clarabel.ZeroConeT(self._n_eq),
+                                               clarabel.NonnegativeConeT(3 * P + 2 * k)], settings)
 
     def _rhs(self, alpha: float, cap: np.ndarray) -> np.ndarray:
-        return np.concatenate([-self.model.dead - alpha * self.model.live, np.zeros(self._P), cap, cap])
+        k = self.model.n_bounded
+        bounds = [np.zeros(k), self.model.capacity] if k else []
+        return np.concatenate([-self.model.dead - alpha * self.model.live, np.zeros(self._P), cap, cap, *bounds])
 
-    def solve(self, alpha: float, cap: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
-        """(N, T) of the closest field, or None when the QP does not solve."""
-        self._solver.update(q=np.concatenate([-target, np.zeros(self._P)]), b=self._rhs(alpha, cap))
+    def solve(self, alpha: float, cap: np.ndarray, target: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """(N, T, τ) of the closest field (τ empty without bounded forces), or None when the QP
+        does not solve."""
+        k = self.model.n_bounded
+        self._solver.update(q=np.concatenate([-target, np.zeros(self._P + k)]), b=self._rhs(alpha, cap))
         solution = self._solver.solve()
         if str(solution.status) not in ("Solved", "AlmostSolved"):
             return None
         x = np.asarray(solution.x)
-        return np.maximum(x[:self._P], 0.0), x[self._P:].copy()
+        if k:
+            return (np.maximum(x[:self._P], 0.0), x[self._P:2 * self._P].copy(),
+                    np.clip(x[2 * self._P:], 0.0, self.model.capacity))
+        return np.maximum(x[:self._P], 0.0), x[self._P:].copy(), np.zeros(0)

@@ -2,7 +2,10 @@
 
 Coulomb's friction slope is driven to zero while the shear capacity is carried as a fictitious
 cohesion f N̄ from the previous normal forces, until N = N̄: then the sliding flow rule has no
-dilatancy and the iterate is a collapse state of Eq. 9.  Both variants spend a :class:`Work`
+dilatancy and the iterate is a collapse state of Eq. 9.  With cohesion and ties the capped LP
+carries their forces 0 ≤ τ ≤ capacity beside the points' (:mod:`alma.nonassociative.cap_lp`):
+the fictitious cohesion adds to the real one, and at N = N̄ the LP's optimality puts each τ on
+its flow rule (:mod:`alma.nonassociative.bounded`).  Both variants spend a :class:`Work`
 budget (LP solves and simplex iterations) and stop early only at the user's :class:`Cap`.
 """
 from __future__ import annotations
@@ -13,7 +16,8 @@ from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.cap_lp import CapLP, ClosestField
 from alma.nonassociative.limits import Cap, Work, no_cap
-from alma.nonassociative.states import CollapseState, Tally, active_set, exact_state, lower, verify
+from alma.nonassociative.states import (CollapseState, Tally, active_set, bounded_active_set, exact_state, lower,
+                                        verify)
 from alma.nonassociative.static_lps import StaticLP, static_lp_clarabel
 
 
@@ -24,13 +28,13 @@ def _settled(lp: StaticLP, n_bar: np.ndarray, tolerance: float) -> bool:
 
 
 def _as_state(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray, shear: np.ndarray,
-              mechanism: np.ndarray, start: str) -> CollapseState | None:
-    """The iterate itself as a verified collapse state, or None if it fails verification."""
-    residuals, ok = verify(model, points, alpha, normal, shear, mechanism)
+              mechanism: np.ndarray, start: str, bounded: np.ndarray) -> CollapseState | None:
+    """The iterate itself (``bounded``: its τ) as a verified collapse state, or None if it fails."""
+    residuals, ok = verify(model, points, alpha, normal, shear, mechanism, bounded)
     if not ok:
         return None
     return CollapseState(alpha=alpha, normal=normal, shear=shear, mechanism=mechanism, start=start,
-                         residuals=residuals, verified=True)
+                         residuals=residuals, verified=True, bounded=bounded)
 
 
 def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, start: str = "gilbert",
@@ -53,8 +57,8 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
     interior = points.count > ipm_above
     cap_lp = None if interior else CapLP(model, points, max_pivots=work.lp_pivots)
     last, best, used = None, None, 0
-    seen: set[tuple[bytes, bytes]] = set()
-    tried: set[tuple[bytes, bytes]] = set()
+    seen: set[tuple[bytes, bytes, bytes]] = set()
+    tried: set[tuple[bytes, bytes, bytes]] = set()
     for iteration in range(work.iterations):
         if cap.expired() or work.spent(tally):
             break
@@ -71,7 +75,7 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
             break
         last = lp
         if ratio == 0.0:
-            state = _as_state(model, points, lp.alpha, lp.normal, lp.shear, lp.mechanism, start)
+            state = _as_state(model, points, lp.alpha, lp.normal, lp.shear, lp.mechanism, start, lp.bounded)
             if state is not None and (best is None or state.alpha < best.alpha):
                 best = state
             if _settled(lp, n_bar, tolerance):
@@ -79,8 +83,8 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
         if ratio == 0.0 and not interior:
             # Once an active set comes back (the iterates settle or cycle), its exact state usually
             # verifies: try each such set once, and stop at the first verified state.
-            open_points, slip_sign = active_set(model, points, lp.mechanism)
-            current = (open_points.tobytes(), slip_sign.tobytes())
+            sets = (*active_set(model, points, lp.mechanism), bounded_active_set(model, points, lp.mechanism))
+            current = tuple(part.tobytes() for part in sets)
             if current in seen and current not in tried:
                 tried.add(current)
                 state = exact_state(model, points, lp.mechanism, start, limits=work.exact_limits(tally),
@@ -153,15 +157,15 @@ def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.nd
         used += 1
         if lp.status != "optimal" or lp.mechanism is None:
             break
-        normal, shear = lp.normal, lp.shear
+        normal, shear, tau = lp.normal, lp.shear, lp.bounded
         if plain_left == 0:
             closest = closest or ClosestField(model, points, max_iter=work.interior_iterations)
             # α* less a hair: the face at α* exactly is only feasible to the LP's tolerance.
             nearest = closest.solve(lp.alpha - 1e-9 * max(1.0, abs(lp.alpha)), f * n_bar, n_bar)
             if nearest is None:
                 break
-            normal, shear = nearest
-        best = _as_state(model, points, lp.alpha, normal, shear, lp.mechanism, start)
+            normal, shear, tau = nearest
+        best = _as_state(model, points, lp.alpha, normal, shear, lp.mechanism, start, tau)
         if best is not None:
             break
         step = normal - n_bar

@@ -5,6 +5,16 @@ mechanism u (f_Lᵀu > 0) such that equilibrium holds (Eq. 3), forces are admiss
 N ≥ 0, |T| ≤ f N), the mechanism is compatible (Eq. 2) with no interpenetration, an open point
 carries no force (N ξ = 0) and a slipping point has its friction fully mobilised against the
 slip (T = −f N sign γ; Eqs. 6–7 without dilatancy).  Then α f_Lᵀu = −f_0ᵀu + Σ f N |γ|.
+
+With cohesion and ties the equilibrium gains their forces, points.normal N + points.tangent T +
+G τ + f_0 + α f_L = 0 with 0 ≤ τ ≤ capacity; a cohesive joint's yield |T_joint| ≤ f N_joint +
+c l t is the point generators plus its two bounded shear columns.  A slipping joint has its
+cohesive shear at the bound against the slip and its point shears at −s f N; a joint that opens
+or hinges without slip leaves the cohesive shear free within its bounds; a tie that elongates
+pulls with its strength, one that shortens is slack (:mod:`alma.nonassociative.bounded`).  The
+energy balance becomes α f_Lᵀu = −f_0ᵀu + Σ f N |γ| + Σ c l t |γ_joint| + Σ strength ·
+max(0, elongation rate).  The active set of a state then has a third part, the bounded columns'
+signs, fixed in the static LP (τ at capacity, at 0, or free) and in the kinematic LP alike.
 """
 from __future__ import annotations
 
@@ -14,6 +24,7 @@ import numpy as np
 
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
+from alma.nonassociative import bounded as bf
 from alma.nonassociative.static_lps import (LP_METHOD, StaticLP, fixed_set_static_interior, kinematic_lp,
                                             static_lp)
 
@@ -37,6 +48,8 @@ class CollapseState:
     start: str
     residuals: dict[str, float] = field(default_factory=dict)
     verified: bool = False
+    #: τ of the bounded forces (cohesion, ties), 0 ≤ τ ≤ capacity; empty without them.
+    bounded: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 @dataclass
@@ -83,6 +96,22 @@ def active_set(model: Model, points: ContactPoints, mechanism: np.ndarray, *,
     return open_points, slip_sign
 
 
+def bounded_active_set(model: Model, points: ContactPoints, mechanism: np.ndarray) -> np.ndarray:
+    """Signs of the bounded columns' rates d = −Gᵀu (:mod:`alma.nonassociative.bounded`), read
+    to the threshold of :func:`active_set` (relative to the largest opening, slip or rate)."""
+    if not model.n_bounded:
+        return np.zeros(0)
+    d = bf.rates(model, mechanism)
+    scale = max(float(np.abs(points.normal.T @ mechanism).max(initial=0.0)),
+                float(np.abs(points.tangent.T @ mechanism).max(initial=0.0)), float(np.abs(d).max(initial=0.0)), 1e-300)
+    return bf.rate_signs(model, mechanism, ACTIVE_TOLERANCE * scale)
+
+
+def _allowed(signs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The rates a bounded active set allows (+1: d ≥ 0, −1: d ≤ 0, 0: d = 0)."""
+    return signs > 0, signs < 0
+
+
 def force_active_set(points: ContactPoints, normal: np.ndarray, shear: np.ndarray,
                      tolerance: float = 1e-9) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The most permissive mechanism set a force field allows (complementarity of Eq. 7).
@@ -102,32 +131,50 @@ def force_active_set(points: ContactPoints, normal: np.ndarray, shear: np.ndarra
 
 
 def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray, shear: np.ndarray,
-           mechanism: np.ndarray) -> tuple[dict[str, float], bool]:
-    """Residuals of a collapse state (Eqs. 2, 3, 5, 7 and the energy balance) and whether all pass."""
-    force_scale = max(1.0, float(np.abs(normal).max(initial=0.0)))
-    equilibrium = float(np.abs(points.normal @ normal + points.tangent @ shear + model.dead
-                               + alpha * model.live).max(initial=0.0))
+           mechanism: np.ndarray, bounded: np.ndarray | None = None) -> tuple[dict[str, float], bool]:
+    """Residuals of a collapse state (Eqs. 2, 3, 5, 7 and the energy balance) and whether all pass.
+
+    ``bounded``: τ of the model's bounded forces (required when it has them); their equilibrium,
+    bounds, flow rule and dissipation are checked with the rest (module docstring), and the
+    residuals gain ``bounded_not_mobilised``.
+    """
+    q = model.n_bounded
+    tau = np.zeros(0) if bounded is None else np.asarray(bounded, dtype=float)
+    if tau.shape != (q,):
+        raise ValueError(f"verify: {q} bounded forces expected (cohesion, ties), got {tau.shape[0]}")
+    force_scale = max(1.0, float(np.abs(normal).max(initial=0.0)), float(tau.max(initial=0.0)))
+    balance = points.normal @ normal + points.tangent @ shear + model.dead + alpha * model.live
+    if q:
+        balance = balance + model.bounded @ tau
+    equilibrium = float(np.abs(balance).max(initial=0.0))
     yield_violation = float(max(np.maximum(-normal, 0).max(initial=0.0),
                                 np.maximum(np.abs(shear) - points.friction * normal, 0).max(initial=0.0)))
     work = float(model.live @ mechanism)
     u = mechanism * (model.n_free / work) if work > 0 else mechanism
     opening = points.normal.T @ u
     slip = points.tangent.T @ u
-    vel_scale = max(float(np.abs(opening).max(initial=0.0)), float(np.abs(slip).max(initial=0.0)), 1e-300)
+    vel_scale = max(float(np.abs(opening).max(initial=0.0)), float(np.abs(slip).max(initial=0.0)),
+                    float(np.abs(bf.rates(model, u)).max(initial=0.0)), 1e-300)
     penetration = float(np.maximum(-opening, 0).max(initial=0.0)) / vel_scale
     open_force = float((np.maximum(normal, 0) * np.maximum(opening, 0)).max(initial=0.0)) / (force_scale * vel_scale)
     # friction fully mobilised against the slip: f N |γ| + T γ = 0
     slip_gap = float(np.abs(points.friction * np.maximum(normal, 0) * np.abs(slip) + shear * slip).max(initial=0.0)) \
         / (force_scale * vel_scale)
     dissipation = float(np.sum(points.friction * np.maximum(normal, 0) * np.abs(slip)))
+    bounded_gap = 0.0
+    if q:
+        bounded_yield, bounded_gap, bounded_work = bf.residuals(model, tau, u, force_scale, vel_scale)
+        yield_violation, dissipation = max(yield_violation, bounded_yield), dissipation + bounded_work
     energy = abs(alpha * (model.live @ u) + model.dead @ u - dissipation) / max(1.0, abs(model.dead @ u), dissipation)
     residuals = {"equilibrium": equilibrium / force_scale, "yield": yield_violation / force_scale,
                  "interpenetration": penetration, "open_with_force": open_force, "slip_not_mobilised": slip_gap,
                  "energy_balance": float(energy), "live_load_work": work}
+    if q:
+        residuals["bounded_not_mobilised"] = bounded_gap
     ok = (work > 0 and residuals["equilibrium"] <= EQUILIBRIUM_TOLERANCE
           and residuals["yield"] <= YIELD_TOLERANCE
           and penetration <= KINEMATIC_TOLERANCE and open_force <= KINEMATIC_TOLERANCE
-          and slip_gap <= KINEMATIC_TOLERANCE and energy <= ENERGY_TOLERANCE)
+          and slip_gap <= KINEMATIC_TOLERANCE and bounded_gap <= KINEMATIC_TOLERANCE and energy <= ENERGY_TOLERANCE)
     return residuals, bool(ok)
 
 
@@ -139,10 +186,16 @@ def lower(state: CollapseState | None, other: CollapseState | None) -> CollapseS
 
 
 def _fixed_set_field(model: Model, points: ContactPoints, open_points: np.ndarray, slip_sign: np.ndarray,
-                     method: str, limits: ExactLimits, tally: Tally) -> StaticLP:
-    """The smallest α with the active set fixed: a HiGHS vertex, or Clarabel's interior field."""
+                     signs: np.ndarray, method: str, limits: ExactLimits, tally: Tally) -> StaticLP:
+    """The smallest α with the active set fixed: a HiGHS vertex, or Clarabel's interior field.
+
+    Clarabel's field is written on the cone generators only; with bounded forces (``signs``, the
+    bounded columns' set) HiGHS's interior point with crossover takes its place."""
     coulomb = dict(slope=points.friction, cap=np.zeros(points.count), maximise=False,
                    open_points=open_points, slip_sign=slip_sign)
+    if model.n_bounded:
+        coulomb["bounded_signs"] = signs
+        method = "highs-ipm" if method == "clarabel" else method
     if method != "clarabel":
         lp = static_lp(model, points, **coulomb, max_pivots=limits.lp_pivots, method=method)
         tally.add(lp.pivots)
@@ -157,11 +210,12 @@ def _fixed_set_field(model: Model, points: ContactPoints, open_points: np.ndarra
 
 
 def _vertex(model: Model, points: ContactPoints, open_points: np.ndarray, slip_sign: np.ndarray,
-            limits: ExactLimits, tally: Tally) -> StaticLP:
+            signs: np.ndarray, limits: ExactLimits, tally: Tally) -> StaticLP:
     """A simplex vertex of the fixed-set static LP (its widest set is read from it)."""
+    extra = {"bounded_signs": signs} if model.n_bounded else {}
     lp = static_lp(model, points, slope=points.friction, cap=np.zeros(points.count), maximise=False,
                    open_points=open_points, slip_sign=slip_sign,
-                   max_pivots=min(limits.lp_pivots, limits.vertex_pivots), method="highs")
+                   max_pivots=min(limits.lp_pivots, limits.vertex_pivots), method="highs", **extra)
     tally.add(lp.pivots)
     return lp
 
@@ -179,7 +233,8 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
     the static field allows (:func:`force_active_set`); failing that, the candidate's own
     mechanism is verified.  ``method``: a HiGHS method of ``scipy.optimize.linprog`` for the
     static LP (a vertex), or ``"clarabel"`` (:func:`fixed_set_static_interior`; then, when no
-    mechanism has exactly the set, a HiGHS simplex vertex gives the widest set).
+    mechanism has exactly the set, a HiGHS simplex vertex gives the widest set).  With bounded
+    forces their columns' signs (:func:`bounded_active_set`) are part of the set, in both LPs.
     """
     tally = Tally() if tally is None else tally
     work = float(model.live @ mechanism)
@@ -187,22 +242,27 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
         return None
     mechanism = mechanism * (model.n_free / work)
     open_points, slip_sign = active_set(model, points, mechanism, dilatant=dilatant)
-    lp = _fixed_set_field(model, points, open_points, slip_sign, method, limits, tally)
+    signs = bounded_active_set(model, points, mechanism)
+    lp = _fixed_set_field(model, points, open_points, slip_sign, signs, method, limits, tally)
     if lp.status != "optimal":
         return None
-    clean, pivots = kinematic_lp(model, points, open_points, slip_sign, max_pivots=limits.lp_pivots)
+    clean, pivots = kinematic_lp(model, points, open_points, slip_sign, max_pivots=limits.lp_pivots,
+                                 bounded_allowed=_allowed(signs))
     tally.add(pivots)
-    if clean is None and method == "clarabel":
+    if clean is None and method == "clarabel" and not model.n_bounded:
         # Clarabel's field lies inside the optimal face, where fewest points are unloaded or at
         # the friction limit; the widest set is read from a simplex vertex instead.
-        vertex = _vertex(model, points, open_points, slip_sign, limits, tally)
+        vertex = _vertex(model, points, open_points, slip_sign, signs, limits, tally)
         if vertex.status == "optimal":
             lp = vertex
     if clean is None:
         # No mechanism has exactly the candidate's set: take the widest set the static field
-        # allows (open and free slip where N = 0, slip where friction is at its limit).
+        # allows (open and free slip where N = 0, slip where friction is at its limit, bounded
+        # rates of either sign where their force is at a bound).
         may_open, may_slip, free = force_active_set(points, lp.normal, lp.shear)
-        clean, pivots = kinematic_lp(model, points, may_open, may_slip, free_slip=free, max_pivots=limits.lp_pivots)
+        allowed = bf.force_signs(model, lp.bounded, 1e-9 * max(1.0, float(np.abs(lp.normal).max(initial=0.0))))
+        clean, pivots = kinematic_lp(model, points, may_open, may_slip, free_slip=free, max_pivots=limits.lp_pivots,
+                                     bounded_allowed=allowed)
         tally.add(pivots)
     return _verified_pair(model, points, lp, clean, mechanism, start, dilatant)
 
@@ -214,9 +274,9 @@ def _verified_pair(model: Model, points: ContactPoints, lp: StaticLP, clean: np.
     for u in ((clean, mechanism) if clean is not None else (mechanism,)):
         if dilatant and u is mechanism:
             continue  # an associative mechanism opens where it slips: never a non-associative state
-        residuals, ok = verify(model, points, lp.alpha, lp.normal, lp.shear, u)
+        residuals, ok = verify(model, points, lp.alpha, lp.normal, lp.shear, u, lp.bounded)
         state = CollapseState(alpha=lp.alpha, normal=lp.normal, shear=lp.shear, mechanism=u, start=start,
-                              residuals=residuals, verified=ok)
+                              residuals=residuals, verified=ok, bounded=lp.bounded)
         if best is None or (ok and not best.verified):
             best = state
         if ok:
@@ -233,7 +293,11 @@ def fast_exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray,
     interior point of :func:`fixed_set_static_interior` serves as well as a vertex and is far
     cheaper on large panels.  A vertex is needed when the widest set of the field has to be read
     (see :func:`exact_state`) or when the interior field's round-off fails the verification.
+    With bounded forces the static LP is HiGHS's interior point with crossover (a vertex) at once.
     """
+    if model.n_bounded:
+        return exact_state(model, points, mechanism, start, dilatant=dilatant, method="highs-ipm", limits=limits,
+                           tally=tally)
     state = exact_state(model, points, mechanism, start, dilatant=dilatant, method="clarabel", limits=limits,
                         tally=tally)
     if state is not None and not state.verified:

@@ -3,10 +3,14 @@
 Every LP here is bounded by an iteration count (HiGHS's simplex iterations through
 ``scipy.optimize.linprog``'s ``maxiter``, Clarabel's ``max_iter``): a stalled LP counts as
 a failed attempt after the same work on every machine.
+
+With bounded forces (cohesion, ties: :mod:`alma.nonassociative.bounded`) the static LPs gain
+their columns G and forces 0 ≤ τ ≤ capacity (within an active set's bounds), and the kinematic
+LP their rates' rows; a scene without them builds exactly the LPs it always did.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import clarabel
 import numpy as np
@@ -15,6 +19,7 @@ from scipy.optimize import linprog
 
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
+from alma.nonassociative import bounded as bf
 from alma.nonassociative.solvers import clarabel_settings
 from alma.settings import AssociativeSettings
 
@@ -32,11 +37,21 @@ class StaticLP:
     shear: np.ndarray
     mechanism: np.ndarray | None  # f_Lᵀu = n_free
     pivots: int = 0  # simplex (or interior-point) iterations spent
+    #: τ of the bounded forces (cohesion, ties), 0 ≤ τ ≤ capacity; empty without them.
+    bounded: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 def failed(status: str, count: int, pivots: int = 0, alpha: float = np.nan) -> StaticLP:
     """A StaticLP without a field (unbounded, infeasible or error)."""
     return StaticLP(status, alpha, np.zeros(count), np.zeros(count), None, pivots)
+
+
+def with_bounded_columns(model: Model, A_eq: sp.csr_matrix, A_ub: sp.csr_matrix
+                         ) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """The rows over x = (α, N, T) extended to x = (α, N, T, τ): G in equilibrium, τ nowhere else."""
+    q = model.n_bounded
+    return (sp.hstack([A_eq, model.bounded]).tocsr(),
+            sp.hstack([A_ub, sp.csr_matrix((A_ub.shape[0], q))]).tocsr())
 
 
 def _fixed_set_rows(points: ContactPoints, width: int, slip_sign: np.ndarray) -> sp.csr_matrix:
@@ -52,7 +67,7 @@ def _fixed_set_rows(points: ContactPoints, width: int, slip_sign: np.ndarray) ->
 def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np.ndarray,
               maximise: bool = True, open_points: np.ndarray | None = None,
               slip_sign: np.ndarray | None = None, max_pivots: int = 200_000,
-              method: str = LP_METHOD) -> StaticLP:
+              method: str = LP_METHOD, bounded_signs: np.ndarray | None = None) -> StaticLP:
     """The static problem on contact points (Eqs. 3 and 5), solved with HiGHS.
 
     Yield: |T_p| ≤ slope_p N_p + cap_p (Coulomb: slope = f, cap = 0; Gilbert: slope
@@ -60,21 +75,28 @@ def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np
     T_p = −slip_sign_p f_p N_p where ``slip_sign`` ≠ 0.  Variables (α, N, T), forces in
     mean block weights; the mechanism is read from the equality duals (f_Lᵀu = n_free).
     ``method``: the ``scipy.optimize.linprog`` HiGHS method; ``max_pivots``: its iteration cap.
+    Bounded forces τ (if the model has them) lie in 0 ≤ τ ≤ capacity, or in the bounds of the
+    active set ``bounded_signs`` (:func:`alma.nonassociative.bounded.force_bounds`).
     """
     P = points.count
+    q = model.n_bounded
     n = model.dead.shape[0]
     A_eq, b_eq, A_ub = points.static_constraints(model, slope)
-    bounds = np.zeros((1 + 2 * P, 2))
+    if q:
+        A_eq, A_ub = with_bounded_columns(model, A_eq, A_ub)
+    bounds = np.zeros((1 + 2 * P + q, 2))
     bounds[0] = (-np.inf, np.inf)
     bounds[1:1 + P] = (0, np.inf)
-    bounds[1 + P:] = (-np.inf, np.inf)
+    bounds[1 + P:1 + 2 * P] = (-np.inf, np.inf)
+    if q:
+        bounds[1 + 2 * P:, 0], bounds[1 + 2 * P:, 1] = bf.force_bounds(model, bounded_signs)
     if open_points is not None and open_points.any():
         bounds[1 + np.flatnonzero(open_points), 1] = 0.0
     if slip_sign is not None and np.any(slip_sign != 0):
-        extra = _fixed_set_rows(points, 1 + 2 * P, slip_sign)
+        extra = _fixed_set_rows(points, 1 + 2 * P + q, slip_sign)
         A_eq = sp.vstack([A_eq, extra]).tocsr()
         b_eq = np.concatenate([b_eq, np.zeros(extra.shape[0])])
-    c = np.zeros(1 + 2 * P)
+    c = np.zeros(1 + 2 * P + q)
     c[0] = -1.0 if maximise else 1.0
     res = linprog(c, A_ub=A_ub, b_ub=np.concatenate([cap, cap]), A_eq=A_eq, b_eq=b_eq, bounds=bounds,
                   method=method, options={"maxiter": int(max_pivots)})
@@ -92,6 +114,9 @@ def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np
         if work > 0:
             mechanism = y * (model.n_free / work)
     x = res.x
+    if q:
+        return StaticLP("optimal", float(x[0]), x[1:1 + P], x[1 + P:1 + 2 * P], mechanism, pivots,
+                        np.clip(x[1 + 2 * P:], bounds[1 + 2 * P:, 0], bounds[1 + 2 * P:, 1]))
     return StaticLP("optimal", float(x[0]), x[1:1 + P], x[1 + P:], mechanism, pivots)
 
 
@@ -148,17 +173,25 @@ def static_lp_clarabel(model: Model, points: ContactPoints, *, slope: np.ndarray
     one (a blend on degenerate faces), so states built from it are always passed
     through :func:`alma.nonassociative.states.exact_state` before they count.
     """
-    P = points.count
+    P, k = points.count, model.n_bounded
     n = model.dead.shape[0]
     A_eq, b_eq, A_ub = points.static_constraints(model, slope)
     non_negative = sp.hstack([sp.csr_matrix((P, 1)), -sp.identity(P), sp.csr_matrix((P, P))])  # −N ≤ 0
-    A = sp.vstack([A_eq, A_ub, non_negative]).tocsc()
-    b = np.concatenate([b_eq, cap, cap, np.zeros(P)])
-    q = np.zeros(1 + 2 * P)
+    rows, rhs = [A_eq, A_ub, non_negative], [b_eq, cap, cap, np.zeros(P)]
+    if k:  # 0 ≤ τ ≤ capacity
+        A_eq, A_ub = with_bounded_columns(model, A_eq, A_ub)
+        eye = sp.identity(k, format="csr")
+        rows = [A_eq, A_ub, sp.hstack([non_negative, sp.csr_matrix((P, k))]),
+                sp.hstack([sp.csr_matrix((k, 1 + 2 * P)), -eye]), sp.hstack([sp.csr_matrix((k, 1 + 2 * P)), eye])]
+        rhs += [np.zeros(k), model.capacity]
+    A = sp.vstack(rows).tocsc()
+    b = np.concatenate(rhs)
+    width = 1 + 2 * P + k
+    q = np.zeros(width)
     q[0] = -1.0
     settings = clarabel_settings(tolerance, max_iter, qdldl=False)
-    sol = clarabel.DefaultSolver(sp.csc_matrix((1 + 2 * P, 1 + 2 * P)), q, A, b,
-                                 [clarabel.ZeroConeT(n), clarabel.NonnegativeConeT(3 * P)], settings).solve()
+    sol = clarabel.DefaultSolver(sp.csc_matrix((width, width)), q, A, b,
+                                 [clarabel.ZeroConeT(n), clarabel.NonnegativeConeT(3 * P + 2 * k)], settings).solve()
     status, used = str(sol.status), int(sol.iterations)
     if status == "DualInfeasible":
         return failed("unbounded", P, used, np.inf)
@@ -170,18 +203,23 @@ def static_lp_clarabel(model: Model, points: ContactPoints, *, slope: np.ndarray
     y = np.asarray(sol.z)[:n]  # equality duals: the mechanism, up to sign and scale
     work = model.live @ y
     mechanism = y * (model.n_free / work) if work > 0 else None
+    if k:
+        return StaticLP("optimal", float(x[0]), np.maximum(x[1:1 + P], 0.0), x[1 + P:1 + 2 * P], mechanism, used,
+                        np.clip(x[1 + 2 * P:], 0.0, model.capacity))
     return StaticLP("optimal", float(x[0]), np.maximum(x[1:1 + P], 0.0), x[1 + P:], mechanism, used)
 
 
 def kinematic_lp(model: Model, points: ContactPoints, open_points: np.ndarray, slip_sign: np.ndarray,
-                 *, max_pivots: int = 200_000,
-                 free_slip: np.ndarray | None = None) -> tuple[np.ndarray | None, int]:
+                 *, max_pivots: int = 200_000, free_slip: np.ndarray | None = None,
+                 bounded_allowed: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray | None, int]:
     """A mechanism with a prescribed active set (Eq. 2), or None; and the simplex iterations spent.
 
     Closed points do not open (ξ = 0), open points do not interpenetrate (ξ ≥ 0),
     sticking points do not slip (γ = 0), slipping points slip only in their sign's
     direction (s γ ≥ 0); f_Lᵀu = n_free.  Any such u complements every force field of
     the same active set, so it removes the round-off of the candidate's small velocities.
+    ``bounded_allowed``: (may_grow, may_shrink) of each bounded column's rate d = −Gᵀu
+    (:func:`alma.nonassociative.bounded.kinematic_rows`); required when the model has bounded forces.
     """
     closed = ~open_points
     free = np.zeros(points.count, dtype=bool) if free_slip is None else free_slip
@@ -195,6 +233,10 @@ def kinematic_lp(model: Model, points: ContactPoints, open_points: np.ndarray, s
     b_eq[0] = float(model.n_free)
     A_ub = sp.vstack([-normal_t[np.flatnonzero(open_points)],
                       -sp.diags(slip_sign[slipping]) @ tangent_t[np.flatnonzero(slipping)]]).tocsr()
+    if model.n_bounded:
+        equal, below = bf.kinematic_rows(model, *bounded_allowed)
+        A_eq, A_ub = sp.vstack([A_eq, equal]).tocsr(), sp.vstack([A_ub, below]).tocsr()
+        b_eq = np.concatenate([b_eq, np.zeros(equal.shape[0])])
     rows = A_ub.shape[0]
     res = linprog(np.zeros(model.dead.shape[0]), A_ub=A_ub if rows else None, b_ub=np.zeros(rows) if rows else None,
                   A_eq=A_eq, b_eq=b_eq, bounds=(None, None), method=LP_METHOD, options={"maxiter": int(max_pivots)})

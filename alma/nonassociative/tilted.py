@@ -6,7 +6,10 @@ on a tilting table.  A collapse state (N, T, u, α') of the turned problem is on
 with α = (s + c α') / (c − s α') = tan(θ + atan α') and forces divided by c − s α' > 0 (the
 cohesionless yield domain is a cone).  The associative LP and Gilbert's iteration end on other
 active sets in the turned problem, so its states are new starts: LACT³'s Portal reaches states
-25 % below the horizontal posing's best this way (issue 20).  Dimensionless, as
+25 % below the horizontal posing's best this way (issue 20).  With cohesion and ties the yield
+domain is no cone (their capacities do not scale with the forces), so the turned state's
+mechanism is made an exact state of the original problem instead (:func:`exact_state`, verified
+there).  Dimensionless, as
 :mod:`alma.mechanics.model`.
 """
 from __future__ import annotations
@@ -22,7 +25,7 @@ from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.gilbert import gilbert
 from alma.nonassociative.limits import Work
-from alma.nonassociative.states import CollapseState, Tally, verify
+from alma.nonassociative.states import CollapseState, Tally, exact_state, verify
 from alma.status import Status
 
 
@@ -79,4 +82,7 @@ class TiltStart:
                                 ipm_above=self.ipm_above, work=self.work, cap=ctx.cap, tally=tally)
         if state is None or not state.verified:
             return None, solves + 1
+        if ctx.model.n_bounded:
+            return exact_state(ctx.model, ctx.points, state.mechanism, self.name, limits=self.work.exact_limits(tally),
+                               method=self.work.exact_method, tally=tally), solves + 1
         return mapped_back(ctx.model, ctx.points, state, self.degrees, self.name), solves + 1

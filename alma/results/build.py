@@ -62,13 +62,18 @@ def nonassociative_result(model: Model, associative: AssociativeResult, solution
             blocks=blocks, joints=joints, mechanism_class=klass, residuals={}, timings=dict(timings),
             n_blocks=model.n_free, n_joints=model.n_joints, associative=associative, **record)
     status, message, lower = _verified(associative, solution, best, lower, radenkovic)
-    blocks, joints, klass = physical(model, best.mechanism / model.n_free, best.normal, best.shear, True)
+    shear, ties = best.shear, ()
+    if model.n_bounded:  # the joints' shear with their cohesive part, and the ties' forces
+        cohesive_shear, ties = bounded_forces(model, best.bounded, best.mechanism / model.n_free)
+        shear = shear + cohesive_shear
+    blocks, joints, klass = physical(model, best.mechanism / model.n_free, best.normal, shear, True)
     return NonAssociativeResult(
         model="nonassociative", status=status, message=message, alpha=best.alpha,
         bounds=Bounds(lower=lower, upper=best.alpha), alpha_associative=associative.alpha, blocks=blocks,
         joints=joints, mechanism_class=klass, residuals=dict(best.residuals), timings=dict(timings),
         macro_blocks=describe(model, best.mechanism / model.n_free)[0],
-        n_blocks=model.n_free, n_joints=model.n_joints, associative=associative, start=best.start, **record)
+        n_blocks=model.n_free, n_joints=model.n_joints, associative=associative, start=best.start, ties=ties,
+        **record)
 
 
 def comparison(associative: AssociativeResult, nonassociative: NonAssociativeResult) -> Comparison:
@@ -117,6 +122,8 @@ def _record(solution: Any, certificate: Any) -> dict[str, Any]:
     search = {"stopped_by_limit": _stopped(solution),
               "skipped": list(getattr(solution, "skipped", ()) or ()),
               "work": {k: v for k, v in getattr(solution, "work", {}).items()}}
+    if getattr(solution, "not_run", ()):
+        search["not_run"] = list(solution.not_run)  # starts that cannot take cohesion and ties
     cert = None
     if certificate is not None:
         cert = {"status": certificate.status, "message": certificate.message, "lower": certificate.lower,

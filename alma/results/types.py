@@ -168,6 +168,8 @@ class NonAssociativeResult(Result):
     search: dict[str, Any] = field(default_factory=dict)
     certificate: dict[str, Any] | None = None
     associative: AssociativeResult | None = None
+    #: Each tie's id, force (kN) and elongation rate in the collapse state (as the associative's).
+    ties: tuple[dict[str, Any], ...] = ()
 
     @property
     def extra(self) -> dict[str, Any]:
@@ -175,6 +177,8 @@ class NonAssociativeResult(Result):
                "starts": list(self.starts), "search": dict(self.search)}
         if self.certificate is not None:
             out["certificate"] = dict(self.certificate)
+        if self.ties:
+            out["ties"] = [dict(t) for t in self.ties]
         return out
 
 
