@@ -39,7 +39,8 @@ def register(subparsers: Any) -> None:
                         "(alma must be installed on its workers)")
     p.add_argument("--design", default=None, metavar="FILE",
                    help="TOML or JSON file of factor levels (panel_ratio, block_ratio, bond, "
-                        "friction); default: the paper's Table 1")
+                        "friction, and chain: strengths in kN of a chain across the top course, "
+                        "with chain_height and chain_anchored); default: the paper's Table 1")
     p.add_argument("--retry-errors", action="store_true",
                    help="solve again the panels whose stored status is 'error'")
     p.add_argument("--quiet", action="store_true", help="no progress bar")

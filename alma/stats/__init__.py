@@ -6,12 +6,14 @@ it needs matplotlib) draws Figures 5 to 10.
 """
 
 from alma.stats.anova import (
+    CHAIN_FACTOR,
     FACTOR_LEVELS,
     FACTORS,
     RESULT_COLUMNS,
     AnovaResult,
     AnovaRow,
     anova,
+    default_factors,
     fit_model,
     load_results,
     press_balanced,
@@ -22,6 +24,7 @@ from alma.stats.anova import (
 from alma.stats.effects import StandardizedEffect, TukeyComparison, TukeyResult, equivalent_t, pareto_reference, standardized_effects, tukey_bond
 
 __all__ = [
+    "CHAIN_FACTOR",
     "FACTOR_LEVELS",
     "FACTORS",
     "RESULT_COLUMNS",
@@ -31,6 +34,7 @@ __all__ = [
     "TukeyComparison",
     "TukeyResult",
     "anova",
+    "default_factors",
     "equivalent_t",
     "fit_model",
     "load_results",

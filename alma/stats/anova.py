@@ -4,7 +4,9 @@ The study is a single-replicate general full factorial: panel ratio (3 levels) x
 (3) x bond type (4) x friction (3) = 108 panels (paper, Table 1 and Appendix B, Table 5).
 The paper fits main effects plus all two-way interactions with Minitab and pools the higher
 order interactions into the error term (Appendix A, Table 4: DoF_Error = DoF_Total -
-DoF_Model = 107 - 39 = 68).
+DoF_Model = 107 - 39 = 68).  A study with a retrofitting chain (``alma doe --design``, column
+``chain``, strength in kN) has it as a fifth factor, ``Chain``, with its interactions like the
+others'; results without it, or with a single chain level, give the four-factor table.
 
 Everything here is plain data in, frozen dataclasses out; no plotting (see ``figures.py``).
 """
@@ -30,6 +32,7 @@ from alma.stats.results import _GROUP_NAMES, AnovaResult, AnovaRow
 __all__ = [
     "AnovaRow",
     "AnovaResult",
+    "CHAIN_FACTOR",
     "FACTORS",
     "FACTOR_LEVELS",
     "RESULT_COLUMNS",
@@ -61,6 +64,12 @@ FACTOR_LEVELS: dict[str, tuple[Any, ...]] = {
     "bond": ("running", "flemish", "english", "stack"),
     "friction": FRICTIONS,
 }
+
+#: The factor a design file may add (a chain across the top course, kN): not one of Table 1.
+CHAIN_FACTOR: tuple[str, str] = ("chain", "Chain")
+_ALL_FACTORS: tuple[tuple[str, str], ...] = (*FACTORS, CHAIN_FACTOR)
+#: Numeric factors: categorical levels written from their values.
+_NUMERIC_FACTORS = ("Friction", "Chain")
 
 RESULT_COLUMNS: tuple[str, ...] = ("panel_ratio", "block_ratio", "bond", "friction", "alpha_c")
 
@@ -111,12 +120,13 @@ def load_results(path: str | PathLike[str]) -> pd.DataFrame:
                 f"allowed: {', '.join(map(str, allowed))}"
             )
         df[col] = values.astype(str)
-    for col in ("friction", "alpha_c"):
+    numeric = ("friction", "alpha_c", "chain") if "chain" in df.columns else ("friction", "alpha_c")
+    for col in numeric:
         num = pd.to_numeric(df[col], errors="coerce")
         bad = ~np.isfinite(num.to_numpy(dtype=float)) | (num.to_numpy(dtype=float) < 0)
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
-            what = "bad level" if col == "friction" else "bad value"
+            what = "bad value" if col == "alpha_c" else "bad level"
             raise ValueError(
                 f"{path}: {what} {raw[col].iloc[i]!r} in column {col!r} (row {i + 1}); "
                 "expected a finite, non-negative number"
@@ -131,14 +141,15 @@ def load_results(path: str | PathLike[str]) -> pd.DataFrame:
 
 
 def _factor_pairs(factors: Sequence[str] | None) -> list[tuple[str, str]]:
-    """(column, source name) of the chosen factor columns, in Table 1 order (all by default)."""
+    """(column, source name) of the chosen factor columns, in Table 1 order, the chain last
+    (the four of Table 1 by default)."""
     if factors is None:
         return list(FACTORS)
-    known = {col for col, _ in FACTORS}
+    known = {col for col, _ in _ALL_FACTORS}
     unknown = [f for f in factors if f not in known]
     if unknown:
         raise ValueError(f"unknown factor {unknown[0]!r}; factors are {', '.join(sorted(known))}")
-    chosen = [(col, name) for col, name in FACTORS if col in set(factors)]
+    chosen = [(col, name) for col, name in _ALL_FACTORS if col in set(factors)]
     if not chosen:
         raise ValueError("at least one factor is needed")
     return chosen
@@ -146,7 +157,15 @@ def _factor_pairs(factors: Sequence[str] | None) -> list[tuple[str, str]]:
 
 def varying_factors(df: pd.DataFrame) -> list[str]:
     """Factor columns of ``df`` with at least two levels (a sub-design may fix some factors)."""
-    return [col for col, _ in FACTORS if col in df.columns and df[col].nunique() >= 2]
+    return [col for col, _ in _ALL_FACTORS if col in df.columns and df[col].nunique() >= 2]
+
+
+def default_factors(df: pd.DataFrame) -> list[str]:
+    """The four factors of Table 1, and the chain when ``df`` has several chain levels."""
+    cols = [col for col, _ in FACTORS]
+    if CHAIN_FACTOR[0] in df.columns and df[CHAIN_FACTOR[0]].nunique() >= 2:
+        cols.append(CHAIN_FACTOR[0])
+    return cols
 
 
 def _sources(order: int, factors: Sequence[str] | None = None) -> list[tuple[str, ...]]:
@@ -177,9 +196,10 @@ def _prepare(df: pd.DataFrame, response: str, factors: Sequence[str] | None = No
             raise ValueError(f"column {col!r} has missing values")
         if data[name].nunique() < 2:
             raise ValueError(f"column {col!r} has a single level; it cannot be a factor")
-    # Friction is a factor (3 levels), not a covariate: make it categorical explicitly.
-    if "Friction" in data.columns:
-        data["Friction"] = [format(float(v), ".10g") for v in data["Friction"]]
+    # Friction (3 levels) and the chain strength are factors, not covariates: categorical.
+    for name in _NUMERIC_FACTORS:
+        if name in data.columns:
+            data[name] = [format(float(v), ".10g") for v in data[name]]
     y = pd.to_numeric(df[response], errors="coerce").to_numpy(dtype=float)
     if not np.all(np.isfinite(y)):
         raise ValueError(f"column {response!r} has missing or non-finite values")
@@ -192,12 +212,15 @@ def fit_model(
     factors: Sequence[str] | None = None,
 ) -> RegressionResultsWrapper:
     """OLS fit of the ANOVA model (main effects + interactions up to ``order``) of the
-    ``factors`` columns (default: the four of Table 1)."""
+    ``factors`` columns (default: :func:`default_factors`, the four of Table 1 and a varying
+    chain)."""
     if order not in range(1, _MAX_ORDER + 1):
         raise ValueError(
             f"order must be 1, 2 or 3 (got {order!r}); order 4 leaves no error DoF "
             "in a single-replicate design"
         )
+    if factors is None:
+        factors = default_factors(df)
     data = _prepare(df, response, factors)
     formula = "y ~ " + " + ".join(_patsy_term(t) for t in _sources(order, factors))
     return smf.ols(formula, data=data).fit()
@@ -212,8 +235,11 @@ def anova(df: pd.DataFrame, response: str = "alpha_c", order: int = 2,
     to the closed forms of Eq. 16. Interactions above ``order`` are pooled into Error.
     Group rows (Linear, Two-Way Interactions, ...) and Model are joint tests of all their
     coefficients, as Minitab reports them. ``factors`` restricts the model to some of the
-    factor columns (e.g. :func:`varying_factors` of a sub-design that fixes the others).
+    factor columns (e.g. :func:`varying_factors` of a sub-design that fixes the others); by
+    default the four of Table 1, and ``chain`` when the results have several chain levels.
     """
+    if factors is None:
+        factors = default_factors(df)
     if factors is not None and order > len(_factor_pairs(factors)):
         raise ValueError(f"order {order} needs at least {order} factors (got {len(factors)})")
     res = fit_model(df, response, order, factors)

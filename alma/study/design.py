@@ -7,6 +7,15 @@ panel ratio fastest.  A TOML or JSON file can change the levels (:func:`load_des
     block_ratio = ["4:1"]
     bond = ["running", "stack"]
     friction = [0.27, 0.6]
+    chain = [0, 0.25, 1, 5]     # kN: a retrofitting chain across the top course, one more factor
+    chain_height = 1.0          # fraction of the panel's height: the course the chain runs in
+    chain_anchored = false      # true: its ends tied to fixed anchors (stiff orthogonal walls)
+
+The chain factor (default ``[0]``: no chain, today's study with today's keys) puts one
+horizontal chain of that strength across the panel, as ``alma panel --chain`` does
+(:func:`alma.geometry.chains.with_chain`): at mid-height of the course at ``chain_height`` × H
+(1.0: the top course, where a chain ties a wall at its floor or roof), its anchor plates on the
+outer faces of that course's two end blocks, so that it ties the panel's ends together.
 """
 from __future__ import annotations
 
@@ -18,7 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from alma.geometry.panels import BLOCK_LENGTHS, BONDS, FRICTIONS, PANEL_HEIGHTS
+from alma.geometry.panels import BLOCK_HEIGHT, BLOCK_LENGTHS, BONDS, FRICTIONS, PANEL_HEIGHTS
 
 _PANEL_RATIOS = tuple(PANEL_HEIGHTS)
 _BLOCK_RATIOS = tuple(BLOCK_LENGTHS)
@@ -30,13 +39,19 @@ class Design:
     """Factor levels of a full-factorial study (Table 1 of the paper by default).
 
     Panels are enumerated in the order of Table 5: friction slowest, then bond, block ratio,
-    and panel ratio fastest.
+    and panel ratio fastest; every panel runs at each ``chain`` strength (kN; 0: no chain), the
+    chain levels slowest of all.  ``chain_height`` is the fraction of the panel's height whose
+    course the chain runs in (at its mid-height; 1.0: the top course); ``chain_anchored`` ties
+    its ends to fixed anchors instead of to each other.
     """
 
     panel_ratio: tuple[str, ...] = _PANEL_RATIOS
     block_ratio: tuple[str, ...] = _BLOCK_RATIOS
     bond: tuple[str, ...] = _BONDS
     friction: tuple[float, ...] = FRICTIONS
+    chain: tuple[float, ...] = (0.0,)
+    chain_height: float = 1.0
+    chain_anchored: bool = False
 
     def __post_init__(self) -> None:
         for name, allowed in (("panel_ratio", _PANEL_RATIOS), ("block_ratio", _BLOCK_RATIOS),
@@ -52,22 +67,14 @@ class Design:
             if len(set(values)) != len(values):
                 raise ValueError(f"design: repeated {name} level in {list(values)}")
             object.__setattr__(self, name, values)
-        fr: list[float] = []
-        for v in self.friction:
-            if isinstance(v, bool):
-                raise ValueError(f"design: bad friction level {v!r}")
-            try:
-                f = float(v)
-            except (TypeError, ValueError):
-                raise ValueError(f"design: bad friction level {v!r}; expected a number") from None
-            if not (math.isfinite(f) and f >= 0):
-                raise ValueError(f"design: bad friction level {v!r}; expected a finite number >= 0")
-            fr.append(f)
-        if not fr:
-            raise ValueError("design: friction needs at least one level")
-        if len(set(fr)) != len(fr):
-            raise ValueError(f"design: repeated friction level in {fr}")
-        object.__setattr__(self, "friction", tuple(fr))
+        object.__setattr__(self, "friction", _levels("friction", self.friction))
+        object.__setattr__(self, "chain", _levels("chain", self.chain))
+        h = self.chain_height
+        if isinstance(h, bool) or not isinstance(h, (int, float)) or not (0.0 < float(h) <= 1.0):
+            raise ValueError(f"design: bad chain_height {h!r}; expected a fraction of the panel's height in (0, 1]")
+        object.__setattr__(self, "chain_height", float(h))
+        if not isinstance(self.chain_anchored, bool):
+            raise ValueError(f"design: bad chain_anchored {self.chain_anchored!r}; expected true or false")
 
     @property
     def geometries(self) -> list[tuple[str, str, str]]:
@@ -79,11 +86,48 @@ class Design:
         return [(p, b, bond, f) for f in self.friction for bond in self.bond
                 for b in self.block_ratio for p in self.panel_ratio]
 
-    def __len__(self) -> int:
-        return len(self.panel_ratio) * len(self.block_ratio) * len(self.bond) * len(self.friction)
+    def runs(self) -> list[tuple[str, str, str, float, float]]:
+        """(panel_ratio, block_ratio, bond, friction, chain) of every run, chain slowest."""
+        return [(*panel, c) for c in self.chain for panel in self.panels()]
 
-    def to_dict(self) -> dict[str, list[Any]]:
-        return {k: list(v) for k, v in dataclasses.asdict(self).items()}
+    @property
+    def has_chain(self) -> bool:
+        """Whether some run has a chain (a level > 0)."""
+        return any(c > 0 for c in self.chain)
+
+    def chain_y(self, panel_ratio: str) -> float:
+        """Height (mm) of the chain on a panel: mid-height of the course at ``chain_height`` × H."""
+        height = PANEL_HEIGHTS[panel_ratio]
+        course = min(math.floor(self.chain_height * height / BLOCK_HEIGHT), round(height / BLOCK_HEIGHT) - 1)
+        return (course + 0.5) * BLOCK_HEIGHT
+
+    def __len__(self) -> int:
+        """Number of runs per contact model (panels × chain levels)."""
+        return (len(self.panel_ratio) * len(self.block_ratio) * len(self.bond) * len(self.friction)
+                * len(self.chain))
+
+    def to_dict(self) -> dict[str, Any]:
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in dataclasses.asdict(self).items()}
+
+
+def _levels(name: str, values: tuple[Any, ...]) -> tuple[float, ...]:
+    """Numeric levels (friction coefficient, chain strength in kN): finite, >= 0, distinct."""
+    out: list[float] = []
+    for v in values:
+        if isinstance(v, bool):
+            raise ValueError(f"design: bad {name} level {v!r}")
+        try:
+            f = float(v)
+        except (TypeError, ValueError):
+            raise ValueError(f"design: bad {name} level {v!r}; expected a number") from None
+        if not (math.isfinite(f) and f >= 0):
+            raise ValueError(f"design: bad {name} level {v!r}; expected a finite number >= 0")
+        out.append(f)
+    if not out:
+        raise ValueError(f"design: {name} needs at least one level")
+    if len(set(out)) != len(out):
+        raise ValueError(f"design: repeated {name} level in {out}")
+    return tuple(out)
 
 
 PAPER_DESIGN = Design()
@@ -93,15 +137,20 @@ _DESIGN_KEYS = {
     "block_ratio": "block_ratio", "block_ratios": "block_ratio",
     "bond": "bond", "bonds": "bond",
     "friction": "friction", "frictions": "friction",
+    "chain": "chain", "chains": "chain",
+    "chain_height": "chain_height", "chain_anchored": "chain_anchored",
 }
+#: Options of the design that take one value, not a list of levels.
+_SCALARS = ("chain_height", "chain_anchored")
 
 
 def load_design(path: str | os.PathLike[str]) -> Design:
     """Read factor levels from a TOML (``.toml``) or JSON file; missing factors keep the paper's.
 
-    Keys: ``panel_ratio``, ``block_ratio``, ``bond``, ``friction`` (plural forms accepted),
-    each a list of levels (a single value is a one-level list); they may also sit in a
-    ``[design]`` table. Unknown keys and bad levels raise ``ValueError``.
+    Keys: ``panel_ratio``, ``block_ratio``, ``bond``, ``friction``, ``chain`` (plural forms
+    accepted), each a list of levels (a single value is a one-level list), and the single
+    values ``chain_height`` and ``chain_anchored``; they may also sit in a ``[design]`` table.
+    Unknown keys and bad levels raise ``ValueError``.
     """
     p = Path(path)
     try:
@@ -128,9 +177,15 @@ def load_design(path: str | os.PathLike[str]) -> Design:
     for key, value in data.items():
         field = _DESIGN_KEYS.get(key)
         if field is None:
-            raise ValueError(f"{p}: unknown key {key!r}; expected panel_ratio, block_ratio, bond, friction")
+            raise ValueError(f"{p}: unknown key {key!r}; expected panel_ratio, block_ratio, bond, friction, "
+                             "chain, chain_height, chain_anchored")
         if field in kwargs:
             raise ValueError(f"{p}: factor {field!r} given twice")
+        if field in _SCALARS:
+            if isinstance(value, (list, dict)):
+                raise ValueError(f"{p}: {field} takes one value, got {value!r}")
+            kwargs[field] = value
+            continue
         values = value if isinstance(value, list) else [value]
         kwargs[field] = tuple(values)
     try:

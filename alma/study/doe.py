@@ -1,10 +1,11 @@
 """The paper's full-factorial design of experiments (Table 1): ``alma doe``.
 
 3 panel ratios x 3 block ratios x 4 bonds x 3 frictions = 108 panels, solved with the chosen
-contact model(s). The study is built for long, interruptible runs:
+contact model(s); a design may add a retrofitting chain across the top course as one more
+factor (``chain`` strengths in kN; level 0 is the panel as it is). The study is built for long, interruptible runs:
 
-- **one task = one geometry** (panel ratio x block ratio x bond) and all its frictions and
-  models: the joints and the model are built once, each friction re-uses them through
+- **one task = one geometry** (panel ratio x block ratio x bond) and all its chains, frictions
+  and models: the joints and the model are built once, each friction re-uses them through
   :meth:`alma.Model.with_friction`;
 - **append-only results**: every finished panel is appended to ``OUT/results.csv`` at once
   (one line, flushed and fsync'ed), so a killed study loses only the panels being solved;
@@ -23,6 +24,7 @@ change it (:func:`load_design`)::
     block_ratio = ["4:1"]
     bond = ["running", "stack"]
     friction = [0.27, 0.6]
+    chain = [0, 0.25, 1, 5]
 """
 from __future__ import annotations
 
@@ -123,17 +125,18 @@ def _plan(design: Design, models: tuple[str, ...], settings: Settings, results: 
     largest first (better load balance)."""
     version = _alma_version()
     wanted: list[str] = []
-    todo: dict[tuple[str, str, str], list[tuple[float, str, str]]] = {}
-    for friction in design.friction:
-        for geometry in design.geometries:
-            for m in models:
-                key = panel_key(*geometry, friction, m, version=version, settings=settings)
-                wanted.append(key)
-                done = results.rows.get(key)
-                if done is not None and not (retry_errors and done["status"] == "error"):
-                    continue
-                todo.setdefault(geometry, []).append((friction, m, key))
-    tasks = [_Task(p, b, bond, tuple(items), version, settings) for (p, b, bond), items in todo.items()]
+    todo: dict[tuple[str, str, str], list[tuple[float, float, str, str]]] = {}
+    for p, b, bond, friction, chain in design.runs():
+        for m in models:
+            key = panel_key(p, b, bond, friction, m, version=version, settings=settings, chain=chain,
+                            chain_y=design.chain_y(p), chain_anchored=design.chain_anchored)
+            wanted.append(key)
+            done = results.rows.get(key)
+            if done is not None and not (retry_errors and done["status"] == "error"):
+                continue
+            todo.setdefault((p, b, bond), []).append((chain, friction, m, key))
+    tasks = [_Task(p, b, bond, tuple(items), version, settings, chain_y=design.chain_y(p),
+                   chain_anchored=design.chain_anchored) for (p, b, bond), items in todo.items()]
     tasks.sort(key=lambda task: task.size, reverse=True)
     return wanted, tasks
 
@@ -143,7 +146,7 @@ class _Sink:
 
     def __init__(self, out: Path, results: _ResultsFile, tasks: list[_Task], n_wanted: int, progress: bool):
         self.out, self.results = out, results
-        self.weight = {k: task.size / len(task.items) for task in tasks for _, _, k in task.items}
+        self.weight = {item[-1]: task.size / len(task.items) for task in tasks for item in task.items}
         remaining = sum(len(task.items) for task in tasks)
         self.bar = _Progress(total=n_wanted, resumed=n_wanted - remaining, enabled=progress,
                              work=sum(self.weight.values()))
@@ -165,7 +168,7 @@ class _Sink:
         self.bar.update(failed=row["status"] == "error", work=self.weight.get(key, 0.0))
 
     def lost(self, task: _Task, message: str) -> None:
-        for _, _, key in task.items:
+        for *_, key in task.items:
             if key not in self.written:
                 self.lost_rows.append(message)
                 self.bar.update(failed=True, work=self.weight.get(key, 0.0))

@@ -26,9 +26,15 @@ def _friction_text(f: float) -> str:
 
 
 def panel_key(panel_ratio: str, block_ratio: str, bond: str, friction: float, model: str,
-              *, version: str | None = None, settings: Settings | dict[str, Any] | None = None) -> str:
+              *, version: str | None = None, settings: Settings | dict[str, Any] | None = None,
+              chain: float = 0.0, chain_y: float | None = None, chain_anchored: bool = False) -> str:
     """Stable key of one result row: hash of factors, model, alma version and every setting
-    that changes the row (:func:`key_settings`; a dict is taken as it is)."""
+    that changes the row (:func:`key_settings`; a dict is taken as it is).
+
+    A chain (strength ``chain`` kN > 0 at height ``chain_y`` mm, ``chain_anchored`` or not)
+    enters the hash; without one (``chain`` 0) the key is the one of a study without the chain
+    factor, so that such rows resume from earlier results files.
+    """
     if not isinstance(settings, dict):
         settings = key_settings(settings if settings is not None else Settings(), model)
     payload = {
@@ -37,5 +43,10 @@ def panel_key(panel_ratio: str, block_ratio: str, bond: str, friction: float, mo
         "alma": _alma_version() if version is None else version,
         "solver": settings,
     }
+    if chain > 0:
+        if chain_y is None:
+            raise ValueError("panel_key: a chain needs its height chain_y (mm)")
+        payload["chain"] = {"strength": _friction_text(chain), "y": _friction_text(chain_y),
+                            "anchored": bool(chain_anchored)}
     text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:20]

@@ -19,11 +19,15 @@ COLUMNS: tuple[str, ...] = (
     "n_candidates", "n_verified", "nonassociative_s", "n_blocks", "effort",
     # Each start of the non-associative search, as JSON [[start, seconds, verified], ...].
     "starts",
+    # Strength (kN) of the chain across the panel; 0: none (a design's chain factor).
+    "chain",
 )
+#: The columns of a results file written before the chain factor: read, and given ``chain`` 0.
+_COLUMNS_BEFORE_CHAIN: tuple[str, ...] = COLUMNS[:-1]
 #: Numeric columns of ``results.csv``.
 _NUMERIC = ("friction", "alpha_c", "alpha_lower", "alpha_upper", "gap", "joints_s", "build_s",
             "solve_s", "certify_s", "alpha_associative", "ratio", "alpha_lp_start",
-            "n_candidates", "n_verified", "nonassociative_s", "n_blocks")
+            "n_candidates", "n_verified", "nonassociative_s", "n_blocks", "chain")
 RESULTS_FILE = "results.csv"
 #: Folder of ``out_dir`` with the mechanism of every solved row (:class:`alma.plot.MechanismPicture`).
 PICTURES_FOLDER = "mechanisms"
@@ -80,6 +84,11 @@ class _ResultsFile:
         text = data.decode("utf-8")
         reader = csv.reader(text.splitlines())
         header = next(reader, None)
+        if header == list(_COLUMNS_BEFORE_CHAIN):
+            self._add_chain_column(text)
+            text = self.path.read_text(encoding="utf-8")
+            reader = csv.reader(text.splitlines())
+            header = next(reader, None)
         if header != list(COLUMNS):
             raise ValueError(
                 f"{path}: not a results file of this alma version (columns {header}); "
@@ -90,6 +99,21 @@ class _ResultsFile:
             row = dict(zip(COLUMNS, fields))
             if row["key"]:
                 self.rows[row["key"]] = row
+
+    def _add_chain_column(self, text: str) -> None:
+        """Rewrite a file of the columns before the chain factor with ``chain`` 0 on every row
+        (its rows had no chain); a new file replaces the old one at once, so a kill leaves either."""
+        rows = list(csv.reader(text.splitlines()))
+        buf = _LineBuffer()
+        writer = csv.writer(buf, lineterminator="\n")
+        writer.writerow(COLUMNS)
+        writer.writerows(r + ["0.0"] if len(r) == len(_COLUMNS_BEFORE_CHAIN) else r for r in rows[1:])
+        tmp = self.path.with_name(self.path.name + ".tmp")
+        with open(tmp, "w", encoding="utf-8", newline="") as fh:
+            fh.write(buf.text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, self.path)
 
     def append(self, row: dict[str, Any]) -> None:
         buf = _LineBuffer()
@@ -124,6 +148,8 @@ def read_results(path: str | os.PathLike[str]) -> pd.DataFrame:
     for col in _NUMERIC:
         if col in df.columns:
             df[col] = pd.to_numeric(df[col], errors="coerce")
+    if "chain" not in df.columns:  # a file from before the chain factor: no chains
+        df["chain"] = 0.0
     if "key" in df.columns:
         df = df.drop_duplicates("key", keep="last")
     return df.reset_index(drop=True)

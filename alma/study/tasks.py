@@ -1,4 +1,4 @@
-"""The worker side of a study: one task is one geometry with all its frictions and models."""
+"""The worker side of a study: one task is one geometry with all its chains, frictions and models."""
 from __future__ import annotations
 
 import json
@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from typing import Any, Callable
 
 import alma
+from alma.geometry.chains import with_chain
 from alma.geometry.contacts import find_joints
 from alma.geometry.panels import BLOCK_LENGTHS, PANEL_HEIGHTS
 from alma.settings import Settings
@@ -24,9 +25,11 @@ class _Task:
     panel_ratio: str
     block_ratio: str
     bond: str
-    items: tuple[tuple[float, str, str], ...]  # (friction, model, key) still to do
+    items: tuple[tuple[float, float, str, str], ...]  # (chain kN, friction, model, key) still to do
     version: str
     settings: Settings = Settings()
+    chain_y: float = 0.0  # mm, height of the chain (Design.chain_y)
+    chain_anchored: bool = False
 
     @property
     def size(self) -> float:
@@ -43,11 +46,13 @@ def _num(x: Any) -> float:
     return v
 
 
-def _row(task: _Task, friction: float, model: str, key: str, *, result: Any = None,
+def _row(task: _Task, item: tuple[float, float, str, str], *, result: Any = None,
          error: str = "", timings: dict[str, float] | None = None) -> dict[str, Any]:
+    chain, friction, model, key = item
     row: dict[str, Any] = {
         "panel_ratio": task.panel_ratio, "block_ratio": task.block_ratio, "bond": task.bond,
         "friction": float(friction), "model": model, "alma_version": task.version, "key": key,
+        "chain": float(chain),
     }
     t = dict(timings or {})
     row["effort"] = "" if model == "associative" else task.settings.search.effort
@@ -109,11 +114,11 @@ def _error_text(exc: BaseException) -> str:
 
 
 def _solve_task(task: _Task, emit: Callable[[dict[str, Any]], None] | None = None) -> list[dict[str, Any]]:
-    """Build the geometry once and solve all (friction, model) items; rows are emitted as done.
+    """Build the geometry once and solve all (chain, friction, model) items; rows are emitted as done.
 
     ``joints_s`` and ``build_s`` of the geometry are charged to the first row solved from it;
-    the other rows carry the (small) cost of :meth:`Model.with_friction` as ``build_s``.
-    Exceptions become rows with status ``error`` and the message; nothing is raised.
+    the other rows carry the (small) cost of adding the chain and of :meth:`Model.with_friction`
+    as ``build_s``. Exceptions become rows with status ``error`` and the message; nothing is raised.
     """
 
     rows: list[dict[str, Any]] = []
@@ -126,38 +131,49 @@ def _solve_task(task: _Task, emit: Callable[[dict[str, Any]], None] | None = Non
     first = {"joints_s": 0.0, "build_s": 0.0}
     try:
         t0 = time.perf_counter()
-        friction0 = task.items[0][0]
-        scene = alma.paper_panel(task.bond, task.panel_ratio, task.block_ratio, friction0)
+        scene = alma.paper_panel(task.bond, task.panel_ratio, task.block_ratio, task.items[0][1])
         joints = find_joints(scene)
         t1 = time.perf_counter()
         base = alma.build_model(scene, joints)
-        t2 = time.perf_counter()
-        first = {"joints_s": t1 - t0, "build_s": t2 - t1}
+        first = {"joints_s": t1 - t0, "build_s": time.perf_counter() - t1}
     except Exception as exc:  # geometry failed: every item of the task fails with it
-        msg = _error_text(exc)
-        for friction, model, key in task.items:
-            out(_row(task, friction, model, key, error=msg, timings=first))
+        for item in task.items:
+            out(_row(task, item, error=_error_text(exc), timings=first))
             first = {"joints_s": 0.0, "build_s": 0.0}
         return rows
 
-    by_friction: dict[float, dict[str, str]] = {}
-    for friction, model, key in task.items:
-        by_friction.setdefault(friction, {})[model] = key
-    for friction, keys in by_friction.items():
+    groups: dict[tuple[float, float], list[tuple[float, float, str, str]]] = {}
+    for item in task.items:
+        groups.setdefault(item[:2], []).append(item)
+    chained: dict[float, Any] = {0.0: base}
+    for (chain, friction), items in groups.items():
         timings = dict(first)
         try:
             t0 = time.perf_counter()
-            built = base.with_friction(friction)
+            if chain not in chained:
+                chained[chain] = _chained_model(task, scene, joints, chain)
+            built = chained[chain].with_friction(friction)
             timings["build_s"] += time.perf_counter() - t0
-            results = _solve_models(built, tuple(keys), task.settings)
+            results = _solve_models(built, tuple(item[2] for item in items), task.settings)
         except Exception as exc:
-            for model, key in keys.items():
-                out(_row(task, friction, model, key, error=_error_text(exc), timings=timings))
+            for item in items:
+                out(_row(task, item, error=_error_text(exc), timings=timings))
         else:
-            for model, key in keys.items():
-                out(_row(task, friction, model, key, result=results[model], timings=timings))
+            for item in items:
+                out(_row(task, item, result=results[item[2]], timings=timings))
         first = {"joints_s": 0.0, "build_s": 0.0}
     return rows
+
+
+def _chained_model(task: _Task, scene: Any, joints: Any, strength: float) -> Any:
+    """The panel's model with a chain of ``strength`` kN at ``task.chain_y`` (:func:`with_chain`).
+
+    A chain between the end blocks leaves the blocks and joints as they are; an anchored one
+    adds two fixed anchors that touch nothing, so the joints are found again.
+    """
+    chained = with_chain(scene, task.chain_y, strength, anchored=task.chain_anchored, name="chain")
+    chained.validate()
+    return alma.build_model(chained, find_joints(chained) if task.chain_anchored else joints)
 
 
 def _solve_models(built: Any, models: tuple[str, ...], settings: Settings) -> dict[str, Any]:
