@@ -12,8 +12,8 @@ With D = μ / s, one Newton step reduces to the bordered normal equations::
 
 K = H D Hᵀ (3 rows per free block) is factorised once per iteration on a fixed pattern
 (:mod:`alma.engine.normal`); the dense row f_L is eliminated by its Schur complement
-f_Lᵀ K⁻¹ f_L (one extra solve per factorisation), never added to K.  Each bordered solve is
-refined against K without the regularisation δ I.
+f_Lᵀ K⁻¹ f_L (one extra solve per factorisation), never added to K.  The direction taken (not
+the predictor nor the trial correctors) is refined against K without the regularisation δ I.
 """
 from __future__ import annotations
 
@@ -68,40 +68,48 @@ class _Newton:
     def bordered(self, g: np.ndarray, h: float) -> tuple[np.ndarray, float]:
         """Solve K Δu − f_L Δα = g, f_Lᵀ Δu = h by the Schur complement f_Lᵀ K⁻¹ f_L."""
         t0 = time.perf_counter()
-        if self.w is None:  # K⁻¹ f_L and K⁻¹ g in one call (one pass over the factor)
+        if self.w is None:  # K⁻¹ f_L with the first solve after a factorisation
             both = self.factoriser.solve(np.column_stack([self.live, g]))
             self.w, v = both[:, 0].copy(), both[:, 1].copy()
             self.schur = _dot(self.live, self.w)
+            self.solves += 2
         else:
             v = self.factoriser.solve(g)
-        self.solves += 1
+            self.solves += 1
         da = (h - _dot(self.live, v)) / self.schur
         self.solve_time += time.perf_counter() - t0
         return v + da * self.w, da
 
-    def direction(self, state: "_State", rc: np.ndarray, res: "_Residuals", refine: bool = True) -> tuple:
-        """Newton direction (Δu, Δs, Δμ, Δα) for the complementarity target r_c = s∘μ − target.
-
-        The reduced solve loses accuracy where D spans many orders of magnitude; the static
-        equation H Δμ + f_L Δα = −r_d (terms of the size of μ) is then refined in the full
-        system, each correction being one more bordered solve with the same factors.
-        """
+    def direction(self, state: "_State", rc: np.ndarray, res: "_Residuals") -> tuple:
+        """Newton direction (Δu, Δs, Δμ, Δα) for the complementarity target r_c = s∘μ − target,
+        from one bordered solve (not refined)."""
         g = res.dual - self.H @ (rc / state.s + self.d * res.primal)
         du, da = self.bordered(g, -res.norm)
         ds = self.HT @ du + res.primal
         dmu = -rc / state.s - self.d * ds  # the same (clipped) D as in K
+        return du, ds, dmu, da
+
+    def refine(self, res: "_Residuals", step: tuple) -> tuple:
+        """Iterative refinement of a Newton direction on the static equation.
+
+        The reduced solve loses accuracy where D spans many orders of magnitude; the static
+        equation H Δμ + f_L Δα = −r_d (terms of the size of μ) is then refined in the full
+        system, each correction being one more bordered solve with the same factors.  Only the
+        direction the step takes is refined: the predictor and the trial correctors only decide
+        step lengths and the centring.
+        """
+        du, ds, dmu, da = step
         target = self.settings.refinement_target * max(float(np.abs(res.dual).max(initial=0.0)),
                                                        self.settings.refinement_floor)
-        for _ in range(self.settings.refinement_steps if refine else 0):
-            e_static = self.H @ dmu + self.live * da + res.dual
-            e_norm = _dot(self.live, du) + res.norm
+        e_static = self.H @ dmu + self.live * da + res.dual
+        for _ in range(self.settings.refinement_steps):
             if float(np.abs(e_static).max(initial=0.0)) <= target:
                 break
-            cu, ca = self.bordered(e_static, -e_norm)
+            cu, ca = self.bordered(e_static, -(_dot(self.live, du) + res.norm))
             cs = self.HT @ cu
             du, da, ds, dmu = du + cu, da + ca, ds + cs, dmu - self.d * cs
-        if refine:
-            self.last_error = float(np.abs(self.H @ dmu + self.live * da + res.dual).max(initial=0.0)) / target
+            e_static = self.H @ dmu + self.live * da + res.dual
+        self.last_error = float(np.abs(e_static).max(initial=0.0)) / target
         return du, ds, dmu, da
 
 
@@ -254,16 +262,15 @@ def _direction(newton: _Newton, state: _State, res: _Residuals, settings: IPMSet
     """Factorise at the current D and return the predictor–corrector(–centrality) direction."""
     newton.factor(state.mu / state.s)
     # predictor (affine scaling): target s∘μ = 0
-    du, ds, dmu, da = newton.direction(state, state.s * state.mu, res, refine=False)
+    du, ds, dmu, da = newton.direction(state, state.s * state.mu, res)
     ap, ad = _max_step(state.s, ds), _max_step(state.mu, dmu)
     tau_aff = _dot(state.s + ap * ds, state.mu + ad * dmu) / state.s.size
     sigma = min(1.0, (tau_aff / max(res.tau, 1e-300)) ** settings.centring_exponent)
     # corrector: second-order term and centring
     rc = state.s * state.mu + ds * dmu - sigma * res.tau
     step = newton.direction(state, rc, res)
-    if newton.last_error > settings.refinement_failure:
-        return step
-    return _centrality_correctors(newton, state, res, rc, step, sigma * res.tau, settings)
+    step = _centrality_correctors(newton, state, res, rc, step, sigma * res.tau, settings)
+    return newton.refine(res, step)
 
 
 def _centrality_correctors(newton: _Newton, state: _State, res: _Residuals, rc: np.ndarray, step: tuple,
