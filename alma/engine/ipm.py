@@ -11,9 +11,10 @@ With D = μ / s, one Newton step reduces to the bordered normal equations::
     [ f_Lᵀ      0   ] [Δα] = [ −r_a                      ]
 
 K = H D Hᵀ (3 rows per free block) is factorised once per iteration on a fixed pattern
-(:mod:`alma.engine.normal`); the dense row f_L is eliminated by its Schur complement
-f_Lᵀ K⁻¹ f_L (one extra solve per factorisation), never added to K.  The direction taken (not
-the predictor nor the trial correctors) is refined against K without the regularisation δ I.
+(:mod:`alma.engine.normal`); the dense row f_L is never added to K: the backend eliminates it
+by its Schur complement f_Lᵀ K⁻¹ f_L, or factorises the bordered matrix [K f_L; f_Lᵀ 0] with
+f_L last (feral).  The direction taken (not the predictor nor the trial correctors) is refined
+against K without the regularisation δ I.
 """
 from __future__ import annotations
 
@@ -22,7 +23,7 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from .cholesky import FactorisationError, Factoriser, make_factoriser
+from .cholesky import FactorisationError, Factoriser, dot as _dot, make_factoriser
 from .normal import NormalPattern, normal_pattern
 from .types import IPMResult, IPMSettings
 
@@ -36,10 +37,8 @@ class _Newton:
         self.live = live
         self.pattern, self.factoriser, self.settings = pattern, factoriser, settings
         self.d = np.ones(H.shape[1])
-        self.w: np.ndarray | None = None  # K⁻¹ f_L, computed with the first solve after a factorisation
-        self.schur = 1.0
         self.factor_time = self.solve_time = 0.0
-        self.factorisations = self.solves = 0
+        self.factorisations = 0
         self.boost = 1.0  # multiplies δ after a direction the refinement could not make accurate
         self.last_error = 0.0
 
@@ -61,24 +60,20 @@ class _Newton:
                     raise
                 values[self.pattern.diagonal] -= shift
                 shift *= 100.0
-        self.w = None
         self.factorisations += 1
         self.factor_time += time.perf_counter() - t0
 
+    @property
+    def solves(self) -> int:
+        """Right-hand sides solved with the factors so far."""
+        return self.factoriser.columns
+
     def bordered(self, g: np.ndarray, h: float) -> tuple[np.ndarray, float]:
-        """Solve K Δu − f_L Δα = g, f_Lᵀ Δu = h by the Schur complement f_Lᵀ K⁻¹ f_L."""
+        """Solve K Δu − f_L Δα = g, f_Lᵀ Δu = h (the backend's bordered solve, border f_L)."""
         t0 = time.perf_counter()
-        if self.w is None:  # K⁻¹ f_L with the first solve after a factorisation
-            both = self.factoriser.solve(np.column_stack([self.live, g]))
-            self.w, v = both[:, 0].copy(), both[:, 1].copy()
-            self.schur = _dot(self.live, self.w)
-            self.solves += 2
-        else:
-            v = self.factoriser.solve(g)
-            self.solves += 1
-        da = (h - _dot(self.live, v)) / self.schur
+        du, neg_da = self.factoriser.solve_bordered(g, h)
         self.solve_time += time.perf_counter() - t0
-        return v + da * self.w, da
+        return du, -neg_da
 
     def direction(self, state: "_State", rc: np.ndarray, res: "_Residuals") -> tuple:
         """Newton direction (Δu, Δs, Δμ, Δα) for the complementarity target r_c = s∘μ − target,
@@ -130,12 +125,6 @@ class _Residuals:
         self.tau = _dot(state.s, state.mu) / max(state.s.size, 1)
 
 
-def _dot(x: np.ndarray, y: np.ndarray) -> float:
-    """xᵀy without BLAS: a threaded BLAS dot on a busy 2-core machine was measured at 8 ms for
-    20,000 entries (thread hand-off), the plain reduction at 12 µs."""
-    return float(np.multiply(x, y).sum())
-
-
 def _max_step(x: np.ndarray, dx: np.ndarray) -> float:
     """Largest a ≤ 1 with x + a dx ≥ 0."""
     neg = dx < 0
@@ -152,7 +141,7 @@ def _start(newton: _Newton, dead: np.ndarray, live: np.ndarray, norm_value: floa
     mu = newton.HT @ y
     alpha = -neg_alpha
     # kinematic: min ‖Hᵀu‖ s.t. f_Lᵀu = N  ->  u ∝ (HHᵀ)⁻¹ f_L
-    u = newton.w * (norm_value / newton.schur)
+    u, _ = newton.bordered(np.zeros(newton.H.shape[0]), norm_value)
     s = newton.HT @ u
     s = s + max(-1.5 * float(s.min(initial=0.0)), 0.0)
     mu = mu + max(-1.5 * float(mu.min(initial=0.0)), 0.0)
@@ -208,7 +197,7 @@ def solve_eq10(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value:
     t_start = time.perf_counter()
     H = sp.csc_matrix(H)
     pattern = pattern if pattern is not None else normal_pattern(H)
-    factoriser = make_factoriser(pattern, s_.backend)
+    factoriser = make_factoriser(pattern, s_.backend, border=np.asarray(live, float))
     t_pattern = time.perf_counter() - t_start
     newton = _Newton(H, np.asarray(live, float), pattern, factoriser, s_)
     dead = np.asarray(dead, float)
