@@ -153,14 +153,15 @@ class FeralFactoriser(Factoriser):
 
     name = "feral"
 
-    def __init__(self, pattern: NormalPattern, border: np.ndarray | None = None):
+    def __init__(self, pattern: NormalPattern, border: np.ndarray | None = None, *, factor_border: bool = True):
         super().__init__(pattern, border)
         import feral
 
         self._feral = feral
+        self._bordered = factor_border and self.border is not None  # else the Schur complement
         indptr, indices, self._perm = _lower_permutation(pattern)
         size = pattern.n
-        if self.border is not None:
+        if self._bordered:
             indptr, indices, self._perm, self._extra = _bordered_lower(indptr, indices, self._perm, self.border)
             size += 1
         cols = np.repeat(np.arange(size, dtype=np.int64), np.diff(indptr))
@@ -171,7 +172,7 @@ class FeralFactoriser(Factoriser):
         self._solver = feral.Solver(parallel=True, ordering=FERAL_ORDERING, scaling="none")
 
     def _factor(self, values: np.ndarray) -> None:
-        if self.border is not None:
+        if self._bordered:
             values = np.concatenate([values, self._extra])
         self._matrix.set_values(np.ascontiguousarray(values[self._perm]))
         try:
@@ -184,7 +185,7 @@ class FeralFactoriser(Factoriser):
             raise FactorisationError(f"feral: factor status {code}")
 
     def _solve(self, rhs: np.ndarray) -> np.ndarray:
-        if self.border is not None:
+        if self._bordered:
             raise RuntimeError("feral: this factorisation is of the bordered matrix; use solve_bordered")
         if rhs.ndim == 2 and rhs.shape[1] < FERAL_BLOCK_SOLVE:
             # feral's block solve costs about 2.5 single solves at any width from 2 to 8.
@@ -192,7 +193,7 @@ class FeralFactoriser(Factoriser):
         return np.asarray(self._solver.solve(np.ascontiguousarray(rhs)))
 
     def solve_bordered(self, g: np.ndarray, h: float) -> tuple[np.ndarray, float]:
-        if self.border is None:
+        if not self._bordered:
             return super().solve_bordered(g, h)
         self.columns += 1
         x = np.asarray(self._solver.solve(np.concatenate([g, [h]])))
