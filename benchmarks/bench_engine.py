@@ -11,6 +11,11 @@ status for both engines.
 
     .venv/bin/python benchmarks/bench_engine.py [--walls 1000,5000,10000,20000] [--repeat 3]
         [--backend auto] [--panels] [--clarabel-walls 1000,5000,10000,20000]
+        [--ipx-walls 1000,5000,10000] [--ipx-repeat 1]
+
+HiGHS IPX (``solver="ipm"``, crossover off, its pair passed to the same certificate) is a third
+column for reference.  The 100,000-block wall: ``--walls 100000 --clarabel-walls "" --ipx-walls ""
+--repeat 1`` (the interior point alone; peak RSS is the worker's).
 
 Writes benchmarks/results/engine.csv (and engine_panels.csv with ``--panels``).
 """
@@ -71,6 +76,50 @@ def _one(scene, engine: str, backend: str) -> dict:
     return row
 
 
+def _one_ipx(scene) -> dict:
+    """HiGHS IPX (interior point, crossover off) on the same kinematic LP, its pair passed to
+    alma's certificate: a reference, not one of alma's engines."""
+    from alma.associative.lp import ConicSolution, Status, _certified, _kinematic_form
+    from alma.backends.highs_backend import quiet_highs
+    from alma.geometry.contacts import find_joints
+    from alma.mechanics.model import build_model
+    from alma.settings import AssociativeSettings
+    import highspy
+    import scipy.sparse as sp
+
+    t0 = time.perf_counter()
+    model = build_model(scene, find_joints(scene))
+    s = AssociativeSettings()
+    q, A, b = _kinematic_form(model, model.equilibrium, s.normalisation)
+    A = sp.csc_matrix(A)
+    A.sort_indices()
+    t1 = time.perf_counter()
+    m, n = A.shape
+    lp = highspy.HighsLp()
+    lp.num_col_, lp.num_row_ = n, m
+    lp.col_cost_ = np.asarray(q, float)
+    lp.col_lower_, lp.col_upper_ = np.full(n, -highspy.kHighsInf), np.full(n, highspy.kHighsInf)
+    lp.row_lower_ = np.concatenate([b[:1], np.full(m - 1, -highspy.kHighsInf)])
+    lp.row_upper_ = np.asarray(b, float)
+    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+    lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = A.indptr, A.indices, A.data
+    lp.a_matrix_.num_col_, lp.a_matrix_.num_row_ = n, m
+    h = quiet_highs(solver="ipm", run_crossover="off")
+    h.passModel(lp)
+    h.run()
+    t2 = time.perf_counter()
+    raw = str(h.getModelStatus()).rsplit(".", 1)[-1]
+    sol = h.getSolution()
+    pair = ConicSolution(Status.OPTIMAL if raw == "kOptimal" else Status.NOT_CONVERGED, f"HiGHS IPX {raw}",
+                         np.asarray(sol.col_value, float), -np.asarray(sol.row_dual, float),
+                         int(h.getInfo().ipm_iteration_count), t2 - t1)
+    lp_sol = _certified(model, model.equilibrium, s, pair, "HiGHS IPX", "", {})
+    return dict(blocks=model.n_free, build_s=t1 - t0, total_s=time.perf_counter() - t0, solve_s=t2 - t1,
+                certify_s=lp_sol.certify_time, status=lp_sol.status, alpha=lp_sol.alpha, lower=lp_sol.lower,
+                upper=lp_sol.upper, iterations=pair.iterations, engine_status=raw,
+                gap=(lp_sol.upper - lp_sol.lower) / max(1.0, abs(lp_sol.upper)))
+
+
 def worker(case: str, engine: str, backend: str, repeat: int) -> dict:
     from alma.engine import available_backends
 
@@ -78,7 +127,7 @@ def worker(case: str, engine: str, backend: str, repeat: int) -> dict:
     available_backends()  # locates and loads the backends' libraries once per process (MKL: ~0.5 s)
     load_s = time.perf_counter() - t0
     scene = _model(case)
-    runs = [_one(scene, engine, backend) for _ in range(repeat)]
+    runs = [_one_ipx(scene) if engine == "ipx" else _one(scene, engine, backend) for _ in range(repeat)]
     out = dict(runs[-1])
     for key in ("build_s", "total_s", "solve_s", "certify_s", "pattern_s", "factor_s", "solves_s"):
         if key in out:
@@ -128,6 +177,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--walls", default="1000,5000,10000,20000")
     parser.add_argument("--clarabel-walls", default=None, help="walls also solved by Clarabel (default: --walls)")
+    parser.add_argument("--ipx-walls", default="1000,5000,10000",
+                        help="walls also solved by HiGHS IPX, crossover off (a reference; slow: ~2 min at 10,000)")
+    parser.add_argument("--ipx-repeat", type=int, default=1)
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--backend", default="auto")
     parser.add_argument("--panels", action="store_true", help="also the 108 panels, each engine")
@@ -145,12 +197,14 @@ def main() -> None:
     RESULTS.mkdir(parents=True, exist_ok=True)
     walls = [w for w in args.walls.split(",") if w]
     clarabel_walls = set(walls if args.clarabel_walls is None else [w for w in args.clarabel_walls.split(",") if w])
+    ipx_walls = {w for w in args.ipx_walls.split(",") if w}
     rows = []
     for case in ["panel", *walls]:
-        for engine in ("ipm", "clarabel"):
-            if engine == "clarabel" and case != "panel" and case not in clarabel_walls:
+        for engine in ("ipm", "clarabel", "ipx"):
+            if case != "panel" and case not in {"ipm": set(walls), "clarabel": clarabel_walls, "ipx": ipx_walls}[engine]:
                 continue
-            row = _spawn(["--worker", case, engine, "--repeat", str(args.repeat), "--backend", args.backend])
+            repeat = args.ipx_repeat if engine == "ipx" else args.repeat
+            row = _spawn(["--worker", case, engine, "--repeat", str(repeat), "--backend", args.backend])
             row.setdefault("case", case)
             row.setdefault("engine", engine)
             rows.append(row)
@@ -174,13 +228,14 @@ def _report(df) -> None:
     print("\n== end to end (joints + build + solve + certificate), medians ==")
     print(df[[c for c in cols if c in df]].to_string(index=False, float_format=lambda x: f"{x:.4g}"))
     ok = df[df.get("status", pd.Series(dtype=str)) == "optimal"] if "status" in df else df.iloc[:0]
-    for engine in ("ipm", "clarabel"):
+    for engine in ("ipm", "clarabel", "ipx"):
         sub = ok[(ok.engine == engine) & (ok.case != "panel")]
         print(f"fitted exponent, {engine}: total_s ∝ blocks^{fit(sub.blocks, sub.total_s):.2f} (walls ≥ 1,000 blocks)")
     pivot = ok.pivot_table(index="case", columns="engine", values="total_s")
-    if {"ipm", "clarabel"} <= set(pivot.columns):
-        print("\nClarabel / ipm (end to end):")
-        print((pivot["clarabel"] / pivot["ipm"]).to_string(float_format=lambda x: f"{x:.2f}"))
+    for other in ("clarabel", "ipx"):
+        if {"ipm", other} <= set(pivot.columns):
+            print(f"\n{other} / ipm (end to end):")
+            print((pivot[other] / pivot["ipm"]).to_string(float_format=lambda x: f"{x:.2f}"))
 
 
 if __name__ == "__main__":

@@ -11,9 +11,10 @@ With D = μ / s, one Newton step reduces to the bordered normal equations::
     [ f_Lᵀ      0   ] [Δα] = [ −r_a                      ]
 
 K = H D Hᵀ (3 rows per free block) is factorised once per iteration on a fixed pattern
-(:mod:`alma.engine.normal`); the dense row f_L is eliminated by its Schur complement
-f_Lᵀ K⁻¹ f_L (one extra solve per factorisation), never added to K.  Each bordered solve is
-refined against K without the regularisation δ I.
+(:mod:`alma.engine.normal`); the dense row f_L is never added to K: the backend eliminates it
+by its Schur complement f_Lᵀ K⁻¹ f_L, or factorises the bordered matrix [K f_L; f_Lᵀ 0] with
+f_L last (feral).  The direction taken (not the predictor nor the trial correctors) is refined
+against K without the regularisation δ I.
 """
 from __future__ import annotations
 
@@ -22,7 +23,7 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from .cholesky import FactorisationError, Factoriser, make_factoriser
+from .cholesky import FactorisationError, Factoriser, dot as _dot, make_factoriser
 from .normal import NormalPattern, normal_pattern
 from .types import IPMResult, IPMSettings
 
@@ -36,10 +37,8 @@ class _Newton:
         self.live = live
         self.pattern, self.factoriser, self.settings = pattern, factoriser, settings
         self.d = np.ones(H.shape[1])
-        self.w: np.ndarray | None = None  # K⁻¹ f_L, computed with the first solve after a factorisation
-        self.schur = 1.0
         self.factor_time = self.solve_time = 0.0
-        self.factorisations = self.solves = 0
+        self.factorisations = 0
         self.boost = 1.0  # multiplies δ after a direction the refinement could not make accurate
         self.last_error = 0.0
 
@@ -61,47 +60,51 @@ class _Newton:
                     raise
                 values[self.pattern.diagonal] -= shift
                 shift *= 100.0
-        self.w = None
         self.factorisations += 1
         self.factor_time += time.perf_counter() - t0
 
+    @property
+    def solves(self) -> int:
+        """Right-hand sides solved with the factors so far."""
+        return self.factoriser.columns
+
     def bordered(self, g: np.ndarray, h: float) -> tuple[np.ndarray, float]:
-        """Solve K Δu − f_L Δα = g, f_Lᵀ Δu = h by the Schur complement f_Lᵀ K⁻¹ f_L."""
+        """Solve K Δu − f_L Δα = g, f_Lᵀ Δu = h (the backend's bordered solve, border f_L)."""
         t0 = time.perf_counter()
-        if self.w is None:  # K⁻¹ f_L and K⁻¹ g in one call (one pass over the factor)
-            both = self.factoriser.solve(np.column_stack([self.live, g]))
-            self.w, v = both[:, 0].copy(), both[:, 1].copy()
-            self.schur = _dot(self.live, self.w)
-        else:
-            v = self.factoriser.solve(g)
-        self.solves += 1
-        da = (h - _dot(self.live, v)) / self.schur
+        du, neg_da = self.factoriser.solve_bordered(g, h)
         self.solve_time += time.perf_counter() - t0
-        return v + da * self.w, da
+        return du, -neg_da
 
-    def direction(self, state: "_State", rc: np.ndarray, res: "_Residuals", refine: bool = True) -> tuple:
-        """Newton direction (Δu, Δs, Δμ, Δα) for the complementarity target r_c = s∘μ − target.
-
-        The reduced solve loses accuracy where D spans many orders of magnitude; the static
-        equation H Δμ + f_L Δα = −r_d (terms of the size of μ) is then refined in the full
-        system, each correction being one more bordered solve with the same factors.
-        """
+    def direction(self, state: "_State", rc: np.ndarray, res: "_Residuals") -> tuple:
+        """Newton direction (Δu, Δs, Δμ, Δα) for the complementarity target r_c = s∘μ − target,
+        from one bordered solve (not refined)."""
         g = res.dual - self.H @ (rc / state.s + self.d * res.primal)
         du, da = self.bordered(g, -res.norm)
         ds = self.HT @ du + res.primal
         dmu = -rc / state.s - self.d * ds  # the same (clipped) D as in K
+        return du, ds, dmu, da
+
+    def refine(self, res: "_Residuals", step: tuple) -> tuple:
+        """Iterative refinement of a Newton direction on the static equation.
+
+        The reduced solve loses accuracy where D spans many orders of magnitude; the static
+        equation H Δμ + f_L Δα = −r_d (terms of the size of μ) is then refined in the full
+        system, each correction being one more bordered solve with the same factors.  Only the
+        direction the step takes is refined: the predictor and the trial correctors only decide
+        step lengths and the centring.
+        """
+        du, ds, dmu, da = step
         target = self.settings.refinement_target * max(float(np.abs(res.dual).max(initial=0.0)),
                                                        self.settings.refinement_floor)
-        for _ in range(self.settings.refinement_steps if refine else 0):
-            e_static = self.H @ dmu + self.live * da + res.dual
-            e_norm = _dot(self.live, du) + res.norm
+        e_static = self.H @ dmu + self.live * da + res.dual
+        for _ in range(self.settings.refinement_steps):
             if float(np.abs(e_static).max(initial=0.0)) <= target:
                 break
-            cu, ca = self.bordered(e_static, -e_norm)
+            cu, ca = self.bordered(e_static, -(_dot(self.live, du) + res.norm))
             cs = self.HT @ cu
             du, da, ds, dmu = du + cu, da + ca, ds + cs, dmu - self.d * cs
-        if refine:
-            self.last_error = float(np.abs(self.H @ dmu + self.live * da + res.dual).max(initial=0.0)) / target
+            e_static = self.H @ dmu + self.live * da + res.dual
+        self.last_error = float(np.abs(e_static).max(initial=0.0)) / target
         return du, ds, dmu, da
 
 
@@ -122,12 +125,6 @@ class _Residuals:
         self.tau = _dot(state.s, state.mu) / max(state.s.size, 1)
 
 
-def _dot(x: np.ndarray, y: np.ndarray) -> float:
-    """xᵀy without BLAS: a threaded BLAS dot on a busy 2-core machine was measured at 8 ms for
-    20,000 entries (thread hand-off), the plain reduction at 12 µs."""
-    return float(np.multiply(x, y).sum())
-
-
 def _max_step(x: np.ndarray, dx: np.ndarray) -> float:
     """Largest a ≤ 1 with x + a dx ≥ 0."""
     neg = dx < 0
@@ -144,7 +141,7 @@ def _start(newton: _Newton, dead: np.ndarray, live: np.ndarray, norm_value: floa
     mu = newton.HT @ y
     alpha = -neg_alpha
     # kinematic: min ‖Hᵀu‖ s.t. f_Lᵀu = N  ->  u ∝ (HHᵀ)⁻¹ f_L
-    u = newton.w * (norm_value / newton.schur)
+    u, _ = newton.bordered(np.zeros(newton.H.shape[0]), norm_value)
     s = newton.HT @ u
     s = s + max(-1.5 * float(s.min(initial=0.0)), 0.0)
     mu = mu + max(-1.5 * float(mu.min(initial=0.0)), 0.0)
@@ -200,7 +197,7 @@ def solve_eq10(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value:
     t_start = time.perf_counter()
     H = sp.csc_matrix(H)
     pattern = pattern if pattern is not None else normal_pattern(H)
-    factoriser = make_factoriser(pattern, s_.backend)
+    factoriser = make_factoriser(pattern, s_.backend, border=np.asarray(live, float))
     t_pattern = time.perf_counter() - t_start
     newton = _Newton(H, np.asarray(live, float), pattern, factoriser, s_)
     dead = np.asarray(dead, float)
@@ -254,16 +251,15 @@ def _direction(newton: _Newton, state: _State, res: _Residuals, settings: IPMSet
     """Factorise at the current D and return the predictor–corrector(–centrality) direction."""
     newton.factor(state.mu / state.s)
     # predictor (affine scaling): target s∘μ = 0
-    du, ds, dmu, da = newton.direction(state, state.s * state.mu, res, refine=False)
+    du, ds, dmu, da = newton.direction(state, state.s * state.mu, res)
     ap, ad = _max_step(state.s, ds), _max_step(state.mu, dmu)
     tau_aff = _dot(state.s + ap * ds, state.mu + ad * dmu) / state.s.size
     sigma = min(1.0, (tau_aff / max(res.tau, 1e-300)) ** settings.centring_exponent)
     # corrector: second-order term and centring
     rc = state.s * state.mu + ds * dmu - sigma * res.tau
     step = newton.direction(state, rc, res)
-    if newton.last_error > settings.refinement_failure:
-        return step
-    return _centrality_correctors(newton, state, res, rc, step, sigma * res.tau, settings)
+    step = _centrality_correctors(newton, state, res, rc, step, sigma * res.tau, settings)
+    return newton.refine(res, step)
 
 
 def _centrality_correctors(newton: _Newton, state: _State, res: _Residuals, rc: np.ndarray, step: tuple,
