@@ -163,3 +163,17 @@ def test_auto_chooses_by_size(monkeypatch):
     assert select.choose("auto", select.AUTO_MIN_BLOCKS - 1) == "clarabel"
     assert select.choose("auto", select.AUTO_MIN_BLOCKS) == "ipm"
     assert select.choose("clarabel", 10**6) == "clarabel" and select.choose("ipm", 1) == "ipm"
+
+
+def test_crossed_bounds_are_not_certified():
+    """A lower bound above the upper one (measured on test_mixed_tiny_and_huge through a trial
+    engine setting: [0.011901605, 0.011899563], relative gap −2.0e-6) proves nothing."""
+    from alma.associative.lp import _judge
+    from alma.settings import AssociativeSettings
+    from alma.status import Status
+
+    s = AssociativeSettings()
+    status, _, _, _ = _judge(s, Status.OPTIMAL, "trial", 0.011901605, 0.011899563, 0.0, 0.0)
+    assert status != Status.OPTIMAL
+    status, _, _, _ = _judge(s, Status.OPTIMAL, "trial", 0.2736352830, 0.2736352834, 0.0, 0.0)
+    assert status == Status.OPTIMAL

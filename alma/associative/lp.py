@@ -220,7 +220,9 @@ def _judge(s: AssociativeSettings, solver_status: Status, raw: str, lower: float
     if kinematic_ok and upper < -zero:
         # An admissible mechanism in which the dead load alone does positive work: α_c < 0.
         return Status.NO_EQUILIBRIUM, "the structure cannot carry its dead load (α_c < 0)", lower, upper
-    if static_ok and kinematic_ok and gap <= s.gap_tolerance and solver_status == Status.OPTIMAL:
+    # A lower bound above the upper one by more than the tolerance contradicts weak duality:
+    # one of the two fields is wrong, so nothing is proven.
+    if static_ok and kinematic_ok and abs(gap) <= s.gap_tolerance and solver_status == Status.OPTIMAL:
         return Status.OPTIMAL, f"certified: relative gap {gap:.1e} ({raw})", lower, upper
     status = Status.LIMIT_REACHED if solver_status == Status.LIMIT_REACHED else Status.NOT_CONVERGED
     return status, (f"{raw}; relative gap {gap:.2e}, residuals static "
