@@ -177,3 +177,58 @@ def test_crossed_bounds_are_not_certified():
     assert status != Status.OPTIMAL
     status, _, _, _ = _judge(s, Status.OPTIMAL, "trial", 0.2736352830, 0.2736352834, 0.0, 0.0)
     assert status == Status.OPTIMAL
+
+
+def _bounded_wall() -> alma.Model:
+    """A small wall with cohesion on every joint and one tie between two end blocks."""
+    data = alma.wall("running", 720.0, 180.0, 240.0).with_friction(0.6).to_dict()
+    free = [b for b in data["blocks"] if not b.get("fixed")]
+    a, b = free[0], free[-1]
+    data["cohesion"] = 2.0
+    data["ties"] = [{"id": "t", "from": {"block": a["id"], "point": a["vertices"][0]},
+                     "to": {"block": b["id"], "point": b["vertices"][2]}, "strength": 0.5}]
+    return alma.build_model(alma.Scene.from_dict(data))
+
+
+def test_auxiliary_elimination_is_the_exact_schur_complement():
+    """U diag(d_eff) Uᵀ equals the Schur complement of the v block of H_aug D H_augᵀ, and
+    reduce → solve → expand solves the augmented system."""
+    from alma.associative.lp import _engine_form
+    from alma.engine.auxiliary import auxiliary_rows
+
+    model = _bounded_wall()
+    H_aug, _, _ = _engine_form(model, model.equilibrium)
+    n = model.equilibrium.shape[0]
+    aux = auxiliary_rows(H_aug, n)
+    assert aux.n_aux == H_aug.shape[0] - n > 1
+    d = np.exp(np.random.default_rng(3).uniform(-8, 8, H_aug.shape[1]))  # D spans 7 orders
+    K = (H_aug @ sp.diags(d) @ H_aug.T).toarray()
+    A, B, C = K[:n, :n], K[:n, n:], K[n:, n:]
+    assert np.allclose(C, np.diag(np.diag(C)), rtol=0, atol=0)  # the v block is diagonal
+    c, s, d_eff = aux.weights(d)
+    reduced = (aux.U @ sp.diags(d_eff) @ aux.U.T).toarray()
+    schur = A - B @ np.diag(1.0 / np.diag(C)) @ B.T
+    assert np.allclose(reduced, schur, rtol=1e-10, atol=1e-10 * np.abs(A).max())
+    g = np.random.default_rng(4).normal(size=H_aug.shape[0])
+    x = aux.expand(np.linalg.solve(reduced + 1e-12 * np.eye(n), aux.reduce(g, c, s)), g, c, s)
+    assert np.allclose(K @ x, g, rtol=1e-6, atol=1e-6 * np.abs(g).max())
+
+
+def test_auxiliary_rows_must_hold_parallel_columns():
+    from alma.engine.auxiliary import auxiliary_rows
+
+    U = sp.csc_matrix(np.array([[1.0, 0.0], [0.0, 1.0]]))
+    V = sp.csc_matrix(np.array([[1.0, 1.0]]))  # two columns on one v row, not parallel on u
+    with pytest.raises(ValueError, match="not parallel"):
+        auxiliary_rows(sp.vstack([U, V]).tocsc(), 2)
+    with pytest.raises(ValueError, match="more than one auxiliary row"):
+        auxiliary_rows(sp.vstack([U, sp.csc_matrix(np.ones((2, 2)))]).tocsc(), 2)
+
+
+def test_the_interior_point_takes_cohesion_and_ties_without_clarabel():
+    model = _bounded_wall()
+    ipm, clarabel = solve_lp(model, engine="ipm"), solve_lp(model, engine="clarabel")
+    assert "alma-ipm" in ipm.message and "Clarabel used" not in ipm.message, ipm.message
+    assert ipm.status == clarabel.status == "optimal"
+    assert ipm.alpha == pytest.approx(clarabel.alpha, rel=1e-7)
+    assert ipm.bounded_forces.shape == clarabel.bounded_forces.shape == (model.n_bounded,)

@@ -144,12 +144,15 @@ def _solve_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: flo
     """The primal–dual pair of Eq. 10 from the chosen engine: (solution, solver label, note, the
     interior point's record).
 
-    alma's interior point (``alma.engine``) takes Eq. 10 without bounded forces; when it does
-    not converge Clarabel solves the problem and the note says so.
+    alma's interior point (``alma.engine``) takes Eq. 10 with the bounded forces' dissipation
+    variables as auxiliary rows (:func:`_engine_form`); when it does not converge Clarabel solves
+    the problem and the note says so.
     """
-    if not model.n_bounded and choose(s.engine, model.n_free) == "ipm":
+    if choose(s.engine, model.n_free) == "ipm":
         start = time.perf_counter()
-        ans = solve_with_engine(H, model.dead, model.live, s.normalisation * float(model.n_free), ipm_settings)
+        H_aug, dead, live = _engine_form(model, H)
+        ans = solve_with_engine(H_aug, dead, live, s.normalisation * float(model.n_free), ipm_settings,
+                                n_primary=H.shape[0])
         if ans.raw_status == "Solved":
             return (ConicSolution(Status.OPTIMAL, ans.raw_status, ans.x, ans.z, ans.iterations,
                                   time.perf_counter() - start), ans.label, "", dict(ans.result.timings))
@@ -178,22 +181,32 @@ def _kinematic_form(model: Model, H: sp.csc_matrix, normalisation: float
     two columns ±t, whose duals τ± then sum to c l t), and one per tie, w ≥ max(0, −gᵀu).  The
     rows' duals are the bounded forces τ, in the order of the columns of G.
     """
-    n, k = H.shape
+    H_aug, dead, live = _engine_form(model, H)
+    b = np.zeros(1 + H_aug.shape[1])
+    b[0] = normalisation * float(model.n_free)
+    return -dead, sp.vstack([sp.csr_matrix(live), -H_aug.T]).tocsc(), b
+
+
+def _engine_form(model: Model, H: sp.csc_matrix) -> tuple[sp.csc_matrix, np.ndarray, np.ndarray]:
+    """Eq. 10 with bounded forces in the engine's form ``min −f₀ᵀx s.t. f_Lᵀx = N, Hᵀx ≥ 0``.
+
+    x = (u, v) with the dissipation variables v of :func:`_kinematic_form` as rows after u:
+    H_aug = [[H, G, 0], [0, E, T]] (E: each bounded column on its v row, T: v ≥ 0 of the ties),
+    f₀ extended by −capacity on v, f_L by 0.  Its duals are (μ, τ, w) with τ + w = capacity, so
+    that 0 ≤ τ ≤ capacity (:mod:`alma.engine.auxiliary`).  Without bounded forces: (H, f₀, f_L).
+    """
     q_count = model.n_bounded
     if not q_count:
-        b = np.zeros(1 + k)
-        b[0] = normalisation * float(model.n_free)
-        return -model.dead, sp.vstack([sp.csr_matrix(model.live), -H.T]).tocsc(), b
+        return H, model.dead, model.live
+    n, k = H.shape
     var, n_var, tie = _dissipation_variables(model.bounded_labels)
-    E = sp.csr_matrix((np.ones(q_count), (np.arange(q_count), var)), shape=(q_count, n_var))
-    tie_rows = sp.csr_matrix((np.ones(tie.size), (np.arange(tie.size), var[tie])), shape=(tie.size, n_var))
-    A = sp.bmat([[sp.csr_matrix(model.live), None], [-H.T, None], [-model.bounded.T, -E],
-                 [sp.csr_matrix((tie.size, n)), -tie_rows]], format="csc")
+    E = sp.csc_matrix((np.ones(q_count), (var, np.arange(q_count))), shape=(n_var, q_count))
+    T = sp.csc_matrix((np.ones(tie.size), (var[tie], np.arange(tie.size))), shape=(n_var, tie.size))
+    H_aug = sp.bmat([[H, model.bounded, sp.csc_matrix((n, tie.size))], [sp.csc_matrix((n_var, k)), E, T]],
+                    format="csc")
     cost = np.zeros(n_var)
     cost[var] = model.capacity
-    b = np.zeros(A.shape[0])
-    b[0] = normalisation * float(model.n_free)
-    return np.concatenate([-model.dead, cost]), A, b
+    return H_aug, np.concatenate([model.dead, -cost]), np.concatenate([model.live, np.zeros(n_var)])
 
 
 def _dissipation_variables(labels: np.ndarray) -> tuple[np.ndarray, int, np.ndarray]:

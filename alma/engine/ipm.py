@@ -23,6 +23,7 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
+from .auxiliary import Auxiliary, auxiliary_rows
 from .cholesky import FactorisationError, Factoriser, dot as _dot, make_factoriser
 from .normal import NormalPattern, normal_pattern
 from .types import IPMResult, IPMSettings
@@ -32,11 +33,13 @@ class _Newton:
     """The factorised normal matrix of one iteration and the bordered solves with it."""
 
     def __init__(self, H: sp.csc_matrix, live: np.ndarray, pattern: NormalPattern,
-                 factoriser: Factoriser, settings: IPMSettings):
+                 factoriser: Factoriser, settings: IPMSettings, auxiliary: Auxiliary | None = None):
         self.H, self.HT = H, H.T.tocsr()
         self.live = live
         self.pattern, self.factoriser, self.settings = pattern, factoriser, settings
+        self.auxiliary = auxiliary  # v rows eliminated from K (bounded forces), or None
         self.d = np.ones(H.shape[1])
+        self.c = self.s_aux = np.ones(0)  # C = V D Vᵀ and S of the auxiliary rows
         self.factor_time = self.solve_time = 0.0
         self.factorisations = 0
         self.boost = 1.0  # multiplies δ after a direction the refinement could not make accurate
@@ -47,7 +50,10 @@ class _Newton:
         cap = self.settings.scaling_cap
         self.d = np.clip(d, 1.0 / cap, cap)
         t0 = time.perf_counter()
-        values = self.pattern.values(self.d)
+        weights = self.d
+        if self.auxiliary is not None:
+            self.c, self.s_aux, weights = self.auxiliary.weights(self.d)
+        values = self.pattern.values(weights)
         top = float(values[self.pattern.diagonal].max(initial=1.0))
         shift = self.settings.regularisation * self.boost * max(top, 1.0)
         for attempt in range(4):
@@ -71,7 +77,12 @@ class _Newton:
     def bordered(self, g: np.ndarray, h: float) -> tuple[np.ndarray, float]:
         """Solve K Δu − f_L Δα = g, f_Lᵀ Δu = h (the backend's bordered solve, border f_L)."""
         t0 = time.perf_counter()
-        du, neg_da = self.factoriser.solve_bordered(g, h)
+        aux = self.auxiliary
+        if aux is None:
+            du, neg_da = self.factoriser.solve_bordered(g, h)
+        else:  # f_L is zero on the v rows: the border stays on u
+            du, neg_da = self.factoriser.solve_bordered(aux.reduce(g, self.c, self.s_aux), h)
+            du = aux.expand(du, g, self.c, self.s_aux)
         self.solve_time += time.perf_counter() - t0
         return du, -neg_da
 
@@ -178,7 +189,8 @@ def _diverged(state: _State, norm_value: float, settings: IPMSettings) -> bool:
 
 
 def solve_eq10(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value: float,
-               settings: IPMSettings | None = None, *, pattern: NormalPattern | None = None) -> IPMResult:
+               settings: IPMSettings | None = None, *, pattern: NormalPattern | None = None,
+               n_primary: int | None = None) -> IPMResult:
     """Solve Eq. 10 and its static dual by the Mehrotra predictor–corrector interior point.
 
     Parameters
@@ -191,15 +203,22 @@ def solve_eq10(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value:
         N of the normalisation f_Lᵀu = N (α is unaffected; u scales with N).
     settings : IPMSettings, optional
     pattern : NormalPattern, optional
-        The pattern of H D Hᵀ if already built for this geometry (it does not depend on f).
+        The pattern of H D Hᵀ (of its first ``n_primary`` rows) if already built for this
+        geometry (it does not depend on f).
+    n_primary : int, optional
+        Rows of u; the rows after them are the dissipation variables of bounded forces
+        (:mod:`alma.engine.auxiliary`), eliminated from K.  Default: every row is u.
     """
     s_ = settings or IPMSettings()
     t_start = time.perf_counter()
     H = sp.csc_matrix(H)
-    pattern = pattern if pattern is not None else normal_pattern(H)
-    factoriser = make_factoriser(pattern, s_.backend, border=np.asarray(live, float))
+    live = np.asarray(live, float)
+    aux = auxiliary_rows(H, n_primary) if n_primary is not None and n_primary < H.shape[0] else None
+    primary = H if aux is None else aux.U
+    pattern = pattern if pattern is not None else normal_pattern(primary)
+    factoriser = make_factoriser(pattern, s_.backend, border=live[:primary.shape[0]])
     t_pattern = time.perf_counter() - t_start
-    newton = _Newton(H, np.asarray(live, float), pattern, factoriser, s_)
+    newton = _Newton(H, live, pattern, factoriser, s_, aux)
     dead = np.asarray(dead, float)
     try:
         state = _start(newton, dead, newton.live, norm_value)

@@ -67,9 +67,12 @@ def _warn_once(message: str) -> None:
 
 
 def solve_with_engine(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value: float,
-                      settings: IPMSettings | None = None) -> EngineAnswer:
-    """Run the interior point on Eq. 10; ``raw_status`` is "Solved" only when it converged."""
-    result = solve_eq10(H, dead, live, norm_value, settings)
+                      settings: IPMSettings | None = None, n_primary: int | None = None) -> EngineAnswer:
+    """Run the interior point on Eq. 10; ``raw_status`` is "Solved" only when it converged.
+
+    ``n_primary``: rows of u in H, the rest being bounded forces' dissipation variables.
+    """
+    result = solve_eq10(H, dead, live, norm_value, settings, n_primary=n_primary)
     raw = "Solved" if result.status == "optimal" else result.status
     z = np.concatenate([[-result.alpha], result.mu])
     return EngineAnswer(raw_status=raw, x=result.u, z=z, iterations=result.iterations,
