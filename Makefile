@@ -66,7 +66,7 @@ bench-certify: $(STAMP)
 	$(BIN)/python benchmarks/bench_certify.py
 
 bench-bounded: $(STAMP)
-	$(BIN)/python benchmarks/bench_bounded.py
+	$(BIN)/python benchmarks/bench_bounded.py --sweep
 
 bench-ipopt: $(STAMP)
 	$(BIN)/python benchmarks/bench_ipopt_lp_start.py

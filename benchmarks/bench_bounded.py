@@ -2,9 +2,13 @@
 
 The target (issue 17): cohesion and ties cost ≤ 10 % more solve time than the plain LP on the
 largest paper panel (english 1:2 1:1, f = 0.6, 1,752 blocks).  Medians of ``--repeat`` runs of
-``alma.solve`` end to end, all cases in one process, ratios against the plain panel.
+``solve_lp`` (solve and certificate), every case and engine in one process, ratios against the
+plain panel on the same engine, and the time per iteration, which separates what the
+formulation costs (more columns per iteration) from what the problem costs (more iterations).
 
-    python benchmarks/bench_bounded.py [--repeat 5]      (make bench-bounded)
+``--sweep`` adds the cohesion sweep: how the iteration count of each engine follows c.
+
+    python benchmarks/bench_bounded.py [--repeat 5] [--sweep]      (make bench-bounded)
 """
 from __future__ import annotations
 
@@ -13,38 +17,55 @@ import sys
 from pathlib import Path
 
 import alma
+from alma.associative.lp import solve_lp
 from alma.geometry.chains import with_chain
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_lp import median_time  # noqa: E402
 
+ENGINES = ("ipm", "clarabel")
+SWEEP = (0.001, 0.1, 1.0, 5.0, 50.0)  # kPa
+
+
+def _cohesive(scene: alma.Scene, c: float) -> alma.Scene:
+    return alma.Scene.from_dict({**scene.to_dict(), "cohesion": c})
+
 
 def cases() -> dict[str, alma.Scene]:
     panel = alma.paper_panel("english", "1:2", "1:1", 0.6)
-    data = panel.to_dict()
-    cohesive = alma.Scene.from_dict({**data, "cohesion": 5.0})
     chained = panel
     for height in (690.0, 1410.0, 2130.0, 2850.0):
         chained = with_chain(chained, height, 5.0)
     chained.validate()
-    both = alma.Scene.from_dict({**chained.to_dict(), "cohesion": 5.0})
-    return {"plain": panel, "cohesion 5 kPa": cohesive, "4 chains": chained, "cohesion + chains": both}
+    return {"plain": panel, "cohesion 5 kPa": _cohesive(panel, 5.0), "4 chains": chained,
+            "cohesion + chains": _cohesive(chained, 5.0)}
+
+
+def _table(scenes: dict[str, alma.Scene], repeat: int) -> list[tuple]:
+    rows = []
+    for engine in ENGINES:
+        base = None
+        for name, scene in scenes.items():
+            model = alma.build_model(scene)
+            seconds, lp = median_time(lambda m=model, e=engine: solve_lp(m, engine=e), repeat)
+            base = base or (seconds, lp.iterations)
+            rows.append((engine, name, seconds, seconds / base[0], lp.iterations, lp.iterations / base[1],
+                         1e3 * seconds / max(lp.iterations, 1), str(lp.status), lp.alpha))
+    return rows
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--sweep", action="store_true", help="also cohesion 0.001–50 kPa on the same panel")
     args = ap.parse_args(argv)
-    rows = []
-    for name, scene in cases().items():
-        model = alma.build_model(scene)
-        seconds, result = median_time(lambda m=model: alma.solve(m), args.repeat)
-        rows.append((name, seconds, result))
-    base = rows[0][1]
-    print(f"{'case':<20} {'median s':>9} {'x plain':>8} {'iterations':>10} {'status':>9} {'alpha':>10}")
-    for name, seconds, result in rows:
-        print(f"{name:<20} {seconds:9.3f} {seconds / base:8.2f} {result.iterations:10d} {result.status!s:>9} "
-              f"{result.alpha:10.6f}")
+    scenes = cases()
+    if args.sweep:
+        scenes.update({f"c = {c:g} kPa": _cohesive(scenes["plain"], c) for c in SWEEP})
+    print(f"{'engine':<9} {'case':<20} {'median s':>9} {'x plain':>8} {'iterations':>10} {'x plain':>8} "
+          f"{'ms/iter':>8} {'status':>9} {'alpha':>10}")
+    for engine, name, s, rs, it, ri, ms, status, alpha in _table(scenes, args.repeat):
+        print(f"{engine:<9} {name:<20} {s:9.3f} {rs:8.2f} {it:10d} {ri:8.2f} {ms:8.2f} {status:>9} {alpha:10.6f}")
     return 0
 
 
