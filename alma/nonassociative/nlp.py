@@ -4,7 +4,10 @@ Unknowns: α, contact forces (N, T) at every contact point, the mechanism u and
 the slip split γ = γ⁺ − γ⁻ (γ± ≥ 0).  Constraints: equilibrium (Eq. 3), yield
 |T| ≤ f N (Eq. 5), no interpenetration ξ = normalᵀu ≥ 0, f_Lᵀu = n_free
 (Eq. 8), and the complementarity of Eq. 7 with a Scholtes relaxation driven to
-zero: N ξ ≤ ε, (f N + T) γ⁺ ≤ ε, (f N − T) γ⁻ ≤ ε.  A tiny regularisation of
+zero: N ξ ≤ ε, (f N + T) γ⁺ ≤ ε, (f N − T) γ⁻ ≤ ε.  Bounded forces (cohesion, ties:
+0 ≤ τ ≤ capacity on the columns G) add G τ to the equilibrium and their flow rule on
+d = −Gᵀu = d⁺ − d⁻ (d± ≥ 0): (capacity − τ) d⁺ ≤ ε (a column that dissipates is at its
+capacity), τ d⁻ ≤ ε (one that moves against itself carries nothing).  A tiny regularisation of
 the slips keeps multipliers of unloaded points bounded.  Sparse Jacobians and
 exact Hessians come from CasADi.  The result is only a start: its mechanism is
 turned into an exact, verified state by :func:`alma.nonassociative.states.exact_state`.
@@ -52,35 +55,38 @@ def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, see
     eps = ca.SX.sym("eps")
     An, At = _dm(points.normal), _dm(points.tangent)
     f = ca.DM(points.friction)
+    q = model.n_bounded
+    tau, dp, dm = ca.SX.sym("tau", q), ca.SX.sym("dp", q), ca.SX.sym("dm", q)
     opening = ca.mtimes(An.T, u)
+    equilibrium = ca.mtimes(An, N) + ca.mtimes(At, T) + ca.DM(model.dead) + alpha * ca.DM(model.live)
+    capacity = ca.DM(model.capacity) if q else ca.DM.zeros(0)
+    if q:
+        G = _dm(model.bounded)
+        equilibrium = equilibrium + ca.mtimes(G, tau)
     g = ca.vertcat(
-        ca.mtimes(An, N) + ca.mtimes(At, T) + ca.DM(model.dead) + alpha * ca.DM(model.live),  # = 0
+        equilibrium,                                                                          # = 0
         ca.mtimes(At.T, u) - gp + gm,                                                        # = 0
         ca.dot(ca.DM(model.live), u) - model.n_free,                                          # = 0
+        *([-ca.mtimes(G.T, u) - dp + dm] if q else []),                                     # = 0
         f * N - T,                                                                            # ≥ 0
         f * N + T,                                                                            # ≥ 0
         opening,                                                                              # ≥ 0
         N * opening - eps,                                                                    # ≤ 0
         (f * N + T) * gp - eps,                                                               # ≤ 0
         (f * N - T) * gm - eps,                                                               # ≤ 0
+        (capacity - tau) * dp - eps,                                                          # ≤ 0
+        tau * dm - eps,                                                                       # ≤ 0
     )
-    x = ca.vertcat(alpha, N, T, u, gp, gm)
-    objective = alpha + 1e-8 * (ca.sumsqr(gp) + ca.sumsqr(gm))
+    x = ca.vertcat(alpha, N, T, u, gp, gm, tau, dp, dm)
+    objective = alpha + 1e-8 * (ca.sumsqr(gp) + ca.sumsqr(gm) + ca.sumsqr(dp) + ca.sumsqr(dm))
     problem = {"x": x, "p": eps, "f": objective, "g": g}
     options = {"ipopt.print_level": 0, "print_time": False, "ipopt.max_iter": max_iter, "ipopt.sb": "yes"}
-    n_eq = n + P + 1
-    lbg = np.concatenate([np.zeros(n_eq), np.zeros(3 * P), np.full(3 * P, -np.inf)])
-    ubg = np.concatenate([np.zeros(n_eq), np.full(3 * P, np.inf), np.zeros(3 * P)])
-    lbx = np.concatenate([[-np.inf], np.zeros(P), np.full(P, -np.inf), np.full(n, -np.inf), np.zeros(2 * P)])
-    ubx = np.full(lbx.shape, np.inf)
-
-    work = float(model.live @ mechanism)
-    u0 = mechanism * (model.n_free / work) if work > 0 else mechanism
-    slip = points.tangent.T @ u0
-    if seed is not None:
-        x0 = np.concatenate([[seed.alpha], seed.normal, seed.shear, u0, np.maximum(slip, 0), np.maximum(-slip, 0)])
-    else:
-        x0 = np.concatenate([[0.0], np.zeros(2 * P), u0, np.maximum(slip, 0), np.maximum(-slip, 0)])
+    n_eq = n + P + 1 + q
+    lbg = np.concatenate([np.zeros(n_eq), np.zeros(3 * P), np.full(3 * P + 2 * q, -np.inf)])
+    ubg = np.concatenate([np.zeros(n_eq), np.full(3 * P, np.inf), np.zeros(3 * P + 2 * q)])
+    lbx = np.concatenate([[-np.inf], np.zeros(P), np.full(P, -np.inf), np.full(n, -np.inf), np.zeros(2 * P + 3 * q)])
+    ubx = np.concatenate([np.full(1 + 2 * P + n + 2 * P, np.inf), model.capacity, np.full(2 * q, np.inf)])
+    x0 = _initial(model, points, mechanism, seed)
     best_u = None
     solver = ca.nlpsol("alma_nlncp", "ipopt", problem, options)
     for epsilon in relaxations:
@@ -94,3 +100,21 @@ def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, see
     if best_u is None:
         return None
     return exact_state(model, points, best_u, "ipopt")
+
+
+def _initial(model: Model, points: ContactPoints, mechanism: np.ndarray, seed: CollapseState | None) -> np.ndarray:
+    """IPOPT's start: the mechanism scaled to f_Lᵀu = n_free, its slips and bounded-force
+    elongations split by sign, and the seed's forces (zero forces without a seed)."""
+    P, q = points.count, model.n_bounded
+    work = float(model.live @ mechanism)
+    u0 = mechanism * (model.n_free / work) if work > 0 else mechanism
+    slip = points.tangent.T @ u0
+    d = -(model.bounded.T @ u0) if q else np.zeros(0)
+    if seed is not None:
+        forces = np.concatenate([[seed.alpha], seed.normal, seed.shear])
+        tau = seed.bounded if seed.bounded.size == q else np.where(d > 0, model.capacity, 0.0)
+    else:
+        forces = np.zeros(1 + 2 * P)
+        tau = np.where(d > 0, model.capacity, 0.0)
+    return np.concatenate([forces, u0, np.maximum(slip, 0), np.maximum(-slip, 0), tau,
+                           np.maximum(d, 0), np.maximum(-d, 0)])

@@ -12,8 +12,9 @@
   go below a rocking state), ``ipopt`` up to :attr:`~alma.settings.SearchSettings.ipopt_blocks`
   free blocks and ``milp`` up to :attr:`~alma.settings.SearchSettings.milp_start_blocks`.
 
-With cohesion and ties (bounded forces) ``ipopt`` and ``milp`` do not run: their problems are
-written on the cone generators only (:data:`CONE_ONLY`); the search says so in its message.
+With cohesion and ties (bounded forces) ``milp`` does not run: its problem is written on the
+cone generators only (:data:`CONE_ONLY`); the search says so in its message.  ``ipopt`` takes
+them (:mod:`alma.nonassociative.nlp`).
 """
 from __future__ import annotations
 
@@ -26,8 +27,8 @@ from alma.nonassociative.tilted import TiltStart
 from alma.settings import SearchSettings
 
 EFFORTS = ("fast", "thorough")
-#: Starts whose problem has no bounded forces (IPOPT's NLP, the MILP of alma.certify).
-CONE_ONLY = ("ipopt", "milp")
+#: Starts whose problem has no bounded forces (the MILP of alma.certify).
+CONE_ONLY = ("milp",)
 
 
 def resolve_effort(effort: str, settings: SearchSettings, n_free: int) -> str:
