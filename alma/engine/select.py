@@ -26,9 +26,9 @@ FAST_BACKENDS = ("pardiso", "feral")
 #: ``auto`` uses the interior point from this many free blocks on: measured end to end on this
 #: project's 2-core machine, Clarabel is faster on the paper panels (≤ 1,752 blocks: 0.59 s
 #: against 0.80 s) and the interior point from the 5,005-block wall on (5.6 s against 12.3 s);
-#: docs/engine.md.  (benchmarks/bench_engine_crossover.py now puts the panels' crossover near
-#: 700 blocks; it is not taken because the interior point's partition, at its stop, leaves the
-#: crisp mechanism without a vertex on two more panels: docs/decisions.md.)
+#: docs/engine.md.  The panels' crossover is near 700 blocks (benchmarks/bench_engine_crossover.py);
+#: the threshold stays above it because the crisp mechanism needs Clarabel's sharper final
+#: partition on two of those panels (docs/decisions.md).
 AUTO_MIN_BLOCKS = 3000
 
 _warned = False

@@ -81,11 +81,7 @@ def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, see
     objective = alpha + 1e-8 * (ca.sumsqr(gp) + ca.sumsqr(gm) + ca.sumsqr(dp) + ca.sumsqr(dm))
     problem = {"x": x, "p": eps, "f": objective, "g": g}
     options = {"ipopt.print_level": 0, "print_time": False, "ipopt.max_iter": max_iter, "ipopt.sb": "yes"}
-    n_eq = n + P + 1 + q
-    lbg = np.concatenate([np.zeros(n_eq), np.zeros(3 * P), np.full(3 * P + 2 * q, -np.inf)])
-    ubg = np.concatenate([np.zeros(n_eq), np.full(3 * P, np.inf), np.zeros(3 * P + 2 * q)])
-    lbx = np.concatenate([[-np.inf], np.zeros(P), np.full(P, -np.inf), np.full(n, -np.inf), np.zeros(2 * P + 3 * q)])
-    ubx = np.concatenate([np.full(1 + 2 * P + n + 2 * P, np.inf), model.capacity, np.full(2 * q, np.inf)])
+    lbg, ubg, lbx, ubx = _bounds(model, P)
     x0 = _initial(model, points, mechanism, seed)
     best_u = None
     solver = ca.nlpsol("alma_nlncp", "ipopt", problem, options)
@@ -100,6 +96,18 @@ def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, see
     if best_u is None:
         return None
     return exact_state(model, points, best_u, "ipopt")
+
+
+def _bounds(model: Model, P: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Bounds of the constraints g (equalities, yield and opening ≥ 0, complementarities ≤ ε)
+    and of x = (α, N, T, u, γ⁺, γ⁻, τ, d⁺, d⁻) for ``P`` contact points."""
+    n, q = model.dead.shape[0], model.n_bounded
+    n_eq = n + P + 1 + q
+    lbg = np.concatenate([np.zeros(n_eq), np.zeros(3 * P), np.full(3 * P + 2 * q, -np.inf)])
+    ubg = np.concatenate([np.zeros(n_eq), np.full(3 * P, np.inf), np.zeros(3 * P + 2 * q)])
+    lbx = np.concatenate([[-np.inf], np.zeros(P), np.full(P, -np.inf), np.full(n, -np.inf), np.zeros(2 * P + 3 * q)])
+    ubx = np.concatenate([np.full(1 + 2 * P + n + 2 * P, np.inf), model.capacity, np.full(2 * q, np.inf)])
+    return lbg, ubg, lbx, ubx
 
 
 def _initial(model: Model, points: ContactPoints, mechanism: np.ndarray, seed: CollapseState | None) -> np.ndarray:
