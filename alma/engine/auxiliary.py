@@ -39,8 +39,6 @@ class Auxiliary:
         Rows of u (3 per free block); rows from here on are auxiliary.
     U : scipy.sparse.csc_matrix
         H_aug restricted to the u rows, (n_primary, k).
-    V : scipy.sparse.csr_matrix
-        H_aug restricted to the v rows, (n_aux, k), one nonzero at most per column.
     row : numpy.ndarray
         (k,) v row of each column, −1 for a column without one.
     sign : numpy.ndarray
@@ -48,19 +46,20 @@ class Auxiliary:
         column, 0 for a column that is zero on the u rows (a tie's v ≥ 0) or has no v row.
     reference : scipy.sparse.csc_matrix
         (n_primary, n_aux) the first column of each v row on the u rows: U D Vᵀ = reference·diag(S).
+    V_squared : scipy.sparse.csr_matrix
+        V∘V with V the v rows of H_aug (one nonzero at most per column), so that C = V∘V · d.
     """
 
     n_primary: int
     U: sp.csc_matrix
-    V: sp.csr_matrix
     row: np.ndarray
     sign: np.ndarray
     reference: sp.csc_matrix
-    V_squared: sp.csr_matrix  # V∘V, so that C = V∘V · d
+    V_squared: sp.csr_matrix
 
     @property
     def n_aux(self) -> int:
-        return int(self.V.shape[0])
+        return int(self.V_squared.shape[0])
 
     def weights(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(C, S, d_eff) of the module docstring for the column weights d = μ / s.
@@ -109,7 +108,7 @@ def auxiliary_rows(H: sp.csc_matrix, n_primary: int) -> Auxiliary:
     if first.size:
         reference = U[:, np.maximum(first, 0)].tocsc()
         reference = reference @ sp.diags((first >= 0).astype(float))  # a row without u part: 0
-    return Auxiliary(n_primary=n_primary, U=U, V=V.tocsr(), row=row, sign=sign, reference=reference.tocsc(),
+    return Auxiliary(n_primary=n_primary, U=U, row=row, sign=sign, reference=reference.tocsc(),
                      V_squared=V.multiply(V).tocsr())
 
 

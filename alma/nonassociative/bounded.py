@@ -36,9 +36,9 @@ def rates(model: Model, mechanism: np.ndarray) -> np.ndarray:
     return -(model.bounded.T @ mechanism)
 
 
-def rate_signs(model: Model, mechanism: np.ndarray, tolerance: float) -> np.ndarray:
-    """The bounded columns' active set of a mechanism: sign of d, |d| ≤ ``tolerance`` read as 0."""
-    d = rates(model, mechanism)
+def rate_signs(d: np.ndarray, tolerance: float) -> np.ndarray:
+    """The bounded columns' active set from their rates d (:func:`rates`): sign of d,
+    |d| ≤ ``tolerance`` read as 0."""
     return np.where(d > tolerance, 1.0, np.where(d < -tolerance, -1.0, 0.0))
 
 
@@ -75,16 +75,16 @@ def kinematic_rows(model: Model, may_grow: np.ndarray, may_shrink: np.ndarray
     return g_t[fixed], sp.vstack([g_t[grow], -g_t[shrink]]).tocsr()
 
 
-def residuals(model: Model, tau: np.ndarray, mechanism: np.ndarray, force_scale: float,
+def residuals(model: Model, tau: np.ndarray, d: np.ndarray, force_scale: float,
               vel_scale: float) -> tuple[float, float, float]:
-    """(yield violation, mobilisation gap, dissipation) of a bounded field on a mechanism.
+    """(yield violation, mobilisation gap, dissipation) of a bounded field on a mechanism whose
+    rates are d (:func:`rates`).
 
     Yield: how far τ leaves [0, capacity]; mobilisation: the largest capacity · max(0, d) − τ d
     (zero on the flow rule, module docstring), relative to ``force_scale`` × ``vel_scale``;
     dissipation: Σ capacity · max(0, d), dimensionless work.
     """
     cap = model.capacity
-    d = rates(model, mechanism)
     violation = float(np.maximum(np.maximum(-tau, tau - cap), 0.0).max(initial=0.0))
     gap = float(np.abs(cap * np.maximum(d, 0.0) - tau * d).max(initial=0.0)) / (force_scale * vel_scale)
     return violation, gap, float(cap @ np.maximum(d, 0.0))

@@ -104,7 +104,7 @@ def bounded_active_set(model: Model, points: ContactPoints, mechanism: np.ndarra
     d = bf.rates(model, mechanism)
     scale = max(float(np.abs(points.normal.T @ mechanism).max(initial=0.0)),
                 float(np.abs(points.tangent.T @ mechanism).max(initial=0.0)), float(np.abs(d).max(initial=0.0)), 1e-300)
-    return bf.rate_signs(model, mechanism, ACTIVE_TOLERANCE * scale)
+    return bf.rate_signs(d, ACTIVE_TOLERANCE * scale)
 
 
 def _allowed(signs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -153,8 +153,9 @@ def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray
     u = mechanism * (model.n_free / work) if work > 0 else mechanism
     opening = points.normal.T @ u
     slip = points.tangent.T @ u
+    rates = bf.rates(model, u)
     vel_scale = max(float(np.abs(opening).max(initial=0.0)), float(np.abs(slip).max(initial=0.0)),
-                    float(np.abs(bf.rates(model, u)).max(initial=0.0)), 1e-300)
+                    float(np.abs(rates).max(initial=0.0)), 1e-300)
     penetration = float(np.maximum(-opening, 0).max(initial=0.0)) / vel_scale
     open_force = float((np.maximum(normal, 0) * np.maximum(opening, 0)).max(initial=0.0)) / (force_scale * vel_scale)
     # friction fully mobilised against the slip: f N |γ| + T γ = 0
@@ -163,7 +164,7 @@ def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray
     dissipation = float(np.sum(points.friction * np.maximum(normal, 0) * np.abs(slip)))
     bounded_gap = 0.0
     if q:
-        bounded_yield, bounded_gap, bounded_work = bf.residuals(model, tau, u, force_scale, vel_scale)
+        bounded_yield, bounded_gap, bounded_work = bf.residuals(model, tau, rates, force_scale, vel_scale)
         yield_violation, dissipation = max(yield_violation, bounded_yield), dissipation + bounded_work
     energy = abs(alpha * (model.live @ u) + model.dead @ u - dissipation) / max(1.0, abs(model.dead @ u), dissipation)
     residuals = {"equilibrium": equilibrium / force_scale, "yield": yield_violation / force_scale,
