@@ -128,10 +128,7 @@ def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settin
     radenkovic = radenkovic_lower_bound(built, settings.associative)
     timings["radenkovic_s"] = time.perf_counter() - t0
     certificate = None
-    if certify and built.n_bounded:
-        solution = dataclasses.replace(solution, message=f"{solution.message}; the MILP certification is not run: "
-                                                         "it is written without cohesion and ties")
-    elif certify:
+    if certify:
         mechanisms = [c.mechanism for c in solution.candidates] + ([lp.mechanism] if lp.solved else [])
         best = solution.best.alpha if solution.best is not None else None
         certificate = certify_milp(built, lp.alpha, mechanisms, settings=settings.certify,

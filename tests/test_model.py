@@ -56,15 +56,16 @@ def test_no_equilibrium_and_no_collapse():
     assert alma.solve(boxed).status == "no_collapse"
 
 
-def test_cohesion_solved_by_both_models_with_the_skipped_starts_named():
+def test_cohesion_solved_by_both_models_and_certified():
     scene = alma.Scene.from_dict({"cohesion": 0.1, "blocks": [
         {"id": "g", "vertices": [[-1, -1], [3, -1], [3, 0], [-1, 0]], "fixed": True},
         {"id": "b", "vertices": [[0, 0], [2, 0], [2, 1], [0, 1]]}]})
     assert alma.solve(scene).status == "optimal"
     result = alma.solve(scene, model="nonassociative", effort="thorough", certify=True)
-    assert result.status in ("optimal", "feasible")
-    assert "milp not run" in result.message and "MILP certification is not run" in result.message
-    assert result.search["not_run"] == ["milp"] and result.certificate is None
+    assert result.status == "optimal" and result.alpha == pytest.approx(2.0, rel=1e-9)
+    assert result.extra["certificate"]["status"] == "proven" and "not_run" not in result.search
+    milp = [s for s in result.extra["starts"] if s["start"] == "milp"]  # the MILP start takes cohesion
+    assert milp, result.extra["starts"]
     ipopt = [s for s in result.extra["starts"] if s["start"] == "ipopt"]  # IPOPT takes cohesion
     assert ipopt and ipopt[0]["verified"] and ipopt[0]["alpha"] == pytest.approx(2.0, rel=1e-9), ipopt
 

@@ -11,16 +11,20 @@ is open (o_p = 1) or closed:
 - f N_p + T_p ≤ 2 f M_N,p (1 − s⁺_j),   f N_p − T_p ≤ 2 f M_N,p (1 − s⁻_j)
   (slipping: T = −f N sign γ; an open point carries nothing and satisfies both);
 
-with equilibrium, yield |T| ≤ f N, no interpenetration ξ ≥ 0 and f_Lᵀu = n_free;
+with equilibrium, yield |T| ≤ f N, no interpenetration ξ ≥ 0 and f_Lᵀu = n_free.
+Bounded forces (cohesion, ties; :mod:`alma.nonassociative.bounded`) are columns G τ of the
+equilibrium with 0 ≤ τ ≤ cap and rates d = −Gᵀu = d⁺ − d⁻, their flow rule by two binaries
+each: d⁺ ≤ M_d⁺ q⁺ with τ ≥ cap q⁺, and d⁻ ≤ M_d⁻ q⁻ with τ ≤ cap (1 − q⁻);
 objective min α over α ∈ [0, α_cap], α_cap = min(α_LP, α_best) (Radenkovic:
 α_NL ≤ α_LP; α_best is a verified collapse state, also given to HiGHS as the
 objective cutoff).
 
 Energy balance.  Every integer-feasible point has Nᵀξ = 0 and Tᵀγ = −Σ f N |γ|, so
-the equilibrium dotted with u gives α n_free = −f₀ᵀu + Σ_j f N_j |γ_j| (N_j the
-joint's total normal force).  With ℓ_j = min N_j over the admissible fields (an LP)
-this yields the valid row α n_free ≥ −f₀ᵀu + Σ_j f ℓ_j (γ⁺_j + γ⁻_j), and with
-α ≤ α_cap it bounds every mechanism that lifts weight or slips under load.
+the equilibrium dotted with u gives α n_free = −f₀ᵀu + Σ_j f N_j |γ_j| + Σ_i cap_i d⁺_i
+(N_j the joint's total normal force).  With ℓ_j = min N_j over the admissible fields (an LP)
+this yields the valid row α n_free ≥ −f₀ᵀu + Σ_j f ℓ_j (γ⁺_j + γ⁻_j) + Σ_i cap_i d⁺_i, and
+with α ≤ α_cap it bounds every mechanism that lifts weight, slips under load or works a
+bounded force.
 
 The big-M constants come from LPs per scene (:mod:`alma.certify.bigm`).  Points that carry
 no force in any admissible field need no binary (they may open); points loaded in every

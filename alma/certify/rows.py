@@ -1,7 +1,8 @@
 """Rows and columns of the certification MILP (see :mod:`alma.certify.milp`), built vectorised.
 
 Variable layout: α | N | T | u | γ⁺ | γ⁻ (per joint) | o (points that can carry force) |
-s⁺ | s⁻ (joints with such a point).  Forces in mean block weights, f_Lᵀu = n_free.
+s⁺ | s⁻ (joints with such a point) | τ | d⁺ | d⁻ | q⁺ | q⁻ (per bounded column: cohesion, ties).
+Forces in mean block weights, f_Lᵀu = n_free.
 """
 from __future__ import annotations
 
@@ -64,6 +65,7 @@ class _Layout:
     m: int
     B: np.ndarray  # points that can carry force (an open/closed binary each)
     J: np.ndarray  # joints with such a point (two slip binaries each)
+    q: int = 0  # bounded columns (force τ, rates d⁺ and d⁻, binaries q⁺ and q⁻ each)
 
     @property
     def i_T(self) -> int:
@@ -94,25 +96,63 @@ class _Layout:
         return self.i_sp + self.J.size
 
     @property
-    def nvar(self) -> int:
+    def i_tau(self) -> int:
         return self.i_sm + self.J.size
+
+    @property
+    def i_dp(self) -> int:
+        return self.i_tau + self.q
+
+    @property
+    def i_dm(self) -> int:
+        return self.i_dp + self.q
+
+    @property
+    def i_qp(self) -> int:
+        return self.i_dm + self.q
+
+    @property
+    def i_qm(self) -> int:
+        return self.i_qp + self.q
+
+    @property
+    def nvar(self) -> int:
+        return self.i_qm + self.q
 
 
 def _continuous_rows(rows: _Rows, L: _Layout, model: Model, points: ContactPoints, first: np.ndarray,
                      ell: np.ndarray) -> None:
-    """Equilibrium (Eq. 3), yield (Eq. 5), ξ ≥ 0, γ = γ⁺ − γ⁻, f_Lᵀu = n_free and the energy cut."""
-    P, m, f = L.P, L.m, points.friction
+    """Equilibrium (Eq. 3), yield (Eq. 5), ξ ≥ 0, γ = γ⁺ − γ⁻, d = d⁺ − d⁻, f_Lᵀu = n_free and the
+    energy cut."""
+    P, m, f, q = L.P, L.m, points.friction, L.q
     I, Im, F = sp.identity(P, format="csr"), sp.identity(m, format="csr"), sp.diags(f)
-    rows.add({0: model.live[:, None], 1: points.normal, L.i_T: points.tangent}, L.n, -model.dead, -model.dead)
+    equilibrium = {0: model.live[:, None], 1: points.normal, L.i_T: points.tangent}
+    if q:
+        equilibrium[L.i_tau] = model.bounded
+    rows.add(equilibrium, L.n, -model.dead, -model.dead)
     rows.add({1: -F, L.i_T: I}, P, -np.inf, 0.0)  # T − fN ≤ 0
     rows.add({1: -F, L.i_T: -I}, P, -np.inf, 0.0)  # −T − fN ≤ 0
     rows.add({L.i_u: points.normal.T}, P, 0.0, np.inf)  # ξ ≥ 0
     rows.add({L.i_u: points.tangent[:, first].T, L.i_gp: -Im, L.i_gm: Im}, m, 0.0, 0.0)  # γ = γ⁺ − γ⁻
+    if q:  # −Gᵀu = d⁺ − d⁻
+        rows.add({L.i_u: model.bounded.T, L.i_dp: sp.identity(q), L.i_dm: -sp.identity(q)}, q, 0.0, 0.0)
     rows.add({L.i_u: model.live[None, :]}, 1, float(model.n_free), float(model.n_free))
-    # α n_free = −f₀ᵀu + Σ_j f N_j |γ_j| with N_j ≥ ℓ_j (an LP bound) and |γ_j| = γ⁺_j + γ⁻_j.
+    # α n_free = −f₀ᵀu + Σ_j f N_j |γ_j| + Σ_i τ_i d_i with N_j ≥ ℓ_j (an LP bound), |γ_j| = γ⁺_j + γ⁻_j
+    # and τ_i d_i = cap_i d⁺_i on the bounded columns' flow rule.
     diss = (f[first] * ell)[None, :]
-    rows.add({0: np.array([[float(model.n_free)]]), L.i_u: model.dead[None, :], L.i_gp: -diss, L.i_gm: -diss},
-             1, 0.0, np.inf)
+    cut = {0: np.array([[float(model.n_free)]]), L.i_u: model.dead[None, :], L.i_gp: -diss, L.i_gm: -diss}
+    if q:
+        cut[L.i_dp] = -model.capacity[None, :]
+    rows.add(cut, 1, 0.0, np.inf)
+
+
+def _bounded_rows(rows: _Rows, L: _Layout, model: Model, big_m: BigM) -> None:
+    """The flow rule of the bounded columns: d⁺ > 0 ⇒ τ = cap (q⁺ = 1), d⁻ > 0 ⇒ τ = 0 (q⁻ = 1)."""
+    q, cap = L.q, model.capacity
+    rows.add({L.i_dp: sp.identity(q), L.i_qp: -sp.diags(big_m.rate_plus)}, q, -np.inf, 0.0)  # d⁺ ≤ M q⁺
+    rows.add({L.i_dm: sp.identity(q), L.i_qm: -sp.diags(big_m.rate_minus)}, q, -np.inf, 0.0)  # d⁻ ≤ M q⁻
+    rows.add({L.i_tau: sp.identity(q), L.i_qp: -sp.diags(cap)}, q, 0.0, np.inf)  # τ ≥ cap q⁺
+    rows.add({L.i_tau: sp.identity(q), L.i_qm: sp.diags(cap)}, q, -np.inf, cap)  # τ ≤ cap (1 − q⁻)
 
 
 def _complementarity_rows(rows: _Rows, L: _Layout, points: ContactPoints, big_m: BigM, joint_of: np.ndarray,
@@ -134,9 +174,10 @@ def _complementarity_rows(rows: _Rows, L: _Layout, points: ContactPoints, big_m:
     rows.add({L.i_sp: sp.identity(mj), L.i_sm: sp.identity(mj)}, mj, 0.0, 1.0)
 
 
-def _columns(L: _Layout, big_m: BigM, points: ContactPoints, alpha_hi: float, U: float, m_gp_j: np.ndarray,
-             m_gm_j: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Column bounds: α ∈ [0, α_hi], 0 ≤ N ≤ M_N, |T| ≤ f M_N, |u| ≤ U, slips and binaries."""
+def _columns(L: _Layout, big_m: BigM, model: Model, points: ContactPoints, alpha_hi: float, U: float,
+             m_gp_j: np.ndarray, m_gm_j: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Column bounds: α ∈ [0, α_hi], 0 ≤ N ≤ M_N, |T| ≤ f M_N, |u| ≤ U, slips, 0 ≤ τ ≤ cap, rates
+    and binaries."""
     P, n, m = L.P, L.n, L.m
     col_lo, col_hi = np.zeros(L.nvar), np.full(L.nvar, np.inf)
     col_hi[0] = alpha_hi
@@ -145,7 +186,14 @@ def _columns(L: _Layout, big_m: BigM, points: ContactPoints, alpha_hi: float, U:
     col_lo[L.i_u:L.i_u + n], col_hi[L.i_u:L.i_u + n] = -U, U
     col_hi[L.i_gp:L.i_gp + m] = m_gp_j
     col_hi[L.i_gm:L.i_gm + m] = m_gm_j
-    col_hi[L.i_o:] = 1.0
+    col_hi[L.i_o:L.i_tau] = 1.0
+    if L.q:
+        col_hi[L.i_tau:L.i_dp] = model.capacity
+        col_hi[L.i_dp:L.i_dm], col_hi[L.i_dm:L.i_qp] = big_m.rate_plus, big_m.rate_minus
+        col_hi[L.i_qp:] = 1.0
+        # A column of capacity 0 carries no force and dissipates nothing: its rates are free.
+        idle = np.flatnonzero(model.capacity <= 0.0)
+        col_lo[L.i_qp + idle] = col_lo[L.i_qm + idle] = 1.0
     if L.B.size and big_m.point_minimum is not None:
         # A point whose normal force is positive in every admissible field (min N_p > 0) never opens.
         col_hi[L.i_o + np.flatnonzero(big_m.point_minimum[L.B] > 1e-9)] = 0.0
@@ -162,17 +210,20 @@ def milp_data(model: Model, points: ContactPoints, big_m: BigM, first: np.ndarra
         return "the two end points of a joint slip differently (curved joint?): not supported"
     # Points that can carry no force anywhere (M_N = 0 up to round-off) may always open: no binaries.
     B = np.flatnonzero(big_m.normal > 1e-7 * max(1.0, float(big_m.normal.max(initial=0.0))))
-    L = _Layout(P, n, m, B, np.unique(joint_of[B]))
+    L = _Layout(P, n, m, B, np.unique(joint_of[B]), model.n_bounded)
     m_gp_j = np.maximum.reduceat(big_m.slip_plus, first) if P else big_m.slip_plus
     m_gm_j = np.maximum.reduceat(big_m.slip_minus, first) if P else big_m.slip_minus
     rows = _Rows(L.nvar)
     _continuous_rows(rows, L, model, points, first, big_m.joint_minimum)
     if B.size:
         _complementarity_rows(rows, L, points, big_m, joint_of, m_gp_j, m_gm_j)
-    col_lo, col_hi = _columns(L, big_m, points, alpha_hi, U, m_gp_j, m_gm_j)
+    if L.q:
+        _bounded_rows(rows, L, model, big_m)
+    col_lo, col_hi = _columns(L, big_m, model, points, alpha_hi, U, m_gp_j, m_gm_j)
     integrality = np.zeros(L.nvar, dtype=bool)
-    integrality[L.i_o:] = True
+    integrality[L.i_o:L.i_tau] = True
+    integrality[L.i_qp:] = True
     cost = np.zeros(L.nvar)
     cost[0] = 1.0
     return MilpData(cost, col_lo, col_hi, sp.vstack(rows.rows).tocsc(), np.concatenate(rows.lo),
-                    np.concatenate(rows.hi), integrality, 0, slice(L.i_u, L.i_u + n), B.size + 2 * L.J.size)
+                    np.concatenate(rows.hi), integrality, 0, slice(L.i_u, L.i_u + n), B.size + 2 * L.J.size + 2 * L.q)

@@ -12,9 +12,8 @@
   go below a rocking state), ``ipopt`` up to :attr:`~alma.settings.SearchSettings.ipopt_blocks`
   free blocks and ``milp`` up to :attr:`~alma.settings.SearchSettings.milp_start_blocks`.
 
-With cohesion and ties (bounded forces) ``milp`` does not run: its problem is written on the
-cone generators only (:data:`CONE_ONLY`); the search says so in its message.  ``ipopt`` takes
-them (:mod:`alma.nonassociative.nlp`).
+Every start takes cohesion and ties (bounded forces): ``ipopt`` (:mod:`alma.nonassociative.nlp`)
+and ``milp`` (:mod:`alma.certify.rows`) write them as bounded columns with their flow rule.
 """
 from __future__ import annotations
 
@@ -27,8 +26,6 @@ from alma.nonassociative.tilted import TiltStart
 from alma.settings import SearchSettings
 
 EFFORTS = ("fast", "thorough")
-#: Starts whose problem has no bounded forces (the MILP of alma.certify).
-CONE_ONLY = ("milp",)
 
 
 def resolve_effort(effort: str, settings: SearchSettings, n_free: int) -> str:
@@ -80,21 +77,6 @@ def _turns(settings: SearchSettings, effort: str) -> tuple[float, ...]:
 
 def wanted(kind: str, ctx: Context, polish: bool | None = None) -> bool:
     """Whether a start of this kind runs now, given the candidates so far."""
-    return not unsupported(kind, ctx) and _called_for(kind, ctx, polish)
-
-
-def unsupported(kind: str, ctx: Context) -> bool:
-    """Whether a start of this kind cannot take the scene (cohesion, ties and a :data:`CONE_ONLY` start)."""
-    return kind in CONE_ONLY and ctx.model.n_bounded > 0
-
-
-def not_run(kind: str, ctx: Context, polish: bool | None = None) -> bool:
-    """Whether the policy calls for a start that cannot take the scene (:func:`unsupported`)."""
-    return unsupported(kind, ctx) and _called_for(kind, ctx, polish)
-
-
-def _called_for(kind: str, ctx: Context, polish: bool | None) -> bool:
-    """Whether the policy calls for a start of this kind now, given the candidates so far."""
     s, thorough = ctx.settings, ctx.effort == "thorough"
     if kind == "projected":
         others = [c for c in ctx.verified() if not thorough or c.start != "rocking"]

@@ -17,9 +17,8 @@ from several starts (:mod:`alma.nonassociative.starts`; which run is the
 - ``ipopt``: a CasADi/IPOPT polish with a Scholtes relaxation, on small scenes;
 - ``milp``: on the smallest scenes, the MILP of :mod:`alma.certify` capped at the best state.
 
-With cohesion and ties every start but ``ipopt`` and ``milp`` takes their bounded forces (the
-collapse states of :mod:`alma.nonassociative.states`); those two are not run, and the message
-and ``not_run`` say so.
+With cohesion and ties every start takes their bounded forces (the collapse states of
+:mod:`alma.nonassociative.states`).
 
 Every candidate is made exact (its active set fixed, the smallest α of a static LP with that
 set and a mechanism of a kinematic LP with the same set) and verified before it can count.
@@ -37,7 +36,7 @@ import numpy as np
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.limits import Cap
-from alma.nonassociative.policy import make_start, not_run, plan, resolve_effort, start_name, wanted
+from alma.nonassociative.policy import make_start, plan, resolve_effort, start_name, wanted
 from alma.nonassociative.starts import Context
 from alma.nonassociative.states import CollapseState, Tally
 from alma.settings import SearchSettings
@@ -79,8 +78,6 @@ class NonAssociativeSolution:
     stopped_by_limit: bool = False
     #: Starts not run, or cut short ("… (cut short)"), because of the time limit.
     skipped: tuple[str, ...] = ()
-    #: Starts the policy calls for that cannot take the scene's cohesion and ties (not run).
-    not_run: tuple[str, ...] = ()
 
 
 def _associative_normal(multipliers: np.ndarray | None, count: int) -> np.ndarray:
@@ -91,17 +88,12 @@ def _associative_normal(multipliers: np.ndarray | None, count: int) -> np.ndarra
 
 
 def _run_starts(ctx: Context, polish: bool | None
-                ) -> tuple[list[StartRecord], list[str], dict[str, float], list[str]]:
-    """Run the plan in order; returns the records, the skipped starts, the timings and the
-    starts not run because they cannot take the scene's bounded forces."""
+                ) -> tuple[list[StartRecord], list[str], dict[str, float]]:
+    """Run the plan in order; returns the records, the skipped starts and the timings."""
     records: list[StartRecord] = []
     skipped: list[str] = []
     timings: dict[str, float] = {}
-    unable: list[str] = []
     for kind in plan(ctx.settings, ctx.effort):
-        if not_run(kind, ctx, polish):
-            unable.append(start_name(kind, ctx.settings, ctx.effort))
-            continue
         if ctx.cap.expired():
             if wanted(kind, ctx, polish):
                 skipped.append(start_name(kind, ctx.settings, ctx.effort))
@@ -123,7 +115,7 @@ def _run_starts(ctx: Context, polish: bool | None
         timings[key] = timings.get(key, 0.0) + elapsed
         if kind.startswith("gilbert") or kind == "projected":
             timings["gilbert_iterations"] = timings.get("gilbert_iterations", 0.0) + iterations
-    return records, skipped, timings, unable
+    return records, skipped, timings
 
 
 def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
@@ -143,14 +135,13 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
     ctx = Context(model, points, settings, resolve_effort(effort, settings, model.n_free), Cap(time_limit),
                   associative_mechanism, _associative_normal(associative_multipliers, points.count),
                   associative_alpha)
-    records, skipped, timings, unable = _run_starts(ctx, polish)
+    records, skipped, timings = _run_starts(ctx, polish)
     common = dict(candidates=tuple(ctx.candidates), timings=timings, starts=tuple(records),
-                  stopped_by_limit=ctx.cap.hit, skipped=tuple(skipped), not_run=tuple(unable))
-    note = (f" ({', '.join(unable)} not run: written without cohesion and ties)" if unable else "")
+                  stopped_by_limit=ctx.cap.hit, skipped=tuple(skipped))
     best = ctx.best()
     if best is None:
-        return NonAssociativeSolution(Status.NOT_CONVERGED, "no verified collapse state was found" + note, None,
+        return NonAssociativeSolution(Status.NOT_CONVERGED, "no verified collapse state was found", None,
                                       **common)
     status = Status.FEASIBLE if best.alpha >= 0 else Status.NO_EQUILIBRIUM
-    return NonAssociativeSolution(status, f"lowest verified collapse state from start '{best.start}'" + note, best,
+    return NonAssociativeSolution(status, f"lowest verified collapse state from start '{best.start}'", best,
                                   **common)

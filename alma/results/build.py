@@ -122,8 +122,6 @@ def _record(solution: Any, certificate: Any) -> dict[str, Any]:
     search = {"stopped_by_limit": _stopped(solution),
               "skipped": list(getattr(solution, "skipped", ()) or ()),
               "work": {k: v for k, v in getattr(solution, "work", {}).items()}}
-    if getattr(solution, "not_run", ()):
-        search["not_run"] = list(solution.not_run)  # starts that cannot take cohesion and ties
     cert = None
     if certificate is not None:
         cert = {"status": certificate.status, "message": certificate.message, "lower": certificate.lower,
