@@ -182,7 +182,7 @@ def derive_big_m(model: Model, points: ContactPoints, alpha_hi: float, U: float,
         raise BoundsFailed("normal forces are unbounded (self-stress): no big-M bound exists") from error
     m_n = BIG_M_MARGIN * np.maximum(m_n, 0.0) + 1e-9
     if not per_point:
-        row_n, row_t, row_g = (np.asarray(abs(a).sum(axis=0)).ravel() * U * BIG_M_MARGIN
+        row_n, row_t, row_g = (BIG_M_MARGIN * np.asarray(abs(a).sum(axis=0)).ravel() * U
                                for a in (points.normal, points.tangent, _bounded(model)))
         return BigM(m_n, row_n, row_t, row_t, np.zeros(first.size), None, row_g, row_g)
     ell = joint_normal_minima(model, points, first, alpha_hi, **limits)
