@@ -2,9 +2,11 @@
 
 Each of the 108 paper panels (Table 5) is solved and certified by both engines in one process,
 the best of ``--repeat`` runs each, and the totals are binned by the number of free blocks.
-``alma.engine.select.AUTO_MIN_BLOCKS`` is the bin edge from which the interior point is faster.
+``alma.engine.select.AUTO_MIN_BLOCKS`` is the bin edge from which the interior point is faster;
+with ``--cohesion C`` (kPa on every joint) the same for the bounded-force problem
+(``AUTO_MIN_BLOCKS_BOUNDED``).
 
-    python benchmarks/bench_engine_crossover.py [--repeat 2]
+    python benchmarks/bench_engine_crossover.py [--repeat 2] [--cohesion 0]
 """
 from __future__ import annotations
 
@@ -12,6 +14,8 @@ import argparse
 import sys
 import time
 from pathlib import Path
+
+import dataclasses
 
 import numpy as np
 
@@ -21,15 +25,18 @@ sys.path.insert(0, str(ROOT / "verification"))
 from helpers import panel_geometry, table5  # noqa: E402
 
 from alma.associative.lp import solve_lp  # noqa: E402
+from alma.mechanics.model import build_model  # noqa: E402
 
 EDGES = (0, 200, 400, 700, 1000, 1400, 2000)
 
 
-def measure(repeat: int) -> np.ndarray:
+def measure(repeat: int, cohesion: float = 0.0) -> np.ndarray:
     """(n_free, ipm seconds, Clarabel seconds) per panel, the best of ``repeat`` runs each."""
     rows = []
     for bond, panel_ratio, block_ratio, friction, _ in table5():
         model = panel_geometry(bond, panel_ratio, block_ratio).with_friction(friction)
+        if cohesion:
+            model = build_model(dataclasses.replace(model.scene, cohesion=cohesion))
         best = {"ipm": np.inf, "clarabel": np.inf}
         for _ in range(repeat):
             for engine in best:  # alternated, so that machine load falls on both alike
@@ -43,8 +50,9 @@ def measure(repeat: int) -> np.ndarray:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--repeat", type=int, default=2)
+    ap.add_argument("--cohesion", type=float, default=0.0, help="cohesion on every joint, kPa")
     args = ap.parse_args(argv)
-    a = measure(args.repeat)
+    a = measure(args.repeat, args.cohesion)
     print(f"{'free blocks':>12} {'panels':>6} {'ipm s':>7} {'Clarabel s':>10} {'Clarabel/ipm':>12}")
     for lo, hi in zip(EDGES[:-1], EDGES[1:]):
         sel = (a[:, 0] >= lo) & (a[:, 0] < hi)
