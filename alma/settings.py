@@ -32,8 +32,13 @@ class AssociativeSettings:
     gap_tolerance: float = 1e-7
     #: Largest admissibility residual (equilibrium, flow rule) of a field that counts as proof.
     residual_tolerance: float = 1e-9
+    #: ... or, for the static field, this × machine ε × its largest force term |H||μ| when that is
+    #: larger: equilibrium cannot be evaluated below round-off, and at 100,000 blocks forces reach
+    #: 2e4 mean block weights, where the repaired residual is 580 ε × that (docs/decisions.md).
+    residual_roundoff: float = 1e4
     #: "clarabel", "ipm" (alma.engine; Clarabel if it does not converge) or "auto" (the interior
-    #: point from alma.engine.select.AUTO_MIN_BLOCKS free blocks when a fast factorisation is installed).
+    #: point from alma.engine.select.AUTO_MIN_BLOCKS free blocks, AUTO_MIN_BLOCKS_BOUNDED with
+    #: cohesion or ties, when a fast factorisation is installed).
     engine: str = "auto"
     #: Re-solve by HiGHS's dual simplex when the interior point's pair does not certify: a vertex
     #: is exact on the degenerate faces (noisy drawings of walls sliding at α = f) where it is not.

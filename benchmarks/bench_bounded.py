@@ -3,8 +3,9 @@
 The target (issue 17): cohesion and ties cost ≤ 10 % more solve time than the plain LP on the
 largest paper panel (english 1:2 1:1, f = 0.6, 1,752 blocks).  Medians of ``--repeat`` runs of
 ``solve_lp`` (solve and certificate), every case and engine in one process, ratios against the
-plain panel on the same engine, and the time per iteration, which separates what the
-formulation costs (more columns per iteration) from what the problem costs (more iterations).
+plain panel on the same engine (``auto``: the default choice for each), and the time per
+iteration, which separates what the formulation costs (more columns per iteration) from what the
+problem costs (more iterations).
 
 ``--sweep`` adds the cohesion sweep: how the iteration count of each engine follows c.
 
@@ -23,7 +24,9 @@ from alma.geometry.chains import with_chain
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_lp import median_time  # noqa: E402
 
-ENGINES = ("ipm", "clarabel")
+#: "auto" is what a user gets by default: Clarabel for the plain panel (< AUTO_MIN_BLOCKS), the
+#: interior point with cohesion or ties (>= AUTO_MIN_BLOCKS_BOUNDED).
+ENGINES = ("ipm", "clarabel", "auto")
 SWEEP = (0.001, 0.1, 1.0, 5.0, 50.0)  # kPa
 
 

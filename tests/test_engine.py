@@ -163,6 +163,8 @@ def test_auto_chooses_by_size(monkeypatch):
     assert select.choose("auto", select.AUTO_MIN_BLOCKS - 1) == "clarabel"
     assert select.choose("auto", select.AUTO_MIN_BLOCKS) == "ipm"
     assert select.choose("clarabel", 10**6) == "clarabel" and select.choose("ipm", 1) == "ipm"
+    assert select.choose("auto", select.AUTO_MIN_BLOCKS_BOUNDED - 1, bounded=True) == "clarabel"
+    assert select.choose("auto", select.AUTO_MIN_BLOCKS_BOUNDED, bounded=True) == "ipm"
 
 
 def test_crossed_bounds_are_not_certified():
@@ -232,3 +234,23 @@ def test_the_interior_point_takes_cohesion_and_ties_without_clarabel():
     assert ipm.status == clarabel.status == "optimal"
     assert ipm.alpha == pytest.approx(clarabel.alpha, rel=1e-7)
     assert ipm.bounded_forces.shape == clarabel.bounded_forces.shape == (model.n_bounded,)
+
+
+@pytest.mark.skipif("feral" not in available_backends(), reason="feral-solver is not installed here")
+def test_certificate_gram_solves_agree_between_qdldl_and_feral(monkeypatch, wall):
+    """The certificate's Gram solves go to feral on large walls (alma.backends.gram_backend): on
+    a small wall forced there, the solution and the certified bounds match QDLDL's."""
+    from alma.backends import gram_backend
+    from alma.backends.qdldl_backend import regularised_solver as qdldl_solver
+
+    H = wall.equilibrium
+    gram = (H @ H.T).tocsc()
+    b = np.random.default_rng(1).standard_normal(gram.shape[0])
+    reference = solve_lp(wall, engine="ipm")
+    monkeypatch.setattr(gram_backend, "FERAL_MIN_ROWS", 1)
+    x = gram_backend.regularised_solver(gram)(b)
+    assert np.abs(x - qdldl_solver(gram)(b)).max() <= 1e-9 * np.abs(x).max()
+    forced = solve_lp(wall, engine="ipm")
+    assert forced.status == reference.status == alma.Status.OPTIMAL
+    assert forced.lower == pytest.approx(reference.lower, abs=1e-11)
+    assert forced.upper == pytest.approx(reference.upper, abs=1e-11)

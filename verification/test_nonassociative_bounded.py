@@ -121,8 +121,11 @@ def test_cohesion_to_zero_on_the_running_panel_1_1_2_1():
 
 def test_cohesive_running_panel_between_radenkovic_and_the_associative_bound():
     """Running 1:1 2:1, f = 0.6, c = 5 kPa (300 blocks, effort "fast"): Radenkovic's bound
-    0.192901, the lowest verified non-associative state 0.765467 (start gilbert(N̄=0·N_LP, r=1,
-    steps=1)), the associative α 0.792870; without cohesion the same panel gives 0.420710 and
+    0.192901 and the associative α 0.792870 (LP optima: pinned); the lowest verified
+    non-associative state is the search's (a heuristic on degenerate faces, whose path follows the
+    platform's round-off): 0.765467 (start gilbert(N̄=0·N_LP, r=1, steps=1)) on the CI machine of
+    2026-11-25, 0.765260 (gilbert(N̄=1·N_LP, r=0.5, steps=0)) on an AVX-512 machine the same
+    day; it must not rise above the first.  Without cohesion the panel gives 0.420710 and
     0.435172."""
     both = alma.solve(_with_cohesion("running", "1:1", "2:1", 0.6, 5.0), model="both")
     nl, lp = both.nonassociative, both.associative
@@ -130,7 +133,8 @@ def test_cohesive_running_panel_between_radenkovic_and_the_associative_bound():
     assert nl.residuals["bounded_not_mobilised"] <= KINEMATIC_TOLERANCE
     assert nl.bounds.lower == pytest.approx(0.192901, abs=1e-6)
     assert nl.bounds.lower < nl.alpha < lp.alpha
-    assert nl.alpha == pytest.approx(0.765467, abs=1e-6) and lp.alpha == pytest.approx(0.792870, abs=1e-6)
+    assert lp.alpha == pytest.approx(0.792870, abs=1e-6)
+    assert nl.alpha <= 0.765467 + 1e-6
 
 
 def _ipopt_state(scene: alma.Scene):

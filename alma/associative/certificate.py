@@ -3,15 +3,15 @@
 A mechanism that satisfies the flow rule (Eq. 6) proves an upper bound on α_c; a stress field in
 equilibrium (Eq. 3) inside the yield domain (Eq. 5) proves a lower bound.  The interior point
 leaves round-off in both; :func:`certify_pair` removes it by minimum-norm corrections solved
-with a sparse factorisation (``alma.backends.qdldl_backend``), so that the two bounds certify
-each other.  All quantities are dimensionless (``alma.mechanics.model``).
+with a sparse factorisation (``alma.backends.gram_backend``: QDLDL, feral on large walls), so
+that the two bounds certify each other.  All quantities are dimensionless (``alma.mechanics.model``).
 """
 from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
 
-from alma.backends.qdldl_backend import regularised_solver
+from alma.backends.gram_backend import regularised_solver
 from alma.mechanics.model import Model
 
 

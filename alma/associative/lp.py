@@ -127,8 +127,9 @@ def _certified(model: Model, H: sp.csc_matrix, s: AssociativeSettings, sol: Coni
     # dissipation of the bounded forces, Σ capacity · max(0, −Gᵀu).
     violation_work = float(np.maximum(-(H.T @ u), 0.0) @ mu)
     upper = float((-model.dead @ u + dissipation(model, u) + violation_work) / (model.live @ u))
+    forces = float((abs(H if static is None else static) @ np.abs(fields)).max(initial=0.0))
     status, message, lower, upper = _judge(s, sol.status, f"{label}: {sol.raw_status}", lower, upper,
-                                           static_residual, kinematic_residual)
+                                           static_residual, kinematic_residual, forces)
     message += note
     alpha = upper if np.isfinite(upper) else float((-model.dead @ u + dissipation(model, u)) / (model.live @ u))
     return LPSolution(status=status, message=message, alpha=alpha, lower=lower, upper=upper,
@@ -148,7 +149,7 @@ def _solve_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: flo
     variables as auxiliary rows (:func:`_engine_form`); when it does not converge Clarabel solves
     the problem and the note says so.
     """
-    if choose(s.engine, model.n_free) == "ipm":
+    if choose(s.engine, model.n_free, bool(model.n_bounded)) == "ipm":
         start = time.perf_counter()
         H_aug, dead, live = _engine_form(model, H)
         ans = solve_with_engine(H_aug, dead, live, s.normalisation * float(model.n_free), ipm_settings,
@@ -220,9 +221,15 @@ def _dissipation_variables(labels: np.ndarray) -> tuple[np.ndarray, int, np.ndar
 
 
 def _judge(s: AssociativeSettings, solver_status: Status, raw: str, lower: float, upper: float,
-           static_residual: float, kinematic_residual: float) -> tuple[Status, str, float, float]:
-    """The status the certificate proves: both fields admissible and the bounds closed."""
-    static_ok = static_residual <= s.residual_tolerance
+           static_residual: float, kinematic_residual: float,
+           forces: float = 0.0) -> tuple[Status, str, float, float]:
+    """The status the certificate proves: both fields admissible and the bounds closed.
+
+    ``forces``: the static field's largest force term ‖|H||μ|‖∞ (mean block weights), which sets
+    the round-off floor of its equilibrium residual (``residual_roundoff``).
+    """
+    floor = s.residual_roundoff * float(np.finfo(float).eps) * forces
+    static_ok = static_residual <= max(s.residual_tolerance, floor)
     kinematic_ok = kinematic_residual <= s.residual_tolerance
     gap = (upper - lower) / max(1.0, abs(upper))
     if not static_ok:

@@ -108,14 +108,21 @@ class _Newton:
         target = self.settings.refinement_target * max(float(np.abs(res.dual).max(initial=0.0)),
                                                        self.settings.refinement_floor)
         e_static = self.H @ dmu + self.live * da + res.dual
-        for _ in range(self.settings.refinement_steps):
-            if float(np.abs(e_static).max(initial=0.0)) <= target:
+        error = float(np.abs(e_static).max(initial=0.0))
+        s_ = self.settings
+        for step_count in range(s_.refinement_steps + s_.refinement_rescue):
+            if error <= target or (step_count >= s_.refinement_steps
+                                   and error <= s_.refinement_failure * target):
                 break
             cu, ca = self.bordered(e_static, -(_dot(self.live, du) + res.norm))
             cs = self.HT @ cu
-            du, da, ds, dmu = du + cu, da + ca, ds + cs, dmu - self.d * cs
-            e_static = self.H @ dmu + self.live * da + res.dual
-        self.last_error = float(np.abs(e_static).max(initial=0.0)) / target
+            new = (du + cu, ds + cs, dmu - self.d * cs, da + ca)
+            e_new = self.H @ new[2] + self.live * new[3] + res.dual
+            error_new = float(np.abs(e_new).max(initial=0.0))
+            if step_count >= s_.refinement_steps and error_new >= error:
+                break  # a rescue step that does not help is not taken
+            (du, ds, dmu, da), e_static, error = new, e_new, error_new
+        self.last_error = error / target
         return du, ds, dmu, da
 
 
@@ -222,7 +229,8 @@ def solve_eq10(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value:
     dead = np.asarray(dead, float)
     try:
         state = _start(newton, dead, newton.live, norm_value)
-        status, iterations, measures = _iterate(newton, state, dead, norm_value, s_)
+        status, iterations, measures = _iterate(newton, state, dead, norm_value, s_,
+                                                _budget(s_, primary.shape[0]))
     except FactorisationError:
         status, iterations, measures = "numerical_error", 0, (np.inf, np.inf, np.inf)
         state = _State(np.zeros(H.shape[0]), np.ones(H.shape[1]), np.zeros(H.shape[1]), 0.0)
@@ -236,12 +244,17 @@ def solve_eq10(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value:
                      backend=factoriser.name, timings=timings)
 
 
+def _budget(settings: IPMSettings, rows: int) -> int:
+    """The iteration budget: ``max_iter``, growing as √size beyond ``budget_rows`` rows of u."""
+    return int(np.ceil(settings.max_iter * max(1.0, np.sqrt(rows / settings.budget_rows))))
+
+
 def _iterate(newton: _Newton, state: _State, dead: np.ndarray, norm_value: float,
-             settings: IPMSettings) -> tuple[str, int, tuple[float, float, float]]:
-    """The predictor–corrector loop; updates ``state`` in place."""
+             settings: IPMSettings, budget: int) -> tuple[str, int, tuple[float, float, float]]:
+    """The predictor–corrector loop (at most ``budget`` iterations); updates ``state`` in place."""
     H, HT, live = newton.H, newton.HT, newton.live
     eta = settings.step_fraction
-    for iteration in range(settings.max_iter + 1):
+    for iteration in range(budget + 1):
         res = _Residuals(H, HT, dead, live, norm_value, state)
         measures = _measures(res, state, dead, norm_value)
         if (measures[0] <= settings.tol_gap and measures[1] <= settings.tol_feas
@@ -249,21 +262,34 @@ def _iterate(newton: _Newton, state: _State, dead: np.ndarray, norm_value: float
             return "optimal", iteration, measures
         if _diverged(state, norm_value, settings):
             return "diverged", iteration, measures
-        if iteration == settings.max_iter:
+        if iteration == budget:
             break
-        for attempt in range(settings.boost_attempts + 1):
-            du, ds, dmu, da = _direction(newton, state, res, settings)
-            if (newton.last_error <= settings.refinement_failure or attempt == settings.boost_attempts
-                    or newton.boost >= settings.boost_limit):
-                break
-            newton.boost *= 100.0  # the factors were too inaccurate for this D: regularise more
+        du, ds, dmu, da = _accurate_direction(newton, state, res, settings)
         ap = min(1.0, eta * _max_step(state.s, ds))
         ad = min(1.0, eta * _max_step(state.mu, dmu))
         state.u = state.u + ap * du
         state.s = state.s + ap * ds
         state.mu = state.mu + ad * dmu
         state.alpha = state.alpha + ad * da
-    return "max_iterations", settings.max_iter, measures
+    return "max_iterations", budget, measures
+
+
+def _accurate_direction(newton: _Newton, state: _State, res: _Residuals, settings: IPMSettings) -> tuple:
+    """The direction, recomputed with δ 100× larger while its refined static-equation error stays
+    above ``refinement_failure``; a boost that does not lower the error is taken back (at 100,000
+    blocks a boosted δ late in the run derails the static field: docs/engine.md)."""
+    best = _direction(newton, state, res, settings)
+    best_error, best_boost = newton.last_error, newton.boost
+    for _ in range(settings.boost_attempts):
+        if best_error <= settings.refinement_failure or newton.boost >= settings.boost_limit:
+            break
+        newton.boost *= 100.0  # the factors were too inaccurate for this D: regularise more
+        step = _direction(newton, state, res, settings)
+        if newton.last_error >= best_error:
+            break
+        best, best_error, best_boost = step, newton.last_error, newton.boost
+    newton.boost, newton.last_error = best_boost, best_error
+    return best
 
 
 def _direction(newton: _Newton, state: _State, res: _Residuals, settings: IPMSettings) -> tuple:

@@ -30,6 +30,10 @@ FAST_BACKENDS = ("pardiso", "feral")
 #: the threshold stays above it because the crisp mechanism needs Clarabel's sharper final
 #: partition on two of those panels (docs/decisions.md).
 AUTO_MIN_BLOCKS = 3000
+#: ... and from this many with bounded forces (cohesion, ties), which take no crisp mechanism:
+#: with 5 kPa on every joint of the 108 panels Clarabel/ipm is 0.95 below 700 free blocks and
+#: 1.08-1.26 from 700 on (benchmarks/bench_engine_crossover.py --cohesion 5; docs/engine.md).
+AUTO_MIN_BLOCKS_BOUNDED = 700
 
 _warned = False
 
@@ -46,13 +50,14 @@ class EngineAnswer:
     result: IPMResult
 
 
-def choose(engine: str, n_free: int) -> str:
-    """``clarabel`` or ``ipm`` for a problem with ``n_free`` free blocks."""
+def choose(engine: str, n_free: int, bounded: bool = False) -> str:
+    """``clarabel`` or ``ipm`` for a problem with ``n_free`` free blocks (``bounded``: with
+    cohesion or ties)."""
     if engine not in ENGINES:
         raise ValueError(f"engine must be one of {ENGINES}, got {engine!r}")
     if engine != "auto":
         return engine
-    if n_free < AUTO_MIN_BLOCKS:
+    if n_free < (AUTO_MIN_BLOCKS_BOUNDED if bounded else AUTO_MIN_BLOCKS):
         return "clarabel"
     if not any(b in FAST_BACKENDS for b in available_backends()):
         _warn_once("alma: no fast sparse factorisation (pypardiso with MKL, or feral-solver) is installed; "

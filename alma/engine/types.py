@@ -14,8 +14,11 @@ class IPMSettings:
     problem does not depend on the machine or its load.
     """
 
-    #: Iteration budget: the 108 paper panels and the walls up to 20,000 blocks need 20-45.
+    #: Iteration budget: the 108 paper panels and the walls up to 20,000 blocks need 8-56 ...
     max_iter: int = 120
+    #: ... up to this many rows of u (20,000 blocks), and × √(rows / budget_rows) beyond: the
+    #: iterations grow about as √size on the walls (56 at 20,000 blocks, 130 at 100,000).
+    budget_rows: int = 60_000
     #: Relative complementarity gap sᵀμ / (N max(1, |α|)) at which the iteration stops: alma's
     #: certificate closes at a relative gap of 1e-7, which it measured equal to this measure; on
     #: the 108 paper panels it never failed below 1e-8 (10× margin; docs/engine.md).
@@ -41,6 +44,10 @@ class IPMSettings:
     regularisation: float = 1e-17
     #: Iterative-refinement steps of the Newton direction taken, on the static equation.
     refinement_steps: int = 3
+    #: ... and up to this many more while the error still falls, when after them it would
+    #: trigger a δ boost: at 100,000 blocks a boosted δ late in the run derails the static field,
+    #: where more refinement keeps it on track (docs/engine.md).
+    refinement_rescue: int = 5
     #: Refinement stops when the static equation's error is below this × max(‖r_d‖∞, floor):
     #: the step then reduces the static residual as the Newton step intends.
     refinement_target: float = 1e-1

@@ -1,0 +1,53 @@
+"""The certificate's regularised sparse solves with Gram matrices, by size: QDLDL or feral.
+
+Both factorise G + ε I (symmetric positive definite) after a fill-reducing ordering.  QDLDL
+(Clarabel's factorisation, Apache-2.0) is the faster on the paper panels; feral-solver (MIT,
+supernodal multifrontal, an optional fast backend of :mod:`alma.engine`) from
+:data:`FERAL_MIN_ROWS` rows on, where QDLDL's factorisation grows much faster with the size
+(the certificate of a 20,000-block wall: 1.26 s against 0.52 s; docs/engine.md).  The choice depends on the
+matrix's size and the installed libraries only.
+"""
+from __future__ import annotations
+
+import importlib.util
+from collections.abc import Callable
+
+import numpy as np
+import scipy.sparse as sp
+
+from alma.backends.qdldl_backend import regularised_solver as qdldl_solver
+
+#: Gram matrices of at least this order go to feral when it is installed: 3 rows per free
+#: block, i.e. walls of 5,000 blocks and more, where feral's certificate is 1.1× faster (0.76×
+#: at 1,000 blocks, 2.4× at 20,000; benchmarks/bench_certificate.py).  Every paper panel
+#: (≤ 5,256 rows) stays on QDLDL.
+FERAL_MIN_ROWS = 15_000
+
+
+def regularised_solver(gram: sp.spmatrix, eps: float | None = None) -> Callable[[np.ndarray], np.ndarray]:
+    """A solver for (G + ε I) x = b, G a Gram matrix; ε as in
+    :func:`alma.backends.qdldl_backend.regularised_solver` (1e-12 max(1, max diag G) by default,
+    1 on a zero diagonal entry)."""
+    if gram.shape[0] < FERAL_MIN_ROWS or importlib.util.find_spec("feral") is None:
+        return qdldl_solver(gram, eps)
+    return _feral_solver(sp.csc_matrix(gram), eps)
+
+
+def _feral_solver(gram: sp.csc_matrix, eps: float | None) -> Callable[[np.ndarray], np.ndarray]:
+    import feral
+
+    diag = gram.diagonal()
+    if eps is None:
+        eps = 1e-12 * max(float(diag.max(initial=1.0)), 1.0)
+    lower = sp.tril(gram + sp.diags(np.where(diag > 0, eps, 1.0))).tocsc()
+    lower.sort_indices()
+    cols = np.repeat(np.arange(lower.shape[0], dtype=np.int64), np.diff(lower.indptr))
+    matrix = feral.CscMatrix.from_triplet(lower.shape[0], lower.indices.astype(np.int64), cols,
+                                          np.ascontiguousarray(lower.data))
+    # G + ε I is positive definite: no equilibration; AMF as in alma.engine.cholesky.
+    solver = feral.Solver(parallel=True, ordering="amf", scaling="none")
+    status = solver.factor(matrix)
+    code = status[0] if isinstance(status, tuple) else status
+    if int(code) not in (int(feral.FactorStatus.SUCCESS), int(feral.FactorStatus.WRONG_INERTIA)):
+        return qdldl_solver(gram, eps)  # the reference factorisation decides then
+    return lambda b: np.asarray(solver.solve(np.ascontiguousarray(b, dtype=float)))
