@@ -254,3 +254,20 @@ def test_certificate_gram_solves_agree_between_qdldl_and_feral(monkeypatch, wall
     assert forced.status == reference.status == alma.Status.OPTIMAL
     assert forced.lower == pytest.approx(reference.lower, abs=1e-11)
     assert forced.upper == pytest.approx(reference.upper, abs=1e-11)
+
+
+def test_auto_backend_takes_qdldl_below_its_size(monkeypatch, wall):
+    """``auto``: QDLDL for K below ``QDLDL_MAX_ROWS`` rows (faster there), feral above."""
+    from alma.engine import cholesky
+
+    monkeypatch.setattr(cholesky, "available_backends", lambda: ("feral", "qdldl"))
+    pattern = normal_pattern(wall.equilibrium)
+    assert pattern.n < cholesky.QDLDL_MAX_ROWS
+    if "feral" in available_backends():
+        assert make_factoriser(pattern, "auto").name == "qdldl"
+        monkeypatch.setattr(cholesky, "QDLDL_MAX_ROWS", pattern.n)
+        assert make_factoriser(pattern, "auto").name == "feral"
+    monkeypatch.setattr(cholesky, "available_backends", lambda: ("pardiso", "feral", "qdldl"))
+    monkeypatch.setattr(cholesky, "PardisoFactoriser", lambda p, b=None: type("P", (), {"name": "pardiso"})())
+    monkeypatch.setitem(cholesky._BACKENDS, "pardiso", ("pypardiso", cholesky.PardisoFactoriser))
+    assert make_factoriser(pattern, "auto").name == "pardiso"  # Pardiso is not displaced
