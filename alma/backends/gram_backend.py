@@ -2,10 +2,10 @@
 
 Both factorise G + ε I (symmetric positive definite) after a fill-reducing ordering.  QDLDL
 (Clarabel's factorisation, Apache-2.0) is the faster on the paper panels; feral-solver (MIT,
-supernodal multifrontal, an optional fast backend of :mod:`alma.engine`) from
-:data:`FERAL_MIN_ROWS` rows on, where QDLDL's factorisation grows much faster with the size
-(the certificate of a 20,000-block wall: 1.26 s against 0.52 s; docs/engine.md).  The choice depends on the
-matrix's size and the installed libraries only.
+supernodal multifrontal, the fast backend of :mod:`alma.engine`) from :data:`FERAL_MIN_ROWS`
+rows on, where QDLDL's factorisation grows much faster with the size (the certificate of a
+20,000-block wall: 1.26 s against 0.52 s; docs/engine.md).  The choice depends on the matrix's
+size and the installed libraries only.
 """
 from __future__ import annotations
 
@@ -15,7 +15,8 @@ from collections.abc import Callable
 import numpy as np
 import scipy.sparse as sp
 
-from alma.backends.qdldl_backend import regularised_solver as qdldl_solver
+from alma.backends.qdldl_backend import regularised, regularised_solver as qdldl_solver
+from alma.engine.cholesky import FERAL_ORDERING
 
 #: Gram matrices of at least this order go to feral when it is installed: 3 rows per free
 #: block, i.e. walls of 5,000 blocks and more, where feral's certificate is 1.1× faster (0.76×
@@ -36,16 +37,13 @@ def regularised_solver(gram: sp.spmatrix, eps: float | None = None) -> Callable[
 def _feral_solver(gram: sp.csc_matrix, eps: float | None) -> Callable[[np.ndarray], np.ndarray]:
     import feral
 
-    diag = gram.diagonal()
-    if eps is None:
-        eps = 1e-12 * max(float(diag.max(initial=1.0)), 1.0)
-    lower = sp.tril(gram + sp.diags(np.where(diag > 0, eps, 1.0))).tocsc()
+    lower = sp.tril(regularised(gram, eps)).tocsc()
     lower.sort_indices()
     cols = np.repeat(np.arange(lower.shape[0], dtype=np.int64), np.diff(lower.indptr))
     matrix = feral.CscMatrix.from_triplet(lower.shape[0], lower.indices.astype(np.int64), cols,
                                           np.ascontiguousarray(lower.data))
-    # G + ε I is positive definite: no equilibration; AMF as in alma.engine.cholesky.
-    solver = feral.Solver(parallel=True, ordering="amf", scaling="none")
+    # G + ε I is positive definite: no equilibration (as for K in alma.engine.cholesky).
+    solver = feral.Solver(parallel=True, ordering=FERAL_ORDERING, scaling="none")
     status = solver.factor(matrix)
     code = status[0] if isinstance(status, tuple) else status
     if int(code) not in (int(feral.FactorStatus.SUCCESS), int(feral.FactorStatus.WRONG_INERTIA)):

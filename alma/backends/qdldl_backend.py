@@ -17,9 +17,14 @@ def regularised_solver(gram: sp.spmatrix, eps: float | None = None) -> Callable[
     degree ordering (QDLDL, the factorisation inside Clarabel) is stable and keeps the factor
     small.
     """
+    return qdldl.Solver(regularised(gram, eps)).solve
+
+
+def regularised(gram: sp.spmatrix, eps: float | None = None) -> sp.csc_matrix:
+    """G + ε I as :func:`regularised_solver` factorises it (ε on the nonzero diagonal, 1 on a
+    zero one)."""
     gram = sp.csc_matrix(gram)
     diag = gram.diagonal()
     if eps is None:
         eps = 1e-12 * max(float(diag.max(initial=1.0)), 1.0)
-    gram = (gram + sp.diags(np.where(diag > 0, eps, 1.0))).tocsc()
-    return qdldl.Solver(gram).solve
+    return (gram + sp.diags(np.where(diag > 0, eps, 1.0))).tocsc()
