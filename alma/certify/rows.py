@@ -6,7 +6,7 @@ Forces in mean block weights, f_Lᵀu = n_free.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -58,7 +58,7 @@ class _Rows:
 
 @dataclass(frozen=True)
 class _Layout:
-    """Column offsets and the binary index sets."""
+    """Column offsets (``i_<block>``, ``nvar`` in all) and the binary index sets."""
 
     P: int
     n: int
@@ -66,58 +66,30 @@ class _Layout:
     B: np.ndarray  # points that can carry force (an open/closed binary each)
     J: np.ndarray  # joints with such a point (two slip binaries each)
     q: int = 0  # bounded columns (force τ, rates d⁺ and d⁻, binaries q⁺ and q⁻ each)
+    i_T: int = field(init=False)
+    i_u: int = field(init=False)
+    i_gp: int = field(init=False)
+    i_gm: int = field(init=False)
+    i_o: int = field(init=False)
+    i_sp: int = field(init=False)
+    i_sm: int = field(init=False)
+    i_tau: int = field(init=False)
+    i_dp: int = field(init=False)
+    i_dm: int = field(init=False)
+    i_qp: int = field(init=False)
+    i_qm: int = field(init=False)
+    nvar: int = field(init=False)
 
-    @property
-    def i_T(self) -> int:
-        return 1 + self.P
-
-    @property
-    def i_u(self) -> int:
-        return 1 + 2 * self.P
-
-    @property
-    def i_gp(self) -> int:
-        return self.i_u + self.n
-
-    @property
-    def i_gm(self) -> int:
-        return self.i_gp + self.m
-
-    @property
-    def i_o(self) -> int:
-        return self.i_gm + self.m
-
-    @property
-    def i_sp(self) -> int:
-        return self.i_o + self.B.size
-
-    @property
-    def i_sm(self) -> int:
-        return self.i_sp + self.J.size
-
-    @property
-    def i_tau(self) -> int:
-        return self.i_sm + self.J.size
-
-    @property
-    def i_dp(self) -> int:
-        return self.i_tau + self.q
-
-    @property
-    def i_dm(self) -> int:
-        return self.i_dp + self.q
-
-    @property
-    def i_qp(self) -> int:
-        return self.i_dm + self.q
-
-    @property
-    def i_qm(self) -> int:
-        return self.i_qp + self.q
-
-    @property
-    def nvar(self) -> int:
-        return self.i_qm + self.q
+    def __post_init__(self) -> None:
+        blocks = (("alpha", 1), ("N", self.P), ("T", self.P), ("u", self.n), ("gp", self.m), ("gm", self.m),
+                  ("o", self.B.size), ("sp", self.J.size), ("sm", self.J.size), ("tau", self.q),
+                  ("dp", self.q), ("dm", self.q), ("qp", self.q), ("qm", self.q))
+        offset = 0
+        for name, size in blocks:
+            if name not in ("alpha", "N"):  # α is column 0 and N starts at 1
+                object.__setattr__(self, f"i_{name}", offset)
+            offset += size
+        object.__setattr__(self, "nvar", offset)
 
 
 def _continuous_rows(rows: _Rows, L: _Layout, model: Model, points: ContactPoints, first: np.ndarray,
