@@ -11,11 +11,10 @@ with ``--cohesion C`` (kPa on every joint) the same for the bounded-force proble
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 import time
 from pathlib import Path
-
-import dataclasses
 
 import numpy as np
 
