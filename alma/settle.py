@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 import time
 import types
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -46,7 +47,7 @@ class SettlementResult:
     bounds: Bounds  # certified interval of the work
     reactions: tuple[dict[str, Any], ...]  # per settling support: block, force [Fx, Fy] kN, moment kN·mm
     blocks: tuple[BlockMotion, ...]  # displacements in mm (rad), for the prescribed settlement
-    joints: tuple[JointResult, ...]
+    joints: Sequence[JointResult]
     residuals: dict[str, float]
     timings: dict[str, float]
 
@@ -166,7 +167,8 @@ def support_relative(model: Model) -> np.ndarray:
 def _result(model: Model, status: Status, message: str, u: np.ndarray, mu: np.ndarray, bounds: Bounds,
             residuals: dict[str, float], timings: dict[str, float]) -> SettlementResult:
     normal, shear = multipliers_to_forces(model, mu)
-    blocks, joints, _ = physical(model, u / model.n_free, normal, shear, True)
+    form = physical(model, u / model.n_free, normal, shear, True)
+    blocks, joints = form.blocks, form.joints
     # ``physical`` reports a mechanism scaled by 1 / length_scale (translations read as mm); a
     # settlement's motion is real: translations in mm, rotations in rad.
     blocks = tuple(BlockMotion(b.id, tuple(x * model.length_scale for x in b.u)) for b in blocks)
@@ -176,8 +178,8 @@ def _result(model: Model, status: Status, message: str, u: np.ndarray, mu: np.nd
     scale = max(float(np.abs(rel).max(initial=0.0)), float(np.abs(support).max(initial=0.0)) * model.length_scale,
                 float(np.abs(u).max(initial=0.0)) * model.length_scale, 1e-300)
     states = states_from_relative(rel, model.friction, MOTION_TOLERANCE * scale, dilatant=True)
-    joints = tuple(replace(j, state=str(s), slip=float(r[:, 1].mean()), opening=(float(r[0, 0]), float(r[1, 0])))
-                   for j, s, r in zip(joints, states, rel))
+    joints = replace(joints, state=np.asarray(states, dtype=str), slip=rel[:, :, 1].mean(axis=1),
+                     opening=rel[:, :, 0].copy())
     work = 0.5 * (bounds.lower + bounds.upper) if math.isfinite(bounds.lower + bounds.upper) else bounds.lower
     return SettlementResult(status, message, work, bounds, _reactions(model, normal, shear), blocks, joints,
                             residuals, timings)

@@ -10,6 +10,7 @@ import numpy as np
 
 from alma.report.motion import Motion
 from alma.report.overlays import THRUST_COLOUR, draw_macro_blocks, draw_settlements, draw_thrust, draw_ties
+from alma.results.joint_table import JointTable
 from alma.results.types import BlockMotion, Result
 from alma.geometry.scene import Scene
 
@@ -45,8 +46,14 @@ class MechanismPicture:
     def from_result(cls, result: "Result | MechanismPicture") -> "MechanismPicture":
         if isinstance(result, MechanismPicture):
             return result
-        joints = tuple(PictureJoint(j.state, tuple(map(float, j.start)), tuple(map(float, j.end)))
-                       for j in result.joints if j.state != "rest")
+        table = result.joints
+        if isinstance(table, JointTable):  # columns: no JointResult is built
+            moving = np.flatnonzero(table.state != "rest")
+            joints = tuple(PictureJoint(str(s), tuple(a), tuple(b)) for s, a, b in zip(
+                table.state[moving].tolist(), table.start[moving].tolist(), table.end[moving].tolist()))
+        else:
+            joints = tuple(PictureJoint(j.state, tuple(map(float, j.start)), tuple(map(float, j.end)))
+                           for j in table if j.state != "rest")
         return cls(str(result.model), str(result.status), float(result.alpha), str(result.mechanism_class or ""),
                    tuple(result.blocks), joints)
 

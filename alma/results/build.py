@@ -8,7 +8,7 @@ import numpy as np
 
 from alma.associative.lp import LPSolution
 from alma.mechanics.model import Model
-from alma.results.joints import bounded_forces, describe, multipliers_to_forces, physical
+from alma.results.joints import bounded_forces, multipliers_to_forces, physical
 from alma.results.types import AssociativeResult, Bounds, Comparison, NonAssociativeResult, finite
 from alma.status import Status
 
@@ -20,12 +20,11 @@ def associative_result(model: Model, lp: LPSolution, timings: dict[str, float]) 
     """The certified result of Eq. 10 in physical units."""
     normal, shear = multipliers_to_forces(model, lp.multipliers)
     cohesive_shear, ties = bounded_forces(model, lp.bounded_forces, lp.mechanism)
-    blocks, joints, klass = physical(model, lp.mechanism, normal, shear + cohesive_shear, lp.solved,
-                                     dilatant=True)
+    form = physical(model, lp.mechanism, normal, shear + cohesive_shear, lp.solved, dilatant=True)
     return AssociativeResult(
         model="associative", status=Status(lp.status), message=lp.message, alpha=lp.alpha,
-        bounds=Bounds(lower=lp.lower, upper=lp.upper), alpha_associative=lp.alpha, blocks=blocks,
-        joints=joints, mechanism_class=klass, macro_blocks=describe(model, lp.mechanism)[0] if lp.solved else (),
+        bounds=Bounds(lower=lp.lower, upper=lp.upper), alpha_associative=lp.alpha, blocks=form.blocks,
+        joints=form.joints, mechanism_class=form.mechanism_class, macro_blocks=form.macro_blocks,
         residuals={"static_equilibrium": lp.static_residual, "kinematic_flow_rule": lp.kinematic_residual},
         timings=dict(timings), n_blocks=model.n_free, n_joints=model.n_joints, iterations=lp.iterations,
         ties=ties)
@@ -54,24 +53,25 @@ def nonassociative_result(model: Model, associative: AssociativeResult, solution
         status, message = _unverified(associative, solution)
         if status == Status.NO_EQUILIBRIUM:
             lower = -math.inf
-        blocks, joints, klass = physical(model, np.zeros(3 * model.n_free), np.zeros(2 * model.n_joints),
-                                         np.zeros(2 * model.n_joints), False)
+        form = physical(model, np.zeros(3 * model.n_free), np.zeros(2 * model.n_joints),
+                        np.zeros(2 * model.n_joints), False)
         return NonAssociativeResult(
             model="nonassociative", status=status, message=message, alpha=float("nan"),
             bounds=Bounds(lower=lower, upper=associative.bounds.upper), alpha_associative=associative.alpha,
-            blocks=blocks, joints=joints, mechanism_class=klass, residuals={}, timings=dict(timings),
+            blocks=form.blocks, joints=form.joints, mechanism_class=form.mechanism_class, residuals={},
+            timings=dict(timings),
             n_blocks=model.n_free, n_joints=model.n_joints, associative=associative, **record)
     status, message, lower = _verified(associative, solution, best, lower, radenkovic)
     shear, ties = best.shear, ()
     if model.n_bounded:  # the joints' shear with their cohesive part, and the ties' forces
         cohesive_shear, ties = bounded_forces(model, best.bounded, best.mechanism / model.n_free)
         shear = shear + cohesive_shear
-    blocks, joints, klass = physical(model, best.mechanism / model.n_free, best.normal, shear, True)
+    form = physical(model, best.mechanism / model.n_free, best.normal, shear, True)
     return NonAssociativeResult(
         model="nonassociative", status=status, message=message, alpha=best.alpha,
-        bounds=Bounds(lower=lower, upper=best.alpha), alpha_associative=associative.alpha, blocks=blocks,
-        joints=joints, mechanism_class=klass, residuals=dict(best.residuals), timings=dict(timings),
-        macro_blocks=describe(model, best.mechanism / model.n_free)[0],
+        bounds=Bounds(lower=lower, upper=best.alpha), alpha_associative=associative.alpha, blocks=form.blocks,
+        joints=form.joints, mechanism_class=form.mechanism_class, residuals=dict(best.residuals),
+        timings=dict(timings), macro_blocks=form.macro_blocks,
         n_blocks=model.n_free, n_joints=model.n_joints, associative=associative, start=best.start, ties=ties,
         **record)
 

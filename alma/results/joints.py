@@ -8,12 +8,15 @@ rad, kN and kN·mm.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
+from alma.results.joint_table import JointTable
 from alma.results.macro_blocks import macro_blocks
-from alma.results.types import BlockMotion, JointResult, MacroBlock
+from alma.results.types import BlockMotion, MacroBlock
 
 #: Relative velocity below this fraction of the largest one counts as zero (the interior-point
 #: mechanism carries traces of the other optimal mechanisms at about this level).
@@ -87,12 +90,22 @@ def multipliers_to_forces(model: Model, multipliers: np.ndarray) -> tuple[np.nda
     return normal, shear
 
 
-def physical(model: Model, mechanism: np.ndarray, normal: np.ndarray, shear: np.ndarray,
-             moving: bool, *, dilatant: bool = False) -> tuple[tuple[BlockMotion, ...], tuple[JointResult, ...], str]:
-    """Blocks, joints and mechanism class of a solution (see the module docstring).
+@dataclass(frozen=True)
+class Physical:
+    """A solution in physical form: block motions, joints, mechanism class, moving macro-blocks."""
 
-    ``moving``: the mechanism is a real one (else every joint is at rest and the class 'none');
-    ``dilatant``: it obeys the associative flow rule (:func:`joint_states`).
+    blocks: tuple[BlockMotion, ...]
+    joints: JointTable
+    mechanism_class: str
+    macro_blocks: tuple[MacroBlock, ...]
+
+
+def physical(model: Model, mechanism: np.ndarray, normal: np.ndarray, shear: np.ndarray,
+             moving: bool, *, dilatant: bool = False) -> Physical:
+    """Blocks, joints, mechanism class and macro-blocks of a solution (see the module docstring).
+
+    ``moving``: the mechanism is a real one (else every joint is at rest, the class 'none' and
+    no macro-block moves); ``dilatant``: it obeys the associative flow rule (:func:`joint_states`).
     Block motions are reported so that the weight-averaged displacement along the live load is
     1 mm: Σ (w_i / W) d·u_i = 1.
     """
@@ -101,13 +114,20 @@ def physical(model: Model, mechanism: np.ndarray, normal: np.ndarray, shear: np.
     motion[:, 2] /= model.length_scale
     blocks = tuple(BlockMotion(id=ids[i], u=tuple(row))
                    for i, row in zip(model.free_blocks.tolist(), motion.tolist()))
+    macros: tuple[MacroBlock, ...] = ()
     if moving and model.n_joints:
         states, rel = joint_states(model, mechanism, dilatant=dilatant)
-        klass = describe(model, mechanism, rel)[1]
+        macros, klass = describe(model, mechanism, rel)
     else:
         states = np.full(model.n_joints, "rest", dtype=object)
         rel = np.zeros((model.n_joints, 2, 2))
         klass = "none"
+    return Physical(blocks, _joint_table(model, normal, shear, states, rel), klass, macros)
+
+
+def _joint_table(model: Model, normal: np.ndarray, shear: np.ndarray, states: np.ndarray,
+                 rel: np.ndarray) -> JointTable:
+    """The joints' forces (kN), moments about their centres (kN·mm) and motions as columns."""
     joints = model.joints
     n_point = normal.reshape(-1, 2) * model.force_scale  # (m, point) kN
     t_point = shear.reshape(-1, 2) * model.force_scale
@@ -116,20 +136,14 @@ def physical(model: Model, mechanism: np.ndarray, normal: np.ndarray, shear: np.
         r = point - joints.centre
         force = n_point[:, p, None] * joints.normal + t_point[:, p, None] * joints.tangent
         moment += r[:, 0] * force[:, 1] - r[:, 1] * force[:, 0]
-    slip = rel[:, :, 1].mean(axis=1) * model.n_free
-    opening = rel[:, :, 0] * model.n_free
-    point_forces = np.stack([n_point, t_point], axis=2).tolist()  # (m, point, (N, T))
-    joint_results = tuple(
-        JointResult(blocks=(ids[a], ids[b]), N=n, T=t, M=mo, state=s, length=le, slip=sl,
-                    opening=tuple(op), start=tuple(p), end=tuple(q), points=(tuple(pf[0]), tuple(pf[1])),
-                    normal=tuple(nv))
-        for a, b, n, t, mo, s, le, sl, op, p, q, pf, nv in zip(
-            joints.block_a.tolist(), joints.block_b.tolist(), n_point.sum(axis=1).tolist(),
-            t_point.sum(axis=1).tolist(), moment.tolist(), states.astype(str).tolist(),
-            np.asarray(joints.length, dtype=float).tolist(), slip.tolist(), opening.tolist(),
-            np.asarray(joints.start, dtype=float).tolist(), np.asarray(joints.end, dtype=float).tolist(),
-            point_forces, np.asarray(joints.normal, dtype=float).tolist()))
-    return blocks, joint_results, klass
+    ids = np.asarray(model.scene.block_ids, dtype=object)
+    pairs = np.stack([ids[np.asarray(joints.block_a, dtype=int)], ids[np.asarray(joints.block_b, dtype=int)]], axis=1)
+    return JointTable(
+        blocks=pairs.reshape(-1, 2), N=n_point.sum(axis=1), T=t_point.sum(axis=1), M=moment,
+        state=states.astype(str), length=np.asarray(joints.length, dtype=float),
+        slip=rel[:, :, 1].mean(axis=1) * model.n_free, opening=rel[:, :, 0] * model.n_free,
+        start=np.asarray(joints.start, dtype=float).reshape(-1, 2), end=np.asarray(joints.end, dtype=float).reshape(-1, 2),
+        points=np.stack([n_point, t_point], axis=2), normal=np.asarray(joints.normal, dtype=float).reshape(-1, 2))
 
 
 def bounded_forces(model: Model, tau: np.ndarray, mechanism: np.ndarray

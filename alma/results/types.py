@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from collections.abc import Sequence
 from typing import Any
 
 from alma.status import Status
@@ -90,7 +91,8 @@ class Result:
     bounds: Bounds
     alpha_associative: float
     blocks: tuple[BlockMotion, ...]
-    joints: tuple[JointResult, ...]
+    #: A :class:`~alma.results.joint_table.JointTable` from the solvers (any sequence is accepted).
+    joints: Sequence[JointResult]
     mechanism_class: str
     residuals: dict[str, float]
     timings: dict[str, float]  # seconds only
@@ -124,10 +126,7 @@ class Result:
             "mechanism_class": self.mechanism_class,
             "macro_blocks": [m.to_dict() for m in self.macro_blocks],
             "blocks": [{"id": b.id, "u": [float(x) for x in b.u]} for b in self.blocks],
-            "joints": [{"blocks": list(j.blocks), "N": j.N, "T": j.T, "M": j.M, "state": j.state,
-                        "length": j.length, "slip": j.slip, "opening": list(j.opening),
-                        "points": [{"N": n, "T": t} for n, t in j.points]}
-                       for j in self.joints],
+            "joints": _joint_records(self.joints),
             "residuals": {k: finite(v) for k, v in self.residuals.items()},
             "timings": dict(self.timings),
             "warnings": list(self.warnings),
@@ -225,3 +224,13 @@ class Comparison:
 def finite(value: float | None) -> float | None:
     """``value`` as a float, or None when it is None or not finite (JSON has no inf/NaN)."""
     return float(value) if value is not None and math.isfinite(value) else None
+
+
+def _joint_records(joints: Sequence[JointResult]) -> list[dict[str, Any]]:
+    """SPEC §3's joint objects; column-wise when the joints are a table."""
+    records = getattr(joints, "records", None)
+    if records is not None:
+        return records()
+    return [{"blocks": list(j.blocks), "N": j.N, "T": j.T, "M": j.M, "state": j.state, "length": j.length,
+             "slip": j.slip, "opening": list(j.opening), "points": [{"N": n, "T": t} for n, t in j.points]}
+            for j in joints]
