@@ -62,6 +62,44 @@ def test_pattern_depends_on_geometry_not_friction(wall):
     assert np.array_equal(a.indptr, b.indptr) and np.array_equal(a.indices, b.indices)
 
 
+@pytest.mark.parametrize("friction", [0.27, 1.0, 1.3])
+def test_a_pattern_is_reused_at_another_friction(wall, friction):
+    """Issue 16, item 1: the pattern built at one f serves the others; its map D → K is the
+    product H D Hᵀ of the new H, entries that cancel at this f included."""
+    pattern = normal_pattern(wall.equilibrium)
+    H = wall.with_friction(friction).equilibrium
+    assert pattern.fits(H)
+    d = np.random.default_rng(3).uniform(0.1, 10.0, H.shape[1])
+    expected = sp.triu(H @ sp.diags(d) @ H.T).toarray()
+    assert np.allclose(pattern.with_values(H).matrix(d).toarray(), expected, rtol=1e-13, atol=1e-12)
+
+
+def test_a_pattern_is_not_reused_for_another_structure(wall):
+    pattern = normal_pattern(wall.equilibrium)
+    assert not pattern.fits(wall.with_friction(0.0).equilibrium)  # half the entries: its own pattern
+    other = _wall(6, 5).equilibrium
+    assert not pattern.fits(other) or other.shape == wall.equilibrium.shape
+    assert not pattern.fits(wall.equilibrium[:, :-1].tocsc())
+    with pytest.raises(ValueError, match="outside the structure"):
+        normal_pattern(wall.equilibrium[:, :-4].tocsc()).with_values(wall.equilibrium)
+
+
+def test_the_frictions_of_a_geometry_share_one_pattern(wall):
+    """solve_lp keeps the pattern on the model; a model at another f reuses it with the same
+    answer as a fresh one, iteration for iteration."""
+    from alma.associative.lp import NORMAL_PATTERN
+
+    first = solve_lp(wall, engine="ipm")
+    kept = wall.derived[NORMAL_PATTERN]
+    other = wall.with_friction(0.4)
+    assert other.derived is wall.derived
+    again = solve_lp(other, engine="ipm")
+    assert other.derived[NORMAL_PATTERN] is not kept  # the same structure with the new values
+    fresh = solve_lp(alma.build_model(other.scene), engine="ipm")
+    assert first.status == again.status == fresh.status == "optimal"
+    assert again.iterations == fresh.iterations and again.alpha == fresh.alpha
+
+
 @pytest.mark.parametrize("backend", available_backends())
 def test_backend_solves_k(wall, backend):
     H = wall.equilibrium

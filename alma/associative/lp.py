@@ -38,6 +38,9 @@ NORMALISATION = AssociativeSettings().normalisation
 #: the interior point's scale (1000) and its absolute tolerances (1e-10) leave a flow-rule
 #: violation above the certificate's on some vertices at f_Lᵀu = 1, none at 10 per block.
 SIMPLEX_NORMALISATIONS = (1e-3, 10.0)
+#: Name of the interior point's normal-equations pattern in ``Model.derived``: built once per
+#: geometry, reused at the other frictions of a study (issue 16, item 1).
+NORMAL_PATTERN = "alma.engine.normal_pattern"
 
 
 @dataclass(frozen=True)
@@ -153,7 +156,8 @@ def _solve_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: flo
         start = time.perf_counter()
         H_aug, dead, live = _engine_form(model, H)
         ans = solve_with_engine(H_aug, dead, live, s.normalisation * float(model.n_free), ipm_settings,
-                                n_primary=H.shape[0])
+                                n_primary=H.shape[0], pattern=model.derived.get(NORMAL_PATTERN))
+        model.derived[NORMAL_PATTERN] = ans.result.pattern
         if ans.raw_status == "Solved":
             return (ConicSolution(Status.OPTIMAL, ans.raw_status, ans.x, ans.z, ans.iterations,
                                   time.perf_counter() - start), ans.label, "", dict(ans.result.timings))

@@ -25,7 +25,7 @@ import scipy.sparse as sp
 
 from .auxiliary import Auxiliary, auxiliary_rows
 from .cholesky import FactorisationError, Factoriser, dot as _dot, make_factoriser
-from .normal import NormalPattern, normal_pattern
+from .normal import NormalPattern, canonical, normal_pattern
 from .types import IPMResult, IPMSettings
 
 
@@ -210,8 +210,9 @@ def solve_eq10(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value:
         N of the normalisation f_Lᵀu = N (α is unaffected; u scales with N).
     settings : IPMSettings, optional
     pattern : NormalPattern, optional
-        The pattern of H D Hᵀ (of its first ``n_primary`` rows) if already built for this
-        geometry (it does not depend on f).
+        The pattern of H D Hᵀ (of its first ``n_primary`` rows) built for this geometry at
+        another friction: reused, with its map rebuilt from this H's values, when H has the same
+        structure (the result's ``pattern`` is the one used).
     n_primary : int, optional
         Rows of u; the rows after them are the dissipation variables of bounded forces
         (:mod:`alma.engine.auxiliary`), eliminated from K.  Default: every row is u.
@@ -221,8 +222,9 @@ def solve_eq10(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value:
     H = sp.csc_matrix(H)
     live = np.asarray(live, float)
     aux = auxiliary_rows(H, n_primary) if n_primary is not None and n_primary < H.shape[0] else None
-    primary = H if aux is None else aux.U
-    pattern = pattern if pattern is not None else normal_pattern(primary)
+    primary = canonical(H if aux is None else aux.U)
+    reuse = pattern is not None and pattern.fits(primary)
+    pattern = pattern.with_values(primary) if reuse else normal_pattern(primary)
     factoriser = make_factoriser(pattern, s_.backend, border=live[:primary.shape[0]])
     t_pattern = time.perf_counter() - t_start
     newton = _Newton(H, live, pattern, factoriser, s_, aux)
@@ -241,7 +243,7 @@ def solve_eq10(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value:
                    solves=newton.solves, boost=newton.boost)
     return IPMResult(status=status, u=state.u, mu=state.mu, alpha=float(state.alpha), iterations=iterations,
                      gap=measures[0], primal_residual=measures[1], dual_residual=measures[2],
-                     backend=factoriser.name, timings=timings)
+                     backend=factoriser.name, timings=timings, pattern=pattern)
 
 
 def _budget(settings: IPMSettings, rows: int) -> int:

@@ -12,10 +12,15 @@ The pattern always holds the whole diagonal, so a regularisation δ I is added i
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
+
+
+#: A pattern is reused for an H holding at least this share of the entries it was built from.
+REUSE_FILL = 0.9
 
 
 @dataclass(frozen=True)
@@ -32,6 +37,12 @@ class NormalPattern:
         Position of each diagonal entry in the value array.
     gather : scipy.sparse.csr_matrix
         (nnz × k) matrix M with ``values = M @ D``.
+    source : numpy.ndarray
+        (2, nnz(M)) positions in ``H.data`` of the two factors of each entry of M, so that M of
+        another H of the same structure (another friction) is two gathers and a product.
+    structure : tuple
+        H's shape and the sorted keys (column · rows + row) of its entries: :meth:`fits` accepts
+        an H whose entries are among them (at some f an entry of Eq. 3 cancels to zero).
     """
 
     n: int
@@ -39,6 +50,37 @@ class NormalPattern:
     indices: np.ndarray
     diagonal: np.ndarray
     gather: sp.csr_matrix
+    source: np.ndarray
+    structure: tuple
+
+    def fits(self, H: sp.csc_matrix) -> bool:
+        """True when every entry of ``H`` (canonical CSC) lies in the structure this pattern was
+        built from, and H fills at least :data:`REUSE_FILL` of it (at f = 0 half of H's entries
+        vanish: its own, smaller pattern factorises faster)."""
+        return H.nnz >= REUSE_FILL * self.structure[1].size and self._positions(H) is not None
+
+    def with_values(self, H: sp.csc_matrix) -> "NormalPattern":
+        """This pattern (ordering and symbolic analysis included) with M rebuilt from the values
+        of ``H``, which must :meth:`fits` it: Eq. 3 at another friction coefficient."""
+        positions = self._positions(H)
+        if positions is None:
+            raise ValueError("H has entries outside the structure of this normal-equations pattern")
+        data = np.zeros(self.structure[1].size)
+        data[positions] = H.data
+        values = data[self.source[0]] * data[self.source[1]]
+        gather = sp.csr_matrix((values, self.gather.indices, self.gather.indptr), shape=self.gather.shape)
+        return dataclasses.replace(self, gather=gather)
+
+    def _positions(self, H: sp.csc_matrix) -> np.ndarray | None:
+        """Where each entry of H sits among the pattern's H entries, or None if one does not."""
+        shape, keys = self.structure
+        if H.shape != shape or H.nnz > keys.size:
+            return None
+        mine = _keys(H)
+        positions = np.searchsorted(keys, mine)
+        if positions.size and (positions[-1] >= keys.size or not np.array_equal(keys[positions], mine)):
+            return None
+        return positions
 
     @property
     def nnz(self) -> int:
@@ -64,12 +106,11 @@ def normal_pattern(H: sp.csc_matrix) -> NormalPattern:
     H : scipy.sparse.csc_matrix
         Equilibrium matrix of Eq. 3, shape (3 n_free, k), dimensionless.
     """
-    H = sp.csc_matrix(H)
-    H.sum_duplicates()
+    H = canonical(H)
     n, k = H.shape
     counts = np.diff(H.indptr)
     starts = H.indptr[:-1]
-    rows_a, rows_b, cols, vals = [], [], [], []
+    rows_a, rows_b, cols, src_a, src_b = [], [], [], [], []
     # Every ordered pair (a, b) of nonzeros within one column with row_a ≤ row_b: a column
     # holds at most 6 nonzeros (two blocks), so at most 36 vectorised passes.
     width = int(counts.max(initial=0))
@@ -83,7 +124,8 @@ def normal_pattern(H: sp.csc_matrix) -> NormalPattern:
             rows_a.append(ra[keep])
             rows_b.append(rb[keep])
             cols.append(j[keep])
-            vals.append(H.data[ia[keep]] * H.data[ib[keep]])
+            src_a.append(ia[keep])
+            src_b.append(ib[keep])
     # The pattern itself from one symbolic product |H||H|ᵀ (plus the diagonal), then each
     # contribution's position by a search in the sorted keys (column-major) of that pattern.
     absH = abs(H)
@@ -96,8 +138,32 @@ def normal_pattern(H: sp.csc_matrix) -> NormalPattern:
     r = np.concatenate(rows_a).astype(np.int64)
     c = np.concatenate(rows_b).astype(np.int64)
     position = np.searchsorted(keys, c * n + r)
-    gather = sp.csr_matrix((np.concatenate(vals), (position, np.concatenate(cols))), shape=(keys.size, k))
-    gather.sum_duplicates()
+    # Each (position, column) occurs once (rows are unique within a column of canonical H), so
+    # the CSR conversion only sorts: carry each entry's number through it to learn its source.
+    number = np.arange(1, position.size + 1, dtype=float)  # exact below 2⁵³; no explicit zero
+    order = sp.csr_matrix((number, (position, np.concatenate(cols))), shape=(keys.size, k))
+    order.sort_indices()
+    taken = order.data.astype(np.int64) - 1
+    index = np.int32 if H.nnz < 2**31 else np.int64  # halves the map's memory on large walls
+    source = np.stack([np.concatenate(src_a)[taken], np.concatenate(src_b)[taken]]).astype(index)
+    gather = sp.csr_matrix((H.data[source[0]] * H.data[source[1]], order.indices, order.indptr),
+                           shape=order.shape)
     diag = np.arange(n, dtype=np.int64)
     diagonal = np.searchsorted(keys, diag * n + diag)
-    return NormalPattern(n=n, indptr=indptr, indices=indices, diagonal=diagonal, gather=gather)
+    return NormalPattern(n=n, indptr=indptr, indices=indices, diagonal=diagonal, gather=gather, source=source,
+                         structure=(H.shape, _keys(H)))
+
+
+def _keys(H: sp.csc_matrix) -> np.ndarray:
+    """Sorted keys column · rows + row of the entries of a canonical CSC matrix."""
+    columns = np.repeat(np.arange(H.shape[1], dtype=np.int64), np.diff(H.indptr))
+    return columns * H.shape[0] + H.indices.astype(np.int64)
+
+
+def canonical(H: sp.spmatrix) -> sp.csc_matrix:
+    """H as CSC with sorted, summed indices and no stored zero (the form :class:`NormalPattern`
+    indexes: every pair of entries of a column is then an entry of |H||H|ᵀ)."""
+    H = sp.csc_matrix(H, copy=True)
+    H.sum_duplicates()
+    H.eliminate_zeros()
+    return H

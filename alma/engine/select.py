@@ -15,6 +15,7 @@ import scipy.sparse as sp
 
 from .cholesky import available_backends
 from .ipm import solve_eq10
+from .normal import NormalPattern
 from .types import IPMResult, IPMSettings
 
 ENGINES = ("clarabel", "ipm", "auto")
@@ -74,12 +75,15 @@ def _warn_once(message: str) -> None:
 
 
 def solve_with_engine(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value: float,
-                      settings: IPMSettings | None = None, n_primary: int | None = None) -> EngineAnswer:
+                      settings: IPMSettings | None = None, n_primary: int | None = None,
+                      pattern: NormalPattern | None = None) -> EngineAnswer:
     """Run the interior point on Eq. 10; ``raw_status`` is "Solved" only when it converged.
 
-    ``n_primary``: rows of u in H, the rest being bounded forces' dissipation variables.
+    ``n_primary``: rows of u in H, the rest being bounded forces' dissipation variables;
+    ``pattern``: the normal-equations pattern of this geometry from an earlier solve, if any
+    (``result.pattern`` is the one used).
     """
-    result = solve_eq10(H, dead, live, norm_value, settings, n_primary=n_primary)
+    result = solve_eq10(H, dead, live, norm_value, settings, n_primary=n_primary, pattern=pattern)
     raw = "Solved" if result.status == "optimal" else result.status
     z = np.concatenate([[-result.alpha], result.mu])
     return EngineAnswer(raw_status=raw, x=result.u, z=z, iterations=result.iterations,

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -88,3 +89,5 @@ class IPMResult:
     dual_residual: float  # ‖H μ + f_0 + α f_L‖∞ / max(1, ‖f_0‖∞)
     backend: str
     timings: dict = field(default_factory=dict)  # seconds per phase: pattern, factor, solve, total
+    #: The normal-equations pattern used (alma.engine.normal), for another friction of the geometry.
+    pattern: Any = field(default=None, repr=False, compare=False)

@@ -58,6 +58,9 @@ class Model:
     bounded: sp.csc_matrix | None = None
     capacity: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
     bounded_labels: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0, dtype=object))
+    #: What solvers derive from the geometry alone (the interior point's normal-equations
+    #: pattern), kept by name; the models of one geometry (:meth:`with_friction`) share it.
+    derived: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
     @property
     def n_bounded(self) -> int:
