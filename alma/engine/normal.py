@@ -60,8 +60,8 @@ class NormalPattern:
         return H.nnz >= REUSE_FILL * self.structure[1].size and self._positions(H) is not None
 
     def with_values(self, H: sp.csc_matrix) -> "NormalPattern":
-        """This pattern (ordering and symbolic analysis included) with M rebuilt from the values
-        of ``H``, which must :meth:`fits` it: Eq. 3 at another friction coefficient."""
+        """This pattern (K's structure and the positions of M) with M's values rebuilt from
+        ``H``, which must :meth:`fits` it: Eq. 3 at another friction coefficient."""
         positions = self._positions(H)
         if positions is None:
             raise ValueError("H has entries outside the structure of this normal-equations pattern")
