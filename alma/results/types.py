@@ -10,8 +10,8 @@ Each serialises to the JSON object of SPEC §3 with ``to_dict()``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 from collections.abc import Sequence
+from dataclasses import dataclass, field
 from typing import Any
 
 from alma.status import Status
