@@ -138,16 +138,18 @@ def normal_pattern(H: sp.csc_matrix) -> NormalPattern:
     r = np.concatenate(rows_a).astype(np.int64)
     c = np.concatenate(rows_b).astype(np.int64)
     position = np.searchsorted(keys, c * n + r)
+    del r, c, rows_a, rows_b
     # Each (position, column) occurs once (rows are unique within a column of canonical H), so
     # the CSR conversion only sorts: carry each entry's number through it to learn its source.
     number = np.arange(1, position.size + 1, dtype=float)  # exact below 2⁵³; no explicit zero
-    order = sp.csr_matrix((number, (position, np.concatenate(cols))), shape=(keys.size, k))
-    order.sort_indices()
-    taken = order.data.astype(np.int64) - 1
+    gather = sp.csr_matrix((number, (position, np.concatenate(cols))), shape=(keys.size, k))
+    del number, position, cols
+    gather.sort_indices()
+    taken = gather.data.astype(np.int64) - 1
     index = np.int32 if H.nnz < 2**31 else np.int64  # halves the map's memory on large walls
     source = np.stack([np.concatenate(src_a)[taken], np.concatenate(src_b)[taken]]).astype(index)
-    gather = sp.csr_matrix((H.data[source[0]] * H.data[source[1]], order.indices, order.indptr),
-                           shape=order.shape)
+    del taken
+    gather.data = H.data[source[0]] * H.data[source[1]]  # in place: one copy of M's structure
     diag = np.arange(n, dtype=np.int64)
     diagonal = np.searchsorted(keys, diag * n + diag)
     return NormalPattern(n=n, indptr=indptr, indices=indices, diagonal=diagonal, gather=gather, source=source,
