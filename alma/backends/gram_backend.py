@@ -16,7 +16,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from alma.backends.qdldl_backend import regularised, regularised_solver as qdldl_solver
-from alma.engine.cholesky import FERAL_ORDERING
+from alma.engine.cholesky import FERAL_ORDERING, feral_factored
 
 #: Gram matrices of at least this order go to feral when it is installed: 3 rows per free
 #: block, i.e. walls of 5,000 blocks and more, where feral's certificate is 1.1× faster (0.76×
@@ -44,8 +44,6 @@ def _feral_solver(gram: sp.csc_matrix, eps: float | None) -> Callable[[np.ndarra
                                           np.ascontiguousarray(lower.data))
     # G + ε I is positive definite: no equilibration (as for K in alma.engine.cholesky).
     solver = feral.Solver(parallel=True, ordering=FERAL_ORDERING, scaling="none")
-    status = solver.factor(matrix)
-    code = status[0] if isinstance(status, tuple) else status
-    if int(code) not in (int(feral.FactorStatus.SUCCESS), int(feral.FactorStatus.WRONG_INERTIA)):
+    if not feral_factored(feral, solver.factor(matrix)):
         return qdldl_solver(gram, eps)  # the reference factorisation decides then
     return lambda b: np.asarray(solver.solve(np.ascontiguousarray(b, dtype=float)))

@@ -21,7 +21,7 @@ from abc import ABC, abstractmethod
 import numpy as np
 import scipy.sparse as sp
 
-from .normal import NormalPattern
+from .normal import NormalPattern, entry_order
 
 #: Fastest first, as measured on the walls and the largest paper panel (docs/engine.md).
 PREFERENCE = ("pardiso", "feral", "qdldl")
@@ -109,11 +109,9 @@ def _lower_permutation(pattern: NormalPattern) -> tuple[np.ndarray, np.ndarray, 
 
     The lower triangle in CSC order is also the upper triangle in CSR order (Pardiso's input).
     """
-    upper = sp.csc_matrix((np.arange(pattern.nnz, dtype=float), pattern.indices, pattern.indptr),
-                          shape=(pattern.n, pattern.n))
-    lower = upper.T.tocsc()
-    lower.sort_indices()
-    return lower.indptr.astype(np.int64), lower.indices.astype(np.int64), lower.data.astype(np.int64)
+    upper_cols = np.repeat(np.arange(pattern.n, dtype=np.int64), np.diff(pattern.indptr))
+    indptr, indices, perm = entry_order(upper_cols, pattern.indices, (pattern.n, pattern.n), "csc")
+    return indptr.astype(np.int64), indices.astype(np.int64), perm
 
 
 class QdldlFactoriser(Factoriser):
@@ -185,9 +183,8 @@ class FeralFactoriser(Factoriser):
         except self._feral.FeralError as exc:
             raise FactorisationError(f"feral: {exc}") from exc
         self.analysed = True
-        code = status[0] if isinstance(status, tuple) else status
-        if int(code) not in (int(self._feral.FactorStatus.SUCCESS), int(self._feral.FactorStatus.WRONG_INERTIA)):
-            raise FactorisationError(f"feral: factor status {code}")
+        if not feral_factored(self._feral, status):
+            raise FactorisationError(f"feral: factor status {status}")
 
     def _solve(self, rhs: np.ndarray) -> np.ndarray:
         if self._bordered:
@@ -205,6 +202,13 @@ class FeralFactoriser(Factoriser):
         return x[:-1], float(x[-1])
 
 
+def feral_factored(feral, status) -> bool:
+    """True when feral's ``factor``/``refactor`` status (a code, or a tuple led by one) leaves
+    usable factors: success, or an inertia other than the one asked for (the factors are exact)."""
+    code = status[0] if isinstance(status, tuple) else status
+    return int(code) in (int(feral.FactorStatus.SUCCESS), int(feral.FactorStatus.WRONG_INERTIA))
+
+
 def _bordered_lower(indptr: np.ndarray, indices: np.ndarray, perm: np.ndarray, border: np.ndarray
                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Lower CSC structure of [K f; fᵀ 0] from K's, and where its values come from.
@@ -217,12 +221,10 @@ def _bordered_lower(indptr: np.ndarray, indices: np.ndarray, perm: np.ndarray, b
     cols_k = np.repeat(np.arange(n, dtype=np.int64), np.diff(indptr))
     rows = np.concatenate([indices, np.full(rows_f.size + 1, n)])
     cols = np.concatenate([cols_k, rows_f, [n]])
-    labels = np.concatenate([perm, nnz + np.arange(rows_f.size + 1)]) + 1.0  # +1: no explicit zero
-    lower = sp.csc_matrix((labels, (rows, cols)), shape=(n + 1, n + 1))
-    lower.sort_indices()
+    source = np.concatenate([perm, nnz + np.arange(rows_f.size + 1)])
+    indptr, indices, order = entry_order(rows, cols, (n + 1, n + 1), "csc")
     extra = np.concatenate([border[rows_f], [0.0]])
-    return (lower.indptr.astype(np.int64), lower.indices.astype(np.int64),
-            (lower.data - 1.0).astype(np.int64), extra)
+    return indptr.astype(np.int64), indices.astype(np.int64), source[order], extra
 
 
 class PardisoFactoriser(Factoriser):

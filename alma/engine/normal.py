@@ -139,21 +139,30 @@ def normal_pattern(H: sp.csc_matrix) -> NormalPattern:
     c = np.concatenate(rows_b).astype(np.int64)
     position = np.searchsorted(keys, c * n + r)
     del r, c, rows_a, rows_b
-    # Each (position, column) occurs once (rows are unique within a column of canonical H), so
-    # the CSR conversion only sorts: carry each entry's number through it to learn its source.
-    number = np.arange(1, position.size + 1, dtype=float)  # exact below 2⁵³; no explicit zero
-    gather = sp.csr_matrix((number, (position, np.concatenate(cols))), shape=(keys.size, k))
-    del number, position, cols
-    gather.sort_indices()
-    taken = gather.data.astype(np.int64) - 1
+    # Each (position, column) occurs once: rows are unique within a column of canonical H.
+    m_indptr, m_indices, taken = entry_order(position, np.concatenate(cols), (keys.size, k), "csr")
+    del position, cols
     index = np.int32 if H.nnz < 2**31 else np.int64  # halves the map's memory on large walls
     source = np.stack([np.concatenate(src_a)[taken], np.concatenate(src_b)[taken]]).astype(index)
     del taken
-    gather.data = H.data[source[0]] * H.data[source[1]]  # in place: one copy of M's structure
+    gather = sp.csr_matrix((H.data[source[0]] * H.data[source[1]], m_indices, m_indptr), shape=(keys.size, k))
     diag = np.arange(n, dtype=np.int64)
     diagonal = np.searchsorted(keys, diag * n + diag)
     return NormalPattern(n=n, indptr=indptr, indices=indices, diagonal=diagonal, gather=gather, source=source,
                          structure=(H.shape, _keys(H)))
+
+
+def entry_order(rows: np.ndarray, cols: np.ndarray, shape: tuple[int, int], fmt: str
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Compressed structure (``fmt`` "csr" or "csc": indptr, indices) of a sparse matrix with
+    one entry at each (rows[i], cols[i]), and ``order``: for each stored entry, the i it came
+    from, so that values given per i are stored as ``values[order]``."""
+    number = np.arange(1, rows.size + 1, dtype=float)  # exact below 2⁵³; no explicit zero
+    matrix = (sp.csr_matrix if fmt == "csr" else sp.csc_matrix)((number, (rows, cols)), shape=shape)
+    if matrix.nnz != rows.size:
+        raise ValueError("entry_order: a (row, column) pair occurs more than once")
+    matrix.sort_indices()
+    return matrix.indptr, matrix.indices, matrix.data.astype(np.int64) - 1
 
 
 def _keys(H: sp.csc_matrix) -> np.ndarray:
