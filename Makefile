@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test test-latest explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded bench-engine bench-crisp html-screenshot venv clean
+.PHONY: demo test test-latest explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded bench-engine bench-crisp bench-crisp-floor bench-first-order html-screenshot venv clean
 
 venv: $(STAMP)
 
@@ -81,6 +81,14 @@ bench-engine: $(STAMP)
 
 bench-crisp: $(STAMP)
 	$(BIN)/python benchmarks/bench_crisp.py
+
+# Why a vertex of the optimal face costs more than 20 % of the solve (issue 19; CLP if cylp is installed).
+bench-crisp-floor: $(STAMP)
+	$(BIN)/python benchmarks/bench_crisp_floor.py
+
+# HiGHS PDLP (a first-order method) on the largest panel, certified by alma (issue 16).
+bench-first-order: $(STAMP)
+	$(BIN)/python benchmarks/bench_first_order.py
 
 html-screenshot: $(STAMP)
 	$(BIN)/python tools/html_screenshot.py build/html
