@@ -11,7 +11,6 @@ from __future__ import annotations
 import argparse
 import time
 
-import highspy
 import numpy as np
 import scipy.sparse as sp
 
@@ -20,22 +19,7 @@ from alma.backends.highs_backend import quiet_highs
 from alma.geometry.contacts import find_joints
 from alma.mechanics.model import build_model
 from alma.settings import AssociativeSettings
-from bench_engine import _model
-
-
-def highs_lp(q: np.ndarray, A: sp.csc_matrix, b: np.ndarray) -> highspy.HighsLp:
-    """min qᵀu, first row of A u = b, the others ≤ b, u free."""
-    m, n = A.shape
-    lp = highspy.HighsLp()
-    lp.num_col_, lp.num_row_ = n, m
-    lp.col_cost_ = np.asarray(q, float)
-    lp.col_lower_, lp.col_upper_ = np.full(n, -highspy.kHighsInf), np.full(n, highspy.kHighsInf)
-    lp.row_lower_ = np.concatenate([b[:1], np.full(m - 1, -highspy.kHighsInf)])
-    lp.row_upper_ = np.asarray(b, float)
-    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-    lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = A.indptr, A.indices, A.data
-    lp.a_matrix_.num_col_, lp.a_matrix_.num_row_ = n, m
-    return lp
+from bench_engine import _model, highs_lp
 
 
 def main() -> None:
