@@ -80,14 +80,14 @@ def clp_values_pass(model, lp) -> str:
                     np.r_[scale, np.zeros(m)], np.r_[scale, np.full(m, inf)])
     clp.logLevel = 0
     clp.primalVariableSolution[:] = lp.mechanism * scale  # a view of CLP's column values
-    for j in range(n):
-        clp.setVariableStatus(j, "superBasic")
+    status = clp.getStatusArray()  # a view of CLP's status bytes; the low 3 bits: 4 = superbasic
+    status[:n] = (status[:n] & ~np.uint8(7)) | np.uint8(4)
     t0 = time.perf_counter()
-    status = clp.primal(ifValuesPass=1)
+    outcome = clp.primal(ifValuesPass=1)
     seconds = time.perf_counter() - t0
     u = np.array(clp.primalVariableSolution) / scale
     power = H.T @ u
-    return (f"{status} after {clp.iteration} pivots, {seconds:.2f} s; α {-(model.dead @ u) / (model.live @ u):.12f}, "
+    return (f"{outcome} after {clp.iteration} pivots, {seconds:.2f} s; α {-(model.dead @ u) / (model.live @ u):.12f}, "
             f"flow-rule violation {-power.min() / np.abs(power).max():.1e}")
 
 

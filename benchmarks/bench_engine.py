@@ -76,43 +76,23 @@ def _one(scene, engine: str, backend: str) -> dict:
     return row
 
 
-def highs_lp(q: np.ndarray, A, b: np.ndarray):
-    """The kinematic form (min qᵀu, first row of A u = b, the others ≤ b, u free; A CSC with
-    sorted indices) as a ``highspy.HighsLp``."""
-    import highspy
-
-    m, n = A.shape
-    lp = highspy.HighsLp()
-    lp.num_col_, lp.num_row_ = n, m
-    lp.col_cost_ = np.asarray(q, float)
-    lp.col_lower_, lp.col_upper_ = np.full(n, -highspy.kHighsInf), np.full(n, highspy.kHighsInf)
-    lp.row_lower_ = np.concatenate([b[:1], np.full(m - 1, -highspy.kHighsInf)])
-    lp.row_upper_ = np.asarray(b, float)
-    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-    lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = A.indptr, A.indices, A.data
-    lp.a_matrix_.num_col_, lp.a_matrix_.num_row_ = n, m
-    return lp
-
-
 def _one_ipx(scene) -> dict:
     """HiGHS IPX (interior point, crossover off) on the same kinematic LP, its pair passed to
     alma's certificate: a reference, not one of alma's engines."""
     from alma.associative.lp import ConicSolution, Status, _certified, _kinematic_form
-    from alma.backends.highs_backend import quiet_highs
+    from alma.backends.highs_backend import conic_lp, quiet_highs
     from alma.geometry.contacts import find_joints
     from alma.mechanics.model import build_model
     from alma.settings import AssociativeSettings
-    import scipy.sparse as sp
 
     t0 = time.perf_counter()
     model = build_model(scene, find_joints(scene))
     s = AssociativeSettings()
     q, A, b = _kinematic_form(model, model.equilibrium, s.normalisation)
-    A = sp.csc_matrix(A)
-    A.sort_indices()
+    highs_model = conic_lp(q, A, b, 1)
     t1 = time.perf_counter()
     h = quiet_highs(solver="ipm", run_crossover="off")
-    h.passModel(highs_lp(q, A, b))
+    h.passModel(highs_model)
     h.run()
     t2 = time.perf_counter()
     raw = str(h.getModelStatus()).rsplit(".", 1)[-1]

@@ -12,14 +12,13 @@ import argparse
 import time
 
 import numpy as np
-import scipy.sparse as sp
 
 from alma.associative.lp import ConicSolution, Status, _certified, _kinematic_form
-from alma.backends.highs_backend import quiet_highs
+from alma.backends.highs_backend import conic_lp, quiet_highs
 from alma.geometry.contacts import find_joints
 from alma.mechanics.model import build_model
 from alma.settings import AssociativeSettings
-from bench_engine import _model, highs_lp
+from bench_engine import _model
 
 
 def main() -> None:
@@ -32,11 +31,9 @@ def main() -> None:
     model = build_model(scene, find_joints(scene))
     s = AssociativeSettings()
     q, A, b = _kinematic_form(model, model.equilibrium, s.normalisation)
-    A = sp.csc_matrix(A)
-    A.sort_indices()
     h = quiet_highs(solver="pdlp", pdlp_d_gap_tol=args.tolerance, primal_feasibility_tolerance=args.tolerance,
                     dual_feasibility_tolerance=args.tolerance, pdlp_iteration_limit=args.iterations)
-    h.passModel(highs_lp(q, A, b))
+    h.passModel(conic_lp(q, A, b, 1))
     t0 = time.perf_counter()
     h.run()
     seconds = time.perf_counter() - t0

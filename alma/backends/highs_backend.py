@@ -42,6 +42,28 @@ def static_status(h: highspy.Highs) -> Status:
     return STATIC_STATUS.get(name, Status.NOT_CONVERGED)
 
 
+def conic_lp(q, A, b, n_eq: int) -> highspy.HighsLp:
+    """``min qᵀx s.t. A x + s = b`` (s = 0 on the first ``n_eq`` rows, s ≥ 0 on the rest, x free)
+    as a ``highspy.HighsLp``: rows ``b[:n_eq] ≤ A x ≤ b`` and ``A x ≤ b``, A stored column-wise."""
+    import numpy as np
+    import scipy.sparse as sp
+
+    A = sp.csc_matrix(A)
+    A.sort_indices()
+    m, n = A.shape
+    inf = highspy.kHighsInf
+    lp = highspy.HighsLp()
+    lp.num_col_, lp.num_row_ = n, m
+    lp.col_cost_ = np.asarray(q, dtype=float)
+    lp.col_lower_, lp.col_upper_ = np.full(n, -inf), np.full(n, inf)
+    lp.row_lower_ = np.concatenate([b[:n_eq], np.full(m - n_eq, -inf)])
+    lp.row_upper_ = np.asarray(b, dtype=float)
+    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+    lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = A.indptr, A.indices, A.data
+    lp.a_matrix_.num_col_, lp.a_matrix_.num_row_ = n, m
+    return lp
+
+
 def solve_conic_form(q, A, b, n_eq: int, *, tolerance: float = 1e-10, iteration_limit: int = 1_000_000,
                      time_limit: float | None = None, solver: str = "simplex"):
     """``min qᵀx s.t. A x + s = b``, s = 0 on the first ``n_eq`` rows and s ≥ 0 on the rest (the
@@ -59,19 +81,7 @@ def solve_conic_form(q, A, b, n_eq: int, *, tolerance: float = 1e-10, iteration_
     from alma.backends.clarabel_backend import ConicSolution
 
     start = time.perf_counter()
-    A = sp.csc_matrix(A)
-    A.sort_indices()
-    m, n = A.shape
-    inf = highspy.kHighsInf
-    lp = highspy.HighsLp()
-    lp.num_col_, lp.num_row_ = n, m
-    lp.col_cost_ = np.asarray(q, dtype=float)
-    lp.col_lower_, lp.col_upper_ = np.full(n, -inf), np.full(n, inf)
-    lp.row_lower_ = np.concatenate([b[:n_eq], np.full(m - n_eq, -inf)])
-    lp.row_upper_ = np.asarray(b, dtype=float)
-    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-    lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = A.indptr, A.indices, A.data
-    lp.a_matrix_.num_col_, lp.a_matrix_.num_row_ = n, m
+    lp = conic_lp(q, A, b, n_eq)
     h = quiet_highs(solver=solver, primal_feasibility_tolerance=tolerance,
                     dual_feasibility_tolerance=tolerance, simplex_iteration_limit=iteration_limit)
     if solver == "simplex":
