@@ -79,6 +79,12 @@ class SearchSettings:
     effort: str = "auto"
     #: Free blocks up to which "auto" means "thorough".
     thorough_blocks: int = 200
+    #: The search runs on the canonical drawing (:mod:`alma.geometry.canonical`), its model's data
+    #: (of order one) on a grid of 2^-canonical_bits (6e-8): below the states' tolerances, and a
+    #: round-off of 1e-15 (units, unit weight) lands on another grid point once in ~1e7 entries.
+    canonical_bits: int = 24
+    #: Canonical states (lowest α first) made exact on the drawing's own model before giving up.
+    carry_back_tries: int = 4
     #: Gilbert starts of "fast": (N̄ as a multiple of N_LP, relaxation of N̄, slope-halving steps).
     gilbert_fast: tuple[tuple[float, float, int], ...] = ((0.0, 1.0, 1), (1.0, 0.5, 0))
     #: Gilbert starts of "thorough": the fast ones first, then slower variants.

@@ -8,10 +8,12 @@ from alma.associative.crisp import crisp_mechanism
 from alma.associative.lp import solve_lp
 from alma.associative.radenkovic import radenkovic_lower_bound
 from alma.certify.milp import certify as certify_milp
+from alma.geometry.canonical import canonical_scene
 from alma.geometry.contacts import Joints, find_joints
 from alma.geometry.scene import Scene, SceneError
+from alma.mechanics.canonical import snapped
 from alma.mechanics.model import Model, build_model
-from alma.nonassociative.search import solve_nonassociative
+from alma.nonassociative.search import NonAssociativeSolution, carried_back, solve_nonassociative
 from alma.results.build import associative_result, comparison, nonassociative_result
 from alma.results.types import AssociativeResult, Comparison, NonAssociativeResult
 from alma.settings import Settings
@@ -113,15 +115,28 @@ def _build(scene: Scene | Model, joints: Joints | None) -> tuple[Model, dict[str
     return built, {"joints_s": t1 - t0, "build_s": time.perf_counter() - t1}
 
 
+def _search(built: Model, settings: Settings) -> NonAssociativeSolution:
+    """Eq. 9 searched on the canonical drawing (one structure, one answer), answered on ``built``.
+
+    The canonical model gets its own associative solution (Eq. 10) to start from; the lowest
+    canonical states are then made exact on ``built`` itself (:func:`carried_back`).
+    """
+    scene, frame = canonical_scene(built.scene)
+    canonical = snapped(build_model(scene), settings.search.canonical_bits)
+    lp = solve_lp(canonical, settings.associative, time_limit=settings.time_limit)
+    solution = solve_nonassociative(canonical, lp.mechanism if lp.solved else None,
+                                    lp.multipliers if lp.solved else None, effort=settings.search.effort,
+                                    settings=settings.search, time_limit=settings.time_limit,
+                                    associative_alpha=lp.alpha if lp.solved else None)
+    return carried_back(solution, canonical, frame, built, settings.search)
+
+
 def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settings,
                     certify: bool) -> NonAssociativeResult:
     """Eq. 9: the search from the LP's mechanism and field, and the MILP proof if asked."""
     t0 = time.perf_counter()
     timings = dict(assoc.timings)
-    solution = solve_nonassociative(built, lp.mechanism if lp.solved else None,
-                                    lp.multipliers if lp.solved else None, effort=settings.search.effort,
-                                    settings=settings.search, time_limit=settings.time_limit,
-                                    associative_alpha=lp.alpha if lp.solved else None)
+    solution = _search(built, settings)
     timings["nonassociative_s"] = time.perf_counter() - t0
     timings.update({k: float(v) for k, v in solution.timings.items() if k.endswith("_s")})
     t0 = time.perf_counter()

@@ -28,17 +28,20 @@ hard cap; when it cuts the work the solution says so and lists what was skipped.
 """
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
+from alma.geometry.canonical import CanonicalFrame
+from alma.mechanics.canonical import mechanism_to_drawing
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.limits import Cap
 from alma.nonassociative.policy import make_start, plan, resolve_effort, start_name, wanted
 from alma.nonassociative.starts import Context
-from alma.nonassociative.states import CollapseState, Tally
+from alma.nonassociative.states import CollapseState, ExactLimits, Tally, fast_exact_state
 from alma.settings import SearchSettings
 from alma.status import Status
 
@@ -142,6 +145,39 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
     if best is None:
         return NonAssociativeSolution(Status.NOT_CONVERGED, "no verified collapse state was found", None,
                                       **common)
+    status = Status.FEASIBLE if best.alpha >= 0 else Status.NO_EQUILIBRIUM
+    return NonAssociativeSolution(status, f"lowest verified collapse state from start '{best.start}'", best,
+                                  **common)
+
+
+def carried_back(solution: NonAssociativeSolution, canonical: Model, frame: CanonicalFrame, model: Model,
+                 settings: SearchSettings = SearchSettings()) -> NonAssociativeSolution:
+    """The canonical search's answer as an answer for the drawing's ``model``.
+
+    Each verified canonical state's mechanism is carried to ``model``'s frame and blocks
+    (:func:`~alma.mechanics.canonical.mechanism_to_drawing`) and made exact there, its active set
+    fixed (:func:`~alma.nonassociative.states.fast_exact_state`), lowest α first, until one
+    verifies on ``model`` itself; that state is the answer.  The other candidates keep their
+    canonical α and forces with their mechanisms carried back (what the MILP's start reads).
+    """
+    t0 = time.perf_counter()
+    moved = tuple(dataclasses.replace(c, mechanism=mechanism_to_drawing(c.mechanism, canonical, frame, model))
+                  for c in solution.candidates)
+    points = ContactPoints.from_model(model)
+    limits = ExactLimits(settings.lp_pivots, settings.vertex_pivots, settings.interior_iterations)
+    best = None
+    for state in sorted((c for c in moved if c.verified), key=lambda c: c.alpha)[:settings.carry_back_tries]:
+        exact = fast_exact_state(model, points, state.mechanism, state.start, limits=limits)
+        if exact is not None and exact.verified:
+            best = exact
+            break
+    timings = dict(solution.timings, carry_back_s=time.perf_counter() - t0)
+    common = dict(candidates=moved, timings=timings, starts=solution.starts,
+                  stopped_by_limit=solution.stopped_by_limit, skipped=solution.skipped)
+    if best is None:
+        message = solution.message if solution.best is None else \
+            "no state of the canonical search verified on the drawing's model"
+        return NonAssociativeSolution(Status.NOT_CONVERGED, message, None, **common)
     status = Status.FEASIBLE if best.alpha >= 0 else Status.NO_EQUILIBRIUM
     return NonAssociativeSolution(status, f"lowest verified collapse state from start '{best.start}'", best,
                                   **common)

@@ -1,0 +1,154 @@
+"""The canonical drawing of a scene: one structure, one scene, however it was written.
+
+The friction search of Eq. 9 is non-convex: which local minimum it ends in can turn on the order
+of the LP's columns and on the last bits of its data.  It therefore runs on the scene's
+canonical form, which depends on the structure only:
+
+- the frame: gravity points along −y and the live load has a non-negative x component (a mirror
+  image otherwise); the origin is the lower-left corner of the bounding box;
+- the vertices: repeated and collinear ones dropped, counter-clockwise, starting at the lowest
+  (then leftmost) one, in units of the blocks' size (√ mean free-block area) on a binary grid
+  of :attr:`CanonicalSettings.grid_bits`, so that round-off of a translation, rotation or change
+  of units vanishes;
+- the blocks: ordered by their centroid (y, then x) on that grid.
+
+Point loads, ties and settlements move with their blocks; block ids, materials and joint
+overrides are kept.  :class:`CanonicalFrame` maps motions back to the drawing's frame.
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from alma.geometry.loads import PointLoad, Settlement, Tie
+from alma.geometry.scene import Scene, polygon_area, polygon_centroid
+
+
+@dataclass(frozen=True)
+class CanonicalSettings:
+    """Tuned numbers of the canonical drawing."""
+
+    #: Vertices sit on a grid 2^-grid_bits × the blocks' size (1e-6): far below any contact
+    #: tolerance, and a round-off of 1e-16 relative lands on another grid point once in ~1e8.
+    grid_bits: int = 20
+    #: A vertex is collinear with its neighbours when the triangle they span is below this
+    #: fraction of the squared longer edge (a drawing's "same line", not a real corner).
+    collinear: float = 1e-12
+    #: The live load counts as vertical (no mirror is chosen) below this x component.
+    vertical: float = 1e-9
+
+
+@dataclass(frozen=True)
+class CanonicalFrame:
+    """x_canonical = (matrix @ x + offset) / unit, x in the drawing's mm; ``order[j]``: the drawing's
+    index of canonical block j."""
+
+    matrix: np.ndarray
+    offset: np.ndarray
+    unit: float  # mm per canonical length unit (√ mean free-block area)
+    order: np.ndarray
+
+    @property
+    def handedness(self) -> float:
+        """+1 for a rotation, −1 for a mirror image (the sign of rotations and moments)."""
+        return float(np.sign(np.linalg.det(self.matrix)))
+
+
+def canonical_scene(scene: Scene, settings: CanonicalSettings = CanonicalSettings()) -> tuple[Scene, CanonicalFrame]:
+    """The canonical form of ``scene`` (module docstring) and the frame that maps back to it.
+
+    Lengths are in units of √(mean free-block area), forces stay in kN: the unit weight is
+    multiplied by the unit², the cohesion by the unit, so every weight and capacity is kept.
+    """
+    matrix = _frame_matrix(scene, settings)
+    turned = [b.vertices @ matrix.T for b in scene.blocks]
+    corner = np.concatenate(turned).min(axis=0)
+    free = [polygon_area(v) for v, b in zip(turned, scene.blocks) if not b.fixed] or [polygon_area(turned[0])]
+    unit = float(np.sqrt(np.mean(np.abs(free))))
+    step = 2.0 ** -settings.grid_bits
+    frame = CanonicalFrame(matrix, -corner, unit, np.zeros(0, dtype=int))
+    blocks = [dataclasses.replace(b, vertices=_clean(np.round((v - corner) / unit / step) * step, settings),
+                                  settlement=_settlement(b.settlement, frame))
+              for b, v in zip(scene.blocks, turned)]
+    frame = dataclasses.replace(frame, order=_block_order(blocks))
+    canonical = dataclasses.replace(
+        scene, blocks=tuple(blocks[i] for i in frame.order), gravity=(0.0, -1.0),
+        live_load_direction=_unit(matrix @ np.asarray(scene.live_load_direction, dtype=float)),
+        unit_weight=scene.unit_weight * unit ** 2, cohesion=scene.cohesion * unit,
+        joint_overrides=tuple(dataclasses.replace(o, cohesion=None if o.cohesion is None else o.cohesion * unit)
+                              for o in scene.joint_overrides),
+        loads=tuple(_load(load, frame) for load in scene.loads),
+        ties=tuple(_tie(tie, frame) for tie in scene.ties), validated=False)
+    canonical.validate()
+    return canonical, frame
+
+
+def _unit(vector: np.ndarray) -> tuple[float, float]:
+    norm = float(np.hypot(*vector))
+    return (float(vector[0] / norm), float(vector[1] / norm)) if norm > 0 else (0.0, 0.0)
+
+
+def _frame_matrix(scene: Scene, settings: CanonicalSettings) -> np.ndarray:
+    """The rotation taking gravity to −y, followed by the mirror that makes the live load's x ≥ 0."""
+    up = -np.asarray(_unit(np.asarray(scene.gravity, dtype=float)))
+    rotation = np.array([[up[1], -up[0]], [up[0], up[1]]])
+    live = np.asarray(scene.live_load_direction, dtype=float) if scene.live_self_weight else np.zeros(2)
+    live = live + sum((np.asarray(load.live, dtype=float) for load in scene.loads), np.zeros(2))
+    turned = rotation @ live
+    if turned[0] < -settings.vertical * max(float(np.hypot(*turned)), 1e-300):
+        rotation = np.diag([-1.0, 1.0]) @ rotation
+    return rotation
+
+
+def _clean(vertices: np.ndarray, settings: CanonicalSettings) -> np.ndarray:
+    """Counter-clockwise, without repeated or collinear vertices, from the lowest-leftmost one."""
+    if polygon_area(vertices) < 0:
+        vertices = vertices[::-1]
+    distinct = ~np.all(vertices == np.roll(vertices, 1, axis=0), axis=1)
+    keep = vertices[distinct] if distinct.sum() >= 3 else vertices
+    a, b = keep - np.roll(keep, 1, axis=0), np.roll(keep, -1, axis=0) - keep
+    cross = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+    corner = cross > settings.collinear * np.maximum((a ** 2).sum(axis=1), (b ** 2).sum(axis=1))
+    if corner.sum() >= 3:
+        keep = keep[corner]
+    first = np.lexsort((keep[:, 0], keep[:, 1]))[0]
+    return np.roll(keep, -first, axis=0)
+
+
+def _block_order(blocks: list) -> np.ndarray:
+    """Blocks by centroid y, then x, then area, then the first vertex (exact on the grid)."""
+    keys = np.array([[*polygon_centroid(b.vertices)[::-1], polygon_area(b.vertices), *b.vertices[0][::-1]]
+                     for b in blocks])
+    return np.lexsort(keys.T[::-1])
+
+
+def _point(point: tuple[float, float] | None, frame: CanonicalFrame) -> tuple[float, float] | None:
+    if point is None:
+        return None
+    x = (frame.matrix @ np.asarray(point, dtype=float) + frame.offset) / frame.unit
+    return float(x[0]), float(x[1])
+
+
+def _vector(vector: tuple[float, float], frame: CanonicalFrame) -> tuple[float, float]:
+    x = frame.matrix @ np.asarray(vector, dtype=float)
+    return float(x[0]), float(x[1])
+
+
+def _load(load: PointLoad, frame: CanonicalFrame) -> PointLoad:
+    return dataclasses.replace(load, point=_point(load.point, frame), dead=_vector(load.dead, frame),
+                               live=_vector(load.live, frame))
+
+
+def _tie(tie: Tie, frame: CanonicalFrame) -> Tie:
+    return dataclasses.replace(tie, from_point=_point(tie.from_point, frame), to_point=_point(tie.to_point, frame))
+
+
+def _settlement(settlement: Settlement | None, frame: CanonicalFrame) -> Settlement | None:
+    if settlement is None:
+        return None
+    about = _point(settlement.about, frame)
+    translation = np.asarray(_vector(settlement.translation, frame)) / frame.unit
+    return Settlement(translation=(float(translation[0]), float(translation[1])),
+                      rotation=frame.handedness * settlement.rotation, about=about)

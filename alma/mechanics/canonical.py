@@ -1,0 +1,53 @@
+"""The canonical model of the friction search, and motions carried back to the drawing's model.
+
+:func:`alma.geometry.canonical.canonical_scene` fixes the frame, the vertices and the order of
+the blocks; the model built from it is then snapped to a binary grid (:func:`snapped`), so that
+the round-off of a change of units or unit weight (forces are in mean block weights, lengths in
+√ mean block area) leaves no trace in the data the search sees.
+"""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import scipy.sparse as sp
+
+from alma.geometry.canonical import CanonicalFrame
+from alma.mechanics.model import Model
+
+
+def _snap(values: np.ndarray, bits: int) -> np.ndarray:
+    step = 2.0 ** -bits
+    return np.round(np.asarray(values, dtype=float) / step) * step
+
+
+def _snap_matrix(matrix: sp.csc_matrix | None, bits: int) -> sp.csc_matrix | None:
+    if matrix is None:
+        return None
+    out = matrix.copy()
+    out.data = _snap(out.data, bits)
+    return out
+
+
+def snapped(model: Model, bits: int) -> Model:
+    """``model`` with its dimensionless data on the grid 2^-bits (the model's units are of order one)."""
+    return dataclasses.replace(
+        model, centroid=_snap(model.centroid, bits), normal_part=_snap_matrix(model.normal_part, bits),
+        tangent_part=_snap_matrix(model.tangent_part, bits), dead=_snap(model.dead, bits),
+        live=_snap(model.live, bits), bounded=_snap_matrix(model.bounded, bits),
+        capacity=_snap(model.capacity, bits), derived={})
+
+
+def mechanism_to_drawing(u: np.ndarray, canonical: Model, frame: CanonicalFrame, model: Model) -> np.ndarray:
+    """A mechanism of the canonical model as a mechanism of the drawing's ``model``.
+
+    ``u`` holds (u_x, u_y, ω) per free block in the canonical model's units (translations in its
+    length unit); the same rigid motions in ``model``'s frame and units.
+    """
+    moves = np.asarray(u, dtype=float).reshape(-1, 3)
+    drawing_index = frame.order[canonical.free_blocks]  # the drawing's scene index of each canonical free block
+    target = model.free_index[drawing_index]
+    out = np.zeros((model.n_free, 3))
+    out[target, :2] = (moves[:, :2] @ frame.matrix) * (canonical.length_scale * frame.unit / model.length_scale)
+    out[target, 2] = frame.handedness * moves[:, 2]
+    return out.ravel()
