@@ -85,6 +85,8 @@ class SearchSettings:
     canonical_bits: int = 24
     #: Canonical states (lowest α first) made exact on the drawing's own model before giving up.
     carry_back_tries: int = 4
+    #: States whose α are this close (relative) are one answer: the earliest start's is kept.
+    same_alpha: float = 1e-9
     #: Gilbert starts of "fast": (N̄ as a multiple of N_LP, relaxation of N̄, slope-halving steps).
     gilbert_fast: tuple[tuple[float, float, int], ...] = ((0.0, 1.0, 1), (1.0, 0.5, 0))
     #: Gilbert starts of "thorough": the fast ones first, then slower variants.
@@ -133,8 +135,9 @@ class SearchSettings:
     rocking_tries: int = 4
     #: Seeds (block, pivot) the rocking generator grows into macro-blocks, in block order.
     rocking_seeds: int = 20_000
-    #: "thorough": scenes up to this many free blocks get the IPOPT polish.
-    ipopt_blocks: int = 60
+    #: "thorough": scenes up to this many free blocks get the IPOPT polish (0: none; raise it to
+    #: polish): it cost 95 % of the search on the Ferris & Tin-Loi walls and never went lower.
+    ipopt_blocks: int = 0
     #: IPOPT iterations of each relaxed solve of the polish.
     ipopt_iterations: int = 300
     #: "thorough": scenes up to this many free blocks get the MILP of ``alma.certify`` as a start.

@@ -61,7 +61,8 @@ def test_cohesion_solved_by_both_models_and_certified():
         {"id": "g", "vertices": [[-1, -1], [3, -1], [3, 0], [-1, 0]], "fixed": True},
         {"id": "b", "vertices": [[0, 0], [2, 0], [2, 1], [0, 1]]}]})
     assert alma.solve(scene).status == "optimal"
-    result = alma.solve(scene, model="nonassociative", effort="thorough", certify=True)
+    polish = alma.Settings(search=alma.SearchSettings(ipopt_blocks=60))  # the IPOPT start, asked for
+    result = alma.solve(scene, model="nonassociative", effort="thorough", certify=True, settings=polish)
     assert result.status == "optimal" and result.alpha == pytest.approx(2.0, rel=1e-9)
     assert result.extra["certificate"]["status"] == "proven" and "not_run" not in result.search
     milp = [s for s in result.extra["starts"] if s["start"] == "milp"]  # the MILP start takes cohesion

@@ -10,7 +10,8 @@
 - ``"thorough"`` (small scenes): ``lp``, ``rocking``, the thorough Gilbert starts (their
   iterations only), ``gilbert-projected`` when no start other than ``rocking`` verified (it can
   go below a rocking state), ``ipopt`` up to :attr:`~alma.settings.SearchSettings.ipopt_blocks`
-  free blocks and ``milp`` up to :attr:`~alma.settings.SearchSettings.milp_start_blocks`.
+  free blocks (none by default: the polish runs when asked for) and ``milp`` up to
+  :attr:`~alma.settings.SearchSettings.milp_start_blocks`.
 
 Every start takes cohesion and ties (bounded forces): ``ipopt`` (:mod:`alma.nonassociative.nlp`)
 and ``milp`` (:mod:`alma.certify.rows`) write them as bounded columns with their flow rule.

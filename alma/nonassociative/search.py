@@ -41,7 +41,7 @@ from alma.mechanics.model import Model
 from alma.nonassociative.limits import Cap
 from alma.nonassociative.policy import make_start, plan, resolve_effort, start_name, wanted
 from alma.nonassociative.starts import Context
-from alma.nonassociative.states import CollapseState, ExactLimits, Tally, fast_exact_state
+from alma.nonassociative.states import CollapseState, ExactLimits, Tally, fast_exact_state, lowest
 from alma.settings import SearchSettings
 from alma.status import Status
 
@@ -157,8 +157,9 @@ def carried_back(solution: NonAssociativeSolution, canonical: Model, frame: Cano
     Each verified canonical state's mechanism is carried to ``model``'s frame and blocks
     (:func:`~alma.mechanics.canonical.mechanism_to_drawing`) and made exact there, its active set
     fixed (:func:`~alma.nonassociative.states.fast_exact_state`), lowest α first, until one
-    verifies on ``model`` itself; that state is the answer.  The other candidates keep their
-    canonical α and forces with their mechanisms carried back (what the MILP's start reads).
+    verifies on ``model`` itself; that state is the answer and takes its candidate's place.  The
+    other candidates keep their canonical α and forces, their mechanisms carried back (what the
+    MILP's start reads).
     """
     t0 = time.perf_counter()
     moved = tuple(dataclasses.replace(c, mechanism=mechanism_to_drawing(c.mechanism, canonical, frame, model))
@@ -166,10 +167,14 @@ def carried_back(solution: NonAssociativeSolution, canonical: Model, frame: Cano
     points = ContactPoints.from_model(model)
     limits = ExactLimits(settings.lp_pivots, settings.vertex_pivots, settings.interior_iterations)
     best = None
-    for state in sorted((c for c in moved if c.verified), key=lambda c: c.alpha)[:settings.carry_back_tries]:
-        exact = fast_exact_state(model, points, state.mechanism, state.start, limits=limits)
+    verified = [k for k, c in enumerate(moved) if c.verified]
+    first = lowest([moved[k] for k in verified], settings.same_alpha)
+    order = sorted(verified, key=lambda k: (moved[k] is not first, moved[k].alpha))
+    for k in order[:settings.carry_back_tries]:
+        exact = fast_exact_state(model, points, moved[k].mechanism, moved[k].start, limits=limits)
         if exact is not None and exact.verified:
             best = exact
+            moved = moved[:k] + (exact,) + moved[k + 1:]
             break
     timings = dict(solution.timings, carry_back_s=time.perf_counter() - t0)
     common = dict(candidates=moved, timings=timings, starts=solution.starts,

@@ -18,7 +18,7 @@ from alma.nonassociative.gilbert import gilbert, projected_gilbert
 from alma.nonassociative.limits import Cap, Work, no_cap
 from alma.nonassociative.nlp import ipopt_polish
 from alma.nonassociative.rocking import rocking_candidates
-from alma.nonassociative.states import CollapseState, ExactLimits, Tally, exact_state, fast_exact_state
+from alma.nonassociative.states import CollapseState, ExactLimits, Tally, exact_state, fast_exact_state, lowest
 from alma.settings import CertifySettings, SearchSettings
 
 
@@ -41,8 +41,9 @@ class Context:
         return [c for c in self.candidates if c.verified]
 
     def best(self) -> CollapseState | None:
-        """The verified candidate with the lowest α, if any."""
-        return min(self.verified(), key=lambda c: c.alpha, default=None)
+        """The verified candidate with the lowest α, if any (the earliest of those within
+        :attr:`~alma.settings.SearchSettings.same_alpha` of it: round-off does not choose)."""
+        return lowest(self.verified(), self.settings.same_alpha)
 
     def exact_limits(self, vertex: bool = False) -> ExactLimits:
         """Iteration caps of an exact state (``vertex``: HiGHS's vertex within ``vertex_pivots``)."""

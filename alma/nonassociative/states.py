@@ -179,6 +179,14 @@ def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray
     return residuals, bool(ok)
 
 
+def lowest(states: list[CollapseState], same: float) -> CollapseState | None:
+    """The first of ``states`` whose α is within ``same`` (relative) of the lowest α, if any."""
+    if not states:
+        return None
+    floor = min(c.alpha for c in states)
+    return next(c for c in states if c.alpha <= floor + same * max(1.0, abs(floor)))
+
+
 def lower(state: CollapseState | None, other: CollapseState | None) -> CollapseState | None:
     """The verified state with the smaller α (an unverified one only if neither is verified)."""
     if state is None or (other is not None and other.verified and (not state.verified or other.alpha < state.alpha)):
