@@ -5,7 +5,7 @@ mathematics as it is for the associative LP: it holds because the search runs on
 canonical drawing (``alma.geometry.canonical``).  Each property test writes one structure
 differently — turned with gravity and live load, mirrored with the live load mirrored, moved,
 in other units (lengths × s with the weights, cohesion capacities and loads kept), with all
-forces × k, blocks shuffled, vertices started elsewhere, collinear and repeated vertices added —
+forces × k, blocks shuffled, vertices started elsewhere, collinear vertices added —
 and asks for the same α_NL (1e-9 relative) and the same status.
 """
 from __future__ import annotations
@@ -137,7 +137,7 @@ def scaled(data: dict, length: float, force: float) -> dict:
 
 def rewritten(data: dict, order: list[int], starts: list[int], extra: bool) -> dict:
     """Blocks in ``order``, each polygon started at another vertex; with ``extra``, a collinear
-    midpoint on every edge of the supports and a repeated first vertex on every block."""
+    midpoint on every edge of the supports."""
     out = json.loads(json.dumps(data))
     blocks = []
     for k, i in enumerate(order):
@@ -146,10 +146,7 @@ def rewritten(data: dict, order: list[int], starts: list[int], extra: bool) -> d
         if extra and b.get("fixed"):
             v = [p for a, q in zip(v, v[1:] + v[:1]) for p in (a, [(a[0] + q[0]) / 2, (a[1] + q[1]) / 2])]
         shift = starts[k % len(starts)] % len(v)
-        v = v[shift:] + v[:shift]
-        if extra:
-            v = v[:1] + v
-        blocks.append(dict(b, vertices=v))
+        blocks.append(dict(b, vertices=v[shift:] + v[:shift]))
     out["blocks"] = blocks
     return out
 

@@ -65,7 +65,8 @@ def canonical_scene(scene: Scene, settings: CanonicalSettings = CanonicalSetting
     matrix = _frame_matrix(scene, settings)
     turned = [b.vertices @ matrix.T for b in scene.blocks]
     corner = np.concatenate(turned).min(axis=0)
-    free = [polygon_area(v) for v, b in zip(turned, scene.blocks) if not b.fixed] or [polygon_area(turned[0])]
+    # Areas about each polygon's own first vertex: far from the origin the shoelace sum cancels.
+    free = [polygon_area(v - v[0]) for v, b in zip(turned, scene.blocks) if not b.fixed] or [polygon_area(turned[0] - turned[0][0])]
     unit = float(np.sqrt(np.mean(np.abs(free))))
     step = 2.0 ** -settings.grid_bits
     frame = CanonicalFrame(matrix, -corner, unit, np.zeros(0, dtype=int))

@@ -41,13 +41,21 @@ def snapped(model: Model, bits: int) -> Model:
 def mechanism_to_drawing(u: np.ndarray, canonical: Model, frame: CanonicalFrame, model: Model) -> np.ndarray:
     """A mechanism of the canonical model as a mechanism of the drawing's ``model``.
 
-    ``u`` holds (u_x, u_y, ω) per free block in the canonical model's units (translations in its
-    length unit); the same rigid motions in ``model``'s frame and units.
+    ``u`` holds (u_x, u_y, ω) per free block in the canonical model's units (the velocity of its
+    centroid, translations in its length unit); returned: the same rigid motions in ``model``'s
+    frame and units, each block's velocity taken at the drawing's own centroid (the canonical
+    centroid sits up to a grid step away).
     """
     moves = np.asarray(u, dtype=float).reshape(-1, 3)
-    drawing_index = frame.order[canonical.free_blocks]  # the drawing's scene index of each canonical free block
-    target = model.free_index[drawing_index]
+    target = model.free_index[frame.order[canonical.free_blocks]]  # drawing's free index of each canonical one
+    to_mm = canonical.length_scale * frame.unit
+    centre_mm = ((canonical.centroid * canonical.length_scale + canonical.origin) * frame.unit - frame.offset) @ frame.matrix
+    centre = (centre_mm - model.origin) / model.length_scale  # canonical centroids, drawing model units
+    omega = frame.handedness * moves[:, 2]
+    velocity = (moves[:, :2] @ frame.matrix) * (to_mm / model.length_scale)
+    arm = model.centroid[target] - centre
     out = np.zeros((model.n_free, 3))
-    out[target, :2] = (moves[:, :2] @ frame.matrix) * (canonical.length_scale * frame.unit / model.length_scale)
-    out[target, 2] = frame.handedness * moves[:, 2]
+    out[target, 0] = velocity[:, 0] - omega * arm[:, 1]
+    out[target, 1] = velocity[:, 1] + omega * arm[:, 0]
+    out[target, 2] = omega
     return out.ravel()

@@ -1,0 +1,104 @@
+"""The canonical drawing (alma.geometry.canonical) and model (alma.mechanics.canonical): the data
+the friction search sees are the same, bit for bit, however one structure is written."""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import alma
+from alma.geometry.canonical import canonical_scene
+from alma.mechanics.canonical import mechanism_to_drawing, snapped
+from alma.mechanics.model import build_model
+
+
+def _panel() -> dict:
+    data = alma.paper_panel("english", "2:1", "2:1", 0.6).to_dict()
+    data["cohesion"] = 2.0
+    data["loads"] = [{"block": data["blocks"][5]["id"], "dead": [0.0, -1.0], "live": [0.3, 0.0]}]
+    return data
+
+
+def _rewrite(data: dict, angle: float, mirror: bool, shift: tuple[float, float], length: float, force: float,
+             seed: int) -> dict:
+    """Turned by ``angle`` (mirrored first), moved by ``shift`` mm, in units of ``length`` mm, forces
+    × ``force``, blocks shuffled and polygons started elsewhere (``seed``)."""
+    c, s = math.cos(angle), math.sin(angle)
+    matrix = np.array([[c, -s], [s, c]]) @ (np.diag([-1.0, 1.0]) if mirror else np.eye(2))
+    out = json.loads(json.dumps(data))
+    rng = np.random.default_rng(seed)
+
+    def move(p):
+        return list(map(float, length * (matrix @ np.asarray(p, dtype=float) + np.asarray(shift))))
+
+    for b in out["blocks"]:
+        v = [move(p) for p in b["vertices"]]
+        k = int(rng.integers(len(v)))
+        b["vertices"] = v[k:] + v[:k]
+    out["blocks"] = [out["blocks"][i] for i in rng.permutation(len(out["blocks"]))]
+    for load in out.get("loads", []):
+        for key in ("dead", "live"):
+            load[key] = list(map(float, force * (matrix @ np.asarray(load[key]))))
+    out["gravity"] = list(map(float, matrix @ np.array([0.0, -1.0])))
+    out["live_load"] = {"direction": list(map(float, matrix @ np.array([1.0, 0.0])))}
+    out["thickness"] *= length
+    out["unit_weight"] *= force / length ** 3
+    out["cohesion"] *= force / length ** 2
+    return out
+
+
+def _canonical(data: dict):
+    scene, frame = canonical_scene(alma.Scene.from_dict(data))
+    return scene, frame, snapped(build_model(scene), alma.SearchSettings().canonical_bits)
+
+
+REFERENCE = _canonical(_panel())
+
+
+@settings(max_examples=15, deadline=None, derandomize=True)
+@given(angle=st.floats(-math.pi, math.pi), mirror=st.booleans(),
+       shift=st.tuples(st.floats(-1e5, 1e5), st.floats(-1e5, 1e5)),  # a site frame 100 m away
+       length=st.sampled_from([1.0, 1e-3, 25.4]), force=st.sampled_from([1.0, 1e-2, 9.81]),
+       seed=st.integers(0, 2 ** 31 - 1))
+def test_the_search_sees_the_same_model(angle, mirror, shift, length, force, seed):
+    scene, _, model = _canonical(_rewrite(_panel(), angle, mirror, shift, length, force, seed))
+    ref_scene, _, ref = REFERENCE
+    assert [b.id for b in scene.blocks] == [b.id for b in ref_scene.blocks]
+    for a, b in zip(scene.blocks, ref_scene.blocks):
+        np.testing.assert_array_equal(a.vertices, b.vertices)
+    for name in ("normal_part", "tangent_part", "bounded"):
+        x, y = getattr(model, name), getattr(ref, name)
+        assert (x != y).nnz == 0, name
+    for name in ("dead", "live", "capacity", "friction"):
+        np.testing.assert_array_equal(getattr(model, name), getattr(ref, name), err_msg=name)
+
+
+def test_redundant_vertices_are_dropped_and_polygons_start_low_left():
+    data = {"blocks": [{"id": "g", "fixed": True, "vertices": [[0, 0], [5, 0], [10, 0], [10, 0.5], [10, 1], [0, 1]]},
+                       {"id": "b", "vertices": [[4, 3], [2, 3], [2, 1], [3, 1], [4, 1]]}]}
+    scene, frame = canonical_scene(alma.Scene.from_dict(data))
+    assert [b.id for b in scene.blocks] == ["g", "b"]
+    assert [len(b.vertices) for b in scene.blocks] == [4, 4]  # the collinear ones gone
+    for b in scene.blocks:  # counter-clockwise from the lowest, then leftmost vertex
+        assert tuple(b.vertices[0]) == min(map(tuple, b.vertices), key=lambda p: (p[1], p[0]))
+    assert frame.unit == pytest.approx(2.0)
+
+
+def test_a_mechanism_comes_back_to_the_drawings_frame():
+    """A rigid rotation of every free block, written in the canonical frame, read in the drawing's."""
+    data = _rewrite(_panel(), 0.4, True, (100.0, -50.0), 1.0, 1.0, 3)
+    drawing = build_model(alma.Scene.from_dict(data))
+    scene, frame, canonical = _canonical(data)
+    omega, pivot = 0.01, np.array([0.3, -0.2])  # canonical model units
+    c = canonical.centroid
+    u = np.column_stack([-omega * (c[:, 1] - pivot[1]), omega * (c[:, 0] - pivot[0]), np.full(len(c), omega)])
+    back = mechanism_to_drawing(u.ravel(), canonical, frame, drawing).reshape(-1, 3)
+    assert np.allclose(back[:, 2], -omega)  # a mirror turns the sense of rotation
+    # the drawing's velocities are one rigid rotation about one point (the pivot's image)
+    x, w = drawing.centroid, back[:, 2]
+    pivot_x, pivot_y = x[:, 0] - back[:, 1] / w, x[:, 1] + back[:, 0] / w
+    assert np.ptp(pivot_x) < 1e-9 and np.ptp(pivot_y) < 1e-9
