@@ -4,6 +4,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import math
 import sys
 import types
 from pathlib import Path
@@ -14,7 +15,7 @@ from alma.geometry.scene import Scene, SceneError, load_scene
 from alma.settle import after_settlement, settle
 from alma.settings import AssociativeSettings, Settings
 from alma.solve import MODELS, solve
-from alma.tilt import tilt
+from alma.tilt import tilt, tilted
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -61,11 +62,16 @@ def main(argv: list[str] | None = None) -> int:
     p_settle.add_argument("scene", help="scene JSON file with a 'settlement' on a fixed block")
     p_settle.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p_settle.add_argument("--plot", metavar="OUT.png", help="write a picture of the settlement mechanism")
+    p_settle.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the settlement "
+                          "mechanism in SVG, the crack pattern, the work and the reactions in words")
     p_settle.set_defaults(func=_cmd_settle)
 
     p_tilt = sub.add_parser("tilt", help="the critical tilt angle on a tilting table (SPEC §3)")
     p_tilt.add_argument("scene", help="scene JSON file")
     p_tilt.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
+    p_tilt.add_argument("--plot", metavar="OUT.png", help="write a picture of the collapse on the table tilted to θ_c")
+    p_tilt.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the collapse on the "
+                        "tilted table in SVG and the critical angle in words")
     p_tilt.set_defaults(func=_cmd_tilt)
 
     from alma.cli import generate
@@ -101,6 +107,8 @@ def _add_common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the mechanism in SVG with a "
                    "displacement slider and animation, joint states, the line of thrust, hover details, bounds "
                    "and timings (both models side by side for --model both)")
+    p.add_argument("--thrust", action="store_true", help="draw the line of thrust on --plot and show it from the "
+                   "start on --html (a switch on the page)")
 
 
 def _cmd_solve(args: argparse.Namespace) -> int:
@@ -141,8 +149,13 @@ def _cmd_settle(args: argparse.Namespace) -> int:
         from alma.report.plot import plot_mechanism
 
         picture = types.SimpleNamespace(blocks=result.blocks, joints=result.joints, status=result.status,
-                                        alpha=float("nan"), model="settlement", mechanism_class="settlement")
-        plot_mechanism(scene, picture, args.plot, title=scene.name or None)
+                                        alpha=float("nan"), model="settlement", mechanism_class="")
+        plot_mechanism(scene, picture, args.plot, title=scene.name or None, settling=True,
+                       caption_text=f"settlement mechanism: {len(result.opened)} joints open")
+    if args.html:
+        from alma.report.html import write_settlement_html
+
+        write_settlement_html(scene, result, args.html)
     if args.json:
         print(json.dumps(result.to_dict()))
         return 0
@@ -162,6 +175,8 @@ def _cmd_tilt(args: argparse.Namespace) -> int:
     if isinstance(scene, int):
         return scene
     result = tilt(scene)
+    if args.plot or args.html:
+        _tilt_pictures(scene, result, args)
     if args.json:
         print(json.dumps(result.to_dict()))
         return 0
@@ -171,6 +186,23 @@ def _cmd_tilt(args: argparse.Namespace) -> int:
     print(f"  angle      {result.angle_deg:.6f}°  (bounds [{lo:.6f}°, {hi:.6f}°], {result.method}, "
           f"{result.steps} LP solves)")
     return 0
+
+
+def _tilt_pictures(scene: Scene, result, args: argparse.Namespace) -> None:
+    """The collapse on the table tilted to the proven standing angle θ_c⁻ (α ≥ 0 there, ≈ 0)."""
+    lower = result.bounds_deg[0]
+    on_table = tilted(scene, lower) if result.status == "optimal" and math.isfinite(lower) else None
+    collapse = solve(on_table) if on_table is not None else None
+    if args.plot:
+        from alma.report.plot import plot_mechanism
+
+        if collapse is not None:
+            plot_mechanism(on_table, collapse, args.plot, title=scene.name or None, gravity_deg=lower,
+                           caption_text=f"collapse on the table tilted to θ_c = {result.angle_deg:.4g}°")
+    if args.html:
+        from alma.report.html import write_tilt_html
+
+        write_tilt_html(scene if on_table is None else on_table, result, collapse, args.html)
 
 
 def _cmd_panel(args: argparse.Namespace) -> int:
@@ -204,11 +236,11 @@ def _run(scene: Scene, args: argparse.Namespace) -> int:
     if args.plot:
         from alma.report.plot import plot_mechanism
 
-        plot_mechanism(scene, result, args.plot, title=scene.name or None)
+        plot_mechanism(scene, result, args.plot, title=scene.name or None, line_of_thrust=args.thrust)
     if args.html:
         from alma.report.html import write_html
 
-        write_html(scene, result, args.html)
+        write_html(scene, result, args.html, thrust=args.thrust)
     if args.json:
         print(json.dumps(result.to_dict()))
     else:
