@@ -175,6 +175,9 @@ class PictureSettings:
     slow: float = 0.1
     #: Macro-blocks outlined and marked, the largest first: more only clutter the picture.
     max_marked: int = 12
+    #: Rigid parts smaller than this share of the largest one's blocks are not marked: they are
+    #: the small change of a blended mechanism, and marking them hides the large parts.
+    part_share: float = 0.1
     #: Rigid parts of one block are marked only when the mechanism has at most this many parts:
     #: a blend of many single-block parts reads as noise, a few are the mechanism.
     single_parts: int = 4

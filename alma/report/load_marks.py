@@ -47,7 +47,9 @@ def _side_arrow(scene: Scene, cls: str, direction: Any, length: float, font: flo
     xy = np.concatenate([b.vertices for b in scene.blocks if not b.fixed] or [b.vertices for b in scene.blocks])
     low, high = xy.min(axis=0), xy.max(axis=0)
     centre = 0.5 * (low + high)
-    reach = 0.5 * float(np.abs(high - low) @ np.abs(d)) + 0.3 * length
+    half = 0.5 * (high - low)
+    exits = half / np.maximum(np.abs(d), 1e-12)  # where the ray from the centre leaves the box
+    reach = float(exits.min()) + 0.3 * length
     head = centre - reach * d
     tail = head - 1.5 * length * d
     colour = LIVE_COLOUR if cls == "live" else DEAD_COLOUR
@@ -94,7 +96,9 @@ def _ties(scene: Scene, result: Any, font: float) -> list[Mark]:
     for tie in scene.ties:
         xy = np.array([tie.from_point, tie.to_point], dtype=float)
         carrier = (index[tie.from_block], index[tie.to_block])
-        force = f"{number(forces[tie.id])} kN of {number(tie.strength)}" if tie.id in forces else f"{number(tie.strength)} kN"
+        f = forces.get(tie.id)
+        f = 0.0 if f is not None and abs(f) < 1e-9 * tie.strength else f  # solver round-off reads 0
+        force = f"{number(f)} kN of {number(tie.strength)}" if f is not None else f"{number(tie.strength)} kN"
         marks.append(Mark("line", "tie", xy, carrier, stroke=TIE_COLOUR, width=1.8, dash=True,
                           title=f"tie {tie.id}: {force}"))
         marks.append(label("tie", xy.mean(axis=0) + np.array([0.0, 0.4 * font]), f"{tie.id}: {force}", font,

@@ -83,7 +83,8 @@ def _parts(scene: Scene, macro: tuple, motion: Motion, share: np.ndarray, hinges
            s: PictureSettings, colour_of: dict[int, str]) -> list[Mark]:
     """The largest :attr:`~PictureSettings.max_marked` macro-blocks reaching
     :attr:`~PictureSettings.slow` of the peak speed (single blocks only among at most
-    :attr:`~PictureSettings.single_parts`): outlined (two blocks or more), their rotation centre
+    :attr:`~PictureSettings.single_parts`; none below :attr:`~PictureSettings.part_share` of the
+    largest): outlined (two blocks or more), their rotation centre
     marked (× where no hinge already marks it), their translation an arrow."""
     members = [motion.blocks(m.blocks) for m in macro]
     members = [k[k >= 0] for k in members]
@@ -93,6 +94,9 @@ def _parts(scene: Scene, macro: tuple, motion: Motion, share: np.ndarray, hinges
                     key=lambda k: (-len(members[k]), int(members[k].min())))
     if len(ranked) > s.single_parts:
         ranked = [k for k in ranked if len(members[k]) > 1]
+    if ranked:
+        largest = len(members[ranked[0]])
+        ranked = [k for k in ranked if len(members[k]) >= s.part_share * largest]
     marks = []
     for rank, k in enumerate(ranked[:s.max_marked]):
         m, colour, carrier = macro[k], MACRO_COLOURS[rank % len(MACRO_COLOURS)], (int(members[k][0]),)

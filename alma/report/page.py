@@ -78,7 +78,7 @@ h1{font-size:1.3em;margin:.2em 0}.headline{font-size:1.6em;font-weight:600;margi
 border-bottom:1px solid #ddd}.controls label{margin-right:1.5em}
 .frames{display:flex;gap:1.5em;align-items:flex-start;margin-top:.8em}.frames.steps .frame{display:none}
 .frames.steps .frame.current{display:block}.frame{margin:0;flex:1 1 0;min-width:0}
-figcaption{font-weight:600;margin-bottom:.3em;min-height:2.6em}svg.mechanism{width:100%;height:auto;max-height:85vh;display:block}
+figcaption{font-weight:600;margin-bottom:.3em;min-height:2.6em}svg.mechanism{width:100%;height:auto;max-height:70vh;display:block}
 .hide-thrust .m-thrust{display:none}.legend{list-style:none;padding:0;margin:.4em 0;font-size:85%;columns:2 16em}
 .legend li{margin:.1em 0;break-inside:avoid}.legend li[data-mark=thrust]{display:var(--thrust,list-item)}
 .hide-thrust .legend li[data-mark=thrust]{display:none}svg.swatch{vertical-align:middle;margin-right:.4em}
