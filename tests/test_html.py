@@ -196,3 +196,16 @@ def test_numbers_read_as_words():
     assert interval(-math.inf, 0.25) == "at most 0.25; no lower bound proven (—)"
     assert interval(0.6, 0.6) == "proven: 0.6 (both bounds round to it)"
     assert interval(12.7, 12.8, "°") == "proven between 12.7° and 12.8°"
+
+
+def test_a_tilt_that_finds_no_equilibrium_still_writes_a_page_without_nan(tmp_path, capsys):
+    data = {"name": "a leaning block", "blocks": [
+        {"id": "g", "vertices": [[-500, -50], [500, -50], [500, 0], [-500, 0]], "fixed": True},
+        {"id": "b", "vertices": [[0, 0], [100, 0], [400, 300], [300, 300]]}]}
+    (tmp_path / "lean.json").write_text(json.dumps(data))
+    assert main(["tilt", str(tmp_path / "lean.json"), "--html", str(tmp_path / "t.html"),
+                 "--plot", str(tmp_path / "t.png"), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["status"] == "no_equilibrium"
+    page = _check_page(tmp_path / "t.html", alma.Scene.from_dict(data))
+    assert "No equilibrium" in " ".join(page.text) and NOT_PROVEN in " ".join(page.text)
+    assert (tmp_path / "t.png").stat().st_size > 5_000

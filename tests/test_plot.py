@@ -109,3 +109,19 @@ def test_the_picture_moves_with_the_origin(dx, dy):
     for a, b in zip(here.marks, there.marks):
         assert np.allclose(here.placed(a) + (dx, dy), there.placed(b), atol=1e-6 * size)
     assert np.allclose(np.array(here.box) + (dx, dy, dx, dy), there.box, atol=1e-6 * size)
+
+
+def test_a_crushing_joint_is_marked_and_has_its_legend_entry(tmp_path):
+    """Another analysis may give a joint the state ``crushing`` (finite compressive strength):
+    the picture draws it by name, a star at its middle, with its legend entry."""
+    import dataclasses
+
+    scene = _column(1)
+    result = alma.solve(scene)
+    joints = [dataclasses.replace(j, state="crushing") for j in result.joints]
+    crushed = dataclasses.replace(result, joints=tuple(joints))
+    drawing = draw(scene, crushed)
+    stars = [m for m in drawing.marks if m.cls == "crushing" and m.kind == "point"]
+    assert len(stars) == 1 and np.allclose(stars[0].xy, [(50.0, 0.0)])
+    assert "crushing" in drawing.classes() and LEGEND["crushing"].label == "crushing joint"
+    assert plot_mechanism(scene, crushed, tmp_path / "c.png").stat().st_size > 10_000

@@ -6,12 +6,14 @@ import dataclasses
 import json
 import math
 import sys
-import types
 from pathlib import Path
 
 from alma.geometry.chains import parse_chain, with_chain
 from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, paper_panel
 from alma.geometry.scene import Scene, SceneError, load_scene
+from alma.report.html import write_html, write_settlement_html, write_tilt_html
+from alma.report.picture import StillPicture
+from alma.report.plot import plot_mechanism
 from alma.settle import after_settlement, settle
 from alma.settings import AssociativeSettings, Settings
 from alma.solve import MODELS, solve
@@ -146,15 +148,10 @@ def _cmd_settle(args: argparse.Namespace) -> int:
         return scene
     result = settle(scene)
     if args.plot:
-        from alma.report.plot import plot_mechanism
 
-        picture = types.SimpleNamespace(blocks=result.blocks, joints=result.joints, status=result.status,
-                                        alpha=float("nan"), model="settlement", mechanism_class="")
-        plot_mechanism(scene, picture, args.plot, title=scene.name or None, settling=True,
+        plot_mechanism(scene, StillPicture.of(result), args.plot, title=scene.name or None, settling=True,
                        caption_text=f"settlement mechanism: {len(result.opened)} joints open")
     if args.html:
-        from alma.report.html import write_settlement_html
-
         write_settlement_html(scene, result, args.html)
     if args.json:
         print(json.dumps(result.to_dict()))
@@ -194,14 +191,12 @@ def _tilt_pictures(scene: Scene, result, args: argparse.Namespace) -> None:
     on_table = tilted(scene, lower) if result.status == "optimal" and math.isfinite(lower) else None
     collapse = solve(on_table) if on_table is not None else None
     if args.plot:
-        from alma.report.plot import plot_mechanism
-
-        if collapse is not None:
-            plot_mechanism(on_table, collapse, args.plot, title=scene.name or None, gravity_deg=lower,
-                           caption_text=f"collapse on the table tilted to θ_c = {result.angle_deg:.4g}°")
+        words = (f"collapse on the table tilted to θ_c = {result.angle_deg:.4g}°" if collapse is not None
+                 else f"{result.status}: {result.message}")
+        plot_mechanism(scene if on_table is None else on_table, collapse or StillPicture.of(result), args.plot,
+                       title=scene.name or None, gravity_deg=lower if math.isfinite(lower) else 0.0,
+                       caption_text=words)
     if args.html:
-        from alma.report.html import write_tilt_html
-
         write_tilt_html(scene if on_table is None else on_table, result, collapse, args.html)
 
 
@@ -234,12 +229,8 @@ def _run(scene: Scene, args: argparse.Namespace) -> int:
     for warning in result.warnings:
         print(f"alma: warning: {warning}", file=sys.stderr)
     if args.plot:
-        from alma.report.plot import plot_mechanism
-
         plot_mechanism(scene, result, args.plot, title=scene.name or None, line_of_thrust=args.thrust)
     if args.html:
-        from alma.report.html import write_html
-
         write_html(scene, result, args.html, thrust=args.thrust)
     if args.json:
         print(json.dumps(result.to_dict()))

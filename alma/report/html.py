@@ -8,7 +8,7 @@ forces in kN, moments in kN·mm, as in the JSON of SPEC §3.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
 from pathlib import Path
 from typing import Any
 
@@ -16,6 +16,7 @@ from alma.geometry.scene import Scene
 from alma.report.drawing import draw
 from alma.report.numbers import number
 from alma.report.page import Frame, build_page
+from alma.report.picture import StillPicture
 from alma.report.summary import caption, parts, settle_header, solve_header, tilt_header
 
 
@@ -33,7 +34,7 @@ def write_html(scene: Scene, result: Any, path: str | Path, *, title: str | None
 def write_settlement_html(scene: Scene, result: Any, path: str | Path, *, title: str | None = None) -> Path:
     """Write the report of :func:`alma.settle`: the settling support moved by its settlement,
     the mechanism it drives, the crack pattern and the reactions."""
-    drawing = draw(scene, _settlement_picture(result), settling=True)
+    drawing = draw(scene, StillPicture.of(result), settling=True)
     frame = Frame(f"settlement mechanism: {len(result.opened)} joints open", drawing)
     return _write(path, build_page(title or scene.name or "alma settle", settle_header(scene, result, drawing), [frame]))
 
@@ -43,8 +44,9 @@ def write_tilt_html(scene: Scene, result: Any, collapse: Any | None, path: str |
     """Write the report of :func:`alma.tilt`; ``collapse`` is the solve of the scene on the table
     tilted to θ_c (:func:`alma.tilt.tilted`), whose mechanism the page draws (None: the scene
     at rest)."""
-    picture = collapse if collapse is not None else _settlement_picture(result, status="no_collapse")
-    drawing = draw(scene, picture, gravity_deg=result.angle_deg if result.angle_deg == result.angle_deg else None)
+    picture = collapse if collapse is not None else StillPicture.of(result, status="no_collapse")
+    angle = result.angle_deg if math.isfinite(result.angle_deg) else 0.0
+    drawing = draw(scene, picture, gravity_deg=angle)
     frame = Frame(f"collapse on the table tilted to {caption_angle(result)}", drawing)
     return _write(path, build_page(title or scene.name or "alma tilt", tilt_header(result, drawing), [frame]))
 
@@ -52,24 +54,6 @@ def write_tilt_html(scene: Scene, result: Any, collapse: Any | None, path: str |
 def caption_angle(result: Any) -> str:
     """"θ_c = 27.31°" (— where no angle is proven)."""
     return f"θ_c = {number(result.angle_deg)}°"
-
-
-@dataclass(frozen=True)
-class _Picture:
-    """A settlement (or an empty) result seen as a mechanism to draw: no α, no macro-blocks."""
-
-    blocks: tuple
-    joints: tuple
-    status: str
-    model: str = "settlement"
-    mechanism_class: str = ""
-    alpha: float = float("nan")
-    macro_blocks: tuple = ()
-
-
-def _settlement_picture(result: Any, status: str | None = None) -> _Picture:
-    return _Picture(tuple(getattr(result, "blocks", ())), tuple(getattr(result, "joints", ())),
-                    status or str(result.status))
 
 
 def _write(path: str | Path, page: str) -> Path:

@@ -81,3 +81,22 @@ class MechanismPicture:
                            for state, s in zip(data["joint_states"], data["segments"]))
             return cls(str(data["model"]), str(data["status"]), float(data["alpha"]),
                        str(data["mechanism_class"]), blocks, joints)
+
+
+@dataclass(frozen=True)
+class StillPicture:
+    """A result seen as a mechanism to draw: the motions and joints of a settlement, or none
+    (a structure that does not collapse) — no α, no macro-blocks."""
+
+    blocks: tuple = ()
+    joints: tuple = ()
+    status: str = "no_collapse"
+    model: str = "settlement"
+    mechanism_class: str = ""
+    alpha: float = float("nan")
+    macro_blocks: tuple = ()
+
+    @classmethod
+    def of(cls, result: object, status: str | None = None) -> "StillPicture":
+        return cls(tuple(getattr(result, "blocks", ())), tuple(getattr(result, "joints", ())),
+                   status or str(getattr(result, "status", "no_collapse")))
