@@ -125,3 +125,21 @@ def test_a_crushing_joint_is_marked_and_has_its_legend_entry(tmp_path):
     assert len(stars) == 1 and np.allclose(stars[0].xy, [(50.0, 0.0)])
     assert "crushing" in drawing.classes() and LEGEND["crushing"].label == "crushing joint"
     assert plot_mechanism(scene, crushed, tmp_path / "c.png").stat().st_size > 10_000
+
+
+@settings(max_examples=5, deadline=None)
+@given(st.permutations(range(17)))
+def test_the_picture_does_not_depend_on_the_block_order(order):
+    """The arch of examples/ with its blocks listed in any order: the same marks, colours included."""
+    from pathlib import Path
+
+    scene = alma.load_scene(Path(__file__).resolve().parents[1] / "examples" / "arch.json")
+    assert len(scene.blocks) == 17
+    shuffled = alma.Scene.from_dict({**scene.to_dict(), "blocks": [scene.to_dict()["blocks"][i] for i in order]})
+
+    def marks(s):
+        d = draw(s, alma.solve(s))
+        return sorted((m.cls, m.stroke or "", m.fill or "", tuple(np.round(np.sort(d.placed(m), axis=0), 3).ravel()))
+                      for m in d.marks)
+
+    assert marks(scene) == marks(shuffled)

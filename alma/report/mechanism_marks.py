@@ -90,8 +90,9 @@ def _parts(scene: Scene, macro: tuple, motion: Motion, share: np.ndarray, hinges
     members = [k[k >= 0] for k in members]
     xy = np.concatenate([b.vertices for b in scene.blocks])
     low, high = xy.min(axis=0), xy.max(axis=0)
+    centroid = np.array([b.centroid for b in scene.blocks]).reshape(-1, 2)  # ties: by place, not by order
     ranked = sorted((k for k in range(len(macro)) if members[k].size and share[members[k]].max() >= s.slow),
-                    key=lambda k: (-len(members[k]), int(members[k].min())))
+                    key=lambda k: (-len(members[k]), *np.round(centroid[members[k]].mean(axis=0), 6)))
     if len(ranked) > s.single_parts:
         ranked = [k for k in ranked if len(members[k]) > 1]
     if ranked:

@@ -68,7 +68,7 @@ def _motion_data(drawing: Drawing, s: PictureSettings) -> dict[str, Any]:
     """What the script needs to move a frame: each block's motion (u, v in mm, θ in rad) and
     centroid (mm), and the displacement scale per unit of the slider's share."""
     m = drawing.motion
-    return {"u": np.round(m.u, 9).tolist(), "c": np.round(m.centroid, 6).tolist(),
+    return {"u": m.u.tolist(), "c": m.centroid.tolist(),
             "unit": m.scale / s.displacement if s.displacement else 0.0}
 
 
