@@ -106,9 +106,9 @@ def _add_common(p: argparse.ArgumentParser) -> None:
                         "interior point's blend of all of them (about 1-5x the solve)")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p.add_argument("--plot", metavar="OUT.png", help="write a picture of the collapse mechanism")
-    p.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the mechanism in SVG with a "
-                   "displacement slider and animation, joint states, the line of thrust, hover details, bounds "
-                   "and timings (both models side by side for --model both)")
+    p.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the result in words, the "
+                   "mechanism in SVG (loads, supports, rigid parts, crack, hinges) with a displacement slider, "
+                   "hover details, bounds and timings folded (both models side by side for --model both)")
     p.add_argument("--thrust", action="store_true", help="draw the line of thrust on --plot and show it from the "
                    "start on --html (a switch on the page)")
 

@@ -12,13 +12,13 @@ from alma.settings import PictureSettings
 NOT_PROVEN = "—"
 
 _STATUS_WORDS = {
-    "optimal": "proven: the certified lower and upper bounds meet",
-    "feasible": "a verified collapse state: α is an upper bound, proven only down to the lower bound",
-    "no_collapse": "no collapse: the structure carries any multiple of the live load",
-    "no_equilibrium": "no equilibrium: the structure cannot carry its own dead load",
-    "not_converged": "not proven: the solver stopped before the bounds met; α is its best value",
-    "limit_reached": "not proven: the time limit stopped the analysis",
-    "invalid_input": "invalid input: nothing was solved",
+    "optimal": "proven — the certified lower and upper bounds meet",
+    "feasible": "a verified collapse state — α is an upper bound, proven only down to the lower bound",
+    "no_collapse": "no collapse — the structure carries any multiple of the live load",
+    "no_equilibrium": "no equilibrium — the structure cannot carry its own dead load",
+    "not_converged": "not proven — the solver stopped before the bounds met; α is its best value",
+    "limit_reached": "not proven — the time limit stopped the analysis",
+    "invalid_input": "invalid input — nothing was solved",
 }
 
 _CLASS_WORDS = {
@@ -70,8 +70,18 @@ def _outward(x: float, digits: int, rounding: str) -> float:
 
 
 def status_words(status: Any) -> str:
-    """The status of SPEC §3 in plain language."""
+    """The status of SPEC §3 in plain language: "proven — …"."""
     return _STATUS_WORDS.get(str(status), str(status))
+
+
+def status_line(status: Any) -> str:
+    """"Status: proven — … (optimal).", the JSON's word kept in brackets."""
+    return f"Status: {status_words(status)} ({status})."
+
+
+def status_short(status: Any) -> str:
+    """The plain words before the dash: "proven", "no equilibrium"."""
+    return status_words(status).split(" — ")[0]
 
 
 def mechanism_words(mechanism_class: Any) -> str:

@@ -7,7 +7,7 @@ import math
 from typing import Any
 
 from alma.report.drawing import Drawing
-from alma.report.numbers import count, interval, mechanism_words, number, status_words
+from alma.report.numbers import count, interval, mechanism_words, number, status_line, status_short
 from alma.report.page import Header
 
 MODEL_WORDS = {"associative": "associative (Eq. 10)", "nonassociative": "non-associative (Eq. 9)",
@@ -27,7 +27,7 @@ def alpha_words(r: Any) -> str:
     if status == "no_collapse":
         return "no collapse"
     if status in ("no_equilibrium", "invalid_input"):
-        return status_words(status).split(":")[0]
+        return status_short(status)
     proven = {"optimal": "proven", "feasible": "an upper bound"}.get(status, "not proven")
     return f"α = {number(r.alpha)} ({proven})"
 
@@ -56,7 +56,7 @@ def solve_header(result: Any, drawings: list[Drawing]) -> Header:
     for r, d in zip(rs, drawings):
         who = f"{MODEL_WORDS[str(r.model)]}: " if len(rs) > 1 else ""
         moving = f", {d.moving} of {count(_free(r, d), 'block')} move" if d.moving else ""
-        lines.append(f"{who}α {interval(r.bounds.lower, r.bounds.upper)}. {status_words(r.status).capitalize()}. "
+        lines.append(f"{who}α {interval(r.bounds.lower, r.bounds.upper)}. {status_line(r.status)} "
                      f"Mechanism: {mechanism_words(r.mechanism_class)}, "
                      f"{count(len(r.macro_blocks), 'rigid part')}{moving}.")
         details += _details(r, who)
@@ -83,7 +83,7 @@ def settle_header(scene: Any, result: Any, drawing: Drawing) -> Header:
     who = ", ".join(b.id for b in moving) or "no support"
     headline = f"Settlement of {who}: {count(len(result.opened), 'joint')} open (the crack pattern)"
     lines = [f"Work of the dead load on the mechanism {interval(result.bounds.lower, result.bounds.upper, 'kN·mm')}. "
-             f"{status_words(result.status).capitalize()}.",
+             f"{status_line(result.status)}",
              f"{drawing.moving} of {count(sum(not b.fixed for b in scene.blocks), 'block')} move."]
     lines += [f"Reaction on {r['block']}: force ({number(r['force'][0])}, {number(r['force'][1])}) kN, "
               f"moment {number(r['moment'])} kN·mm." for r in result.reactions]
@@ -97,11 +97,11 @@ def tilt_header(result: Any, drawing: Drawing | None) -> Header:
     lo, hi = result.bounds_deg
     angle = result.angle_deg
     headline = (f"Critical tilt θ_c = {number(angle)}°" if math.isfinite(angle)
-                else status_words(result.status).split(":")[0].capitalize())
+                else status_short(result.status).capitalize())
     method = ("exact: θ_c = atan α_c of the horizontal live load" if result.method == "exact"
               else f"bisection, {count(result.steps, 'certified LP solve')}")
     lines = [f"The structure stands up to {number(lo)}° and collapses from {number(hi)}° on ({method}). "
-             f"θ_c {interval(lo, hi, '°')}.", f"{status_words(result.status).capitalize()}."]
+             f"θ_c {interval(lo, hi, '°')}.", status_line(result.status)]
     if drawing is not None and drawing.moving:
         lines.append(f"{drawing.moving} blocks move in the collapse on the tilted table.")
     details = (("status", str(result.status)), ("angle", f"{number(angle, 9)}°"), ("message", result.message),
