@@ -143,3 +143,23 @@ def test_the_picture_does_not_depend_on_the_block_order(order):
                       for m in d.marks)
 
     assert marks(scene) == marks(shuffled)
+
+
+def test_an_overburden_and_a_chain_are_drawn_with_their_legend_entries():
+    """The overburden of ``alma wall`` (a row of dead point loads on the top course) as arrows
+    pointing down at the wall's top, one label with their total; a chain as a tie with its force."""
+    from alma.geometry.chains import with_chain
+
+    scene = with_chain(alma.wall("running", 1440.0, 600.0, 240.0, 60.0, overburden_kpa=10.0), 570.0, 1.0)
+    scene.validate()
+    drawing = draw(scene, alma.solve(scene))
+    top = max(float(b.vertices[:, 1].max()) for b in scene.blocks)
+    heads = [m.xy for m in drawing.marks if m.cls == "dead" and m.kind == "polygon"]
+    assert len(heads) == len(scene.loads) > 1
+    assert all(abs(h[0, 1] - top) < 1e-6 and np.all(h[1:, 1] > top) for h in heads)  # tips on the top, pointing down
+    labels = [m.text for m in drawing.marks if m.cls == "dead" and m.kind == "text"]
+    total = sum(-ld.dead[1] for ld in scene.loads)
+    assert len(labels) == 1 and f"total {total:.4g} kN" in labels[0]
+    ties = [m for m in drawing.marks if m.cls == "tie"]
+    assert {m.kind for m in ties} == {"line", "text"} and "kN of 1" in [m for m in ties if m.kind == "text"][0].text
+    assert {"dead", "tie", "live"} <= set(drawing.classes())
