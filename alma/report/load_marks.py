@@ -71,7 +71,7 @@ def _point_loads(scene: Scene, length: float, font: float) -> list[Mark]:
         if not loads:
             continue
         largest = max(float(np.hypot(*f)) for _, f in loads)
-        top = None
+        tails, carriers = [], []
         for ld, f in loads:
             i = index[ld.block]
             point = np.asarray(ld.point if ld.point is not None else scene.blocks[i].centroid, dtype=float)
@@ -79,12 +79,17 @@ def _point_loads(scene: Scene, length: float, font: float) -> list[Mark]:
             tail = point - max(n / largest, 1 / 3) * length * f / n
             marks += arrow(cls, tail, point, colour, 0.3 * length, carrier=(i,), width=1.0,
                            title=f"{cls} load on {ld.block}: [{f[0]:.4g}, {f[1]:.4g}] kN")
-            top = tail if top is None or tail[1] > top[1] else top
+            tails.append(tail)
+            carriers.append(i)
+        tails = np.array(tails)
+        # the label rides above the highest tail (the one nearest the middle), with its block
+        top = int(np.lexsort((np.abs(tails[:, 0] - tails[:, 0].mean()), -np.round(tails[:, 1], 6)))[0])
         total = np.sum([f for _, f in loads], axis=0)
         words = "α × " if cls == "live" else ""
-        marks.append(label(cls, top + np.array([0.0, 0.4 * font]),
+        marks.append(label(cls, np.array([tails[:, 0].mean(), tails[top, 1] + 0.5 * font]),
                            f"{words}{len(loads)} point load{'s' if len(loads) > 1 else ''}, "
-                           f"total {number(float(np.hypot(*total)))} kN", font, colour=colour))
+                           f"total {number(float(np.hypot(*total)))} kN", font, colour=colour,
+                           carrier=(carriers[top],)))
     return marks
 
 
