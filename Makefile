@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test test-latest explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded bench-engine bench-crisp bench-crisp-floor bench-first-order html-screenshot venv clean
+.PHONY: demo test test-latest explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded bench-engine bench-crisp bench-crisp-floor bench-first-order figures html-screenshot venv clean
 
 venv: $(STAMP)
 
@@ -90,8 +90,16 @@ bench-crisp-floor: $(STAMP)
 bench-first-order: $(STAMP)
 	$(BIN)/python benchmarks/bench_first_order.py
 
+# Every picture of the README and docs/ again (the last step needs Debian's chromium; ~2 min).
+figures: $(STAMP)
+	$(BIN)/python tools/figures.py
+	$(BIN)/python tools/structures_figure.py
+	$(BIN)/python tools/cohesion_figure.py
+	$(BIN)/python tools/html_screenshot.py
+
+# The HTML reports of the examples in headless Chromium: docs/screenshots/ (not part of CI).
 html-screenshot: $(STAMP)
-	$(BIN)/python tools/html_screenshot.py build/html
+	$(BIN)/python tools/html_screenshot.py
 
 clean:
 	rm -rf $(VENV) $(LATEST) demo .pytest_cache .hypothesis

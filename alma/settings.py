@@ -167,3 +167,33 @@ class Settings:
         data.pop("time_limit")
         text = json.dumps(data, sort_keys=True, default=repr)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+@dataclass(frozen=True)
+class PictureSettings:
+    """How ``alma.report`` draws a mechanism (PNG and HTML alike).  Not part of :class:`Settings`:
+    no number here changes a result, so none enters its digest."""
+
+    #: Largest displacement drawn, as a share of the scene size: large enough to see a hinge open,
+    #: small enough that the blocks keep their place.
+    displacement: float = 0.08
+    #: Margin around everything drawn, as a share of the scene size (the picture fits the structure).
+    margin: float = 0.04
+    #: A block moves when its speed reaches this share of the fastest block's (the header's count).
+    moving: float = 1e-3
+    #: Macro-blocks slower than this share of the fastest block are not outlined (they barely move).
+    slow: float = 0.1
+    #: Macro-blocks outlined and marked, the largest first: more only clutter the picture.
+    max_marked: int = 12
+    #: Rigid parts smaller than this share of the largest one's blocks are not marked: they are
+    #: the small change of a blended mechanism, and marking them hides the large parts.
+    part_share: float = 0.1
+    #: Rigid parts of one block are marked only when the mechanism has at most this many parts:
+    #: a blend of many single-block parts reads as noise, a few are the mechanism.
+    single_parts: int = 4
+    #: Significant digits of the numbers a person reads (the JSON keeps the full precision).
+    digits: int = 4
+    #: Length of a load arrow, as a share of the scene size.
+    arrow: float = 0.07
+    #: Height of a label's letters, as a share of the scene size (SVG and PNG alike).
+    font: float = 0.022

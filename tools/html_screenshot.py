@@ -1,43 +1,60 @@
-"""Look at the HTML report in a real browser (issue 18): write the reports of ``examples/`` and of
-a paper panel with ``--html``, and screenshot each with headless Chromium (Debian's ``chromium``
-package; ``make html-screenshot``, not part of CI).
+"""Look at the HTML reports in a real browser (issues 18, 36): write the pages of the examples with
+the command line's ``--html`` and screenshot each with headless Chromium (Debian's ``chromium``
+package; ``make html-screenshot``, not part of CI).  The portal's page is also the README's
+``docs/html_report.png``.
 
-    .venv/bin/python tools/html_screenshot.py [OUT_DIR]   (default: build/html)
+    .venv/bin/python tools/html_screenshot.py [OUT_DIR]   (default: docs/screenshots)
 """
 from __future__ import annotations
 
+import contextlib
+import io
 import shutil
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
-import alma
-from alma.report.html import write_html
+from alma.cli import main as alma_main
 
 ROOT = Path(__file__).resolve().parents[1]
-FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-         "--disable-background-networking", "--disable-component-update", "--disable-sync",
-         "--window-size=1400,1000"]
+EXAMPLES = ROOT / "examples"
+DEFAULT = ROOT / "docs" / "screenshots"
+FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+         "--disable-component-update", "--no-first-run", "--disable-sync", "--hide-scrollbars"]
+#: name: (the alma command, the browser window's size in pixels)
+CASES = {
+    "wall_with_window": (["solve", str(EXAMPLES / "wall_with_window.json"), "--crisp"], "1200,900"),
+    "arch": (["solve", str(EXAMPLES / "arch.json")], "1200,900"),
+    "portal": (["solve", str(EXAMPLES / "portal.json"), "--thrust"], "1200,1100"),
+    "panel_both": (["panel", "--bond", "running", "--panel-ratio", "2:1", "--block-ratio", "2:1",
+                    "--friction", "0.6", "--model", "both", "--effort", "fast"], "1400,900"),
+    "settlement": (["settle", str(EXAMPLES / "settlement.json")], "1200,1050"),
+    "tilt": (["tilt", str(EXAMPLES / "portal.json")], "1200,1150"),
+}
 
 
 def main(out: Path) -> int:
     browser = shutil.which("chromium") or shutil.which("chromium-browser") or shutil.which("google-chrome")
     if browser is None:
-        print("no chromium on PATH: apt-get install chromium", file=sys.stderr)
+        print("no chromium on PATH: apt-get install -y chromium", file=sys.stderr)
         return 2
     out.mkdir(parents=True, exist_ok=True)
-    cases = {"portal": (alma.load_scene(ROOT / "examples" / "portal.json"), "both"),
-             "wall_with_window": (alma.load_scene(ROOT / "examples" / "wall_with_window.json"), "associative"),
-             "panel_running_1-1_1-1_f0.27": (alma.paper_panel("running", "1:1", "1:1", 0.27), "associative")}
-    for name, (scene, model) in cases.items():
-        page = write_html(scene, alma.solve(scene, model=model, effort="fast"), out / f"{name}.html")
+    for name, (command, window) in CASES.items():
+        page = out / f"{name}.html"
+        with contextlib.redirect_stdout(io.StringIO()):
+            if alma_main([*command, "--html", str(page), "--json"]):
+                return 1
         with tempfile.TemporaryDirectory() as profile:
-            subprocess.run([browser, *FLAGS, f"--user-data-dir={profile}", f"--screenshot={out / name}.png",
-                            page.resolve().as_uri()], check=True, capture_output=True, timeout=120)
-        print(out / f"{name}.png")
+            subprocess.run([browser, *FLAGS, f"--user-data-dir={profile}", f"--window-size={window}",
+                            f"--screenshot={out / name}.png", page.resolve().as_uri()],
+                           check=True, capture_output=True, timeout=120)
+        page.unlink()  # the screenshots are kept; the pages are one command away
+        print(out / f"{name}.png", file=sys.stderr)
+    if out.resolve() == DEFAULT.resolve():
+        shutil.copyfile(out / "portal.png", ROOT / "docs" / "html_report.png")
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main(Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "build" / "html"))
+    sys.exit(main(Path(sys.argv[1]) if len(sys.argv) > 1 else DEFAULT))

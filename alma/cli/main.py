@@ -4,17 +4,20 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import math
 import sys
-import types
 from pathlib import Path
 
 from alma.geometry.chains import parse_chain, with_chain
 from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, paper_panel
 from alma.geometry.scene import Scene, SceneError, load_scene
+from alma.report.html import write_html, write_settlement_html, write_tilt_html
+from alma.report.picture import StillPicture
+from alma.report.plot import plot_mechanism
 from alma.settle import after_settlement, settle
 from alma.settings import AssociativeSettings, Settings
 from alma.solve import MODELS, solve
-from alma.tilt import tilt
+from alma.tilt import tilt, tilted
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -61,11 +64,16 @@ def main(argv: list[str] | None = None) -> int:
     p_settle.add_argument("scene", help="scene JSON file with a 'settlement' on a fixed block")
     p_settle.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p_settle.add_argument("--plot", metavar="OUT.png", help="write a picture of the settlement mechanism")
+    p_settle.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the settlement "
+                          "mechanism in SVG, the crack pattern, the work and the reactions in words")
     p_settle.set_defaults(func=_cmd_settle)
 
     p_tilt = sub.add_parser("tilt", help="the critical tilt angle on a tilting table (SPEC §3)")
     p_tilt.add_argument("scene", help="scene JSON file")
     p_tilt.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
+    p_tilt.add_argument("--plot", metavar="OUT.png", help="write a picture of the collapse on the table tilted to θ_c")
+    p_tilt.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the collapse on the "
+                        "tilted table in SVG and the critical angle in words")
     p_tilt.set_defaults(func=_cmd_tilt)
 
     from alma.cli import generate
@@ -98,9 +106,11 @@ def _add_common(p: argparse.ArgumentParser) -> None:
                         "interior point's blend of all of them (about 1-5x the solve)")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p.add_argument("--plot", metavar="OUT.png", help="write a picture of the collapse mechanism")
-    p.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the mechanism in SVG with a "
-                   "displacement slider and animation, joint states, the line of thrust, hover details, bounds "
-                   "and timings (both models side by side for --model both)")
+    p.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the result in words, the "
+                   "mechanism in SVG (loads, supports, rigid parts, crack, hinges) with a displacement slider, "
+                   "hover details, bounds and timings folded (both models side by side for --model both)")
+    p.add_argument("--thrust", action="store_true", help="draw the line of thrust on --plot and show it from the "
+                   "start on --html (a switch on the page)")
 
 
 def _cmd_solve(args: argparse.Namespace) -> int:
@@ -138,11 +148,11 @@ def _cmd_settle(args: argparse.Namespace) -> int:
         return scene
     result = settle(scene)
     if args.plot:
-        from alma.report.plot import plot_mechanism
 
-        picture = types.SimpleNamespace(blocks=result.blocks, joints=result.joints, status=result.status,
-                                        alpha=float("nan"), model="settlement", mechanism_class="settlement")
-        plot_mechanism(scene, picture, args.plot, title=scene.name or None)
+        plot_mechanism(scene, StillPicture.of(result), args.plot, title=scene.name or None, settling=True,
+                       caption_text=f"settlement mechanism: {len(result.opened)} joints open")
+    if args.html:
+        write_settlement_html(scene, result, args.html)
     if args.json:
         print(json.dumps(result.to_dict()))
         return 0
@@ -162,6 +172,8 @@ def _cmd_tilt(args: argparse.Namespace) -> int:
     if isinstance(scene, int):
         return scene
     result = tilt(scene)
+    if args.plot or args.html:
+        _tilt_pictures(scene, result, args)
     if args.json:
         print(json.dumps(result.to_dict()))
         return 0
@@ -171,6 +183,21 @@ def _cmd_tilt(args: argparse.Namespace) -> int:
     print(f"  angle      {result.angle_deg:.6f}°  (bounds [{lo:.6f}°, {hi:.6f}°], {result.method}, "
           f"{result.steps} LP solves)")
     return 0
+
+
+def _tilt_pictures(scene: Scene, result, args: argparse.Namespace) -> None:
+    """The collapse on the table tilted to the proven standing angle θ_c⁻ (α ≥ 0 there, ≈ 0)."""
+    lower = result.bounds_deg[0]
+    on_table = tilted(scene, lower) if result.status == "optimal" and math.isfinite(lower) else None
+    collapse = solve(on_table) if on_table is not None else None
+    if args.plot:
+        words = (f"collapse on the table tilted to θ_c = {result.angle_deg:.4g}°" if collapse is not None
+                 else f"{result.status}: {result.message}")
+        plot_mechanism(scene if on_table is None else on_table, collapse or StillPicture.of(result), args.plot,
+                       title=scene.name or None, gravity_deg=lower if math.isfinite(lower) else 0.0,
+                       caption_text=words)
+    if args.html:
+        write_tilt_html(scene if on_table is None else on_table, result, collapse, args.html)
 
 
 def _cmd_panel(args: argparse.Namespace) -> int:
@@ -202,13 +229,9 @@ def _run(scene: Scene, args: argparse.Namespace) -> int:
     for warning in result.warnings:
         print(f"alma: warning: {warning}", file=sys.stderr)
     if args.plot:
-        from alma.report.plot import plot_mechanism
-
-        plot_mechanism(scene, result, args.plot, title=scene.name or None)
+        plot_mechanism(scene, result, args.plot, title=scene.name or None, line_of_thrust=args.thrust)
     if args.html:
-        from alma.report.html import write_html
-
-        write_html(scene, result, args.html)
+        write_html(scene, result, args.html, thrust=args.thrust)
     if args.json:
         print(json.dumps(result.to_dict()))
     else:

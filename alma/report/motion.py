@@ -21,15 +21,45 @@ class Motion:
     scale: float = 1.0
 
     @classmethod
-    def of(cls, scene: Scene, result: Any) -> "Motion":
+    def of(cls, scene: Scene, result: Any, *, settling: bool = False) -> "Motion":
+        """The motion of ``result``; with ``settling`` the settling supports move by their
+        prescribed settlement (translation and rotation about its point), the others stand."""
         index = {b.id: i for i, b in enumerate(scene.blocks)}
         u = np.zeros((len(scene.blocks), 3))
         listed = [(index[m.id], m.u) for m in result.blocks if m.id in index]
         if listed:
             rows, values = zip(*listed)
             u[list(rows)] = np.nan_to_num(np.asarray(values, dtype=float))
+        centroid = np.array([b.centroid for b in scene.blocks]).reshape(-1, 2)
         u[[i for i, b in enumerate(scene.blocks) if b.fixed]] = 0.0
-        return cls(index, np.array([b.centroid for b in scene.blocks]).reshape(-1, 2), u)
+        for i, b in enumerate(scene.blocks):  # the few settling supports
+            s = b.settlement if settling and b.fixed else None
+            if s is not None:
+                arm = centroid[i] - np.asarray(s.about, dtype=float)
+                u[i] = (s.translation[0] - s.rotation * arm[1], s.translation[1] + s.rotation * arm[0], s.rotation)
+        return cls(index, centroid, u)
+
+    def affine(self, carrier: tuple[int, ...]) -> np.ndarray:
+        """The displacement map of a mark carried by ``carrier`` (the mean of its blocks' rigid
+        motions, −1 standing still) at :attr:`scale` as (b, e, f): x' = x − b y + e,
+        y' = y + b x + f, with b = s θ (the small-rotation form of a rigid motion, mm)."""
+        if not carrier:
+            return np.zeros(3)
+        rows = np.asarray(carrier, dtype=int)
+        known = (rows >= 0)[:, None]
+        u = self.u[np.where(rows >= 0, rows, 0)] * known
+        c = self.centroid[np.where(rows >= 0, rows, 0)]
+        s = self.scale
+        w = s * u[:, 2]
+        e = s * u[:, 0] + w * c[:, 1]
+        f = s * u[:, 1] - w * c[:, 0]
+        return np.array([w.mean(), e.mean(), f.mean()])
+
+    def carry(self, carrier: tuple[int, ...], xy: np.ndarray) -> np.ndarray:
+        """``xy`` (k, 2) mm moved by :meth:`affine` of ``carrier``."""
+        b, e, f = self.affine(carrier)
+        xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+        return np.column_stack([xy[:, 0] - b * xy[:, 1] + e, xy[:, 1] + b * xy[:, 0] + f])
 
     def scaled(self, scale: float) -> "Motion":
         return replace(self, scale=float(scale))
@@ -74,8 +104,10 @@ def _vertices(scene: Scene) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def joint_arrays(motion: Motion, joints) -> dict[str, np.ndarray]:
-    """The joints of a result as arrays: block indices ``a``, ``b``, ends ``start``, ``end`` (mm)."""
+    """The joints of a result as arrays: block indices ``a``, ``b`` (−1 where a kept picture's
+    joint does not name its blocks), ends ``start``, ``end`` (mm)."""
     joints = tuple(joints)
-    return {"a": motion.blocks(j.blocks[0] for j in joints), "b": motion.blocks(j.blocks[1] for j in joints),
+    pairs = [getattr(j, "blocks", ("", "")) for j in joints]
+    return {"a": motion.blocks(p[0] for p in pairs), "b": motion.blocks(p[1] for p in pairs),
             "start": np.array([j.start for j in joints], dtype=float).reshape(-1, 2),
             "end": np.array([j.end for j in joints], dtype=float).reshape(-1, 2)}
