@@ -80,8 +80,8 @@ class SearchSettings:
     #: Free blocks up to which "auto" means "thorough".
     thorough_blocks: int = 200
     #: The search runs on the canonical drawing (:mod:`alma.geometry.canonical`), its model's data
-    #: (of order one) on a grid of 2^-canonical_bits (6e-8): below the states' tolerances, and a
-    #: round-off of 1e-15 (units, unit weight) lands on another grid point once in ~1e7 entries.
+    #: rounded to canonical_bits significant bits (6e-8): below the states' tolerances, and a
+    #: round-off of 1e-15 (units, unit weight) rounds the other way once in ~1e7 entries.
     canonical_bits: int = 24
     #: Canonical states (lowest α first) made exact on the drawing's own model before giving up.
     carry_back_tries: int = 4

@@ -67,8 +67,10 @@ def test_cohesion_solved_by_both_models_and_certified():
     assert result.extra["certificate"]["status"] == "proven" and "not_run" not in result.search
     milp = [s for s in result.extra["starts"] if s["start"] == "milp"]  # the MILP start takes cohesion
     assert milp, result.extra["starts"]
-    ipopt = [s for s in result.extra["starts"] if s["start"] == "ipopt"]  # IPOPT takes cohesion
-    assert ipopt and ipopt[0]["verified"] and ipopt[0]["alpha"] == pytest.approx(2.0, rel=1e-9), ipopt
+    # IPOPT takes cohesion.  A start's record holds α on the search's canonical model, whose data
+    # are rounded to 24 bits (alma.mechanics.canonical); only the kept state is exact on the scene.
+    ipopt = [s for s in result.extra["starts"] if s["start"] == "ipopt"]
+    assert ipopt and ipopt[0]["verified"] and ipopt[0]["alpha"] == pytest.approx(2.0, rel=1e-6), ipopt
 
 
 def test_large_wall_builds():

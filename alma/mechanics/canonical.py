@@ -17,8 +17,13 @@ from alma.mechanics.model import Model
 
 
 def _snap(values: np.ndarray, bits: int) -> np.ndarray:
-    step = 2.0 ** -bits
-    return np.round(np.asarray(values, dtype=float) / step) * step
+    """Each value rounded to ``bits`` significant bits; below 2^-(bits + 16) (the model's data are
+    of order one, their round-off reaches 1e-14 on large scenes) it is a zero and becomes 0."""
+    x = np.asarray(values, dtype=float)
+    mantissa, exponent = np.frexp(x)
+    out = np.ldexp(np.round(np.ldexp(mantissa, bits)), exponent - bits)
+    out[np.abs(x) < 2.0 ** -(bits + 16)] = 0.0
+    return out
 
 
 def _snap_matrix(matrix: sp.csc_matrix | None, bits: int) -> sp.csc_matrix | None:
@@ -30,7 +35,7 @@ def _snap_matrix(matrix: sp.csc_matrix | None, bits: int) -> sp.csc_matrix | Non
 
 
 def snapped(model: Model, bits: int) -> Model:
-    """``model`` with its dimensionless data on the grid 2^-bits (the model's units are of order one)."""
+    """``model`` with its dimensionless data rounded to ``bits`` significant bits (:func:`_snap`)."""
     return dataclasses.replace(
         model, centroid=_snap(model.centroid, bits), normal_part=_snap_matrix(model.normal_part, bits),
         tangent_part=_snap_matrix(model.tangent_part, bits), dead=_snap(model.dead, bits),
