@@ -11,9 +11,13 @@ import tracemalloc
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import alma
+from alma.geometry import contacts
 from alma.geometry.contacts import find_joints
+from alma.geometry.edges import contact_lengths, local_origin, scene_edges
 from alma.geometry.scene import Scene
 
 
@@ -43,3 +47,32 @@ def test_far_block_costs_no_memory(far):
     assert distant.count == near.count
     for field in ("block_a", "block_b", "start", "end", "normal"):
         assert np.array_equal(getattr(distant, field), getattr(near, field)), field
+
+
+def _candidates(scene: Scene) -> int:
+    """How many edge pairs the candidate search hands to the exact tests."""
+    edges = scene_edges(scene, local_origin(scene))
+    pairs = contacts._candidate_pairs(edges, *contact_lengths(scene, edges))
+    return 0 if pairs is None else len(pairs[0])
+
+
+_SMALL = alma.wall("running", 240.0 * 8, 60.0 * 10, 240.0)
+
+
+@settings(max_examples=25, deadline=None)
+@given(distance=st.floats(1e4, 1e9), angle=st.floats(0.0, 2 * np.pi), turn=st.floats(0.0, 2 * np.pi))
+def test_candidates_and_joints_do_not_depend_on_a_far_block(distance, angle, turn):
+    """Wherever a far block sits (any distance, direction, orientation), the wall's candidate
+    pairs stay within its own count plus the far block's edges, and its joints are the same."""
+    data = _SMALL.to_dict()
+    c, s = np.cos(turn), np.sin(turn)
+    square = np.array([[0, 0], [240, 0], [240, 60], [0, 60]]) @ np.array([[c, -s], [s, c]]).T
+    far = square + distance * np.array([np.cos(angle), np.sin(angle)])
+    data["blocks"].append({"id": "far", "fixed": True, "vertices": far.tolist()})
+    scene = Scene.from_dict(data)
+    assert _candidates(scene) <= _candidates(_SMALL) + 4
+    near, distant = find_joints(_SMALL), find_joints(scene)
+    assert distant.count == near.count
+    for field in ("block_a", "block_b"):
+        assert np.array_equal(getattr(distant, field), getattr(near, field)), field
+    assert np.allclose(distant.start, near.start, rtol=0, atol=1e-9 * distance)
