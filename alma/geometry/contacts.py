@@ -202,48 +202,54 @@ def _facing_candidates(angle: np.ndarray, midpoint: np.ndarray, length: np.ndarr
 
     A superset of the pairs whose line angles differ by at most ``angle_tol``, whose lines are
     within ``band`` of each other and whose extents along the line intersect.  Angles are hashed
-    to cells ``2 angle_tol`` wide; each cell is a frame (its central direction), and a ``minus``
-    row enters the frames of its own and both neighbouring cells, a ``plus`` row its own.  In a
-    frame, every row's offset and along coordinate are the projections of its midpoint on the
-    same two axes, so two facing edges differ in offset by at most ``band`` plus their lengths
-    times the frame's tilt — a bound that holds wherever the edges sit.  Offsets are hashed to
-    cells of twice that bound, and within matched cells an interval join pairs only overlapping
-    extents: time O(E log E + pairs) and memory O(E + pairs), independent of the drawing's
-    extent (offsets measured about a distant origin on each edge's own axis needed a slack
-    growing with the distance, which paired whole courses of a wall with a far block).
+    to cells a little over ``2 angle_tol`` wide; each cell is a frame (its central direction); a
+    ``plus`` row enters its own frame, a ``minus`` row its own and the neighbour on its nearer
+    side (a partner within ``angle_tol`` in another cell can only be there).  In a frame, every
+    row's offset and along coordinate are the projections of its midpoint on the same two axes,
+    so two facing edges differ in offset by at most ``band`` plus their lengths times the
+    frame's tilt — a bound that holds wherever the edges sit.  Offsets are hashed to cells of
+    2.5 times that bound, a ``plus`` row looking into its own and its nearer neighbour, and
+    within matched cells an interval join pairs only overlapping extents: time O(E log E +
+    pairs) and memory O(E + pairs), independent of the drawing's extent (offsets measured about
+    a distant origin on each edge's own axis needed a slack growing with the distance, which
+    paired whole courses of a wall with a far block).
     """
-    width_a = 2.0 * angle_tol
-    cell_a = np.floor(angle / width_a).astype(np.int64)
-    # Frames: plus rows in their own angle cell, minus rows in their cell and both neighbours.
-    rows = np.concatenate([plus, minus, minus, minus])
-    frame = np.concatenate([cell_a[plus], cell_a[minus] - 1, cell_a[minus], cell_a[minus] + 1])
+    # 2.01: a tilt of angle_tol between two lines is an angle of asin(angle_tol) ≤ 1.0001 angle_tol.
+    width_a = 2.01 * angle_tol
+    position = angle / width_a
+    cell_a = np.floor(position).astype(np.int64)
+    nearer = np.where(position - cell_a < 0.5, -1, 1)
+    rows = np.concatenate([plus, minus, minus])
+    frame = np.concatenate([cell_a[plus], cell_a[minus], cell_a[minus] + nearer[minus]])
     theta = (frame + 0.5) * width_a
     point = midpoint[rows]
     offset = point[:, 0] * np.cos(theta) + point[:, 1] * np.sin(theta)
     along = point[:, 1] * np.cos(theta) - point[:, 0] * np.sin(theta)
-    # A row's direction is within 1.5 cells (3 angle_tol) of its frame's, and two facing rows'
-    # midpoints lie within half their summed lengths of each other along the line: their
-    # offsets differ by at most band + reach · 3 angle_tol.  1e-12 of the coordinates covers
+    # A row's direction is within 1.5 cells (3.015 angle_tol) of its frame's, and two facing
+    # rows' midpoints lie within half their summed lengths of each other along the line: their
+    # offsets differ by at most band + reach · 3.015 angle_tol.  1e-12 of the coordinates covers
     # round-off.
     roundoff = 1e-12 * float(np.abs(point).max(initial=0.0))
     slack_o = band + 4.0 * angle_tol * float(length.max(initial=0.0)) + roundoff
-    width_o = max(2.0 * slack_o, 2.0 ** -48 * float(np.abs(offset).max(initial=0.0)))
-    cell_o = np.floor(offset / width_o).astype(np.int64)
+    width_o = max(2.5 * slack_o, 2.0 ** -48 * float(np.abs(offset).max(initial=0.0)))
+    position = offset / width_o
+    cell_o = np.floor(position).astype(np.int64)
     n_plus = len(plus)
-    # Plus rows look into the offset cells −1, 0, +1 of their frame; minus rows sit in theirs.
-    x_frame = np.tile(frame[:n_plus], 3)
-    x_cell = np.concatenate([cell_o[:n_plus] + s for s in (-1, 0, 1)])
+    # Plus rows look into their offset cell and its nearer neighbour; minus rows sit in theirs.
+    side = np.where(position[:n_plus] - cell_o[:n_plus] < 0.5, -1, 1)
+    x_frame = np.tile(frame[:n_plus], 2)
+    x_cell = np.concatenate([cell_o[:n_plus], cell_o[:n_plus] + side])
     group = _group_ids(np.concatenate([x_frame, frame[n_plus:]]), np.concatenate([x_cell, cell_o[n_plus:]]))
-    x_at = np.tile(np.arange(n_plus), 3)
-    # Half extent + slack: the perpendicular gap (≤ band) seen on an axis tilted by ≤ 3 angle_tol,
-    # and round-off.
+    x_at = np.tile(np.arange(n_plus), 2)
+    # Half extent + slack: the perpendicular gap (≤ band) seen on an axis tilted by ≤ 3.015
+    # angle_tol, and round-off.
     half = 0.5 * length[rows] + 2.0 * band + roundoff
     lo, hi = along - half, along + half
-    x, y = _overlapping_intervals(group[:3 * n_plus], lo[x_at], hi[x_at], group[3 * n_plus:],
+    x, y = _overlapping_intervals(group[:2 * n_plus], lo[x_at], hi[x_at], group[2 * n_plus:],
                                   lo[n_plus:], hi[n_plus:])
     x, y = x_at[x], y + n_plus
     close = np.abs(offset[x] - offset[y]) <= slack_o
-    # Minus rows entered three frames: back to their index in ``minus``.
+    # Minus rows entered two frames: back to their index in ``minus``.
     return x[close], (y[close] - n_plus) % max(len(minus), 1)
 
 
