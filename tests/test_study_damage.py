@@ -147,6 +147,23 @@ def test_anova_of_a_damaged_file_leaves_the_row_out_without_a_pandas_error(clean
     assert code in (0, 2)  # 3 rows may be too few for the model: then a clear error, exit 2
 
 
+def test_the_doe_command_on_a_damaged_file_reports_and_resumes(clean, tmp_path, capfd):
+    from alma.cli.main import main
+
+    out = tmp_path / "study"
+    out.mkdir()
+    damaged, _ = _garbage(_unbalanced_quote(clean[0])[0])
+    (out / "results.csv").write_bytes(damaged)
+    design = tmp_path / "tiny.toml"
+    design.write_text('panel_ratio = ["2:1"]\nblock_ratio = ["4:1"]\nbond = ["running", "english"]\n'
+                      'friction = [0.27, 0.6]\n')
+    capfd.readouterr()
+    assert main(["doe", "--out", str(out), "--design", str(design), "--workers", "1", "--quiet"]) == 0
+    captured = capfd.readouterr()
+    assert "2 damaged or inconsistent row(s) (lines 3, 4)" in captured.err and "Traceback" not in captured.err
+    assert "4 results in" in captured.out
+
+
 def test_keys_hash_the_code_revision(tmp_path):
     base = panel_key("2:1", "4:1", "running", 0.27, "associative")
     assert base == panel_key("2:1", "4:1", "running", 0.27, "associative", revision=code_revision())

@@ -139,11 +139,6 @@ class _ResultsFile:
         self._prepare()
         self._fh = open(self.path, "a", newline="", encoding="utf-8")
 
-    @property
-    def dropped_partial(self) -> bool:
-        """Whether an unfinished last line (a kill while writing) was set aside."""
-        return any(line.problem.startswith("unfinished") for line in self.set_aside_lines)
-
     def _prepare(self) -> None:
         if not self.path.exists() or self.path.stat().st_size == 0:
             self.path.parent.mkdir(parents=True, exist_ok=True)
