@@ -88,6 +88,28 @@ def test_a_polyline_mirrored_in_cad_is_placed_by_its_ocs(tmp_path):
     assert _alpha(mirrored, **MATERIALS) == pytest.approx(_alpha(_plain(tmp_path), **MATERIALS), rel=1e-9)
 
 
+def test_a_mirrored_2d_polyline_with_an_arc_is_the_lwpolyline(tmp_path):
+    """The old POLYLINE entity, mirrored (extrusion −Z, OCS x = −x) with a bulged top, reads as
+    the plain LWPOLYLINE drawn in the world (the mirror turns the bulge's sense too)."""
+    def drawing(kind: str) -> Path:
+        doc = _doc()
+        msp = doc.modelspace()
+        msp.add_lwpolyline(GROUND, close=True, dxfattribs={"layer": "ground"})
+        top = [(0, 0, 0), (250, 0, 0), (250, 120, 0.4), (0, 120, 0)]
+        if kind == "plain":
+            msp.add_lwpolyline(top, format="xyb", close=True)
+        else:
+            mirrored = [(-x, y, -b) for x, y, b in top]
+            msp.add_polyline2d(mirrored, format="xyb", close=True, dxfattribs={"extrusion": (0, 0, -1)})
+        return _save(doc, tmp_path / f"{kind}.dxf")
+
+    plain, mirrored = alma.load_scene(drawing("plain")), alma.load_scene(drawing("mirrored"))
+    a, b = plain.blocks[1].vertices, mirrored.blocks[1].vertices
+    assert len(a) == len(b) > 4
+    assert np.allclose(np.sort(a, axis=0), np.sort(b, axis=0), atol=1e-9)
+    assert mirrored.blocks[1].area == pytest.approx(plain.blocks[1].area, rel=1e-12)
+
+
 def test_plane_3d_polylines_are_read_and_others_refused(tmp_path):
     doc = _doc()
     msp = doc.modelspace()
