@@ -12,7 +12,7 @@ What a CAD program may hold for one block, and how each is read:
 - bulges (arc segments): replaced by chords whose sagitta is at most
   :attr:`DrawingSettings.arc_sagitta` of the arc's radius, in equal angle steps, so that two
   blocks sharing an arc share its vertices;
-- ``$INSUNITS``: lengths converted to mm; unitless (0, the common case of LACT³'s drawings) is
+- ``$INSUNITS``: lengths converted to mm; unitless (0: no unit chosen in the CAD program) is
   read as mm; an unknown code is refused.
 
 Other entities (LINE, ARC, CIRCLE, TEXT, HATCH, ...) are not blocks: they are counted, so that
