@@ -279,3 +279,37 @@ def test_the_overburden_survives_the_cli_export(tmp_path, capsys):
     alpha = json.loads(capsys.readouterr().out)["alpha"]
     assert main(["solve", str(out), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["alpha"] == pytest.approx(alpha, rel=1e-9)
+
+
+def _with_brick(kind: str):
+    doc = _doc()
+    msp = doc.modelspace()
+    msp.add_lwpolyline(GROUND, close=True, dxfattribs={"layer": "ground"})
+    if kind == "nan bulge":
+        e = msp.add_lwpolyline([(0, 0, math.nan), (100, 0, 0), (100, 400, 0), (0, 400, 0)], format="xyb", close=True)
+    elif kind == "inf vertex":
+        e = msp.add_lwpolyline([(0, 0), (100, 0), (100, math.inf), (0, 400)], close=True)
+    elif kind == "full circle bulge":
+        e = msp.add_lwpolyline([(0, 0, 1e308), (100, 0, 0), (100, 400, 0), (0, 400, 0)], format="xyb", close=True)
+    elif kind == "damaged record":
+        e = msp.add_lwpolyline(BRICK, close=True)
+        doc.rootdict.add_xrecord("ALMA_SCENE").reset([(1, '{"blocks": 5}')])
+    else:  # an arc under a non-uniform scale: CAD explodes it into an ellipse and lines
+        brick = doc.blocks.new("B")
+        brick.add_lwpolyline([(0, 0, 0.5), (100, 0, 0), (100, 400, 0), (0, 400, 0)], format="xyb", close=True)
+        e = msp.add_blockref("B", (0, 0), dxfattribs={"xscale": 2, "yscale": 0.5})
+    return doc, e.dxf.handle
+
+
+@pytest.mark.parametrize("kind, message", [
+    ("nan bulge", "polyline {h}: vertex 0 is not a finite number"),
+    ("inf vertex", "polyline {h}: vertex 2 is not a finite number"),
+    ("full circle bulge", "polyline {h}: the bulge 1e\\+308 at vertex 0 draws an arc of nearly a full circle"),
+    ("damaged record", "alma record ALMA_SCENE is damaged"),
+    ("stretched arc", "every closed polyline is a support, and the drawing's other entities are not blocks "
+                      "\\(1 ELLIPSE, 3 LINE\\)"),
+])
+def test_bad_entities_are_refused_by_name(kind, message, tmp_path):
+    doc, handle = _with_brick(kind)
+    with pytest.raises(alma.SceneError, match=message.format(h=handle)):
+        alma.load_scene(_save(doc, tmp_path / "bad.dxf"))

@@ -59,21 +59,27 @@ def read_dxf(path: str | Path, *, supports: str | None = None, name: str | None 
     except Exception as exc:  # a cut or corrupt file raises from deep inside the parser
         raise SceneError(f"DXF file '{path}': cannot be read ({type(exc).__name__}: {exc})") from exc
     try:
-        outlines, skipped = read_outlines(document, mm_per_unit(document, path))
+        outlines, skipped = read_outlines(document, mm_per_unit(document))
     except SceneError as exc:
         raise SceneError(f"DXF file '{path}': {exc}") from exc
     if not outlines:
         found = ", ".join(f"{n} {kind}" for kind, n in sorted(skipped.items())) or "no drawing entity"
         raise SceneError(f"DXF file '{path}': no block — a block is one closed LWPOLYLINE or POLYLINE (also "
                          f"inside a block INSERT); the drawing holds {found}")
-    if skipped:
-        found = ", ".join(f"{n} {kind}" for kind, n in sorted(skipped.items()))
-        warnings.warn(f"DXF file '{path}': {found} ignored (not closed polylines, so not blocks)", stacklevel=2)
     stored = _stored_scene(document, path)
+    if not isinstance(stored.get("blocks", []), list):
+        raise SceneError(f"DXF file '{path}': its alma record {RECORD} is damaged ('blocks' is not a list)")
     size = float(np.median([np.sqrt(abs(_area(o.vertices))) for o in outlines])) or 1.0
     tol = VERTEX_TOLERANCE * size
     blocks = [_block(o, tol, path) for o in outlines]
     _mark_supports(blocks, supports or "layers", tol, path)
+    found = ", ".join(f"{n} {kind}" for kind, n in sorted(skipped.items()))
+    if skipped and all(b["fixed"] for b in blocks):
+        raise SceneError(f"DXF file '{path}': every closed polyline is a support, and the drawing's other "
+                         f"entities are not blocks ({found}); draw each block as one closed LWPOLYLINE or "
+                         "POLYLINE")
+    if skipped:
+        warnings.warn(f"DXF file '{path}': {found} ignored (not closed polylines, so not blocks)", stacklevel=3)
     data = {k: v for k, v in stored.items() if k != "blocks"}
     extras = {b.get("id"): b for b in stored.get("blocks", []) if isinstance(b, dict)}
     data["name"] = name or data.get("name") or path.stem

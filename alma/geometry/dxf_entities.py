@@ -56,13 +56,13 @@ class Outline:
     entity: Any = None  # the DXF entity (for its XDATA), None for a virtual one
 
 
-def mm_per_unit(document: Any, path: Any) -> float:
+def mm_per_unit(document: Any) -> float:
     """Millimetres per drawing unit from ``$INSUNITS`` (SceneError for an unknown code)."""
     code = document.header.get("$INSUNITS", 0)
     try:
         return MM_PER_UNIT[int(code)]
     except (KeyError, TypeError, ValueError):
-        raise SceneError(f"DXF file '{path}': unknown drawing units $INSUNITS = {code!r}; set them to "
+        raise SceneError(f"unknown drawing units $INSUNITS = {code!r}; set them to "
                          "millimetres (4), metres (6) or another length unit in the CAD program") from None
 
 
@@ -113,12 +113,14 @@ def _entity_points(entity: Any, handle: str) -> tuple[np.ndarray, bool]:
         elevation = float(entity.dxf.elevation)
     elif entity.is_3d_polyline:
         xyz = np.array([tuple(v.dxf.location) for v in entity.vertices], dtype=float).reshape(-1, 3)
+        _check_finite(xyz, handle)
         return _in_one_plane(xyz, handle), bool(entity.is_closed)
     else:
         vertices = list(entity.vertices)
         xyb = np.array([(*tuple(v.dxf.location)[:2], v.dxf.bulge) for v in vertices], dtype=float).reshape(-1, 3)
         closed = bool(entity.is_closed)
         elevation = float(entity.dxf.elevation[2]) if entity.dxf.hasattr("elevation") else 0.0
+    _check_finite(xyb, handle)
     ocs_points = _flatten_bulges(xyb, closed)
     extrusion = tuple(entity.dxf.extrusion) if entity.dxf.hasattr("extrusion") else (0.0, 0.0, 1.0)
     if abs(abs(extrusion[2]) - math.hypot(*extrusion)) > 1e-9 * math.hypot(*extrusion):
@@ -127,6 +129,18 @@ def _entity_points(entity: Any, handle: str) -> tuple[np.ndarray, bool]:
     ocs = entity.ocs()
     wcs = np.array([tuple(p) for p in ocs.points_to_wcs([(x, y, elevation) for x, y in ocs_points])], dtype=float)
     return wcs.reshape(-1, 3)[:, :2], closed
+
+
+def _check_finite(values: np.ndarray, handle: str) -> None:
+    """Refuse NaN or infinite coordinates or bulges, and bulges of nearly a full circle."""
+    bad = ~np.isfinite(values).all(axis=1)
+    if bad.any():
+        raise SceneError(f"polyline {handle}: vertex {int(np.flatnonzero(bad)[0])} is not a finite number "
+                         f"({values[bad][0].tolist()})")
+    if values.shape[1] == 3 and np.any(np.abs(values[:, 2]) > DRAWING.max_bulge):
+        k = int(np.flatnonzero(np.abs(values[:, 2]) > DRAWING.max_bulge)[0])
+        raise SceneError(f"polyline {handle}: the bulge {values[k, 2]:.6g} at vertex {k} draws an arc of nearly a "
+                         "full circle, which is no side of a block")
 
 
 def _in_one_plane(xyz: np.ndarray, handle: str) -> np.ndarray:
