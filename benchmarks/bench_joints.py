@@ -4,9 +4,10 @@ The walls are those of ``bench_scaling.py`` (240 × 60 mm blocks on a fixed grou
 runs in its own subprocess so that its peak resident memory is its own; the table gives the
 median time of ``--repeat`` calls and the peak RSS above the one after building the scene.
 ``--alma`` points the subprocesses at another copy of the package (e.g. an older commit
-exported with ``git archive``) to compare implementations on the same machine.
+exported with ``git archive``) to compare implementations on the same machine.  ``--far D``
+adds one fixed block D mm to the right of the wall: the cost must not depend on the extent.
 
-    .venv/bin/python benchmarks/bench_joints.py [--sizes 1000,3000,...] [--repeat 5] [--alma DIR]
+    .venv/bin/python benchmarks/bench_joints.py [--sizes 1000,3000,...] [--repeat 5] [--alma DIR] [--far D]
 """
 from __future__ import annotations
 
@@ -24,7 +25,7 @@ ROOT = Path(__file__).resolve().parents[1]
 SIZES = (1000, 3000, 10000, 20000, 100000)
 
 
-def worker(n: int, repeat: int) -> dict:
+def worker(n: int, repeat: int, far: float = 0.0) -> dict:
     sys.path.insert(0, str(Path(__file__).resolve().parent))
     from bench_scaling import wall_shape
 
@@ -33,6 +34,12 @@ def worker(n: int, repeat: int) -> dict:
 
     courses, per_course = wall_shape(n)
     scene = alma.wall("running", 240.0 * per_course, 60.0 * courses, 240.0)
+    if far:
+        data = scene.to_dict()
+        x = 240.0 * per_course + far
+        data["blocks"].append({"id": "far", "fixed": True,
+                               "vertices": [[x, 0], [x + 240, 0], [x + 240, 60], [x, 60]]})
+        scene = alma.Scene.from_dict(data)
     base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     times = []
     for _ in range(repeat):
@@ -50,14 +57,16 @@ def main() -> None:
     parser.add_argument("--sizes", default=",".join(map(str, SIZES)))
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--alma", default=str(ROOT), help="directory holding the alma package to time")
+    parser.add_argument("--far", type=float, default=0.0, help="mm: one fixed block this far from the wall")
     parser.add_argument("--worker", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.worker:
-        print(json.dumps(worker(args.worker, args.repeat)))
+        print(json.dumps(worker(args.worker, args.repeat, args.far)))
         return
     env = dict(os.environ, PYTHONPATH=str(Path(args.alma).resolve()))
     for n in (int(s) for s in args.sizes.split(",") if s):
-        cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", str(n), "--repeat", str(args.repeat)]
+        cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", str(n), "--repeat", str(args.repeat),
+               "--far", repr(args.far)]
         proc = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, env=env)
         if proc.returncode != 0:
             print(f"{n}: worker failed ({proc.returncode}): {proc.stderr[-1000:]}", flush=True)

@@ -20,7 +20,7 @@ from alma.geometry.edges import CONTACT
 from alma.geometry.scene import Block, Scene
 
 
-def _all_pairs(angle, offset, along, length, size, tol_len, plus, minus, angle_tol):
+def _all_pairs(angle, midpoint, length, band, plus, minus, angle_tol):
     p, q = np.meshgrid(np.arange(len(plus)), np.arange(len(minus)), indexing="ij")
     return p.ravel(), q.ravel()
 

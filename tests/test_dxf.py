@@ -15,6 +15,7 @@ from alma.geometry.dxf import clean_outline, write_dxf
 def _drawing(path, polylines, closed=True):
     """polylines: (layer, points) pairs, written as LWPOLYLINEs."""
     doc = ezdxf.new()
+    doc.header["$INSUNITS"] = 0  # unitless, read as mm (ezdxf's default is metres)
     msp = doc.modelspace()
     handles = []
     for layer, points in polylines:
@@ -50,7 +51,7 @@ def test_lowest_supports_for_drawings_all_on_layer_0(tmp_path):
 def test_closing_duplicate_repeated_and_collinear_vertices_are_dropped(tmp_path):
     path = tmp_path / "messy.dxf"
     messy = [(0, 0), (50, 0), (50, 0), (100, 0), (100, 400), (0, 400), (0, 0)]  # open, ends on its start
-    _drawing(path, [("fixed", GROUND), ("0", messy)], closed=False)
+    _drawing(path, [("fixed", GROUND + [GROUND[0]]), ("0", messy)], closed=False)
     scene = alma.load_scene(path)
     assert len(scene.blocks[1].vertices) == 4
 

@@ -54,3 +54,15 @@ def test_alma_paper_runs_from_the_wheel(installed, tmp_path):
     table5 = (tmp_path / "p" / "table5_comparison.csv").read_text().splitlines()
     assert len(table5) == 1 + 108
     assert (tmp_path / "p" / "comparison.md").is_file()
+
+
+def test_the_code_revision_of_a_wheel_is_the_checkouts(installed, tmp_path):
+    """Study keys hash alma's source (``code_revision``): from a wheel, without git, it is the
+    same as from the checkout it was built from."""
+    from alma.study.keys import code_revision
+
+    site, env = installed
+    probe = "import alma, alma.study.keys as k; print(alma.__file__); print(k.code_revision())"
+    out = subprocess.run([sys.executable, "-c", probe], env=env, cwd=tmp_path, capture_output=True, text=True,
+                         check=True).stdout.split()
+    assert out[0].startswith(str(site)) and out[1] == code_revision()

@@ -201,6 +201,10 @@ def anova_handler(args: argparse.Namespace) -> int:
 
 def _load_for_anova(path: Path, model: str | None, pd: Any, load_results: Any) -> Any:
     """Table-5-like frame of one contact model (a doe results.csv may hold two)."""
+    from alma.study.store import is_results_file, read_results
+
+    if is_results_file(path):  # a study's file: its damaged rows are reported and left out
+        return _study_rows_for_anova(path, read_results(path), model, load_results)
     try:
         head = pd.read_csv(path, nrows=0)
     except pd.errors.EmptyDataError:
@@ -225,6 +229,22 @@ def _load_for_anova(path: Path, model: str | None, pd: Any, load_results: Any) -
         return load_results(buf)
     except ValueError as exc:
         raise ValueError(str(exc).replace(str(buf), f"{path} (model {model})")) from None
+
+
+def _study_rows_for_anova(path: Path, rows: Any, model: str | None, load_results: Any) -> Any:
+    """The sound rows of a study's results file, of one contact model, checked as Table 5's."""
+    models = [m for m in dict.fromkeys(rows["model"].str.strip()) if m]
+    if model is None and len(models) > 1:
+        raise ValueError(f"{path}: rows of several models ({', '.join(models)}); choose one with --model")
+    if model is not None:
+        if model not in models:
+            raise ValueError(f"{path}: no rows of model {model!r} (found: {', '.join(models) or 'none'})")
+        rows = rows[rows["model"].str.strip() == model]
+    buf = io.StringIO(rows.to_csv(index=False))
+    try:
+        return load_results(buf)
+    except ValueError as exc:
+        raise ValueError(str(exc).replace(str(buf), str(path))) from None
 
 
 # ------------------------------------------------------------------------------------------

@@ -1,12 +1,12 @@
 """Joints: contacts between collinear, facing, overlapping block edges.
 
-Every edge of every block is reduced to a line key (direction of its outward
-normal modulo π, signed distance of its line from the origin) and a position
-along the line.  Facing edges of two blocks share the line key and have
-opposite normals.  Candidate pairs come from a hash of the line keys (cells of
-twice the tolerances) and, within matching cells, an interval join along the line
-(one sort of all edge extents), so the work grows with the edges plus the pairs
-that really overlap: O(E log E) time and O(E) memory.  No Python loop runs over
+Every edge of every block is reduced to a line (direction of its outward normal
+modulo π) and a position along it.  Facing edges of two blocks lie on nearly the
+same line and have opposite normals.  Candidate pairs come from a hash of the line
+angles, then, in a common frame per angle cell, a hash of the lines' offsets and an
+interval join along the line (one sort of all edge extents), so the work grows with
+the edges plus the pairs that really overlap — O(E log E) time and O(E) memory,
+whatever the drawing's extent.  No Python loop runs over
 blocks or joints.
 """
 from __future__ import annotations
@@ -108,27 +108,16 @@ def _candidate_pairs(edges: Edges, snap: float, band: float) -> tuple[np.ndarray
     angle = np.where(angle >= np.pi, 0.0, angle)  # mod may round up to π
     d = np.column_stack([np.cos(angle), np.sin(angle)])  # ±outward
     midpoint = 0.5 * (edges.start + edges.end)
-    offset = (midpoint * d).sum(axis=1)
-    along = midpoint[:, 0] * -d[:, 1] + midpoint[:, 1] * d[:, 0]
 
     facing_sign = np.where((outward * d).sum(axis=1) > 0, 1.0, -1.0)  # outward = ±d
     # Lines near angle 0 ≡ π are duplicated on the other side of the wrap so the search sees them close.
     wrap = angle > np.pi - 4.0 * angle_tol
     ids = np.concatenate([np.arange(len(angle)), np.flatnonzero(wrap)])
     key_angle = np.concatenate([angle, angle[wrap] - np.pi])
-    key_offset = np.concatenate([offset, -offset[wrap]])
-    key_along = np.concatenate([along, -along[wrap]])
     key_sign = np.concatenate([facing_sign, -facing_sign[wrap]])
-    reach = float(length.max())
-    points = np.column_stack([key_angle * (reach / angle_tol), key_offset * (reach / band), key_along])
     # Facing edges have opposite outward normals: pair only across the two orientations.
     plus, minus = np.flatnonzero(key_sign > 0), np.flatnonzero(key_sign < 0)
-    p, q = _facing_candidates(key_angle, key_offset, key_along, length[ids], np.abs(midpoint[ids]).sum(axis=1),
-                              band, plus, minus, angle_tol)
-    # Sup-norm distance ≤ reach between the scaled keys: the pruning above only drops pairs
-    # that cannot overlap.
-    close = np.abs(points[plus[p]] - points[minus[q]]).max(axis=1, initial=0.0) <= reach
-    p, q = p[close], q[close]
+    p, q = _facing_candidates(key_angle, midpoint[ids], length[ids], band, plus, minus, angle_tol)
     if p.size == 0:
         return None
     i, j = ids[plus[p]], ids[minus[q]]
@@ -161,7 +150,8 @@ def _contact_segments(scene: "Scene", edges: Edges, i: np.ndarray, j: np.ndarray
                            ((origin + s1[:, None] * t_i - edges.start[j]) * n_j).sum(axis=1)])
     apart = np.abs(gap).max(axis=1)
     tilt = np.abs(outward[i, 0] * n_j[:, 1] - outward[i, 1] * n_j[:, 0])
-    parallel = tilt <= angle_tol
+    # Facing: nearly opposite normals (the same line seen from one side is an overlap, not a joint).
+    parallel = (tilt <= angle_tol) & ((outward[i] * n_j).sum(axis=1) < 0)
     fixed = np.array([b.fixed for b in scene.blocks])
     both_fixed = fixed[edges.block[i]] & fixed[edges.block[j]]
     joint = overlapping & parallel & (apart <= snap) & ~both_fixed
@@ -206,59 +196,71 @@ def _near_misses(scene: "Scene", a: np.ndarray, b: np.ndarray, gap: np.ndarray, 
         for k in first.tolist())
 
 
-def _facing_candidates(angle: np.ndarray, offset: np.ndarray, along: np.ndarray, length: np.ndarray,
-                       size: np.ndarray, tol_len: float, plus: np.ndarray, minus: np.ndarray,
-                       angle_tol: float) -> tuple[np.ndarray, np.ndarray]:
+def _facing_candidates(angle: np.ndarray, midpoint: np.ndarray, length: np.ndarray, band: float,
+                       plus: np.ndarray, minus: np.ndarray, angle_tol: float) -> tuple[np.ndarray, np.ndarray]:
     """Pairs (p, q) of key rows ``plus[p]``, ``minus[q]`` that may face each other.
 
-    A superset of the pairs whose line keys differ by at most ``angle_tol`` in angle and
-    ``tol_len`` in offset and whose extents along the line intersect.  The extents are widened
-    by a slack covering round-off and the tilt allowed between two such lines (their along
-    coordinates are measured on slightly different axes), so every pair with a positive
-    overlap is kept.  Line keys are hashed to cells twice the tolerances wide: nearly equal
-    lines fall in the same or adjacent cells.  Within matched cells an interval join pairs
-    only overlapping extents, so the cost grows with the edges plus the overlapping pairs —
-    a fixed radius (the longest edge, e.g. a ground as long as the wall) paired every edge
-    with all edges of its course and made the candidates grow as n^1.5.
+    A superset of the pairs whose line angles differ by at most ``angle_tol``, whose lines are
+    within ``band`` of each other and whose extents along the line intersect.  Angles are hashed
+    to cells a little over ``2 angle_tol`` wide; each cell is a frame (its central direction); a
+    ``plus`` row enters its own frame, a ``minus`` row its own and the neighbour on its nearer
+    side (a partner within ``angle_tol`` in another cell can only be there).  In a frame, every
+    row's offset and along coordinate are the projections of its midpoint on the same two axes,
+    so two facing edges differ in offset by at most ``band`` plus their lengths times the
+    frame's tilt — a bound that holds wherever the edges sit.  Offsets are hashed to cells of
+    2.5 times that bound, a ``plus`` row looking into its own and its nearer neighbour, and
+    within matched cells an interval join pairs only overlapping extents: time O(E log E +
+    pairs) and memory O(E + pairs), independent of the drawing's extent (offsets measured about
+    a distant origin on each edge's own axis needed a slack growing with the distance, which
+    paired whole courses of a wall with a far block).
     """
-    width_a = 2.0 * angle_tol
-    # Cells stay exact integers in floating point (|index| < 2^49) whatever the scene's extent.
-    width_o = max(2.0 * tol_len, 2.0 ** -48 * float(np.abs(offset).max(initial=0.0)))
-    cell = (np.floor(angle / width_a) + 0.0) + 1j * (np.floor(offset / width_o) + 0.0)  # + 0.0: no -0
-    cells, which = np.unique(cell, return_inverse=True)  # complex sort: by angle cell, then offset cell
-    has_minus = np.zeros(len(cells), dtype=bool)
-    has_minus[which[minus]] = True
-    u_all = np.unique(which[plus])
-    pair_u, pair_v = [], []
-    for shift in (complex(da, do) for da in (-1, 0, 1) for do in (-1, 0, 1)):  # 9 neighbour cells
-        target = cells[u_all] + shift
-        v = np.minimum(np.searchsorted(cells, target), len(cells) - 1)
-        hit = (cells[v] == target) & has_minus[v]
-        pair_u.append(u_all[hit])
-        pair_v.append(v[hit])
-    pair_u, pair_v = np.concatenate(pair_u), np.concatenate(pair_v)
-    if pair_u.size == 0:
-        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+    # 2.01: a tilt of angle_tol between two lines is an angle of asin(angle_tol) ≤ 1.0001 angle_tol.
+    width_a = 2.01 * angle_tol
+    position = angle / width_a
+    cell_a = np.floor(position).astype(np.int64)
+    nearer = np.where(position - cell_a < 0.5, -1, 1)
+    rows = np.concatenate([plus, minus, minus])
+    frame = np.concatenate([cell_a[plus], cell_a[minus], cell_a[minus] + nearer[minus]])
+    theta = (frame + 0.5) * width_a
+    point = midpoint[rows]
+    offset = point[:, 0] * np.cos(theta) + point[:, 1] * np.sin(theta)
+    along = point[:, 1] * np.cos(theta) - point[:, 0] * np.sin(theta)
+    # A row's direction is within 1.5 cells (3.015 angle_tol) of its frame's, and two facing
+    # rows' midpoints lie within half their summed lengths of each other along the line: their
+    # offsets differ by at most band + reach · 3.015 angle_tol.  1e-12 of the coordinates covers
+    # round-off.
+    roundoff = 1e-12 * float(np.abs(point).max(initial=0.0))
+    slack_o = band + 4.0 * angle_tol * float(length.max(initial=0.0)) + roundoff
+    width_o = max(2.5 * slack_o, 2.0 ** -48 * float(np.abs(offset).max(initial=0.0)))
+    position = offset / width_o
+    cell_o = np.floor(position).astype(np.int64)
+    n_plus = len(plus)
+    # Plus rows look into their offset cell and its nearer neighbour; minus rows sit in theirs.
+    side = np.where(position[:n_plus] - cell_o[:n_plus] < 0.5, -1, 1)
+    x_frame = np.tile(frame[:n_plus], 2)
+    x_cell = np.concatenate([cell_o[:n_plus], cell_o[:n_plus] + side])
+    group = _group_ids(np.concatenate([x_frame, frame[n_plus:]]), np.concatenate([x_cell, cell_o[n_plus:]]))
+    x_at = np.tile(np.arange(n_plus), 2)
+    # Half extent + slack: the perpendicular gap (≤ band) seen on an axis tilted by ≤ 3.015
+    # angle_tol, and round-off.
+    half = 0.5 * length[rows] + 2.0 * band + roundoff
+    lo, hi = along - half, along + half
+    x, y = _overlapping_intervals(group[:2 * n_plus], lo[x_at], hi[x_at], group[2 * n_plus:],
+                                  lo[n_plus:], hi[n_plus:])
+    x, y = x_at[x], y + n_plus
+    close = np.abs(offset[x] - offset[y]) <= slack_o
+    # Minus rows entered two frames: back to their index in ``minus``.
+    return x[close], (y[close] - n_plus) % max(len(minus), 1)
 
-    # Each row joins every cell pair of its cell; the pair index is its group in the join.
-    p, group_p = _expand(which[plus], pair_u, len(cells))
-    q, group_q = _expand(which[minus], pair_v, len(cells))
-    # Half extent + slack: a tilt ≤ angle_tol between two lines moves the along coordinate
-    # of a point by ≤ |point| · tilt (size = |midpoint|₁); 4× and 1e-12 are margins for round-off.
-    half = 0.5 * length + 10.0 * tol_len + (4.0 * angle_tol + 1e-12) * (size + length)
-    rows_p, rows_q = plus[p], minus[q]
-    x, y = _overlapping_intervals(group_p, along[rows_p] - half[rows_p], along[rows_p] + half[rows_p],
-                                  group_q, along[rows_q] - half[rows_q], along[rows_q] + half[rows_q])
-    return p[x], q[y]
 
-
-def _expand(cell: np.ndarray, pair_cell: np.ndarray, n_cells: int) -> tuple[np.ndarray, np.ndarray]:
-    """(row, pair) for every row and every cell pair whose cell on the row's side is the row's cell."""
-    order = np.argsort(pair_cell, kind="stable")
-    count = np.bincount(pair_cell, minlength=n_cells)
-    first = np.cumsum(count) - count
-    row, at = _ranges(first[cell], first[cell] + count[cell])
-    return row, order[at]
+def _group_ids(major: np.ndarray, minor: np.ndarray) -> np.ndarray:
+    """One integer per distinct (major, minor) pair, by one lexicographic sort."""
+    order = np.lexsort((minor, major))
+    new = np.ones(len(order), dtype=bool)
+    new[1:] = (np.diff(major[order]) != 0) | (np.diff(minor[order]) != 0)
+    group = np.empty(len(order), dtype=np.int64)
+    group[order] = np.cumsum(new) - 1
+    return group
 
 
 def _ranges(start: np.ndarray, stop: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

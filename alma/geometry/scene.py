@@ -15,6 +15,7 @@ from typing import Any, Iterable, Mapping, Sequence
 import numpy as np
 
 from alma.geometry.contacts import find_joints
+from alma.geometry.dxf import read_dxf
 from alma.geometry.polygons import check_polygons, find_overlaps
 from alma.geometry.loads import (PointLoad, Settlement, Tie, check_items, load_from_dict, load_to_dict,
                                  settlement_from_dict, settlement_to_dict, tie_from_dict, tie_to_dict)
@@ -243,9 +244,11 @@ def load_scene(path: str | Path, **dxf_options: Any) -> Scene:
     "lowest") are keyword arguments (:func:`alma.geometry.dxf.read_dxf`)."""
     path = Path(path)
     if path.suffix.lower() == ".dxf":
-        from alma.geometry.dxf import read_dxf
-
-        return read_dxf(path, **{k: v for k, v in dxf_options.items() if v is not None})
+        data = read_dxf(path, **{k: v for k, v in dxf_options.items() if v is not None})
+        try:
+            return Scene.from_dict(data)
+        except SceneError as exc:
+            raise SceneError(f"DXF file '{path}': {exc} (blocks are named LAYER/HANDLE)") from exc
     if dxf_options:
         raise SceneError(f"scene file '{path}': {sorted(dxf_options)} apply to DXF drawings only; a JSON "
                          "scene holds its own materials")

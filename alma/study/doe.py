@@ -10,9 +10,13 @@ factor (``chain`` strengths in kN; level 0 is the panel as it is). The study is 
 - **append-only results**: every finished panel is appended to ``OUT/results.csv`` at once
   (one line, flushed and fsync'ed), so a killed study loses only the panels being solved;
 - **resumable**: each row carries a ``key``, a hash of the panel's factors, the contact model,
-  the alma version and the solver settings; a panel whose key is already in the file is not
-  solved again (a changed parameter is a new key). A partial last line left by a kill is
-  dropped on restart;
+  the alma version, a hash of alma's source code and the solver settings; a panel whose key is
+  already in the file is not solved again (a changed parameter or code is a new key);
+- **checked**: each row ends with a checksum of its content and key; a damaged or inconsistent
+  line (a partial last line left by a kill, a hand edit, garbage, a row whose factors are not
+  its key's) is reported, moved to ``quarantine.txt`` and its panel solved again;
+- **locked**: one run per folder (``.alma.lock``, released by the system when a run dies); a
+  second run on the same folder is refused (:class:`StudyBusy`);
 - **parallel**: local processes (``workers``, default all cores) or an existing Dask
   distributed cluster (``scheduler="tcp://host:8786"``; alma must be importable on the
   workers).
@@ -40,11 +44,12 @@ from alma.study.design import PAPER_DESIGN, Design, load_design
 from alma.study.keys import _alma_version, key_settings, panel_key
 from alma.study.progress import _Progress
 from alma.study.runners import _run_dask, _run_local
-from alma.study.store import COLUMNS, PICTURE, RESULTS_FILE, _ResultsFile, picture_path, read_results
+from alma.study.lock import StudyBusy, study_lock
+from alma.study.store import COLUMNS, PICTURE, RESULTS_FILE, _ResultsFile, frame, picture_path, read_results
 from alma.study.tasks import _solve_task, _Task
 
-__all__ = ["COLUMNS", "Design", "MODELS", "PAPER_DESIGN", "RESULTS_FILE", "key_settings", "load_design",
-           "panel_key", "picture_path", "read_results", "run_doe"]
+__all__ = ["COLUMNS", "Design", "MODELS", "PAPER_DESIGN", "RESULTS_FILE", "StudyBusy", "key_settings",
+           "load_design", "panel_key", "picture_path", "read_results", "run_doe"]
 
 #: Contact models a study can run; ``both`` runs the two in turn on each panel.
 MODELS = ("associative", "nonassociative")
@@ -84,20 +89,20 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
     design, n_workers = _check(design, workers, effort, time_limit)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    results = _ResultsFile(out / RESULTS_FILE)
     settings = Settings(search=SearchSettings(effort=effort or "auto"), time_limit=time_limit)
-    try:
-        wanted, tasks = _plan(design, models, settings, results, retry_errors)
-        sink = _Sink(out, results, tasks, len(wanted), progress)
-        _execute(tasks, sink, scheduler, n_workers, results)
-    finally:
-        results.close()
+    with study_lock(out):  # one run per folder: a second is refused, no panel is solved twice
+        results = _ResultsFile(out / RESULTS_FILE)
+        try:
+            wanted, tasks = _plan(design, models, settings, results, retry_errors)
+            sink = _Sink(out, results, tasks, len(wanted), progress)
+            _execute(tasks, sink, scheduler, n_workers, results)
+        finally:
+            results.close()
     if sink.lost_rows:
         raise RuntimeError(
             f"{len(sink.lost_rows)} panel(s) were not solved ({sink.lost_rows[0]}); the other results are in "
             f"{results.path}; run again to retry them")
-    df = read_results(out / RESULTS_FILE)
-    df = df[df["key"].isin(set(wanted))]
+    df = frame([results.rows[k] for k in dict.fromkeys(wanted) if k in results.rows])
     order = {k: i for i, k in enumerate(wanted)}
     df = df.assign(_order=df["key"].map(order)).sort_values("_order").drop(columns="_order")
     return df.reset_index(drop=True)
@@ -126,19 +131,36 @@ def _plan(design: Design, models: tuple[str, ...], settings: Settings, results: 
     version = _alma_version()
     wanted: list[str] = []
     todo: dict[tuple[str, str, str], list[tuple[float, float, str, str]]] = {}
-    for p, b, bond, friction, chain in design.runs():
-        for m in models:
-            key = panel_key(p, b, bond, friction, m, version=version, settings=settings, chain=chain,
-                            chain_y=design.chain_y(p), chain_anchored=design.chain_anchored)
-            wanted.append(key)
-            done = results.rows.get(key)
-            if done is not None and not (retry_errors and done["status"] == "error"):
-                continue
-            todo.setdefault((p, b, bond), []).append((chain, friction, m, key))
+    runs = [(p, b, bond, friction, chain, m) for p, b, bond, friction, chain in design.runs() for m in models]
+    keys = [panel_key(p, b, bond, friction, m, version=version, settings=settings, chain=chain,
+                      chain_y=design.chain_y(p), chain_anchored=design.chain_anchored)
+            for p, b, bond, friction, chain, m in runs]
+    results.set_aside({key: why for key, run in zip(keys, runs)
+                       if key in results.rows and (why := _mismatch(results.rows[key], *run))})
+    for (p, b, bond, friction, chain, m), key in zip(runs, keys):
+        wanted.append(key)
+        done = results.rows.get(key)
+        if done is not None and not (retry_errors and done["status"] == "error"):
+            continue
+        todo.setdefault((p, b, bond), []).append((chain, friction, m, key))
     tasks = [_Task(p, b, bond, tuple(items), version, settings, chain_y=design.chain_y(p),
                    chain_anchored=design.chain_anchored) for (p, b, bond), items in todo.items()]
     tasks.sort(key=lambda task: task.size, reverse=True)
     return wanted, tasks
+
+
+def _mismatch(row: dict[str, str], panel_ratio: str, block_ratio: str, bond: str, friction: float,
+              chain: float, model: str) -> str:
+    """Why a stored row is not the run its key names (factors swapped or edited), or ''."""
+    expected = {"panel_ratio": panel_ratio, "block_ratio": block_ratio, "bond": bond, "model": model}
+    wrong = [c for c, v in expected.items() if row.get(c) != v]
+    for column, value in (("friction", friction), ("chain", chain)):
+        try:
+            if float(row.get(column) or "nan") != float(value):
+                wrong.append(column)
+        except ValueError:
+            wrong.append(column)
+    return f"its factors ({', '.join(wrong)}) are not those of its key" if wrong else ""
 
 
 class _Sink:

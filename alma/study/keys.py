@@ -1,9 +1,11 @@
 """Keys of study rows: a hash of everything that changes a row (factors, model, the alma version,
-the settings), so that a results file never serves a row computed otherwise."""
+alma's source code, the settings), so that a results file never serves a row computed otherwise."""
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
+from pathlib import Path
 from typing import Any
 
 import alma
@@ -12,6 +14,19 @@ from alma.settings import Settings
 
 def _alma_version() -> str:
     return str(alma.__version__)
+
+
+@functools.lru_cache(maxsize=1)
+def code_revision() -> str:
+    """A hash of alma's own source: every ``alma/**/*.py`` file's path (relative, sorted) and
+    bytes, computed once per process.  It changes with any edit of the code, and needs neither
+    git nor a source checkout (it reads the installed package, a wheel's as well)."""
+    root = Path(alma.__file__).resolve().parent
+    digest = hashlib.sha256()
+    for path in sorted(root.rglob("*.py"), key=lambda p: p.relative_to(root).as_posix()):
+        digest.update(path.relative_to(root).as_posix().encode("utf-8") + b"\0")
+        digest.update(path.read_bytes() + b"\0")
+    return digest.hexdigest()[:16]
 
 
 def key_settings(settings: Settings, model: str) -> dict[str, Any]:
@@ -26,10 +41,12 @@ def _friction_text(f: float) -> str:
 
 
 def panel_key(panel_ratio: str, block_ratio: str, bond: str, friction: float, model: str,
-              *, version: str | None = None, settings: Settings | dict[str, Any] | None = None,
+              *, version: str | None = None, revision: str | None = None,
+              settings: Settings | dict[str, Any] | None = None,
               chain: float = 0.0, chain_y: float | None = None, chain_anchored: bool = False) -> str:
-    """Stable key of one result row: hash of factors, model, alma version and every setting
-    that changes the row (:func:`key_settings`; a dict is taken as it is).
+    """Stable key of one result row: hash of factors, model, alma version, the code revision
+    (``revision``, default :func:`code_revision`) and every setting that changes the row
+    (:func:`key_settings`; a dict is taken as it is).
 
     A chain (strength ``chain`` kN > 0 at height ``chain_y`` mm, ``chain_anchored`` or not)
     enters the hash; without one (``chain`` 0) the key is the one of a study without the chain
@@ -41,6 +58,7 @@ def panel_key(panel_ratio: str, block_ratio: str, bond: str, friction: float, mo
         "panel_ratio": panel_ratio, "block_ratio": block_ratio, "bond": bond,
         "friction": _friction_text(friction), "model": model,
         "alma": _alma_version() if version is None else version,
+        "code": code_revision() if revision is None else revision,
         "solver": settings,
     }
     if chain > 0:
