@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test test-latest explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded bench-engine bench-crisp bench-crisp-floor bench-first-order figures html-screenshot venv clean
+.PHONY: bench-friction bench-friction-perturb demo test test-latest explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded bench-engine bench-crisp bench-crisp-floor bench-first-order figures html-screenshot venv clean
 
 venv: $(STAMP)
 
@@ -103,3 +103,13 @@ html-screenshot: $(STAMP)
 
 clean:
 	rm -rf $(VENV) $(LATEST) demo .pytest_cache .hypothesis
+
+# The friction search per scene against the associative solve (time ratio, the start kept, α_NL):
+# the Ferris & Tin-Loi walls and a cohesive stack; PANELS=1 adds the 108 panels, LACT3=FOLDER
+# LACT³'s drawings.  bench-friction-perturb solves each scene again perturbed by 1e-12.
+FRICTION_ARGS = $(if $(PANELS),--panels) $(if $(LACT3),--lact3 $(LACT3))
+bench-friction: $(STAMP)
+	$(BIN)/python benchmarks/bench_friction.py $(FRICTION_ARGS)
+
+bench-friction-perturb: $(STAMP)
+	$(BIN)/python benchmarks/bench_friction.py --perturb $(FRICTION_ARGS)
