@@ -6,11 +6,15 @@ canonical form, which depends on the structure only:
 
 - the frame: gravity points along −y and the live load has a non-negative x component (a mirror
   image otherwise); the origin is the lower-left corner of the bounding box;
-- the vertices: repeated and collinear ones dropped, counter-clockwise, starting at the lowest
-  (then leftmost) one, in units of the blocks' size (√ mean free-block area) on a binary grid
-  of :attr:`CanonicalSettings.grid_bits`, so that round-off of a translation, rotation or change
-  of units vanishes;
-- the blocks: ordered by their centroid (y, then x) on that grid.
+- the vertices: in units of the blocks' size (√ mean free-block area), repeated and collinear
+  ones dropped, counter-clockwise, starting at the lowest (then leftmost) one;
+- the blocks: ordered by their centroid (y, then x).
+
+Positions are compared on a binary grid of :attr:`CanonicalSettings.grid_bits` below the blocks'
+size, so that the round-off of a translation, rotation or change of units does not decide an
+order; the positions themselves are kept as computed (the model built from them is rounded to
+fewer bits: :mod:`alma.mechanics.canonical`), so that a mechanism carried back to the drawing
+keeps its hinges where they are.
 
 Point loads, ties and settlements move with their blocks; block ids, materials and joint
 overrides are kept.  :class:`CanonicalFrame` maps motions back to the drawing's frame.
@@ -30,8 +34,9 @@ from alma.geometry.scene import Scene, polygon_area, polygon_centroid
 class CanonicalSettings:
     """Tuned numbers of the canonical drawing."""
 
-    #: Vertices sit on a grid 2^-grid_bits × the blocks' size (1e-6): far below any contact
-    #: tolerance, and a round-off of 1e-16 relative lands on another grid point once in ~1e8.
+    #: Orders compare positions on a grid 2^-grid_bits × the blocks' size (1e-6): far below any
+    #: real difference of place, and a round-off of 1e-16 relative lands on another grid point
+    #: once in ~1e8.
     grid_bits: int = 20
     #: A vertex is collinear with its neighbours when the triangle they span is below this
     #: fraction of the squared longer edge (a drawing's "same line", not a real corner).
@@ -70,10 +75,10 @@ def canonical_scene(scene: Scene, settings: CanonicalSettings = CanonicalSetting
     unit = float(np.sqrt(np.mean(np.abs(free))))
     step = 2.0 ** -settings.grid_bits
     frame = CanonicalFrame(matrix, -corner, unit, np.zeros(0, dtype=int))
-    blocks = [dataclasses.replace(b, vertices=_clean(np.round((v - corner) / unit / step) * step, settings),
+    blocks = [dataclasses.replace(b, vertices=_clean((v - corner) / unit, step, settings),
                                   settlement=_settlement(b.settlement, frame))
               for b, v in zip(scene.blocks, turned)]
-    frame = dataclasses.replace(frame, order=_block_order(blocks))
+    frame = dataclasses.replace(frame, order=_block_order(blocks, step))
     canonical = dataclasses.replace(
         scene, blocks=tuple(blocks[i] for i in frame.order), gravity=(0.0, -1.0),
         live_load_direction=_unit(matrix @ np.asarray(scene.live_load_direction, dtype=float)),
@@ -103,8 +108,9 @@ def _frame_matrix(scene: Scene, settings: CanonicalSettings) -> np.ndarray:
     return rotation
 
 
-def _clean(vertices: np.ndarray, settings: CanonicalSettings) -> np.ndarray:
-    """Counter-clockwise, without repeated or collinear vertices, from the lowest-leftmost one."""
+def _clean(vertices: np.ndarray, step: float, settings: CanonicalSettings) -> np.ndarray:
+    """Counter-clockwise, without repeated or collinear vertices, from the lowest-leftmost one
+    (compared on the grid ``step``)."""
     if polygon_area(vertices) < 0:
         vertices = vertices[::-1]
     distinct = ~np.all(vertices == np.roll(vertices, 1, axis=0), axis=1)
@@ -114,15 +120,16 @@ def _clean(vertices: np.ndarray, settings: CanonicalSettings) -> np.ndarray:
     corner = cross > settings.collinear * np.maximum((a ** 2).sum(axis=1), (b ** 2).sum(axis=1))
     if corner.sum() >= 3:
         keep = keep[corner]
-    first = np.lexsort((keep[:, 0], keep[:, 1]))[0]
+    grid = np.round(keep / step)
+    first = np.lexsort((grid[:, 0], grid[:, 1]))[0]
     return np.roll(keep, -first, axis=0)
 
 
-def _block_order(blocks: list) -> np.ndarray:
-    """Blocks by centroid y, then x, then area, then the first vertex (exact on the grid)."""
+def _block_order(blocks: list, step: float) -> np.ndarray:
+    """Blocks by centroid y, then x, then area, then the first vertex (compared on the grid ``step``)."""
     keys = np.array([[*polygon_centroid(b.vertices)[::-1], polygon_area(b.vertices), *b.vertices[0][::-1]]
                      for b in blocks])
-    return np.lexsort(keys.T[::-1])
+    return np.lexsort(np.round(keys / step).T[::-1])
 
 
 def _point(point: tuple[float, float] | None, frame: CanonicalFrame) -> tuple[float, float] | None:
