@@ -37,6 +37,10 @@ from alma.settings import AssociativeSettings
 from alma.status import Status
 
 
+class SettleError(ValueError):
+    """A scene the settlement analysis cannot answer (no settlement given, …): bad input, exit 2."""
+
+
 @dataclass(frozen=True)
 class SettlementResult:
     """The settlement mechanism, its dead-load work and the reactions of the settling supports."""
@@ -72,6 +76,13 @@ def settle(scene: Scene, settings: AssociativeSettings | None = None) -> Settlem
     s = settings or AssociativeSettings()
     if not scene.validated:
         scene.validate()
+    settling = [b for b in scene.blocks if b.settlement is not None]
+    if not settling:
+        raise SettleError("no support of the scene has a 'settlement' (a fixed block's prescribed motion, "
+                          "SPEC §2): there is nothing to settle")
+    if not any(any(b.settlement.translation) or b.settlement.rotation for b in settling):
+        raise SettleError(f"every settlement of the scene ({', '.join(repr(b.id) for b in settling)}) is zero: "
+                          "give a translation or a rotation")
     t0 = time.perf_counter()
     model = build_model(scene)
     h = support_power(model)
