@@ -76,13 +76,10 @@ def settle(scene: Scene, settings: AssociativeSettings | None = None) -> Settlem
     s = settings or AssociativeSettings()
     if not scene.validated:
         scene.validate()
-    settling = [b for b in scene.blocks if b.settlement is not None]
-    if not settling:
+    # An explicit zero settlement is answered (nothing moves, work 0); none at all is a mistake.
+    if not any(b.settlement is not None for b in scene.blocks):
         raise SettleError("no support of the scene has a 'settlement' (a fixed block's prescribed motion, "
                           "SPEC §2): there is nothing to settle")
-    if not any(any(b.settlement.translation) or b.settlement.rotation for b in settling):
-        raise SettleError(f"every settlement of the scene ({', '.join(repr(b.id) for b in settling)}) is zero: "
-                          "give a translation or a rotation")
     t0 = time.perf_counter()
     model = build_model(scene)
     h = support_power(model)

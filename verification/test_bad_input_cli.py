@@ -33,9 +33,6 @@ def files(tmp_path, monkeypatch):
     scene = single_block_dict(200.0, 100.0, 0.6)
     Path("s.json").write_text(json.dumps(scene))
     write_dxf(alma.Scene.from_dict(scene), "s.dxf")
-    settled = json.loads(json.dumps(scene))
-    settled["blocks"][0]["settlement"] = {"translation": [0, 0], "rotation": 0}
-    Path("zero_settlement.json").write_text(json.dumps(settled))
     Path("nested.json").write_text("[" * 100_000 + "]" * 100_000)
     Path("nested_blocks.json").write_text('{"blocks": ' + "[" * 50_000 + "]" * 50_000 + "}")
     Path("binary.json").write_bytes(b"\xff\xfe\x00\x81garbage\xc3\x28")
@@ -90,7 +87,6 @@ CASES = [
     # settle without a settlement to analyse
     (["settle", "s.json"], "settlement"),
     (["settle", "s.dxf", "--supports", "lowest"], "settlement"),
-    (["settle", "zero_settlement.json"], "zero"),
     # generators
     (["wall", "--bond", "running", "--width", "960", "--height", "600", "--block", "0x60"], "--block"),
     (["wall", "--bond", "running", "--width", "960", "--height", "600", "--block", "240x"], "--block"),
