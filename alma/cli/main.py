@@ -7,6 +7,7 @@ import sys
 import types
 from pathlib import Path
 
+from alma.cli.json_output import dumps
 from alma.cli.outputs import OutputPathError, check_outputs
 from alma.cli.scene_options import add_scene_options, positive_float, scene_from_args
 from alma.geometry.chains import parse_chain, with_chain
@@ -147,7 +148,7 @@ def _cmd_settle(args: argparse.Namespace) -> int:
                                         alpha=float("nan"), model="settlement", mechanism_class="settlement")
         plot_mechanism(scene, picture, args.plot, title=scene.name or None)
     if args.json:
-        print(json.dumps(result.to_dict()))
+        print(dumps(result.to_dict()))
         return 0
     b = result.bounds
     print(f"{scene.name or 'scene'}")
@@ -167,7 +168,7 @@ def _cmd_tilt(args: argparse.Namespace) -> int:
     except SceneError as exc:
         return _invalid(exc, args)
     if args.json:
-        print(json.dumps(result.to_dict()))
+        print(dumps(result.to_dict()))
         return 0
     lo, hi = result.bounds_deg
     print(f"{scene.name or 'scene'}")
@@ -214,7 +215,7 @@ def _run(scene: Scene, args: argparse.Namespace) -> int:
 
         write_html(scene, result, args.html)
     if args.json:
-        print(json.dumps(result.to_dict()))
+        print(dumps(result.to_dict()))
     else:
         _print_text(scene, result, args.plot)
     return 0
@@ -256,7 +257,7 @@ def export_scene(scene: Scene, path: str) -> None:
 def _invalid(exc: Exception, args: argparse.Namespace) -> int:
     print(f"alma: invalid input: {exc}", file=sys.stderr)
     if getattr(args, "json", False):
-        print(json.dumps({"status": "invalid_input", "message": str(exc)}))
+        print(dumps({"status": "invalid_input", "message": str(exc)}))
     return 2
 
 
