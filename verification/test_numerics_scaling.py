@@ -66,7 +66,7 @@ def column_reference(data: dict) -> float:
                 A[3 * block + 1, col(j, p, 0)] += sign        # Fy = N
                 A[3 * block + 2, col(j, p, 1)] += -sign * y   # M = x Fy − y Fx about the origin
                 A[3 * block + 2, col(j, p, 0)] += sign * x
-        cx, cy = WIDTH / 2, beds[j] + heights[j] / 2
+        cx = WIDTH / 2  # the weight is vertical: its moment needs x only
         b[3 * j + 1] += weight[j]
         b[3 * j + 2] += cx * weight[j]
     for load in data["loads"]:
