@@ -19,6 +19,8 @@ OUTPUT_SUFFIXES: dict[str, tuple[str, ...]] = {
     "html": (".html",),
     "export_scene": (".json", ".dxf"),
 }
+#: Options (argparse destination) that name an output folder (created when missing).
+OUTPUT_FOLDERS: tuple[str, ...] = ("out",)
 #: Options (argparse destination) that name an input file a command reads.
 INPUT_OPTIONS: tuple[str, ...] = ("scene", "results", "courses", "design", "site")
 
@@ -58,6 +60,10 @@ def check_output(path: str, option: str, suffixes: tuple[str, ...], inputs: list
 def check_outputs(args: argparse.Namespace) -> None:
     """Check every output path of ``args`` (:func:`check_output`) and that no two are the same."""
     inputs = [Path(str(getattr(args, name))) for name in INPUT_OPTIONS if getattr(args, name, None)]
+    for option in OUTPUT_FOLDERS:
+        folder = getattr(args, option, None)
+        if folder and Path(folder).exists() and not Path(folder).is_dir():
+            raise OutputPathError(f"--{option} {folder}: is a file, not a folder")
     written: list[Path] = []
     for option, suffixes in OUTPUT_SUFFIXES.items():
         path = getattr(args, option, None)
