@@ -68,7 +68,11 @@ def _stdout_silenced() -> Iterator[None]:
         if sys.stdout is not None:
             sys.stdout.flush()
         _flush_c_stdio()
-        saved = os.dup(fd)
+        try:
+            saved = os.dup(fd)
+        except OSError:  # no descriptor 1 at all (a closed stdout): nothing to protect
+            yield
+            return
         try:
             with open(os.devnull, "wb") as null:
                 os.dup2(null.fileno(), fd)
