@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: bench-friction bench-friction-perturb demo test test-latest explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded bench-engine bench-crisp bench-crisp-floor bench-first-order figures html-screenshot venv clean
+.PHONY: bench-friction bench-friction-perturb demo test test-latest test-latest-subset explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded bench-engine bench-crisp bench-crisp-floor bench-first-order figures html-screenshot venv clean
 
 venv: $(STAMP)
 
@@ -34,6 +34,19 @@ test-latest:
 	$(LATEST)/bin/python -m pip install --quiet -e ".[test,dask]"
 	$(LATEST)/bin/python -m pip list --format=freeze > $(LATEST)/versions.txt
 	$(LATEST)/bin/python -m pytest tests/ verification/ -q
+
+# A few minutes of the same against the newest releases, for CI after `make test`: one JSON
+# object on stdout from every command (a dependency printing on fd 1 breaks it) and the search's
+# determinism. Reuses .venv-latest when it was made today, so a rerun is quick.
+LATEST_SUBSET := tests/test_cli_json.py verification/test_search_determinism.py
+test-latest-subset:
+	test -n "$$(find $(LATEST)/versions.txt -mtime -1 2>/dev/null)" || { \
+	  rm -rf $(LATEST) && $(PYTHON) -m venv $(LATEST) && \
+	  $(LATEST)/bin/python -m pip install --quiet --upgrade pip && \
+	  $(LATEST)/bin/python -m pip install --quiet --upgrade -e ".[test]" && \
+	  $(LATEST)/bin/python -m pip list --format=freeze > $(LATEST)/versions.txt; }
+	grep -i -E '^(highspy|scipy|numpy|clarabel|casadi|ezdxf)==' $(LATEST)/versions.txt
+	$(LATEST)/bin/python -m pytest $(LATEST_SUBSET) -q
 
 # The same suite with fresh random examples for the property tests (make test repeats its own).
 explore: $(STAMP)

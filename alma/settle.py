@@ -5,10 +5,13 @@ then take the motion u that is compatible with it (no interpenetration and the C
 rule of Eq. 6 at every contact point, now relative to the moving support) and lets the dead
 load do the most work — the piecewise-rigid-displacement approach of Iannuzzo et al.::
 
-    W* = max  f₀ᵀu        s.t.  Hᵀu + h ≥ 0                       (kinematic)
-       = min  hᵀμ         s.t.  H μ + f₀ = 0,  μ ≥ 0              (static, its dual)
+    W* = max  f₀ᵀu − cᵀ max(0, −(Gᵀu + g))   s.t.  Hᵀu + h ≥ 0                    (kinematic)
+       = min  hᵀμ + gᵀτ          s.t.  H μ + G τ + f₀ = 0,  μ ≥ 0,  0 ≤ τ ≤ c   (static, its dual)
 
-where h_j is the power of generator j under the support's own motion.  The static side is a
+where h_j is the power of generator j under the support's own motion, and G, c the bounded
+forces of cohesion and ties (:mod:`alma.mechanics.forces`) with g their power under it: a
+cohesive joint's shear dissipates c l t |γ| as it slides, a tie its strength times its
+elongation rate, as in the associative LP.  The static side is a
 stress field in equilibrium with the dead load whose reactions on the settling supports do the
 least work on the prescribed motion: for a spreading arch, the minimum thrust.  By virtual work
 the two values meet at the optimum, and an admissible pair certifies W* from both sides.
@@ -29,12 +32,17 @@ import scipy.sparse as sp
 from alma.associative.certificate import _repair_field
 from alma.backends.clarabel_backend import solve_conic_lp
 from alma.geometry.scene import JointOverride, Scene
+from alma.mechanics.forces import joint_values
 from alma.mechanics.model import Model, build_model
 from alma.mechanics.contact_points import ContactPoints
 from alma.results.joints import MOTION_TOLERANCE, multipliers_to_forces, physical, states_from_relative
 from alma.results.types import BlockMotion, Bounds, JointResult, finite
 from alma.settings import AssociativeSettings
 from alma.status import Status
+
+
+class SettleError(ValueError):
+    """A scene the settlement analysis cannot answer (no settlement given, …): bad input, exit 2."""
 
 
 @dataclass(frozen=True)
@@ -72,35 +80,50 @@ def settle(scene: Scene, settings: AssociativeSettings | None = None) -> Settlem
     s = settings or AssociativeSettings()
     if not scene.validated:
         scene.validate()
+    # An explicit zero settlement is answered (nothing moves, work 0); none at all is a mistake.
+    if not any(b.settlement is not None for b in scene.blocks):
+        raise SettleError("no support of the scene has a 'settlement' (a fixed block's prescribed motion, "
+                          "SPEC §2): there is nothing to settle")
     t0 = time.perf_counter()
     model = build_model(scene)
-    h = support_power(model)
-    H = model.equilibrium
+    h, g = support_power(model), bounded_support_power(model)
+    H, q = model.equilibrium, model.n_bounded
     n, k = H.shape
-    # min −f₀ᵀu  s.t.  −Hᵀu + s = h, s ≥ 0 (no equality rows).
-    sol = solve_conic_lp(-model.dead, -H.T.tocsc(), h, 0, k, tolerance=s.tolerance, max_iter=s.max_iter)
+    G = model.bounded if q else sp.csc_matrix((n, 0))
+    capacity = model.capacity
+    # x = (u, w): min −f₀ᵀu + cᵀw  s.t.  Hᵀu + h ≥ 0, w ≥ −(Gᵀu + g), w ≥ 0 (no equality rows);
+    # the duals of the three row blocks are μ, τ and c − τ.
+    eye = sp.identity(q, format="csc")
+    A = sp.bmat([[-H.T, None], [-G.T, -eye], [None, -eye]], format="csc") if q else -H.T.tocsc()
+    sol = solve_conic_lp(np.concatenate([-model.dead, capacity]), A, np.concatenate([h, g, np.zeros(q)]),
+                         0, k + 2 * q, tolerance=s.tolerance, max_iter=s.max_iter)
     timings = {"build_s": 0.0, "solve_s": sol.solve_time}
     if sol.status in (Status.NO_EQUILIBRIUM, Status.NO_COLLAPSE):
         message = ("the structure cannot carry its dead load: the settlement mechanism is unbounded"
                    if sol.status == Status.NO_EQUILIBRIUM else "the prescribed settlements are incompatible")
         return _empty(model, Status(sol.status), message, timings)
     # With no settlement at all u = 0 is the mechanism (nothing moves); the LP still gives the field.
-    u, mu = (sol.x if h.any() else np.zeros(n)), np.maximum(sol.z, 0.0)
+    moves = h.any() or g.any()
+    u = sol.x[:n] if moves else np.zeros(n)
+    fields = np.clip(sol.z[:k + q], 0.0, np.concatenate([np.full(k, np.inf), capacity]))
     field = types.SimpleNamespace(dead=model.dead, live=np.zeros(n))
-    mu, _, static_residual = _repair_field(H, field, mu, 0.0, np.full(k, np.inf), 0.0,
-                                           s.residual_tolerance, s.gap_tolerance)
+    fields, _, static_residual = _repair_field(sp.hstack([H, G]).tocsc(), field, fields, 0.0,
+                                               np.concatenate([np.full(k, np.inf), capacity]), 0.0,
+                                               s.residual_tolerance, s.gap_tolerance)
+    mu, tau = fields[:k], fields[k:]
     power = H.T @ u + h
     size = float((abs(H.T) @ np.abs(u)).max(initial=0.0)) + float(np.abs(h).max(initial=0.0))
     kinematic_residual = max(0.0, -float(power.min(initial=0.0))) / max(size, 1e-300)
     scale = model.force_scale * model.length_scale  # kN·mm per model work unit
-    lower = float(model.dead @ u) * scale if kinematic_residual <= s.residual_tolerance else -math.inf
-    upper = float(h @ mu) * scale if static_residual <= s.residual_tolerance else math.inf
+    dissipation = float(capacity @ np.maximum(-(G.T @ u + g), 0.0))
+    lower = float(model.dead @ u - dissipation) * scale if kinematic_residual <= s.residual_tolerance else -math.inf
+    upper = float(h @ mu + g @ tau) * scale if static_residual <= s.residual_tolerance else math.inf
     gap = (upper - lower) / max(1.0, abs(upper)) if math.isfinite(lower) and math.isfinite(upper) else math.inf
     status = Status.OPTIMAL if gap <= s.gap_tolerance else Status.NOT_CONVERGED
     message = (f"certified: relative gap {gap:.1e}" if status == Status.OPTIMAL else
                f"relative gap {gap:.2e}, residuals static {static_residual:.1e}, kinematic {kinematic_residual:.1e}")
     timings["certify_s"] = time.perf_counter() - t0 - sol.solve_time
-    return _result(model, status, message, u, mu, Bounds(lower, upper),
+    return _result(model, status, message, u, mu, tau, Bounds(lower, upper),
                    {"static_equilibrium": static_residual, "kinematic_compatibility": kinematic_residual}, timings)
 
 
@@ -142,16 +165,55 @@ def support_power(model: Model) -> np.ndarray:
     return h.ravel()
 
 
-def support_relative(model: Model) -> np.ndarray:
-    """(m, point, (normal, tangent)): relative velocity v_b − v_a of each joint's contact points
-    due to the supports' settlements (v_s(p) = d + r × (p − c)), per ``length_scale``."""
-    joints, scene = model.joints, model.scene
-    moves = np.zeros((len(scene.blocks), 3))  # d_x, d_y, r
+def bounded_support_power(model: Model) -> np.ndarray:
+    """g: for each bounded-force column of G (:func:`alma.mechanics.forces.bounded_columns`: the
+    cohesive shears ±t of each cohesive joint, then the ties), the power of its unit force under
+    the supports' settlements, per ``length_scale``.  Dimensionless."""
+    scene, joints = model.scene, model.joints
+    if not model.n_bounded:
+        return np.zeros(0)
+    cohesive = np.flatnonzero(joint_values(scene, joints, "cohesion", scene.cohesion) > 0)
+    centre = joints.centre[cohesive]
+    slip = np.einsum("kx,kx->k", _support_velocity(model, joints.block_b[cohesive], centre)
+                     - _support_velocity(model, joints.block_a[cohesive], centre), joints.tangent[cohesive])
+    shear = np.stack([slip, -slip], axis=1).ravel()  # columns +t, −t of each cohesive joint
+    if not scene.ties:
+        return shear / model.length_scale
+    index = {b.id: i for i, b in enumerate(scene.blocks)}
+    a = np.array([t.from_point for t in scene.ties], dtype=float)
+    b = np.array([t.to_point for t in scene.ties], dtype=float)
+    d = (b - a) / np.hypot(*(b - a).T)[:, None]  # the tie's pull on its "from" end
+    v_from = _support_velocity(model, np.array([index[t.from_block] for t in scene.ties]), a)
+    v_to = _support_velocity(model, np.array([index[t.to_block] for t in scene.ties]), b)
+    tie = np.einsum("kx,kx->k", v_from - v_to, d)
+    return np.concatenate([shear, tie]) / model.length_scale
+
+
+def _support_velocity(model: Model, block: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """(k, 2) mm: the settlement velocity d + r × (p − c) of scene block ``block[i]`` at
+    ``point[i]`` (zero for a block without settlement)."""
+    moves, centre = _settlement_table(model.scene)
+    d, r, c = moves[block, :2], moves[block, 2:3], centre[block]
+    arm = point - c
+    return d + r * np.stack([-arm[:, 1], arm[:, 0]], axis=-1)
+
+
+def _settlement_table(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
+    """(n_blocks, 3) settlements (d_x, d_y, r) and (n_blocks, 2) their ``about`` points."""
+    moves = np.zeros((len(scene.blocks), 3))
     centre = np.zeros((len(scene.blocks), 2))
     for i, block in enumerate(scene.blocks):  # the few settling supports, not the blocks' loop
         if block.settlement is not None:
             moves[i] = (*block.settlement.translation, block.settlement.rotation)
             centre[i] = block.settlement.about
+    return moves, centre
+
+
+def support_relative(model: Model) -> np.ndarray:
+    """(m, point, (normal, tangent)): relative velocity v_b − v_a of each joint's contact points
+    due to the supports' settlements (v_s(p) = d + r × (p − c)), per ``length_scale``."""
+    joints = model.joints
+    moves, centre = _settlement_table(model.scene)  # d_x, d_y, r; about
     points = np.stack([joints.start, joints.end], axis=1)  # (m, 2, 2) mm
 
     def velocity(block: np.ndarray) -> np.ndarray:  # (m, 2, 2): support velocity at each point
@@ -164,9 +226,10 @@ def support_relative(model: Model) -> np.ndarray:
                      np.einsum("mpx,mx->mp", relative, joints.tangent)], axis=2)
 
 
-def _result(model: Model, status: Status, message: str, u: np.ndarray, mu: np.ndarray, bounds: Bounds,
-            residuals: dict[str, float], timings: dict[str, float]) -> SettlementResult:
+def _result(model: Model, status: Status, message: str, u: np.ndarray, mu: np.ndarray, tau: np.ndarray,
+            bounds: Bounds, residuals: dict[str, float], timings: dict[str, float]) -> SettlementResult:
     normal, shear = multipliers_to_forces(model, mu)
+    shear = shear + _cohesive_shear(model, tau)
     form = physical(model, u / model.n_free, normal, shear, True)
     blocks, joints = form.blocks, form.joints
     # ``physical`` reports a mechanism scaled by 1 / length_scale (translations read as mm); a
@@ -181,13 +244,27 @@ def _result(model: Model, status: Status, message: str, u: np.ndarray, mu: np.nd
     joints = replace(joints, state=np.asarray(states, dtype=str), slip=rel[:, :, 1].mean(axis=1),
                      opening=rel[:, :, 0].copy())
     work = 0.5 * (bounds.lower + bounds.upper) if math.isfinite(bounds.lower + bounds.upper) else bounds.lower
-    return SettlementResult(status, message, work, bounds, _reactions(model, normal, shear), blocks, joints,
-                            residuals, timings)
+    return SettlementResult(status, message, work, bounds, _reactions(model, normal, shear, tau), blocks,
+                            joints, residuals, timings)
 
 
-def _reactions(model: Model, normal: np.ndarray, shear: np.ndarray) -> tuple[dict[str, Any], ...]:
+def _cohesive_shear(model: Model, tau: np.ndarray) -> np.ndarray:
+    """(2m,) the cohesive shear τ₊ − τ₋ of each cohesive joint, half at each of its two contact
+    points (a shear along the joint line has the same resultant and moment wherever it acts)."""
+    out = np.zeros(2 * model.n_joints)
+    scene = model.scene
+    cohesive = np.flatnonzero(joint_values(scene, model.joints, "cohesion", scene.cohesion) > 0)
+    if cohesive.size:
+        net = tau[0:2 * cohesive.size:2] - tau[1:2 * cohesive.size:2]
+        out[2 * cohesive] += 0.5 * net
+        out[2 * cohesive + 1] += 0.5 * net
+    return out
+
+
+def _reactions(model: Model, normal: np.ndarray, shear: np.ndarray, tau: np.ndarray) -> tuple[dict[str, Any], ...]:
     """Force (kN) and moment about the settlement's ``about`` point (kN·mm) that the free blocks
-    exert on each settling support, from the contact points' (N, T) (dimensionless)."""
+    exert on each settling support, from the contact points' (N, T) and the ties' tensions
+    (dimensionless)."""
     jt = model.joints
     points = np.stack([jt.start, jt.end], axis=1).reshape(-1, 2)  # (2m, 2) mm
     joint = np.repeat(np.arange(jt.count), 2)
@@ -199,7 +276,8 @@ def _reactions(model: Model, normal: np.ndarray, shear: np.ndarray) -> tuple[dic
             continue
         sign = np.where(jt.block_b[joint] == i, 1.0, 0.0) - np.where(jt.block_a[joint] == i, 1.0, 0.0)
         force = sign[:, None] * on_b
-        r = points - np.asarray(block.settlement.about, dtype=float)
+        at, force = _with_ties(model, i, points, force, tau)
+        r = at - np.asarray(block.settlement.about, dtype=float)
         moment = float((r[:, 0] * force[:, 1] - r[:, 1] * force[:, 0]).sum())
         total = force.sum(axis=0)
         out.append({"block": block.id, "force": [float(total[0]), float(total[1])], "moment": moment})
@@ -209,3 +287,26 @@ def _reactions(model: Model, normal: np.ndarray, shear: np.ndarray) -> tuple[dic
 def _empty(model: Model, status: Status, message: str, timings: dict[str, float]) -> SettlementResult:
     bound = -math.inf if status == Status.NO_EQUILIBRIUM else math.nan
     return SettlementResult(status, message, bound, Bounds(bound, bound), (), (), (), {}, timings)
+
+
+def _with_ties(model: Model, support: int, points: np.ndarray, forces: np.ndarray,
+               tau: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``points`` and ``forces`` (kN) on scene block ``support`` with the pulls of the ties
+    anchored on it appended (a tie's tension τ pulls each end towards the other)."""
+    scene = model.scene
+    if not scene.ties:
+        return points, forces
+    tension = tau[tau.shape[0] - len(scene.ties):] * model.force_scale
+    extra_at, extra_force = [], []
+    for t, pull in zip(scene.ties, tension):  # the scene's few ties
+        a, b = np.asarray(t.from_point, dtype=float), np.asarray(t.to_point, dtype=float)
+        d = (b - a) / np.hypot(*(b - a))
+        if scene.blocks[support].id == t.from_block:
+            extra_at.append(a)
+            extra_force.append(pull * d)
+        if scene.blocks[support].id == t.to_block:
+            extra_at.append(b)
+            extra_force.append(-pull * d)
+    if not extra_at:
+        return points, forces
+    return np.vstack([points, extra_at]), np.vstack([forces, extra_force])

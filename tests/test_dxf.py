@@ -101,8 +101,11 @@ def test_cli_solves_a_dxf_with_materials_and_exports_one(tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)["alpha"] == pytest.approx(panel_alpha, rel=1e-9)
     json_scene = tmp_path / "scene.json"
     json_scene.write_text(json.dumps(alma.paper_panel("stack", "2:1", "4:1", 0.6).to_dict()))
-    assert main(["solve", str(json_scene), "--friction", "0.3", "--json"]) == 0  # ignored for JSON
-    capsys.readouterr()
+    # A JSON scene holds its own materials; an option given replaces the top-level value, never
+    # silently ignored.
+    assert main(["solve", str(json_scene), "--friction", "0.3", "--json"]) == 0
+    expected = alma.solve(alma.paper_panel("stack", "2:1", "4:1", 0.3)).alpha
+    assert json.loads(capsys.readouterr().out)["alpha"] == pytest.approx(expected, rel=1e-9)
 
 
 def test_unreadable_dxf_is_a_clear_error(tmp_path):

@@ -156,3 +156,28 @@ def _static_correction(H: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: fl
             break
     residual = H @ mu + model.dead + alpha * live
     return mu, float(alpha), float(np.abs(residual).max(initial=0.0))
+
+
+def cone_residual(model: Model, u: np.ndarray) -> float:
+    """Largest distance of a contact point's relative velocity (ξ, γ) (Eq. 2) from the flow
+    rule's cone ξ ≥ f |γ| (Eq. 6), relative to the largest relative velocity.
+
+    The rows of Hᵀu ≥ 0 are ξ ± f γ: at a large f they are nearly parallel, so an interpenetration
+    ξ < 0 hides under the round-off of f γ (f = 1e12: ε f ≈ 2e-4), and a small violation of each
+    row is a large distance from their intersection.  Measured on (ξ, γ) themselves, from the
+    contact-point columns (the generators' ``+`` columns, without f).  Dimensionless.
+    """
+    opening = model.normal_part[:, 0::2].T @ u
+    slip = np.abs(model.tangent_part[:, 0::2].T @ u)
+    f = np.repeat(model.friction, 2)
+    with np.errstate(over="ignore", invalid="ignore"):
+        inside = opening >= f * slip
+        polar = f * opening + slip <= 0.0  # nearest point of the cone is its apex
+        to_edge = (f * slip - opening) / np.hypot(1.0, f)
+        distance = np.where(inside, 0.0, np.where(polar, np.hypot(opening, slip), to_edge))
+    size = float(np.hypot(opening, slip).max(initial=0.0))
+    worst = float(distance.max(initial=0.0))
+    if not np.isfinite(worst) or not np.isfinite(size):
+        return np.inf
+    return worst / size if size > 0 else 0.0
+

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from alma.associative.certificate import certify_pair
+from alma.associative.certificate import certify_pair, cone_residual
 from alma.backends.clarabel_backend import ConicSolution, solve_conic_lp
 from alma.backends.highs_backend import solve_conic_form
 from alma.engine.select import choose, solve_with_engine
@@ -125,12 +125,13 @@ def _certified(model: Model, H: sp.csc_matrix, s: AssociativeSettings, sol: Coni
         H, model, sol.x[:n], sol.z[1:1 + k + q_count].copy(), -sol.z[0], s.residual_tolerance,
         s.gap_tolerance, static=static, upper=bound)
     mu, tau = fields[:k], fields[k:]
+    kinematic_residual = max(kinematic_residual, cone_residual(model, u))
     # A mechanism that breaks the flow rule by v_j only proves α ≤ (−f_0ᵀu + D(u) + Σ v_j μ*_j) / f_Lᵀu:
     # the violation work is charged with the certified stress field's multipliers; D(u) is the
     # dissipation of the bounded forces, Σ capacity · max(0, −Gᵀu).
     violation_work = float(np.maximum(-(H.T @ u), 0.0) @ mu)
     upper = float((-model.dead @ u + dissipation(model, u) + violation_work) / (model.live @ u))
-    forces = float((abs(H if static is None else static) @ np.abs(fields)).max(initial=0.0))
+    forces = _force_terms(model, H, static, fields)
     status, message, lower, upper = _judge(s, sol.status, f"{label}: {sol.raw_status}", lower, upper,
                                            static_residual, kinematic_residual, forces)
     message += note
@@ -222,6 +223,18 @@ def _dissipation_variables(labels: np.ndarray) -> tuple[np.ndarray, int, np.ndar
     key = np.where(np.char.startswith(text, "tie:"), text, np.char.rstrip(text, "+-"))
     _, first, var = np.unique(key, return_index=True, return_inverse=True)
     return var.ravel(), int(first.size), tie
+
+
+def _force_terms(model: Model, H: sp.csc_matrix, static: sp.csc_matrix | None, fields: np.ndarray) -> float:
+    """‖|H||μ|‖∞ with each joint's friction taken at most 1 (mean block weights): the size of the
+    field's physical forces, whose round-off floors its equilibrium residual.  A friction f > 1
+    multiplies the tangential terms f (μ₊ − μ₋), which cancel; counting them at f would excuse
+    residuals of f ε — 1e-4 block weights at f = 1e12 — as round-off and certify a wrong α."""
+    capped = np.repeat(np.minimum(model.friction, 1.0), H.shape[1] // max(model.n_joints, 1))
+    terms = abs(model.normal_part) + abs(model.tangent_part) @ sp.diags(capped)
+    if static is not None:
+        terms = sp.hstack([terms, abs(static[:, H.shape[1]:])]).tocsc()
+    return float((terms @ np.abs(fields)).max(initial=0.0))
 
 
 def _judge(s: AssociativeSettings, solver_status: Status, raw: str, lower: float, upper: float,

@@ -1,10 +1,19 @@
 """HiGHS adapter (highspy): a silenced solver instance and one status map.
 
 HiGHS writes its banner and log to standard output unless told otherwise before its first
-run; alma's ``--json`` output must be the only thing on standard output, so every instance is
-created here with output switched off at the source.
+run, and highspy 1.16 prints its banner from C++ while ``Highs()`` is being constructed, before
+any option can be set; alma's ``--json`` output must be the only thing on standard output, so
+every instance is created here (:func:`new_highs`) with file descriptor 1 pointed at the null
+device for the construction, and then with output switched off at the source.
 """
 from __future__ import annotations
+
+import contextlib
+import ctypes
+import os
+import sys
+import threading
+from typing import Iterator
 
 import highspy
 
@@ -26,9 +35,67 @@ STATIC_STATUS: dict[str, Status] = {
 }
 
 
+#: One redirect at a time: file descriptor 1 belongs to the whole process.
+_STDOUT_LOCK = threading.Lock()
+
+
+def _c_library() -> ctypes.CDLL | None:
+    """The process's C library, whose ``fflush`` empties the buffers C++ code writes through."""
+    try:
+        return ctypes.CDLL(None)
+    except (OSError, TypeError):  # no handle on the running process (Windows): nothing to flush
+        return None
+
+
+_LIBC = _c_library()
+
+
+def _flush_c_stdio() -> None:
+    """Flush the C library's stdout buffer, so that text HiGHS buffered goes where fd 1 points now."""
+    if _LIBC is not None:
+        _LIBC.fflush(None)
+
+
+@contextlib.contextmanager
+def _stdout_silenced() -> Iterator[None]:
+    """File descriptor 1 on the null device inside the block (what C++ writes there is dropped).
+
+    Python's own ``sys.stdout`` is flushed first, so nothing alma printed before is lost.  The
+    descriptor is 1 whatever object ``sys.stdout`` is now: that is where C++ writes.
+    """
+    fd = 1
+    with _STDOUT_LOCK:
+        if sys.stdout is not None:
+            sys.stdout.flush()
+        _flush_c_stdio()
+        try:
+            saved = os.dup(fd)
+        except OSError:  # no descriptor 1 at all (a closed stdout): nothing to protect
+            yield
+            return
+        try:
+            with open(os.devnull, "wb") as null:
+                os.dup2(null.fileno(), fd)
+            yield
+        finally:
+            _flush_c_stdio()
+            os.dup2(saved, fd)
+            os.close(saved)
+
+
+def new_highs() -> highspy.Highs:
+    """A ``highspy.Highs`` constructed with standard output silenced (the banner of highspy ≥ 1.16)
+    and its output switched off: the one place where alma creates HiGHS objects."""
+    with _stdout_silenced():
+        h = highspy.Highs()
+    h.setOptionValue("output_flag", False)
+    h.setOptionValue("log_to_console", False)
+    return h
+
+
 def quiet_highs(**options: object) -> highspy.Highs:
     """A ``highspy.Highs`` that prints nothing, with ``options`` set (HiGHS option names)."""
-    h = highspy.Highs()
+    h = new_highs()
     h.setOptionValue("output_flag", False)
     h.setOptionValue("log_to_console", False)
     for name, value in options.items():

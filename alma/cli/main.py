@@ -2,26 +2,58 @@
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import json
 import math
 import sys
 from pathlib import Path
 
+from alma.cli.json_output import dumps
+from alma.cli.outputs import OutputPathError, check_outputs
+from alma.cli.scene_options import add_scene_options, positive_float, scene_from_args
 from alma.geometry.chains import parse_chain, with_chain
 from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, paper_panel
-from alma.geometry.scene import Scene, SceneError, load_scene
+from alma.geometry.scene import Scene, SceneError
 from alma.report.html import write_html, write_settlement_html, write_tilt_html
 from alma.report.picture import StillPicture
 from alma.report.plot import plot_mechanism
-from alma.settle import after_settlement, settle
+from alma.settle import SettleError, after_settlement, settle
 from alma.settings import AssociativeSettings, Settings
 from alma.solve import MODELS, solve
 from alma.tilt import tilt, tilted
 
 
+class UsageError(Exception):
+    """A command line argparse refuses (unknown option, a value of the wrong kind): exit 2."""
+
+    def __init__(self, parser: argparse.ArgumentParser, message: str) -> None:
+        super().__init__(f"{parser.prog}: {message}")
+        self.parser = parser
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, with its refusals raised to :func:`main` (which says them, as JSON too with --json)."""
+
+    def error(self, message: str):  # type: ignore[override]
+        raise UsageError(self, message)
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser = _build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except UsageError as exc:
+        exc.parser.print_usage(sys.stderr)
+        return _invalid(exc, argparse.Namespace(json="--json" in argv))
+    try:
+        check_outputs(args)  # before any work: a result is never lost to an unwritable path
+    except OutputPathError as exc:
+        return _invalid(exc, args)
+    return int(args.func(args) or 0)
+
+
+def _build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(
         prog="alma", description="Limit analysis of masonry block structures.",
         epilog="Scene files, commands and the JSON output: docs/scenes.md of alma's repository; "
                "worked examples in examples/.")
@@ -29,19 +61,9 @@ def main(argv: list[str] | None = None) -> int:
 
     p_solve = sub.add_parser("solve", help="solve a scene file (SPEC §2)")
     p_solve.add_argument("scene", help="scene file: JSON (SPEC §2) or a DXF drawing (one polyline per block)")
-    dxf = p_solve.add_argument_group("DXF drawings (materials of the scene; ignored for JSON)")
-    dxf.add_argument("--thickness", type=float, default=None, help="mm (default 120)")
-    dxf.add_argument("--unit-weight", type=float, default=None, help="kN/m³ (default 18)")
-    dxf.add_argument("--friction", type=float, default=None, help="(default 0.6)")
-    dxf.add_argument("--cohesion", type=float, default=None, help="kPa (default 0)")
-    dxf.add_argument("--supports", choices=("layers", "lowest"), default=None,
-                     help="supports from layer names (fixed/support/ground, the default) or every block "
-                          "reaching the lowest y")
+    add_scene_options(p_solve)
     p_solve.add_argument("--after-settlement", action="store_true",
                          help="solve the settled structure: cohesion lost on every joint its settlement opens")
-    p_solve.add_argument("--contact-tolerance", type=float, metavar="REL",
-                         help="gaps and overlaps snapped to a joint, relative to the median block size "
-                              "(default 1e-4; overrides the scene's contact_tolerance)")
     _add_common(p_solve)
     p_solve.set_defaults(func=_cmd_solve)
 
@@ -61,7 +83,8 @@ def main(argv: list[str] | None = None) -> int:
     p_panel.set_defaults(func=_cmd_panel)
 
     p_settle = sub.add_parser("settle", help="the crack pattern a prescribed support settlement opens (SPEC §3)")
-    p_settle.add_argument("scene", help="scene JSON file with a 'settlement' on a fixed block")
+    p_settle.add_argument("scene", help="scene file (JSON or DXF) with a 'settlement' on a fixed block")
+    add_scene_options(p_settle)
     p_settle.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p_settle.add_argument("--plot", metavar="OUT.png", help="write a picture of the settlement mechanism")
     p_settle.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the settlement "
@@ -69,7 +92,8 @@ def main(argv: list[str] | None = None) -> int:
     p_settle.set_defaults(func=_cmd_settle)
 
     p_tilt = sub.add_parser("tilt", help="the critical tilt angle on a tilting table (SPEC §3)")
-    p_tilt.add_argument("scene", help="scene JSON file")
+    p_tilt.add_argument("scene", help="scene file: JSON or a DXF drawing")
+    add_scene_options(p_tilt)
     p_tilt.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p_tilt.add_argument("--plot", metavar="OUT.png", help="write a picture of the collapse on the table tilted to θ_c")
     p_tilt.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the collapse on the "
@@ -86,9 +110,7 @@ def main(argv: list[str] | None = None) -> int:
         study_cli = None
     if study_cli is not None:
         study_cli.register(sub)
-
-    args = parser.parse_args(argv)
-    return int(args.func(args) or 0)
+    return parser
 
 
 def _add_common(p: argparse.ArgumentParser) -> None:
@@ -97,7 +119,7 @@ def _add_common(p: argparse.ArgumentParser) -> None:
                    help="prove a lower bound of the non-associative α by mixed-integer LP")
     p.add_argument("--effort", default="auto", choices=("auto", "fast", "thorough"),
                    help="non-associative search effort (auto: thorough up to 200 blocks)")
-    p.add_argument("--time-limit", type=float, default=None,
+    p.add_argument("--time-limit", type=positive_float, default=None,
                    help="a hard wall-clock cap in seconds (default: none); the searches spend work budgets, "
                         "so the answer does not depend on the machine unless the cap cuts it (status "
                         "limit_reached)")
@@ -115,10 +137,7 @@ def _add_common(p: argparse.ArgumentParser) -> None:
 
 def _cmd_solve(args: argparse.Namespace) -> int:
     try:
-        scene = load_scene(args.scene, **_dxf_options(args))
-        if args.contact_tolerance is not None:
-            scene = dataclasses.replace(scene, contact_tolerance=args.contact_tolerance, validated=False)
-            scene.validate()
+        scene = scene_from_args(args)
         if args.after_settlement:
             scene = after_settlement(scene)
     except (SceneError, ValueError) as exc:
@@ -126,35 +145,19 @@ def _cmd_solve(args: argparse.Namespace) -> int:
     return _run(scene, args)
 
 
-def _dxf_options(args: argparse.Namespace) -> dict[str, object]:
-    """The material options of a DXF scene (none for JSON, which holds its own)."""
-    if not str(args.scene).lower().endswith(".dxf"):
-        return {}
-    return {"thickness": args.thickness, "unit_weight": args.unit_weight, "friction": args.friction,
-            "cohesion": args.cohesion, "supports": args.supports}
-
-
-def _loaded(args: argparse.Namespace) -> Scene | int:
-    """The scene file of ``args``, or the exit code of its refusal."""
-    try:
-        return load_scene(args.scene)
-    except SceneError as exc:
-        return _invalid(exc, args)
-
-
 def _cmd_settle(args: argparse.Namespace) -> int:
-    scene = _loaded(args)
-    if isinstance(scene, int):
-        return scene
-    result = settle(scene)
+    try:
+        scene = scene_from_args(args)
+        result = settle(scene)
+    except (SceneError, SettleError) as exc:
+        return _invalid(exc, args)
     if args.plot:
-
         plot_mechanism(scene, StillPicture.of(result), args.plot, title=scene.name or None, settling=True,
                        caption_text=f"settlement mechanism: {len(result.opened)} joints open")
     if args.html:
         write_settlement_html(scene, result, args.html)
     if args.json:
-        print(json.dumps(result.to_dict()))
+        print(dumps(result.to_dict()))
         return 0
     b = result.bounds
     print(f"{scene.name or 'scene'}")
@@ -168,14 +171,15 @@ def _cmd_settle(args: argparse.Namespace) -> int:
 
 
 def _cmd_tilt(args: argparse.Namespace) -> int:
-    scene = _loaded(args)
-    if isinstance(scene, int):
-        return scene
-    result = tilt(scene)
+    try:
+        scene = scene_from_args(args)
+        result = tilt(scene)
+    except SceneError as exc:
+        return _invalid(exc, args)
     if args.plot or args.html:
         _tilt_pictures(scene, result, args)
     if args.json:
-        print(json.dumps(result.to_dict()))
+        print(dumps(result.to_dict()))
         return 0
     lo, hi = result.bounds_deg
     print(f"{scene.name or 'scene'}")
@@ -233,7 +237,7 @@ def _run(scene: Scene, args: argparse.Namespace) -> int:
     if args.html:
         write_html(scene, result, args.html, thrust=args.thrust)
     if args.json:
-        print(json.dumps(result.to_dict()))
+        print(dumps(result.to_dict()))
     else:
         _print_text(scene, result, args.plot)
     return 0
@@ -275,7 +279,7 @@ def export_scene(scene: Scene, path: str) -> None:
 def _invalid(exc: Exception, args: argparse.Namespace) -> int:
     print(f"alma: invalid input: {exc}", file=sys.stderr)
     if getattr(args, "json", False):
-        print(json.dumps({"status": "invalid_input", "message": str(exc)}))
+        print(dumps({"status": "invalid_input", "message": str(exc)}))
     return 2
 
 

@@ -12,10 +12,11 @@ from __future__ import annotations
 
 import argparse
 import io
-import json
 import sys
 from pathlib import Path
 from typing import Any
+
+from alma.cli.json_output import dumps
 
 __all__ = ["register", "doe_handler", "anova_handler", "paper_handler", "compare_handler"]
 
@@ -193,7 +194,7 @@ def anova_handler(args: argparse.Namespace) -> int:
         _error(str(exc))
         return 2
     if args.json:
-        print(json.dumps(result.to_dict()))
+        print(dumps(result.to_dict()))
     else:
         print(result.format_table())
     return 0

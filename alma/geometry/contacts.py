@@ -156,8 +156,9 @@ def _contact_segments(scene: "Scene", edges: Edges, i: np.ndarray, j: np.ndarray
     both_fixed = fixed[edges.block[i]] & fixed[edges.block[j]]
     joint = overlapping & parallel & (apart <= snap) & ~both_fixed
     near = overlapping & parallel & (apart > snap) & (apart <= band) & ~both_fixed
-    warnings = _near_misses(scene, edges.block[i[near]], edges.block[j[near]], gap[near].mean(axis=1),
-                            (s1 - s0)[near], snap)
+    # The message gives the gap the decision compared with the tolerance: the larger end's.
+    worst = gap[near][np.arange(int(near.sum())), np.abs(gap[near]).argmax(axis=1)]
+    warnings = _near_misses(scene, edges.block[i[near]], edges.block[j[near]], worst, (s1 - s0)[near], snap)
 
     i, j, s0, s1, t_i, origin = i[joint], j[joint], s0[joint], s1[joint], t_i[joint], origin[joint]
     block_a, block_b = edges.block[i], edges.block[j]
@@ -191,7 +192,7 @@ def _near_misses(scene: "Scene", a: np.ndarray, b: np.ndarray, gap: np.ndarray, 
     ids = [blk.id for blk in scene.blocks]
     return tuple(
         f"blocks '{ids[lo[k]]}' and '{ids[hi[k]]}' nearly touch: facing edges "
-        f"{'apart' if gap[k] > 0 else 'overlapping'} by {abs(gap[k]):.3g} mm over {overlap[k]:.3g} mm, "
+        f"{'apart' if gap[k] > 0 else 'overlapping'} by up to {abs(gap[k]):.3g} mm over {overlap[k]:.3g} mm, "
         f"beyond the contact tolerance ({snap:.3g} mm): no joint is made there"
         for k in first.tolist())
 

@@ -244,7 +244,13 @@ def load_scene(path: str | Path, **dxf_options: Any) -> Scene:
     "lowest") are keyword arguments (:func:`alma.geometry.dxf.read_dxf`)."""
     path = Path(path)
     if path.suffix.lower() == ".dxf":
-        data = read_dxf(path, **{k: v for k, v in dxf_options.items() if v is not None})
+        try:
+            data = read_dxf(path, **{k: v for k, v in dxf_options.items() if v is not None})
+        except SceneError:
+            raise
+        except (StopIteration, EOFError, ValueError, IndexError, KeyError) as exc:  # ezdxf on a damaged file
+            raise SceneError(f"DXF file '{path}': cannot be read, truncated or damaged "
+                             f"({type(exc).__name__}: {exc})") from exc
         try:
             return Scene.from_dict(data)
         except SceneError as exc:
@@ -253,13 +259,18 @@ def load_scene(path: str | Path, **dxf_options: Any) -> Scene:
         raise SceneError(f"scene file '{path}': {sorted(dxf_options)} apply to DXF drawings only; a JSON "
                          "scene holds its own materials")
     try:
-        text = path.read_text()
+        text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise SceneError(f"scene file '{path}': cannot be read ({exc.strerror})") from exc
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"scene file '{path}': not UTF-8 text (byte {exc.start}); a scene is a JSON "
+                         "file or a .dxf drawing") from exc
     try:
         data = json.loads(text)  # NaN/Infinity parse to floats; validation names the block
     except json.JSONDecodeError as exc:
         raise SceneError(f"scene file '{path}': not valid JSON ({exc.msg} at line {exc.lineno})") from exc
+    except RecursionError as exc:
+        raise SceneError(f"scene file '{path}': nested too deeply to be a scene") from exc
     try:
         return Scene.from_dict(data)
     except SceneError as exc:

@@ -11,7 +11,8 @@ matrix of shape (3 n_free, 4 m); its transpose maps block velocities to the
 generators' power, so the associative flow rule (Eq. 6) is ``Hᵀ u ≥ 0``.
 
 Units: lengths are divided by ``reference_length`` (√ mean block area) and
-forces by the mean weight of a free block, so every number the solver sees is
+forces by the mean weight of a free block plus the mean point load per free
+block, so every number the solver sees is
 of order one (with the total weight as unit, one block's equilibrium in a wall
 of 1000 blocks would be resolved 1000 times less accurately).
 """
@@ -45,7 +46,7 @@ class Model:
     free_index: np.ndarray  # (n_blocks,) position of each block among the free ones, -1 if fixed
     free_blocks: np.ndarray  # (n_free,) scene index of each free block
     length_scale: float  # mm per model length unit
-    force_scale: float  # kN per model force unit (mean weight of a free block)
+    force_scale: float  # kN per model force unit (mean weight + mean point load of a free block)
     origin: np.ndarray  # (2,) mm, subtracted before scaling
     centroid: np.ndarray  # (n_free, 2) dimensionless
     weight: np.ndarray  # (n_free,) kN
@@ -107,11 +108,13 @@ def build_model(scene: Scene, joints: Joints | None = None) -> Model:
     overrides = [(k, blocks[i].weight) for k, i in enumerate(free_blocks) if blocks[i].weight is not None]
     for k, value in overrides:
         weight[k] = value
-    # Forces in units of the mean block weight: every block's load is of order one, so the
-    # solver's absolute tolerances act on each block's equilibrium, not on the whole wall's.
-    force_scale = float(weight.mean())
+    # Forces in units of the mean block weight plus the mean point load per free block: every
+    # block's load is of order one, so the solver's absolute tolerances act on each block's
+    # equilibrium, not on the whole wall's; and blocks of almost no weight under kN point loads
+    # (unit weight 1e-9) are not scaled to loads of 1e12.
+    force_scale = float(weight.mean()) + _mean_point_load(scene, free_blocks.size)
     if not force_scale > 0:
-        raise SceneError("scene: the free blocks weigh nothing; the load multiplier is undefined")
+        raise SceneError("scene: the free blocks weigh nothing and carry no load; the load multiplier is undefined")
     centroid = (centroid_mm - origin) / length_scale
 
     friction = joint_values(scene, joints, "friction", scene.friction)
@@ -131,6 +134,14 @@ def build_model(scene: Scene, joints: Joints | None = None) -> Model:
                  centroid=centroid, weight=weight, friction=friction,
                  normal_part=normal_part, tangent_part=tangent_part, dead=dead, live=live,
                  bounded=bounded, capacity=capacity, bounded_labels=labels)
+
+
+def _mean_point_load(scene: Scene, n_free: int) -> float:
+    """Σ (|dead| + |live|) of the scene's point loads per free block (kN)."""
+    if not scene.loads:
+        return 0.0
+    forces = np.array([(*load.dead, *load.live) for load in scene.loads], dtype=float).reshape(-1, 2, 2)
+    return float(np.hypot(forces[..., 0], forces[..., 1]).sum()) / max(n_free, 1)
 
 
 def _generator_matrices(joints: Joints, free_index: np.ndarray, centroid: np.ndarray,

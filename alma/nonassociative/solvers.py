@@ -8,10 +8,12 @@ from __future__ import annotations
 
 import highspy
 
+from alma.backends.highs_backend import new_highs
+
 
 def quiet_highs() -> highspy.Highs:
     """A ``highspy.Highs`` that writes nothing to stdout or a log file."""
-    h = highspy.Highs()
+    h = new_highs()
     h.setOptionValue("output_flag", False)
     h.setOptionValue("log_to_console", False)
     return h
