@@ -28,7 +28,7 @@ import scipy.sparse as sp
 
 from alma.associative.certificate import _repair_field
 from alma.backends.clarabel_backend import solve_conic_lp
-from alma.geometry.scene import JointOverride, Scene
+from alma.geometry.scene import JointOverride, Scene, SceneError
 from alma.mechanics.model import Model, build_model
 from alma.mechanics.contact_points import ContactPoints
 from alma.results.joints import MOTION_TOLERANCE, multipliers_to_forces, physical, states_from_relative
@@ -74,6 +74,9 @@ def settle(scene: Scene, settings: AssociativeSettings | None = None) -> Settlem
         scene.validate()
     t0 = time.perf_counter()
     model = build_model(scene)
+    if model.crushes:
+        raise SceneError("compressive_strength: the settlement analysis takes infinitely strong blocks only; "
+                         "remove compressive_strength from the scene")
     h = support_power(model)
     H = model.equilibrium
     n, k = H.shape

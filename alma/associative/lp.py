@@ -24,6 +24,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from alma.associative.certificate import certify_pair
+from alma.associative.crushing import (cone_violation, crushing_dissipation, rigid_columns,
+                                       solve_static_crushing)
 from alma.backends.clarabel_backend import ConicSolution, solve_conic_lp
 from alma.backends.highs_backend import solve_conic_form
 from alma.engine.select import choose, solve_with_engine
@@ -90,6 +92,8 @@ def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, toler
     n, k = H.shape
     if k == 0:  # no joint: any motion is free, no load can be carried
         return _trivial(model, Status.NO_EQUILIBRIUM, "no joint carries the free blocks")
+    if model.crushes:
+        return _solve_crushing(model, H, s, tol, iters, time_limit)
     sol, label, note, record = _solve_pair(model, H, s, tol, iters, time_limit, ipm_settings)
     if sol.status in (Status.NO_COLLAPSE, Status.NO_EQUILIBRIUM):
         message = ("no kinematically admissible mechanism with positive live-load work"
@@ -140,6 +144,46 @@ def _certified(model: Model, H: sp.csc_matrix, s: AssociativeSettings, sol: Coni
                       kinematic_residual=kinematic_residual, iterations=sol.iterations,
                       solve_time=sol.solve_time, certify_time=time.perf_counter() - t0, bounded_forces=tau,
                       engine=record)
+
+
+def _solve_crushing(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: float, iters: int,
+                    time_limit: float | None) -> LPSolution:
+    """Eq. 10 with finite compressive strength (:mod:`alma.associative.crushing`): Clarabel's
+    second-order cone program always (alma's interior point and the simplex take LPs only),
+    certified as the LP: the repaired stress field inside the cones gives the lower bound, the
+    mechanism with the crushing joints' exact dissipation the upper one."""
+    sol = solve_static_crushing(model, H, tol, iters, time_limit)
+    if sol.status in (Status.NO_COLLAPSE, Status.NO_EQUILIBRIUM):
+        message = ("no kinematically admissible mechanism with positive live-load work"
+                   if sol.status == Status.NO_COLLAPSE else
+                   "no statically admissible stress field for any load multiplier: the joints cannot carry "
+                   "the dead load within their compressive strength (a joint crushes, N > σ_c l t, or no "
+                   "stress block fits the moment)")
+        return _trivial(model, sol.status, f"{message} (Clarabel: {sol.raw_status})", iterations=sol.iterations,
+                        solve_time=sol.solve_time)
+    t0 = time.perf_counter()
+    n, k = H.shape
+    q_count = model.n_bounded
+    static = sp.hstack([H, model.bounded]).tocsc() if q_count else H
+    bound = np.concatenate([np.full(k, np.inf), model.capacity])
+    rigid = rigid_columns(model)
+    u, fields, lower, equilibrium_residual, kinematic_residual = certify_pair(
+        H[:, rigid], model, sol.z[:n], sol.x[1:1 + k + q_count].copy(), sol.x[0], s.residual_tolerance,
+        s.gap_tolerance, static=static, upper=bound)
+    mu, tau = fields[:k], fields[k:]
+    static_residual = max(equilibrium_residual, cone_violation(model, mu))
+    power = H.T @ u
+    violation_work = float(np.maximum(-power[rigid], 0.0) @ mu[rigid])
+    work = -model.dead @ u + crushing_dissipation(model, power) + dissipation(model, u)
+    upper = float((work + violation_work) / (model.live @ u))
+    forces = float((abs(static) @ np.abs(fields)).max(initial=0.0))
+    status, message, lower, upper = _judge(s, sol.status, f"Clarabel cone program: {sol.raw_status}", lower,
+                                           upper, static_residual, kinematic_residual, forces)
+    alpha = upper if np.isfinite(upper) else float(work / (model.live @ u))
+    return LPSolution(status=status, message=message, alpha=alpha, lower=lower, upper=upper, mechanism=u,
+                      multipliers=mu, static_residual=static_residual, kinematic_residual=kinematic_residual,
+                      iterations=sol.iterations, solve_time=sol.solve_time,
+                      certify_time=time.perf_counter() - t0, bounded_forces=tau)
 
 
 def _solve_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: float, iters: int,

@@ -4,6 +4,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import math
 import sys
 import types
 from pathlib import Path
@@ -96,6 +97,9 @@ def _add_common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--crisp", action="store_true",
                    help="show one crisp mechanism of the associative optimal face (a vertex) instead of the "
                         "interior point's blend of all of them (about 1-5x the solve)")
+    p.add_argument("--compressive-strength", type=float, default=None, metavar="MPA",
+                   help="σ_c of every joint in MPa (overrides the scene's compressive_strength; default: the "
+                        "scene's, else infinitely strong blocks); associative model only")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p.add_argument("--plot", metavar="OUT.png", help="write a picture of the collapse mechanism")
     p.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the mechanism in SVG with a "
@@ -136,7 +140,10 @@ def _cmd_settle(args: argparse.Namespace) -> int:
     scene = _loaded(args)
     if isinstance(scene, int):
         return scene
-    result = settle(scene)
+    try:
+        result = settle(scene)
+    except SceneError as exc:
+        return _invalid(exc, args)
     if args.plot:
         from alma.report.plot import plot_mechanism
 
@@ -194,6 +201,7 @@ def _run(scene: Scene, args: argparse.Namespace) -> int:
               file=sys.stderr)
         return 2
     try:
+        scene = with_compressive_strength(scene, getattr(args, "compressive_strength", None))
         crisp = Settings(associative=AssociativeSettings(crisp_mechanism=True)) if args.crisp else None
         result = solve(scene, model=args.model, settings=crisp, effort=args.effort, certify=args.certify,
                        time_limit=args.time_limit)
@@ -237,6 +245,15 @@ def _print_text(scene: Scene, result, picture: str | None) -> None:
     print(f"  time       {', '.join(parts)}")
     if picture:
         print(f"  picture    {picture}")
+
+
+def with_compressive_strength(scene: Scene, value: float | None) -> Scene:
+    """``scene`` with ``--compressive-strength`` (MPa) for every joint, when given (SPEC §2)."""
+    if value is None:
+        return scene
+    if not (math.isfinite(value) and value > 0):
+        raise SceneError(f"--compressive-strength (MPa) must be a finite number > 0, got {value}")
+    return dataclasses.replace(scene, compressive_strength=float(value))
 
 
 def export_scene(scene: Scene, path: str) -> None:
