@@ -30,6 +30,11 @@ from alma.backends.clarabel_backend import ConicSolution, solve_static_cone
 from alma.mechanics.model import Model
 
 
+#: A crushing joint whose generator powers are all below this fraction of the largest is at rest
+#: (the interior point's blend leaves traces of ~1e-9 there; a moving joint's are ≥ 1e-4).
+REST = 1e-7
+
+
 def crushing_joints(model: Model) -> np.ndarray:
     """Indices of the joints with a finite crushing capacity."""
     return np.flatnonzero(np.isfinite(model.crushing))
@@ -85,11 +90,11 @@ def _cone_rows(model: Model, n_x: int) -> tuple[sp.csc_matrix, np.ndarray]:
 
 
 def solve_static_crushing(model: Model, H: sp.csc_matrix, tolerance: float, max_iter: int,
-                          time_limit: float | None = None) -> ConicSolution:
+                          time_limit: float | None = None, refine: bool = True) -> ConicSolution:
     """Clarabel's primal–dual pair of the static cone program (:func:`static_cone_form`)."""
     q, A, b, n_zero, n_nonneg, n_soc = static_cone_form(model, H)
     return solve_static_cone(q, A, b, n_zero, n_nonneg, n_soc, tolerance=tolerance, max_iter=max_iter,
-                             time_limit=time_limit)
+                             time_limit=time_limit, refine=refine)
 
 
 def point_normals(mu: np.ndarray) -> np.ndarray:
@@ -128,8 +133,15 @@ def crushing_dissipation(model: Model, power: np.ndarray) -> float:
     return float(value.sum())
 
 
-def rigid_columns(model: Model) -> np.ndarray:
-    """Generator columns (4 per joint) of the joints without a crushing capacity: the flow rule
-    Hᵀu ≥ 0 still holds there."""
+def rigid_columns(model: Model, power: np.ndarray | None = None) -> np.ndarray:
+    """Generator columns (4 per joint) on which the mechanism is held to the flow rule Hᵀu ≥ 0:
+    the joints without a crushing capacity, and -- given the solver's powers ``power`` = Hᵀu --
+    the crushing joints at rest (every power below :data:`REST` of the largest).
+
+    A crushing joint at rest dissipates c |noise| on the solver's round-off (c = σ_c l t can be
+    10⁹ mean block weights); the repair removes the noise so that its dissipation is ~0."""
     rigid = ~np.isfinite(model.crushing)
+    if power is not None:
+        size = max(float(np.abs(power).max(initial=0.0)), 1e-300)
+        rigid |= np.abs(power.reshape(-1, 4)).max(axis=1) <= REST * size
     return np.flatnonzero(np.repeat(rigid, 4))

@@ -151,8 +151,28 @@ def _solve_crushing(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol:
     """Eq. 10 with finite compressive strength (:mod:`alma.associative.crushing`): Clarabel's
     second-order cone program always (alma's interior point and the simplex take LPs only),
     certified as the LP: the repaired stress field inside the cones gives the lower bound, the
-    mechanism with the crushing joints' exact dissipation the upper one."""
-    sol = solve_static_crushing(model, H, tol, iters, time_limit)
+    mechanism with the crushing joints' exact dissipation the upper one.
+
+    Clarabel's iterative refinement helps on some near-rigid cones (σ_c l t ≫ N) and hurts on
+    others; when the first pair does not certify, the other setting is tried (deterministic: the
+    same scene takes the same path) and the first certified pair is kept.
+    """
+    first = _crushing_pair(model, H, s, tol, iters, time_limit, s.cone_refinement)
+    if first.status != Status.NOT_CONVERGED:
+        return first
+    second = _crushing_pair(model, H, s, tol, iters, time_limit, not s.cone_refinement)
+    if second.status == Status.OPTIMAL:
+        return dataclasses.replace(second, message=f"{second.message} (refinement "
+                                   f"{'on' if not s.cone_refinement else 'off'}, after: {first.message})",
+                                   solve_time=first.solve_time + second.solve_time,
+                                   iterations=first.iterations + second.iterations)
+    return first
+
+
+def _crushing_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: float, iters: int,
+                   time_limit: float | None, refine: bool) -> LPSolution:
+    """One certified attempt of :func:`_solve_crushing` (``refine``: Clarabel's refinement)."""
+    sol = solve_static_crushing(model, H, tol, iters, time_limit, refine=refine)
     if sol.status in (Status.NO_COLLAPSE, Status.NO_EQUILIBRIUM):
         message = ("no kinematically admissible mechanism with positive live-load work"
                    if sol.status == Status.NO_COLLAPSE else
@@ -166,14 +186,15 @@ def _solve_crushing(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol:
     q_count = model.n_bounded
     static = sp.hstack([H, model.bounded]).tocsc() if q_count else H
     bound = np.concatenate([np.full(k, np.inf), model.capacity])
-    rigid = rigid_columns(model)
+    rigid = rigid_columns(model, H.T @ sol.z[:n])
     u, fields, lower, equilibrium_residual, kinematic_residual = certify_pair(
         H[:, rigid], model, sol.z[:n], sol.x[1:1 + k + q_count].copy(), sol.x[0], s.residual_tolerance,
         s.gap_tolerance, static=static, upper=bound)
     mu, tau = fields[:k], fields[k:]
     static_residual = max(equilibrium_residual, cone_violation(model, mu))
     power = H.T @ u
-    violation_work = float(np.maximum(-power[rigid], 0.0) @ mu[rigid])
+    held = rigid_columns(model)
+    violation_work = float(np.maximum(-power[held], 0.0) @ mu[held])
     work = -model.dead @ u + crushing_dissipation(model, power) + dissipation(model, u)
     upper = float((work + violation_work) / (model.live @ u))
     forces = float((abs(static) @ np.abs(fields)).max(initial=0.0))
