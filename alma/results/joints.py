@@ -139,7 +139,7 @@ def _crushing_states(model: Model, normal: np.ndarray, states: np.ndarray, rel: 
     closing = (rel[:, :, 0] < -MOTION_TOLERANCE * scale).all(axis=1)
     full = N >= CRUSHING_FRACTION * model.crushing
     out = states.copy()
-    out[np.isfinite(model.crushing) & (states != "rest") & (full | closing)] = "crushing"
+    out[np.isfinite(model.crushing) & (closing | (full & (states != "rest")))] = "crushing"
     return out
 
 
