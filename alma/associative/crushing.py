@@ -15,7 +15,7 @@ Static form (Clarabel's primal, x = (α, μ, τ))::
     max α   s.t.  f_L α + H μ + G τ = −f₀,   μ ≥ 0,   0 ≤ τ ≤ capacity,
                   (√c (N_p + 1), √c (N_p − 1), √2 N) ∈ Q³   (2 c N_p ≥ N², scaled by √c)
 
-The duals of the equilibrium rows are a mechanism u with f_Lᵀu = 1 (Eq. 10's kinematic side).
+The duals of the equilibrium rows are a mechanism u (Eq. 10's kinematic side).
 For any u the dissipation of a crushing joint, sup over its yield set of the power −μᵀHᵀu, is
 finite and has the closed form :func:`crushing_dissipation`; so every mechanism proves an upper
 bound without a flow-rule repair on the crushing joints.  All quantities are dimensionless
@@ -26,10 +26,18 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from alma.associative.certificate import static_correction
 from alma.backends.clarabel_backend import ConicSolution, solve_static_cone
 from alma.mechanics.model import Model
 
 
+#: The solver's cones are 2 c (N_p − margin) ≥ N² (margin in mean block weights): the stress field keeps this
+#: much room to the exact cone for the certificate's equilibrium repair (~1e-9), at a cost in α of
+#: ~margin × crushing points / total weight (< 1e-9 relative on the paper's panels).
+CONE_MARGIN = 1e-8
+#: ... and 2 c ((1 − κ) N_p − margin) ≥ N²: room in proportion to the force for the joints at the
+#: base of the tall panels (N ~ 150 mean block weights, where 1e-8 absolute is round-off).
+CONE_RELATIVE_MARGIN = 5e-8
 #: A crushing joint whose generator powers are all below this fraction of the largest is at rest
 #: (the interior point's blend leaves traces of ~1e-9 there; a moving joint's are ≥ 1e-4).
 REST = 1e-7
@@ -40,8 +48,15 @@ def crushing_joints(model: Model) -> np.ndarray:
     return np.flatnonzero(np.isfinite(model.crushing))
 
 
-def static_cone_form(model: Model, H: sp.csc_matrix) -> tuple[np.ndarray, sp.csc_matrix, np.ndarray, int, int, int]:
+def static_cone_form(model: Model, H: sp.csc_matrix, normalisation: float = 1.0
+                     ) -> tuple[np.ndarray, sp.csc_matrix, np.ndarray, int, int, int]:
     """The static problem (module docstring) as ``min qᵀx s.t. A x + s = b`` for Clarabel.
+
+    The objective is −normalisation · n_free · α, so that the duals (the mechanism) come with
+    f_Lᵀu = normalisation · n_free, the scale of Eq. 10's kinematic form
+    (:class:`alma.settings.AssociativeSettings`): at f_Lᵀu = 1 the block velocities are
+    ~1/n_free and Clarabel's absolute tolerances stop the largest panel at a gap of 1e-6 (6e-8
+    with the scale, in 74 instead of 91 iterations).
 
     Rows: equilibrium (3 n_free, zero cone), μ ≥ 0 and 0 ≤ τ ≤ capacity (non-negative cone), then
     three rows per contact point of each crushing joint (Q³).  Returns (q, A, b, n_zero, n_nonneg,
@@ -59,7 +74,7 @@ def static_cone_form(model: Model, H: sp.csc_matrix) -> tuple[np.ndarray, sp.csc
     A = sp.vstack([equilibrium, eye_mu, -eye_tau, eye_tau, cones]).tocsc()
     b = np.concatenate([-model.dead, np.zeros(k + q_count), model.capacity, cone_b])
     q = np.zeros(n_x)
-    q[0] = -1.0
+    q[0] = -normalisation * float(model.n_free)
     return q, A, b, n, k + 2 * q_count, cone_b.size // 3
 
 
@@ -85,14 +100,17 @@ def _cone_rows(model: Model, n_x: int) -> tuple[sp.csc_matrix, np.ndarray]:
         vals.append(np.full(n_points, -np.sqrt(2.0)))
     A = sp.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(3 * n_points, n_x))
     b = np.zeros(3 * n_points)
-    b[0::3], b[1::3] = scale, -scale
+    b[0::3], b[1::3] = scale * (1.0 - CONE_MARGIN), -scale * (1.0 + CONE_MARGIN)
+    keep = sp.diags(np.tile([1.0 - CONE_RELATIVE_MARGIN, 1.0 - CONE_RELATIVE_MARGIN, 1.0], n_points))
+    A = (keep @ A).tocsc()  # (1 − κ) N_p in the first two rows
     return A, b
 
 
 def solve_static_crushing(model: Model, H: sp.csc_matrix, tolerance: float, max_iter: int,
-                          time_limit: float | None = None, refine: bool = True) -> ConicSolution:
+                          time_limit: float | None = None, refine: bool = True,
+                          normalisation: float = 1.0) -> ConicSolution:
     """Clarabel's primal–dual pair of the static cone program (:func:`static_cone_form`)."""
-    q, A, b, n_zero, n_nonneg, n_soc = static_cone_form(model, H)
+    q, A, b, n_zero, n_nonneg, n_soc = static_cone_form(model, H, normalisation)
     return solve_static_cone(q, A, b, n_zero, n_nonneg, n_soc, tolerance=tolerance, max_iter=max_iter,
                              time_limit=time_limit, refine=refine)
 
@@ -104,14 +122,16 @@ def point_normals(mu: np.ndarray) -> np.ndarray:
 
 def cone_violation(model: Model, mu: np.ndarray) -> float:
     """Largest violation of 2 c N_p ≥ N² on the crushing joints, as the normal force missing at a
-    point, max(0, N²/(2c) − N_p) (mean block weights, as the equilibrium residual)."""
+    point, max(0, N²/(2c) − N_p), in mean block weights or, where the joint carries more than one,
+    relative to its N (the equilibrium residual's round-off floor also grows with the forces)."""
     joints = crushing_joints(model)
     if joints.size == 0:
         return 0.0
     normals = point_normals(mu)[joints]
     total = normals.sum(axis=1)
     need = total**2 / (2.0 * model.crushing[joints])
-    return float(np.maximum(need[:, None] - normals, 0.0).max(initial=0.0))
+    missing = np.maximum(need[:, None] - normals, 0.0) / np.maximum(total, 1.0)[:, None]
+    return float(missing.max(initial=0.0))
 
 
 def crushing_dissipation(model: Model, power: np.ndarray) -> float:
@@ -145,3 +165,27 @@ def rigid_columns(model: Model, power: np.ndarray | None = None) -> np.ndarray:
         size = max(float(np.abs(power).max(initial=0.0)), 1e-300)
         rigid |= np.abs(power.reshape(-1, 4)).max(axis=1) <= REST * size
     return np.flatnonzero(np.repeat(rigid, 4))
+
+
+
+def repair_cone_field(model: Model, static: sp.csc_matrix, fields: np.ndarray, alpha: float,
+                      bound: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """The static field (μ, τ) put in equilibrium (Eq. 3) at a corrected α, kept inside the cones.
+
+    An affine-scaled minimum-norm correction (as :func:`alma.associative.certificate.certify_pair`'s
+    second pass) in which every generator of a crushing point moves in proportion to its room: the
+    smaller of μ and the point's cone slack N_p − N²/(2c), so that the hinge points, a solver's
+    margin away from their cones, keep their place.  Returns (fields, α, equilibrium residual).
+    """
+    k = model.equilibrium.shape[1]
+    mu = np.clip(fields, 0.0, bound)
+    room = np.minimum(mu, bound - mu)
+    joints = crushing_joints(model)
+    if joints.size:
+        normals = point_normals(mu[:k])
+        slack = np.full(normals.shape, np.inf)
+        slack[joints] = normals[joints] - (normals[joints].sum(axis=1) ** 2 / (2.0 * model.crushing[joints]))[:, None]
+        room[:k] = np.minimum(room[:k], np.maximum(np.repeat(slack.ravel(), 2), 0.0))
+    top = max(float(mu.max(initial=0.0)), 1e-300)
+    support = np.flatnonzero(room > 1e-14 * top)
+    return static_correction(static, model, mu, alpha, support, np.sqrt(room[support] / top), bound)

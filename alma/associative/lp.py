@@ -24,7 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from alma.associative.certificate import certify_pair
-from alma.associative.crushing import (cone_violation, crushing_dissipation, rigid_columns,
+from alma.associative.crushing import (cone_violation, crushing_dissipation, repair_cone_field, rigid_columns,
                                        solve_static_crushing)
 from alma.backends.clarabel_backend import ConicSolution, solve_conic_lp
 from alma.backends.highs_backend import solve_conic_form
@@ -172,7 +172,8 @@ def _solve_crushing(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol:
 def _crushing_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: float, iters: int,
                    time_limit: float | None, refine: bool) -> LPSolution:
     """One certified attempt of :func:`_solve_crushing` (``refine``: Clarabel's refinement)."""
-    sol = solve_static_crushing(model, H, tol, iters, time_limit, refine=refine)
+    sol = solve_static_crushing(model, H, s.cone_tolerance, iters, time_limit, refine=refine,
+                                normalisation=s.normalisation)
     if sol.status in (Status.NO_COLLAPSE, Status.NO_EQUILIBRIUM):
         message = ("no kinematically admissible mechanism with positive live-load work"
                    if sol.status == Status.NO_COLLAPSE else
@@ -190,6 +191,9 @@ def _crushing_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: 
     u, fields, lower, equilibrium_residual, kinematic_residual = certify_pair(
         H[:, rigid], model, sol.z[:n], sol.x[1:1 + k + q_count].copy(), sol.x[0], s.residual_tolerance,
         s.gap_tolerance, static=static, upper=bound)
+    if cone_violation(model, fields[:k]) > 0.0:  # the plain repair left the cones: keep their places
+        fields, lower, equilibrium_residual = repair_cone_field(model, static, sol.x[1:1 + k + q_count],
+                                                                sol.x[0], bound)
     mu, tau = fields[:k], fields[k:]
     static_residual = max(equilibrium_residual, cone_violation(model, mu))
     power = H.T @ u

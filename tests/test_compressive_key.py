@@ -88,9 +88,10 @@ def test_pure_crushing_state():
     assert result.status == Status.OPTIMAL
     assert result.alpha == pytest.approx((capacity - W) / W, rel=1e-9)
     joint = result.joints[0]
-    assert joint.state == "crushing" and joint.N == pytest.approx(capacity, rel=1e-8)
+    # the static field keeps the solver's cone margin (crushing.CONE_RELATIVE_MARGIN = 5e-8)
+    assert joint.state == "crushing" and joint.N == pytest.approx(capacity, rel=1e-7)
     (x0, _), (x1, _) = joint.stress_block
-    assert abs(x1 - x0) == pytest.approx(B, rel=1e-8)
+    assert abs(x1 - x0) == pytest.approx(B, rel=1e-7)
 
 
 def test_friction_model_refuses():
