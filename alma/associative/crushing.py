@@ -134,8 +134,9 @@ def cone_violation(model: Model, mu: np.ndarray) -> float:
     return float(missing.max(initial=0.0))
 
 
-def crushing_dissipation(model: Model, power: np.ndarray) -> float:
-    """Σ over the crushing joints of sup_{μ in the joint's yield set} (−μᵀ g), g = Hᵀu (4 m).
+def crushing_dissipation(model: Model, power: np.ndarray, among: np.ndarray | None = None) -> float:
+    """Σ over the crushing joints (those of the mask ``among``, default all) of
+    sup_{μ in the joint's yield set} (−μᵀ g), g = Hᵀu (4 m).
 
     A point's two generators share its N_p, so the point does work a_p N_p at most, a_p =
     −min(g₊, g₋).  With a_hi ≥ a_lo the joint's two values, the best split puts N²/(2c) on the
@@ -143,6 +144,8 @@ def crushing_dissipation(model: Model, power: np.ndarray) -> float:
     block over the whole joint) when a_lo ≥ 0; else c a_hi² / (2 (a_hi − a_lo)).
     """
     joints = crushing_joints(model)
+    if among is not None:
+        joints = joints[among[joints]]
     if joints.size == 0:
         return 0.0
     a = -power.reshape(-1, 2, 2).min(axis=2)[joints]  # (j, point)
@@ -156,14 +159,17 @@ def crushing_dissipation(model: Model, power: np.ndarray) -> float:
 def rigid_columns(model: Model, power: np.ndarray | None = None) -> np.ndarray:
     """Generator columns (4 per joint) on which the mechanism is held to the flow rule Hᵀu ≥ 0:
     the joints without a crushing capacity, and -- given the solver's powers ``power`` = Hᵀu --
-    the crushing joints at rest (every power below :data:`REST` of the largest).
+    the crushing joints that crush nowhere: at each point the smaller power of its two generators
+    (−a_p, :func:`crushing_dissipation`) below :data:`REST` of the largest power (at rest, sliding
+    with dilatancy, or separating).
 
-    A crushing joint at rest dissipates c |noise| on the solver's round-off (c = σ_c l t can be
-    10⁹ mean block weights); the repair removes the noise so that its dissipation is ~0."""
+    Such a joint dissipates c |noise| on the solver's round-off (c = σ_c l t is 10³-10⁹ mean
+    block weights); the repair removes the noise so that its dissipation is ~0."""
     rigid = ~np.isfinite(model.crushing)
     if power is not None:
         size = max(float(np.abs(power).max(initial=0.0)), 1e-300)
-        rigid |= np.abs(power.reshape(-1, 4)).max(axis=1) <= REST * size
+        closing = np.abs(power.reshape(-1, 2, 2).min(axis=2)).max(axis=1)
+        rigid |= closing <= REST * size
     return np.flatnonzero(np.repeat(rigid, 4))
 
 
@@ -179,13 +185,21 @@ def repair_cone_field(model: Model, static: sp.csc_matrix, fields: np.ndarray, a
     """
     k = model.equilibrium.shape[1]
     mu = np.clip(fields, 0.0, bound)
-    room = np.minimum(mu, bound - mu)
-    joints = crushing_joints(model)
-    if joints.size:
-        normals = point_normals(mu[:k])
-        slack = np.full(normals.shape, np.inf)
-        slack[joints] = normals[joints] - (normals[joints].sum(axis=1) ** 2 / (2.0 * model.crushing[joints]))[:, None]
-        room[:k] = np.minimum(room[:k], np.maximum(np.repeat(slack.ravel(), 2), 0.0))
-    top = max(float(mu.max(initial=0.0)), 1e-300)
-    support = np.flatnonzero(room > 1e-14 * top)
-    return static_correction(static, model, mu, alpha, support, np.sqrt(room[support] / top), bound)
+    best = (mu, alpha, float(np.abs(static @ mu + model.dead + alpha * model.live).max(initial=0.0)))
+    for _ in range(3):  # each round takes the rooms of the last field: the residual falls ~1000x
+        room = np.minimum(best[0], bound - best[0])
+        joints = crushing_joints(model)
+        if joints.size:
+            normals = point_normals(best[0][:k])
+            slack = np.full(normals.shape, np.inf)
+            need = normals[joints].sum(axis=1) ** 2 / (2.0 * model.crushing[joints])
+            slack[joints] = normals[joints] - need[:, None]
+            room[:k] = np.minimum(room[:k], np.maximum(np.repeat(slack.ravel(), 2), 0.0))
+        top = max(float(best[0].max(initial=0.0)), 1e-300)
+        support = np.flatnonzero(room > 1e-14 * top)
+        trial = static_correction(static, model, best[0].copy(), best[1], support, np.sqrt(room[support] / top),
+                                  bound)
+        if trial[2] >= best[2]:
+            break
+        best = trial
+    return best
