@@ -122,11 +122,13 @@ def test_cli_option(tmp_path, capsys):
         assert "compressive" in captured.err and "Traceback" not in captured.err
 
 
-def test_cli_panel_option(capsys):
+def test_cli_panel_option(tmp_path, capsys):
+    path = tmp_path / "panel.json"
     assert main(["panel", "--bond", "stack", "--panel-ratio", "2:1", "--block-ratio", "4:1", "--friction",
-                 "0.6", "--compressive-strength", "2", "--json"]) == 0
+                 "0.6", "--compressive-strength", "2", "--export-scene", str(path), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["status"] == "optimal" and "capacity" in out["joints"][0]
+    assert json.loads(path.read_text())["compressive_strength"] == 2.0
 
 
 @settings(max_examples=8, deadline=None)

@@ -188,6 +188,7 @@ def _cmd_panel(args: argparse.Namespace) -> int:
             scene = with_chain(scene, height, strength, anchored=args.anchored, name=f"chain{k + 1}")
         if args.chain:
             scene.validate()
+        scene = with_compressive_strength(scene, args.compressive_strength)  # exported with it
     except SceneError as exc:
         return _invalid(exc, args)
     if args.export_scene:
