@@ -187,3 +187,16 @@ def test_pier_moment_of_the_italian_code():
     Mu = (l**2 * T * sigma0 * MPA_MM2 / 2) * (1 - sigma0 / (0.85 * fd))  # kN·mm
     assert result.status == Status.OPTIMAL
     assert result.alpha == pytest.approx(Mu / h, rel=1e-9)  # live load 1 kN × α at height h
+
+
+@pytest.mark.parametrize("h", [60.0, 600.0])
+def test_with_cohesion_the_weaker_mechanism(h):
+    """Cohesion and crushing together: α = min(f + c b t / W, (b − W/(σ_c t))/h)."""
+    b, f, c, sigma = 240.0, 0.3, 1.0, 0.05
+    data = single_block_dict(b, h, f)
+    data["cohesion"] = c
+    W = b * h * T * GAMMA * 1e-9
+    expected = min(f + c * b * T * 1e-6 / W, (b - W / (sigma * MPA_MM2 * T)) / h)
+    result = _alpha(data, sigma)
+    assert result.status == Status.OPTIMAL, result.message
+    assert result.alpha == pytest.approx(expected, rel=1e-9)
