@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import copy
 import json
+import types
 
 import numpy as np
 import pytest
@@ -12,6 +13,7 @@ from hypothesis import strategies as st
 
 import alma
 import alma.associative.lp as lp_module
+from alma.associative.crushing import crushing_dissipation
 from alma.cli.main import main
 from alma.geometry.scene import SceneError
 from alma.mechanics.model import build_model
@@ -141,3 +143,17 @@ def test_origin_and_block_order_do_not_matter(dx, dy, reverse):
     if reverse:
         data["blocks"].reverse()
     assert alma.solve(alma.Scene.from_dict(data)).alpha == pytest.approx(base, rel=1e-8)
+
+
+@settings(max_examples=20, deadline=None)
+@given(g=st.lists(st.floats(-2.0, 2.0), min_size=4, max_size=4), c=st.floats(0.1, 100.0))
+def test_closed_form_dissipation_is_the_sup(g, c):
+    """crushing_dissipation = max over the joint's yield set of −μᵀg (a small cvxpy program)."""
+    cp = pytest.importorskip("cvxpy")
+    model = types.SimpleNamespace(crushing=np.array([c]))
+    mu = cp.Variable(4, nonneg=True)
+    N = cp.sum(mu)
+    problem = cp.Problem(cp.Maximize(-np.array(g) @ mu),
+                         [cp.square(N) <= 2 * c * (mu[0] + mu[1]), cp.square(N) <= 2 * c * (mu[2] + mu[3])])
+    problem.solve(solver=cp.CLARABEL)
+    assert crushing_dissipation(model, np.array(g)) == pytest.approx(problem.value, rel=1e-6, abs=1e-7)
