@@ -200,3 +200,18 @@ def test_with_cohesion_the_weaker_mechanism(h):
     result = _alpha(data, sigma)
     assert result.status == Status.OPTIMAL, result.message
     assert result.alpha == pytest.approx(expected, rel=1e-9)
+
+
+def test_tilt_bisects_with_crushing():
+    """On a tilting table the block rocks when tan θ = (b − W cos θ/(σ_c t))/h (the base force is
+    W cos θ); alma tilt brackets that angle (bisection: the capacity does not scale with g)."""
+    b, h, sigma = 240.0, 600.0, 0.02
+    W = b * h * T * GAMMA * 1e-9
+    data = single_block_dict(b, h, 10.0)
+    data["compressive_strength"] = sigma
+    result = alma.tilt(alma.Scene.from_dict(data))
+    theta = 0.3
+    for _ in range(100):  # a contraction: converges to the root
+        theta = math.atan((b - W * math.cos(theta) / (sigma * MPA_MM2 * T)) / h)
+    lo, hi = result.bounds_deg
+    assert result.method == "bisection" and lo <= math.degrees(theta) <= hi
