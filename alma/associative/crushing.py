@@ -180,8 +180,9 @@ def repair_cone_field(model: Model, static: sp.csc_matrix, fields: np.ndarray, a
 
     An affine-scaled minimum-norm correction (as :func:`alma.associative.certificate.certify_pair`'s
     second pass) in which every generator of a crushing point moves in proportion to its room: the
-    smaller of μ and the point's cone slack N_p − N²/(2c), so that the hinge points, a solver's
-    margin away from their cones, keep their place.  Returns (fields, α, equilibrium residual).
+    smallest of μ, the point's cone slack N_p − N²/(2c) and the other point's slack times c/N, so
+    that the hinge points, a solver's margin away from their cones, keep their place.  Returns
+    (fields, α, equilibrium residual).
     """
     k = model.equilibrium.shape[1]
     mu = np.clip(fields, 0.0, bound)
@@ -192,9 +193,14 @@ def repair_cone_field(model: Model, static: sp.csc_matrix, fields: np.ndarray, a
         if joints.size:
             normals = point_normals(best[0][:k])
             slack = np.full(normals.shape, np.inf)
-            need = normals[joints].sum(axis=1) ** 2 / (2.0 * model.crushing[joints])
-            slack[joints] = normals[joints] - need[:, None]
-            room[:k] = np.minimum(room[:k], np.maximum(np.repeat(slack.ravel(), 2), 0.0))
+            total = normals[joints].sum(axis=1)
+            need = total**2 / (2.0 * model.crushing[joints])
+            own = np.maximum(normals[joints] - need[:, None], 0.0)
+            # a point's force lowers its own slack when it falls and, through N, the other
+            # point's when it rises (need grows by N ΔN / c): both bound its room
+            other = own[:, ::-1] * model.crushing[joints][:, None] / np.maximum(total, 1e-300)[:, None]
+            slack[joints] = np.minimum(own, other)
+            room[:k] = np.minimum(room[:k], np.repeat(slack.ravel(), 2))
         top = max(float(best[0].max(initial=0.0)), 1e-300)
         support = np.flatnonzero(room > 1e-14 * top)
         trial = static_correction(static, model, best[0].copy(), best[1], support, np.sqrt(room[support] / top),

@@ -192,8 +192,8 @@ def _crushing_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: 
         H[:, rigid], model, sol.z[:n], sol.x[1:1 + k + q_count].copy(), sol.x[0], s.residual_tolerance,
         s.gap_tolerance, static=static, upper=bound)
     if cone_violation(model, fields[:k]) > 0.0:  # the plain repair left the cones: keep their places
-        fields, lower, equilibrium_residual = repair_cone_field(model, static, sol.x[1:1 + k + q_count],
-                                                                sol.x[0], bound)
+        raw = np.clip(sol.x[1:1 + k + q_count], 0.0, bound)
+        fields, lower, equilibrium_residual = repair_cone_field(model, static, raw, sol.x[0], bound)
     mu, tau = fields[:k], fields[k:]
     static_residual = max(equilibrium_residual, cone_violation(model, mu))
     power = H.T @ u
