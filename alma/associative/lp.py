@@ -93,7 +93,7 @@ def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, toler
     if k == 0:  # no joint: any motion is free, no load can be carried
         return _trivial(model, Status.NO_EQUILIBRIUM, "no joint carries the free blocks")
     if model.crushes:
-        return _solve_crushing(model, H, s, tol, iters, time_limit)
+        return _solve_crushing(model, H, s, iters, time_limit)
     sol, label, note, record = _solve_pair(model, H, s, tol, iters, time_limit, ipm_settings)
     if sol.status in (Status.NO_COLLAPSE, Status.NO_EQUILIBRIUM):
         message = ("no kinematically admissible mechanism with positive live-load work"
@@ -146,7 +146,7 @@ def _certified(model: Model, H: sp.csc_matrix, s: AssociativeSettings, sol: Coni
                       engine=record)
 
 
-def _solve_crushing(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: float, iters: int,
+def _solve_crushing(model: Model, H: sp.csc_matrix, s: AssociativeSettings, iters: int,
                     time_limit: float | None) -> LPSolution:
     """Eq. 10 with finite compressive strength (:mod:`alma.associative.crushing`): Clarabel's
     second-order cone program always (alma's interior point and the simplex take LPs only),
@@ -157,10 +157,10 @@ def _solve_crushing(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol:
     others; when the first pair does not certify, the other setting is tried (deterministic: the
     same scene takes the same path) and the first certified pair is kept.
     """
-    first = _crushing_pair(model, H, s, tol, iters, time_limit, s.cone_refinement)
+    first = _crushing_pair(model, H, s, iters, time_limit, s.cone_refinement)
     if first.status != Status.NOT_CONVERGED:
         return first
-    second = _crushing_pair(model, H, s, tol, iters, time_limit, not s.cone_refinement)
+    second = _crushing_pair(model, H, s, iters, time_limit, not s.cone_refinement)
     if second.status == Status.OPTIMAL:
         return dataclasses.replace(second, message=f"{second.message} (refinement "
                                    f"{'on' if not s.cone_refinement else 'off'}, after: {first.message})",
@@ -169,9 +169,10 @@ def _solve_crushing(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol:
     return first
 
 
-def _crushing_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: float, iters: int,
+def _crushing_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, iters: int,
                    time_limit: float | None, refine: bool) -> LPSolution:
-    """One certified attempt of :func:`_solve_crushing` (``refine``: Clarabel's refinement)."""
+    """One certified attempt of :func:`_solve_crushing` (``refine``: Clarabel's refinement; the
+    tolerance is ``s.cone_tolerance``, not the LP's)."""
     sol = solve_static_crushing(model, H, s.cone_tolerance, iters, time_limit, refine=refine,
                                 normalisation=s.normalisation)
     if sol.status in (Status.NO_COLLAPSE, Status.NO_EQUILIBRIUM):
@@ -191,11 +192,14 @@ def _crushing_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: 
     u, fields, lower, equilibrium_residual, kinematic_residual = certify_pair(
         H[:, rigid], model, sol.z[:n], sol.x[1:1 + k + q_count].copy(), sol.x[0], s.residual_tolerance,
         s.gap_tolerance, static=static, upper=bound)
-    if cone_violation(model, fields[:k]) > 0.0:  # the plain repair left the cones: keep their places
+    static_residual = max(equilibrium_residual, cone_violation(model, fields[:k]))
+    if static_residual > s.residual_tolerance:  # the plain repair left the cones: keep their places
         raw = np.clip(sol.x[1:1 + k + q_count], 0.0, bound)
-        fields, lower, equilibrium_residual = repair_cone_field(model, static, raw, sol.x[0], bound)
+        again, alpha_again, residual_again = repair_cone_field(model, static, raw, sol.x[0], bound)
+        residual_again = max(residual_again, cone_violation(model, again[:k]))
+        if residual_again < static_residual:
+            fields, lower, static_residual = again, alpha_again, residual_again
     mu, tau = fields[:k], fields[k:]
-    static_residual = max(equilibrium_residual, cone_violation(model, mu))
     power = H.T @ u
     # The held joints' round-off violations are charged as the LP's are (_certified); the crushing
     # joints that move crush and dissipate exactly (crushing_dissipation).
