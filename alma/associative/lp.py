@@ -193,9 +193,11 @@ def _crushing_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, iters
         H[:, rigid], model, sol.z[:n], sol.x[1:1 + k + q_count].copy(), sol.x[0], s.residual_tolerance,
         s.gap_tolerance, static=static, upper=bound)
     static_residual = max(equilibrium_residual, cone_violation(model, fields[:k]))
-    if static_residual > s.residual_tolerance:  # the plain repair left the cones: keep their places
-        raw = np.clip(sol.x[1:1 + k + q_count], 0.0, bound)
-        again, alpha_again, residual_again = repair_cone_field(model, static, raw, sol.x[0], bound)
+    # Not admissible: the cone-aware repair, from the plain repair's field and from the solver's.
+    for start, alpha0 in ((fields, lower), (np.clip(sol.x[1:1 + k + q_count], 0.0, bound), sol.x[0])):
+        if static_residual <= s.residual_tolerance:
+            break
+        again, alpha_again, residual_again = repair_cone_field(model, static, start, alpha0, bound)
         residual_again = max(residual_again, cone_violation(model, again[:k]))
         if residual_again < static_residual:
             fields, lower, static_residual = again, alpha_again, residual_again
