@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: bench-friction bench-friction-perturb demo test test-latest test-latest-subset explore compare bench bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded bench-engine bench-crisp bench-crisp-floor bench-first-order figures html-screenshot venv clean
+.PHONY: bench-friction bench-friction-perturb demo test test-latest test-latest-subset explore compare bench bench-compressive bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded bench-engine bench-crisp bench-crisp-floor bench-first-order figures html-screenshot venv clean
 
 venv: $(STAMP)
 
@@ -59,6 +59,9 @@ compare: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_lp.py
+
+bench-compressive: $(STAMP)
+	$(BIN)/python benchmarks/bench_compressive.py
 
 bench-assoc: $(STAMP)
 	$(BIN)/python benchmarks/bench_assoc_speed.py --doe

@@ -51,6 +51,13 @@ class AssociativeSettings:
     #: Free blocks up to which the crisp LP may fall back to its capped form (tens of solves on
     #: the largest panels; the complementary form costs about one).
     crisp_capped_blocks: int = 1000
+    #: Iterative refinement in Clarabel's cone program of finite compressive strength: with it the
+    #: single block recovers b/h to 7e-10 at σ_c = 1e7 MPa (3e-9 without; docs/compressive.md).
+    cone_refinement: bool = True
+    #: Clarabel's tolerances on the cone program: at 1e-9 it ends "Solved" on the paper's panels
+    #: with its stress field inside the cones (their margin, alma.associative.crushing); at
+    #: 1e-10 and below it stops "AlmostSolved" with cone violations of 4e-8 (docs/compressive.md).
+    cone_tolerance: float = 1e-9
 
 
 @dataclass(frozen=True)

@@ -31,7 +31,7 @@ import scipy.sparse as sp
 
 from alma.associative.certificate import _repair_field
 from alma.backends.clarabel_backend import solve_conic_lp
-from alma.geometry.scene import JointOverride, Scene
+from alma.geometry.scene import JointOverride, Scene, SceneError
 from alma.mechanics.forces import joint_values
 from alma.mechanics.model import Model, build_model
 from alma.mechanics.contact_points import ContactPoints
@@ -86,6 +86,9 @@ def settle(scene: Scene, settings: AssociativeSettings | None = None) -> Settlem
                           "SPEC §2): there is nothing to settle")
     t0 = time.perf_counter()
     model = build_model(scene)
+    if model.crushes:
+        raise SceneError("compressive_strength: the settlement analysis takes infinitely strong blocks only; "
+                         "remove compressive_strength from the scene")
     h, g = support_power(model), bounded_support_power(model)
     H, q = model.equilibrium, model.n_bounded
     n, k = H.shape

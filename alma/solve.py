@@ -43,7 +43,9 @@ def solve(scene: Scene | Model, model: str = "associative", *, settings: Setting
     certify
         Non-associative models only: prove a lower bound by mixed-integer programming.  The MILP
         is written without bounded forces: with cohesion or ties it is not run, and the result's
-        message says so (Radenkovic's bound is still reported).
+        message says so (Radenkovic's bound is still reported).  A scene with a finite
+        ``compressive_strength`` is solved by the associative model only (a second-order cone
+        program, :mod:`alma.associative.crushing`); the others refuse it with a SceneError.
     time_limit
         A user's wall-clock cap in seconds; when it cuts the work the status is
         ``limit_reached``.  Without it the answer depends on the input and settings only.
@@ -55,6 +57,10 @@ def solve(scene: Scene | Model, model: str = "associative", *, settings: Setting
         raise ValueError("certify applies to the non-associative model (the associative result is "
                          "certified by its static and kinematic bounds): use model='nonassociative' or 'both'")
     built, timings = _build(scene, joints)
+    if built.crushes and model != "associative":
+        raise SceneError("compressive_strength: the non-associative model (Eq. 9) takes no finite compressive "
+                         "strength (its verifier and certificate check the Coulomb cones only); solve with "
+                         "model='associative', or remove compressive_strength")
     lp = solve_lp(built, settings.associative, time_limit=settings.time_limit)
     timings.update(solve_s=lp.solve_time, certify_s=lp.certify_time)
     warned = built.joints.warnings
@@ -90,7 +96,7 @@ def _crisp(built: Model, lp, settings: Settings, timings: dict[str, float]):
     of the interior point's blend; α, bounds and the stress field stay.  The non-associative
     search keeps starting from the interior point's mechanism."""
     s = settings.associative
-    if not (s.crisp_mechanism and lp.status == "optimal" and not built.n_bounded):
+    if not (s.crisp_mechanism and lp.status == "optimal" and not built.n_bounded and not built.crushes):
         return lp
     t0 = time.perf_counter()
     u, why = crisp_mechanism(built, lp.upper, s.gap_tolerance * 5e-3, lp.multipliers, lp.mechanism,

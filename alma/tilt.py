@@ -75,7 +75,8 @@ def tilt(scene: Scene, *, settings: TiltSettings | None = None, associative: Ass
         raise ValueError(f"method must be 'auto', 'exact' or 'bisection', got {method!r}")
     homogeneous = _homogeneous(scene)
     if method == "exact" and not homogeneous:
-        raise ValueError("the exact tilt angle needs self-weight as the only load, no cohesion and no ties")
+        raise ValueError("the exact tilt angle needs self-weight as the only load, no cohesion, no ties and "
+                         "no compressive strength")
     s = settings or TiltSettings()
     if _stands(scene, 0.0, associative, backwards=True) is False:
         # α of Eq. 10 is the largest multiplier carried: the level table must also carry the
@@ -101,11 +102,12 @@ def tilted(scene: Scene, degrees: float, *, backwards: bool = False) -> Scene:
 
 
 def _homogeneous(scene: Scene) -> bool:
-    """Self-weight is the only load, and no joint has a strength of its own (cohesion, ties)."""
+    """Self-weight is the only load, and no joint has a strength of its own (cohesion, ties, a
+    compressive strength: its capacity does not scale with the loads)."""
     g0 = np.asarray(scene.gravity, dtype=float)
     live = np.asarray(scene.live_load_direction, dtype=float)
-    return (not scene.loads and not scene.ties and scene.cohesion == 0
-            and all(not o.cohesion for o in scene.joint_overrides)
+    return (not scene.loads and not scene.ties and scene.cohesion == 0 and scene.compressive_strength is None
+            and all(not o.cohesion and o.compressive_strength is None for o in scene.joint_overrides)
             and scene.live_self_weight and np.allclose(live, _rotate(g0, math.pi / 2), atol=1e-12))
 
 

@@ -113,7 +113,7 @@ def _repair_field(A: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float, 
         else:
             support = np.flatnonzero(room > 1e-9 * top)
             weight = np.ones(support.size)
-        trial = _static_correction(A, model, mu.copy(), alpha, support, weight, bound)
+        trial = static_correction(A, model, mu.copy(), alpha, support, weight, bound)
         if best_static is None or _better(trial, best_static, residual_tolerance):
             best_static = trial
     return best_static
@@ -127,7 +127,7 @@ def _better(trial: tuple, best: tuple, residual_tolerance: float) -> bool:
     return ok_t or (not ok_b and trial[2] < best[2])
 
 
-def _static_correction(H: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float,
+def static_correction(H: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float,
                        support: np.ndarray, weight: np.ndarray,
                        bound: np.ndarray) -> tuple[np.ndarray, float, float]:
     """Minimum-norm correction of (μ_S, α) removing the equilibrium residual (Eq. 3)."""

@@ -24,6 +24,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from alma.associative.certificate import certify_pair, cone_residual
+from alma.associative.crushing import (cone_violation, crushing_dissipation, repair_cone_field, rigid_columns,
+                                       solve_static_crushing)
 from alma.backends.clarabel_backend import ConicSolution, solve_conic_lp
 from alma.backends.highs_backend import solve_conic_form
 from alma.engine.select import choose, solve_with_engine
@@ -90,6 +92,8 @@ def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, toler
     n, k = H.shape
     if k == 0:  # no joint: any motion is free, no load can be carried
         return _trivial(model, Status.NO_EQUILIBRIUM, "no joint carries the free blocks")
+    if model.crushes:
+        return _solve_crushing(model, H, s, iters, time_limit)
     sol, label, note, record = _solve_pair(model, H, s, tol, iters, time_limit, ipm_settings)
     if sol.status in (Status.NO_COLLAPSE, Status.NO_EQUILIBRIUM):
         message = ("no kinematically admissible mechanism with positive live-load work"
@@ -141,6 +145,80 @@ def _certified(model: Model, H: sp.csc_matrix, s: AssociativeSettings, sol: Coni
                       kinematic_residual=kinematic_residual, iterations=sol.iterations,
                       solve_time=sol.solve_time, certify_time=time.perf_counter() - t0, bounded_forces=tau,
                       engine=record)
+
+
+def _solve_crushing(model: Model, H: sp.csc_matrix, s: AssociativeSettings, iters: int,
+                    time_limit: float | None) -> LPSolution:
+    """Eq. 10 with finite compressive strength (:mod:`alma.associative.crushing`): Clarabel's
+    second-order cone program always (alma's interior point and the simplex take LPs only),
+    certified as the LP: the repaired stress field inside the cones gives the lower bound, the
+    mechanism with the crushing joints' exact dissipation the upper one.
+
+    Clarabel's iterative refinement helps on some near-rigid cones (σ_c l t ≫ N) and hurts on
+    others; when the first pair does not certify, the other setting is tried (deterministic: the
+    same scene takes the same path) and the first certified pair is kept.
+    """
+    first = _crushing_pair(model, H, s, iters, time_limit, s.cone_refinement)
+    if first.status != Status.NOT_CONVERGED:
+        return first
+    second = _crushing_pair(model, H, s, iters, time_limit, not s.cone_refinement)
+    if second.status == Status.OPTIMAL:
+        return dataclasses.replace(second, message=f"{second.message} (refinement "
+                                   f"{'on' if not s.cone_refinement else 'off'}, after: {first.message})",
+                                   solve_time=first.solve_time + second.solve_time,
+                                   iterations=first.iterations + second.iterations)
+    return first
+
+
+def _crushing_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, iters: int,
+                   time_limit: float | None, refine: bool) -> LPSolution:
+    """One certified attempt of :func:`_solve_crushing` (``refine``: Clarabel's refinement; the
+    tolerance is ``s.cone_tolerance``, not the LP's)."""
+    sol = solve_static_crushing(model, H, s.cone_tolerance, iters, time_limit, refine=refine,
+                                normalisation=s.normalisation)
+    if sol.status in (Status.NO_COLLAPSE, Status.NO_EQUILIBRIUM):
+        message = ("no kinematically admissible mechanism with positive live-load work"
+                   if sol.status == Status.NO_COLLAPSE else
+                   "no statically admissible stress field for any load multiplier: the joints cannot carry "
+                   "the dead load within their compressive strength (a joint crushes, N > σ_c l t, or no "
+                   "stress block fits the moment)")
+        return _trivial(model, sol.status, f"{message} (Clarabel: {sol.raw_status})", iterations=sol.iterations,
+                        solve_time=sol.solve_time)
+    t0 = time.perf_counter()
+    n, k = H.shape
+    q_count = model.n_bounded
+    static = sp.hstack([H, model.bounded]).tocsc() if q_count else H
+    bound = np.concatenate([np.full(k, np.inf), model.capacity])
+    rigid = rigid_columns(model, H.T @ sol.z[:n])
+    u, fields, lower, equilibrium_residual, kinematic_residual = certify_pair(
+        H[:, rigid], model, sol.z[:n], sol.x[1:1 + k + q_count].copy(), sol.x[0], s.residual_tolerance,
+        s.gap_tolerance, static=static, upper=bound)
+    static_residual = max(equilibrium_residual, cone_violation(model, fields[:k]))
+    # Not admissible: the cone-aware repair, from the plain repair's field and from the solver's.
+    for start, alpha0 in ((fields, lower), (np.clip(sol.x[1:1 + k + q_count], 0.0, bound), sol.x[0])):
+        if static_residual <= s.residual_tolerance:
+            break
+        again, alpha_again, residual_again = repair_cone_field(model, static, start, alpha0, bound)
+        residual_again = max(residual_again, cone_violation(model, again[:k]))
+        if residual_again < static_residual:
+            fields, lower, static_residual = again, alpha_again, residual_again
+    mu, tau = fields[:k], fields[k:]
+    power = H.T @ u
+    # The held joints' round-off violations are charged as the LP's are (_certified); the crushing
+    # joints that move crush and dissipate exactly (crushing_dissipation).
+    violation_work = float(np.maximum(-power[rigid], 0.0) @ mu[rigid])
+    moving = np.ones(model.n_joints, dtype=bool)
+    moving[rigid[::4] // 4] = False
+    work = -model.dead @ u + crushing_dissipation(model, power, moving) + dissipation(model, u)
+    upper = float((work + violation_work) / (model.live @ u))
+    forces = float((abs(static) @ np.abs(fields)).max(initial=0.0))
+    status, message, lower, upper = _judge(s, sol.status, f"Clarabel cone program: {sol.raw_status}", lower,
+                                           upper, static_residual, kinematic_residual, forces)
+    alpha = upper if np.isfinite(upper) else float(work / (model.live @ u))
+    return LPSolution(status=status, message=message, alpha=alpha, lower=lower, upper=upper, mechanism=u,
+                      multipliers=mu, static_residual=static_residual, kinematic_residual=kinematic_residual,
+                      iterations=sol.iterations, solve_time=sol.solve_time,
+                      certify_time=time.perf_counter() - t0, bounded_forces=tau)
 
 
 def _solve_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: float, iters: int,

@@ -126,6 +126,9 @@ def _add_common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--crisp", action="store_true",
                    help="show one crisp mechanism of the associative optimal face (a vertex) instead of the "
                         "interior point's blend of all of them (about 1-5x the solve)")
+    p.add_argument("--compressive-strength", type=float, default=None, metavar="MPA",
+                   help="σ_c of every joint in MPa (overrides the scene's compressive_strength; default: the "
+                        "scene's, else infinitely strong blocks); associative model only")
     p.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p.add_argument("--plot", metavar="OUT.png", help="write a picture of the collapse mechanism")
     p.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the result in words, the "
@@ -212,6 +215,7 @@ def _cmd_panel(args: argparse.Namespace) -> int:
             scene = with_chain(scene, height, strength, anchored=args.anchored, name=f"chain{k + 1}")
         if args.chain:
             scene.validate()
+        scene = with_compressive_strength(scene, args.compressive_strength)  # exported with it
     except SceneError as exc:
         return _invalid(exc, args)
     if args.export_scene:
@@ -225,6 +229,7 @@ def _run(scene: Scene, args: argparse.Namespace) -> int:
               file=sys.stderr)
         return 2
     try:
+        scene = with_compressive_strength(scene, getattr(args, "compressive_strength", None))
         crisp = Settings(associative=AssociativeSettings(crisp_mechanism=True)) if args.crisp else None
         result = solve(scene, model=args.model, settings=crisp, effort=args.effort, certify=args.certify,
                        time_limit=args.time_limit)
@@ -264,6 +269,15 @@ def _print_text(scene: Scene, result, picture: str | None) -> None:
     print(f"  time       {', '.join(parts)}")
     if picture:
         print(f"  picture    {picture}")
+
+
+def with_compressive_strength(scene: Scene, value: float | None) -> Scene:
+    """``scene`` with ``--compressive-strength`` (MPa) for every joint, when given (SPEC §2)."""
+    if value is None:
+        return scene
+    if not (math.isfinite(value) and value > 0):
+        raise SceneError(f"--compressive-strength (MPa) must be a finite number > 0, got {value}")
+    return dataclasses.replace(scene, compressive_strength=float(value))
 
 
 def export_scene(scene: Scene, path: str) -> None:

@@ -22,10 +22,11 @@ from alma.geometry.loads import (PointLoad, Settlement, Tie, check_items, load_f
 from alma.geometry.parsing import SceneError, direction as _direction, number as _number
 
 _SCENE_KEYS = {"name", "thickness", "unit_weight", "friction", "cohesion", "blocks",
-               "live_load", "gravity", "joints", "loads", "ties", "contact_tolerance"}
+               "live_load", "gravity", "joints", "loads", "ties", "contact_tolerance",
+               "compressive_strength"}
 _BLOCK_KEYS = {"id", "vertices", "fixed", "weight", "settlement"}
 _LIVE_KEYS = {"direction", "self_weight"}
-_JOINT_KEYS = {"blocks", "friction", "cohesion"}
+_JOINT_KEYS = {"blocks", "friction", "cohesion", "compressive_strength"}
 
 
 @dataclass(frozen=True)
@@ -49,11 +50,13 @@ class Block:
 
 @dataclass(frozen=True)
 class JointOverride:
-    """Per-joint material (SPEC §2): friction/cohesion of the joint between two blocks."""
+    """Per-joint material (SPEC §2): friction/cohesion/compressive strength (MPa) of the joint
+    between two blocks."""
 
     blocks: tuple[str, str]
     friction: float | None = None
     cohesion: float | None = None
+    compressive_strength: float | None = None
 
 
 @dataclass(frozen=True)
@@ -76,6 +79,9 @@ class Scene:
     #: Gaps and overlaps snapped to a joint, relative to the median √area of the free blocks
     #: (None: :data:`alma.geometry.edges.CONTACT`'s default).
     contact_tolerance: float | None = None
+    #: σ_c of every joint in MPa (SPEC §2): N ≤ σ_c l t, |M| ≤ N (l/2 − N/(2 σ_c t)); None:
+    #: infinitely strong blocks.
+    compressive_strength: float | None = None
     #: Set by :meth:`validate`: a scene built by hand is validated before it is solved.
     validated: bool = field(default=False, compare=False, repr=False)
 
@@ -117,6 +123,7 @@ class Scene:
             ties=tuple(tie_from_dict(raw, i) for i, raw in enumerate(_list(data, "ties"))),
             live_self_weight=_flag(live.get("self_weight", True), "live_load: self_weight"),
             contact_tolerance=_optional_number(data.get("contact_tolerance"), "scene: contact_tolerance"),
+            compressive_strength=_optional_number(data.get("compressive_strength"), "scene: compressive_strength"),
         )
         if validate:
             scene.validate()
@@ -149,10 +156,13 @@ class Scene:
             out["ties"] = [tie_to_dict(tie) for tie in self.ties]
         if self.contact_tolerance is not None:
             out["contact_tolerance"] = self.contact_tolerance
+        if self.compressive_strength is not None:
+            out["compressive_strength"] = self.compressive_strength
         if self.joint_overrides:
             out["joints"] = [
                 {k: v for k, v in (("blocks", list(o.blocks)), ("friction", o.friction),
-                                   ("cohesion", o.cohesion)) if v is not None}
+                                   ("cohesion", o.cohesion), ("compressive_strength", o.compressive_strength))
+                 if v is not None}
                 for o in self.joint_overrides
             ]
         return out
@@ -176,6 +186,9 @@ class Scene:
             raise SceneError(f"scene: friction must be >= 0, got {self.friction}")
         if self.cohesion < 0:
             raise SceneError(f"scene: cohesion must be >= 0, got {self.cohesion}")
+        if self.compressive_strength is not None and not self.compressive_strength > 0:
+            raise SceneError("scene: compressive_strength (MPa) must be > 0 (omit it for infinitely strong "
+                             f"blocks), got {self.compressive_strength}")
         if self.contact_tolerance is not None and not 0 < self.contact_tolerance <= 0.01:
             raise SceneError("scene: contact_tolerance (relative to the blocks' size) must lie in (0, 0.01], "
                              f"got {self.contact_tolerance}")
@@ -347,6 +360,9 @@ def _joint_override(raw: Any, index: int) -> JointOverride:
         raise SceneError(f"joint #{index}: 'blocks' must name two blocks")
     friction = raw.get("friction")
     cohesion = raw.get("cohesion")
+    strength = _optional_number(raw.get("compressive_strength"), f"joint {pair}: compressive_strength")
+    if strength is not None and not strength > 0:
+        raise SceneError(f"joint {pair}: compressive_strength (MPa) must be > 0, got {strength}")
     if friction is not None:
         friction = _number(friction, f"joint {pair}: friction")
         if friction < 0:
@@ -355,7 +371,8 @@ def _joint_override(raw: Any, index: int) -> JointOverride:
         cohesion = _number(cohesion, f"joint {pair}: cohesion")
         if cohesion < 0:
             raise SceneError(f"joint {pair}: cohesion must be >= 0, got {cohesion}")
-    return JointOverride(blocks=(str(pair[0]), str(pair[1])), friction=friction, cohesion=cohesion)
+    return JointOverride(blocks=(str(pair[0]), str(pair[1])), friction=friction, cohesion=cohesion,
+                         compressive_strength=strength)
 
 
 def _list(data: Mapping[str, Any], key: str) -> list[Any]:

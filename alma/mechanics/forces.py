@@ -24,6 +24,8 @@ from alma.geometry.scene import Scene, SceneError
 
 #: kN per (kPa · mm²): cohesion c (kN/m²) times joint length and thickness (mm).
 _KPA_MM2_TO_KN = 1e-6
+#: kN per (MPa · mm²): a compressive strength σ_c (N/mm²) times joint length and thickness (mm).
+_MPA_MM2_TO_KN = 1e-3
 
 
 @dataclass(frozen=True)
@@ -75,7 +77,7 @@ def point_load_vectors(scene: Scene, frame: Frame, centroid_mm: np.ndarray) -> t
 
 
 def joint_values(scene: Scene, joints: Joints, name: str, default: float) -> np.ndarray:
-    """A joint property (``"friction"`` or ``"cohesion"``) of every joint: ``default``, or a joint
+    """A joint property (``"friction"``, ``"cohesion"``, ``"compressive_strength"``) of every joint: ``default``, or a joint
     override's value; an override between blocks that do not touch is an error."""
     values = np.full(joints.count, float(default))
     if scene.joint_overrides:
@@ -89,6 +91,18 @@ def joint_values(scene: Scene, joints: Joints, name: str, default: float) -> np.
             if getattr(override, name) is not None:
                 values[hit] = getattr(override, name)
     return values
+
+
+def crushing_capacity(scene: Scene, joints: Joints, force_scale: float) -> np.ndarray:
+    """Each joint's crushing capacity σ_c l t (SPEC §2 ``compressive_strength``, MPa) in units of
+    ``force_scale`` (kN): the largest normal force, carried by a stress block over the whole
+    length.  ∞ for a joint without a strength; an empty array when no joint has one, so that a
+    scene without the key builds the model it always did."""
+    default = np.inf if scene.compressive_strength is None else float(scene.compressive_strength)
+    strength = joint_values(scene, joints, "compressive_strength", default)
+    if not np.isfinite(strength).any():
+        return np.zeros(0)
+    return strength * joints.length * scene.thickness * (_MPA_MM2_TO_KN / force_scale)
 
 
 def bounded_columns(scene: Scene, joints: Joints, frame: Frame) -> tuple[sp.csc_matrix, np.ndarray, np.ndarray]:

@@ -27,7 +27,7 @@ import scipy.sparse as sp
 
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
 from alma.geometry.scene import Scene, SceneError
-from alma.mechanics.forces import Frame, bounded_columns, joint_values, point_load_vectors
+from alma.mechanics.forces import Frame, bounded_columns, crushing_capacity, joint_values, point_load_vectors
 
 #: kN per (mm³ · kN/m³)
 _MM3_TO_M3 = 1e-9
@@ -59,6 +59,9 @@ class Model:
     bounded: sp.csc_matrix | None = None
     capacity: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
     bounded_labels: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0, dtype=object))
+    #: (m,) crushing capacity σ_c l t of each joint (dimensionless; ∞: infinitely strong blocks,
+    #: :func:`alma.mechanics.forces.crushing_capacity`); empty when no joint has one.
+    crushing: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
     #: What solvers derive from the geometry alone (the interior point's normal-equations
     #: pattern), kept by name; the models of one geometry (:meth:`with_friction`) share it.
     derived: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
@@ -67,6 +70,11 @@ class Model:
     def n_bounded(self) -> int:
         """Number of bounded-force columns (0 without cohesion and ties)."""
         return int(self.capacity.shape[0])
+
+    @property
+    def crushes(self) -> bool:
+        """True when some joint has a finite compressive strength (the conic model applies)."""
+        return bool(np.isfinite(self.crushing).any())
 
     @property
     def n_free(self) -> int:
@@ -133,7 +141,8 @@ def build_model(scene: Scene, joints: Joints | None = None) -> Model:
                  length_scale=length_scale, force_scale=force_scale, origin=origin,
                  centroid=centroid, weight=weight, friction=friction,
                  normal_part=normal_part, tangent_part=tangent_part, dead=dead, live=live,
-                 bounded=bounded, capacity=capacity, bounded_labels=labels)
+                 bounded=bounded, capacity=capacity, bounded_labels=labels,
+                 crushing=crushing_capacity(scene, joints, force_scale))
 
 
 def _mean_point_load(scene: Scene, n_free: int) -> float:

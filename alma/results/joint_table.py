@@ -24,6 +24,9 @@ class JointTable(Sequence):
     ``blocks`` (m, 2) block ids; ``N``, ``T`` (kN), ``M`` (kN·mm about the joint's centre),
     ``length`` (mm), ``slip`` (m,); ``state`` (m,) str; ``opening`` (m, 2), ``start``, ``end``
     (m, 2) mm, ``normal`` (m, 2); ``points`` (m, 2, 2): the (N, T) of the two contact points.
+    With finite compressive strength (SPEC §2): ``capacity`` (m,) σ_c l t in kN and
+    ``stress_block`` (m, 2, 2) mm, the rectangular stress block's segment on the joint (its
+    extent N/(σ_c t), centred on the resultant); NaN on joints without a strength.
     """
 
     blocks: np.ndarray
@@ -38,6 +41,8 @@ class JointTable(Sequence):
     end: np.ndarray
     points: np.ndarray
     normal: np.ndarray
+    capacity: np.ndarray | None = None
+    stress_block: np.ndarray | None = None
 
     def __len__(self) -> int:
         return int(self.N.shape[0])
@@ -61,7 +66,16 @@ class JointTable(Sequence):
             blocks=(str(self.blocks[i, 0]), str(self.blocks[i, 1])), N=float(self.N[i]), T=float(self.T[i]),
             M=float(self.M[i]), state=str(self.state[i]), length=float(self.length[i]), slip=float(self.slip[i]),
             opening=tuple(self.opening[i].tolist()), start=tuple(self.start[i].tolist()),
-            end=tuple(self.end[i].tolist()), points=(tuple(p[0]), tuple(p[1])), normal=tuple(self.normal[i].tolist()))
+            end=tuple(self.end[i].tolist()), points=(tuple(p[0]), tuple(p[1])), normal=tuple(self.normal[i].tolist()),
+            **self._strength(i))
+
+    def _strength(self, i: int) -> dict[str, Any]:
+        """Joint i's crushing capacity and stress block, when it has a finite strength."""
+        if self.capacity is None or not np.isfinite(self.capacity[i]):
+            return {}
+        block = self.stress_block[i]
+        return {"capacity": float(self.capacity[i]),
+                "stress_block": (tuple(block[0].tolist()), tuple(block[1].tolist()))}
 
     def __iter__(self) -> Iterator[JointResult]:
         return (self[i] for i in range(len(self)))
@@ -81,7 +95,14 @@ class JointTable(Sequence):
         cols = zip(self.blocks.tolist(), self.N.tolist(), self.T.tolist(), self.M.tolist(),
                    self.state.tolist(), self.length.tolist(), self.slip.tolist(), self.opening.tolist(),
                    self.points.tolist())
-        return [{"blocks": [str(a), str(b)], "N": n, "T": t, "M": mo, "state": str(s), "length": le, "slip": sl,
-                 "opening": op, "points": [{"N": pn, "T": pt} for pn, pt in pts]}
-                for (a, b), n, t, mo, s, le, sl, op, pts in cols]
+        out = [{"blocks": [str(a), str(b)], "N": n, "T": t, "M": mo, "state": str(s), "length": le, "slip": sl,
+                "opening": op, "points": [{"N": pn, "T": pt} for pn, pt in pts]}
+               for (a, b), n, t, mo, s, le, sl, op, pts in cols]
+        if self.capacity is not None:  # finite compressive strength only: other results stay as they were
+            extent = np.hypot(*(self.stress_block[:, 1] - self.stress_block[:, 0]).T)
+            for i in np.flatnonzero(np.isfinite(self.capacity)).tolist():
+                out[i]["capacity"] = float(self.capacity[i])
+                out[i]["stress_block"] = {"extent": float(extent[i]), "start": self.stress_block[i, 0].tolist(),
+                                          "end": self.stress_block[i, 1].tolist()}
+        return out
 

@@ -22,7 +22,10 @@ from alma.results.types import BlockMotion, MacroBlock
 #: mechanism carries traces of the other optimal mechanisms at about this level).
 MOTION_TOLERANCE = 1e-4
 
-JOINT_STATES = ("rest", "hinging", "sliding", "separating")
+JOINT_STATES = ("rest", "hinging", "sliding", "separating", "crushing")
+#: A moving joint whose N reaches this fraction of its capacity σ_c l t is ``crushing`` (the
+#: stress block spans the joint); the certified fields meet the cone to ~1e-9 of the forces.
+CRUSHING_FRACTION = 1.0 - 1e-6
 
 
 def joint_states(model: Model, mechanism: np.ndarray, *, dilatant: bool = False) -> tuple[np.ndarray, np.ndarray]:
@@ -122,7 +125,22 @@ def physical(model: Model, mechanism: np.ndarray, normal: np.ndarray, shear: np.
         states = np.full(model.n_joints, "rest", dtype=object)
         rel = np.zeros((model.n_joints, 2, 2))
         klass = "none"
+    if model.crushes:
+        states = _crushing_states(model, normal, states, rel)
     return Physical(blocks, _joint_table(model, normal, shear, states, rel), klass, macros)
+
+
+def _crushing_states(model: Model, normal: np.ndarray, states: np.ndarray, rel: np.ndarray) -> np.ndarray:
+    """``states`` with ``crushing`` where a moving joint's stress block spans it (N ≥ σ_c l t up to
+    :data:`CRUSHING_FRACTION`) or where the mechanism closes both its ends (the joint shortens
+    over its whole length: the normal of the parabola at N = σ_c l t)."""
+    N = normal.reshape(-1, 2).sum(axis=1)
+    scale = max(float(np.abs(rel).max(initial=0.0)), 1e-300)
+    closing = (rel[:, :, 0] < -MOTION_TOLERANCE * scale).all(axis=1)
+    full = N >= CRUSHING_FRACTION * model.crushing
+    out = states.copy()
+    out[np.isfinite(model.crushing) & (closing | (full & (states != "rest")))] = "crushing"
+    return out
 
 
 def _joint_table(model: Model, normal: np.ndarray, shear: np.ndarray, states: np.ndarray,
@@ -138,12 +156,35 @@ def _joint_table(model: Model, normal: np.ndarray, shear: np.ndarray, states: np
         moment += r[:, 0] * force[:, 1] - r[:, 1] * force[:, 0]
     ids = np.asarray(model.scene.block_ids, dtype=object)
     pairs = np.stack([ids[np.asarray(joints.block_a, dtype=int)], ids[np.asarray(joints.block_b, dtype=int)]], axis=1)
+    capacity, block = _stress_blocks(model, normal) if model.crushes else (None, None)
     return JointTable(
         blocks=pairs.reshape(-1, 2), N=n_point.sum(axis=1), T=t_point.sum(axis=1), M=moment,
         state=states.astype(str), length=np.asarray(joints.length, dtype=float),
         slip=rel[:, :, 1].mean(axis=1) * model.n_free, opening=rel[:, :, 0] * model.n_free,
         start=np.asarray(joints.start, dtype=float).reshape(-1, 2), end=np.asarray(joints.end, dtype=float).reshape(-1, 2),
-        points=np.stack([n_point, t_point], axis=2), normal=np.asarray(joints.normal, dtype=float).reshape(-1, 2))
+        points=np.stack([n_point, t_point], axis=2), normal=np.asarray(joints.normal, dtype=float).reshape(-1, 2),
+        capacity=capacity, stress_block=block)
+
+
+def _stress_blocks(model: Model, normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Capacity σ_c l t (kN) and the stress block's segment (m, 2, 2) mm of every joint.
+
+    The resultant acts at N_end/N of the joint from its start (the points' tangential forces have
+    no moment about the joint line); the block of extent N/(σ_c t), i.e. the fraction N/(σ_c l t)
+    of the joint, is centred there.  NaN on joints without a strength or without a force.
+    """
+    joints = model.joints
+    n_point = normal.reshape(-1, 2)
+    N = n_point.sum(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        where = np.where(N > 0, n_point[:, 1] / N, np.nan)
+        half = 0.5 * N / model.crushing
+    span = joints.end - joints.start
+    lo = joints.start + (where - half)[:, None] * span
+    hi = joints.start + (where + half)[:, None] * span
+    block = np.stack([lo, hi], axis=1)
+    block[~np.isfinite(model.crushing)] = np.nan
+    return model.crushing * model.force_scale, block
 
 
 def bounded_forces(model: Model, tau: np.ndarray, mechanism: np.ndarray

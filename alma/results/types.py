@@ -62,6 +62,10 @@ class JointResult:
     points: tuple[tuple[float, float], tuple[float, float]] = ((0.0, 0.0), (0.0, 0.0))
     #: Unit normal of the joint line, from ``blocks[0]`` towards ``blocks[1]`` (N acts along it).
     normal: tuple[float, float] = (0.0, 0.0)
+    #: Finite compressive strength only (SPEC §2): σ_c l t (kN) and the stress block's segment
+    #: on the joint (mm; extent N/(σ_c t), centred on the resultant).
+    capacity: float | None = None
+    stress_block: tuple[tuple[float, float], tuple[float, float]] | None = None
 
 
 @dataclass(frozen=True)
