@@ -71,6 +71,9 @@ def main(argv: list[str] | None = None) -> int:
     from alma.cli import generate
 
     generate.register(sub, _add_common, _run, export_scene, _invalid)
+    from alma.cli import push as push_cli
+
+    push_cli.register(sub, _invalid)
 
     try:
         from alma.cli import study as study_cli

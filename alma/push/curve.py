@@ -225,7 +225,8 @@ def _curve(run: _Run, start: _State) -> PushResult:
         return _result(run, states, failure, (math.nan, math.nan), math.nan, solves)
     lo, hi, extra, failure = _refine(run, *bracket)
     states += extra
-    root = lo.d + (hi.d - lo.d) * lo.alpha / (lo.alpha - hi.alpha) if hi.alpha < lo.alpha else hi.d
+    root = _secant(lo, hi)
+    root = root if math.isfinite(root) else 0.5 * (lo.d + hi.d)
     return _result(run, [s for s in states if s.d <= hi.d], failure, (lo.d, hi.d), root,
                    solves + len(extra))
 
@@ -238,7 +239,7 @@ def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_St
         if len(extra) >= run.push.refine_solves:
             return lo, hi, extra, (Status.LIMIT_REACHED, f"d₀ bracketed in [{lo.d:.9g}, {hi.d:.9g}] mm after "
                                    f"{len(extra)} refining solves")
-        secant = lo.d + (hi.d - lo.d) * lo.alpha / (lo.alpha - hi.alpha) if hi.alpha < lo.alpha else math.nan
+        secant = _secant(lo, hi)
         d = secant if math.isfinite(secant) else 0.5 * (lo.d + hi.d)
         d = min(max(d, lo.d + 0.25 * tol), hi.d - 0.25 * tol)
         for target in (d, None):
@@ -257,6 +258,14 @@ def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_St
             if hi.d - lo.d <= tol:
                 break
     return lo, hi, extra, None
+
+
+def _secant(lo: _State, hi: _State) -> float:
+    """The zero of the line through (lo.d, α) and (hi.d, α); NaN when α at hi is not a number (an
+    LP that finds no admissible field for any multiplier: the structure cannot stand there)."""
+    if not (math.isfinite(hi.alpha) and hi.alpha < lo.alpha):
+        return math.nan
+    return lo.d + (hi.d - lo.d) * lo.alpha / (lo.alpha - hi.alpha)
 
 
 def _move(run: _Run, state: _State, d: float) -> _State:
@@ -281,8 +290,10 @@ def _move(run: _Run, state: _State, d: float) -> _State:
 
 def _usable(state: _State) -> bool:
     """An α the curve can use: a certified (or verified) value, negative ones included."""
-    return state.result.status in (Status.OPTIMAL, Status.FEASIBLE, Status.NO_EQUILIBRIUM) and \
-        math.isfinite(state.alpha)
+    status = state.result.status
+    if status == Status.NO_EQUILIBRIUM:
+        return not math.isnan(state.alpha)  # −inf: no field carries the dead load at any α
+    return status in (Status.OPTIMAL, Status.FEASIBLE) and math.isfinite(state.alpha)
 
 
 def _result(run: _Run, states: list[_State], failure: tuple | None, bracket: tuple[float, float],
@@ -308,6 +319,9 @@ def _status(run: _Run, states: list[_State], bracket: tuple[float, float], d0: f
     every = all(s.result.status in (Status.OPTIMAL, Status.NO_EQUILIBRIUM) for s in states)
     text = (f"d0 = {d0:.6g} mm (bracket width {bracket[1] - bracket[0]:.2g} mm) after {len(states)} "
             f"configurations; the mechanism changed {changes} time(s)")
+    if not math.isfinite(hi.alpha):
+        text += (f"; α falls from {lo.alpha:.4g} to no equilibrium at any multiplier within the bracket "
+                 "(a jump, not a zero crossing: check the displaced geometry)")
     if run.model == "nonassociative":
         return Status.FEASIBLE, f"{text}; each α is a verified non-associative state"
     if proven and every:
