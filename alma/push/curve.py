@@ -307,8 +307,9 @@ def _result(run: _Run, states: list[_State], failure: tuple | None, bracket: tup
         status, message = failure
     else:
         status, message = _status(run, ordered, bracket, d0, changes)
-    return PushResult(status, message, run.model, control, points, d0 if failure is None else math.nan,
-                      bracket, solves, ordered[0].result, run.sense)
+    if failure is not None and math.isfinite(d0):
+        message = f"{message}; d0 = {d0:.6g} mm is known only to its bracket [{bracket[0]:.9g}, {bracket[1]:.9g}] mm"
+    return PushResult(status, message, run.model, control, points, d0, bracket, solves, ordered[0].result, run.sense)
 
 
 def _status(run: _Run, states: list[_State], bracket: tuple[float, float], d0: float,
