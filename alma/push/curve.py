@@ -17,6 +17,7 @@ same steps.  The work is counted in LP solves, never in seconds.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -281,8 +282,15 @@ def _move(run: _Run, state: _State, d: float) -> _State:
         raise MotionError(f"the mechanism at d = {state.d:.6g} mm moves the control block backwards")
     target = (d - state.d) * run.sense
     z0 = predictor(bodies, (d - state.d) / rate)
-    z = corrected(bodies, state.contacts, z0, (run.control, where), target, run.length,
-                  run.push.corrector_iterations, run.push.corrector_tolerance)
+    args = (z0, (run.control, where), target, run.length, run.push.corrector_iterations,
+            run.push.corrector_tolerance)
+    try:
+        z = corrected(bodies, state.contacts, *args)
+    except MotionError:
+        # sliding points kept closed over-constrain a dilatant mechanism of many bodies: let them
+        # open as the associative flow rule does, and keep the hinges
+        z = corrected(bodies, dataclasses.replace(state.contacts, sliding=np.zeros_like(state.contacts.sliding)),
+                      *args)
     pose = advance(state.pose, scene0, bodies, z)
     joints = joints_after(displaced(scene0, pose), state.contacts, bodies, z)
     return _state(run, d, pose, _solve(scene0, pose, joints, run.model, run.settings))

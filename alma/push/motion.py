@@ -24,12 +24,18 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import lsmr
 
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
 from alma.geometry.edges import contact_lengths, scene_edges
 from alma.geometry.scene import Scene
 from alma.results.joints import MOTION_TOLERANCE
 from alma.results.types import Result
+
+
+#: Columns (3 per moving body) up to which the corrector's least squares are solved densely.
+DENSE_COLUMNS = 150
 
 
 class MotionError(RuntimeError):
@@ -176,13 +182,20 @@ def corrected(bodies: Bodies, contacts: Contacts, start: np.ndarray, control: tu
         residual, jacobian = _equations(bodies, contacts, z, control, target)
         if np.abs(residual).max(initial=0.0) <= tolerance * length:
             return z
-        step = np.linalg.lstsq(jacobian * scale[np.arange(jacobian.shape[1]) % 3], residual, rcond=None)[0]
-        z = z - (step * scale[np.arange(step.size) % 3]).reshape(-1, 3)
+        step = _least_squares(jacobian @ sp.diags(np.tile(scale, bodies.count)), residual)
+        z = z - (step * np.tile(scale, bodies.count)).reshape(-1, 3)
     residual, _ = _equations(bodies, contacts, z, control, target)
     if np.abs(residual).max(initial=0.0) <= tolerance * length * 1e3:
         return z
     raise MotionError(f"the mechanism's hinges cannot stay closed over this step (residual "
                       f"{np.abs(residual).max():.3g} mm after {iterations} Newton iterations)")
+
+
+def _least_squares(jacobian: sp.csr_matrix, residual: np.ndarray) -> np.ndarray:
+    """The least-norm least-squares step: dense for a few bodies, LSMR (sparse) for many."""
+    if jacobian.shape[1] <= DENSE_COLUMNS:
+        return np.linalg.lstsq(jacobian.toarray(), residual, rcond=None)[0]
+    return lsmr(jacobian, residual, atol=1e-15, btol=1e-15, maxiter=20 * jacobian.shape[1])[0]
 
 
 def advance(pose: Pose, scene0: Scene, bodies: Bodies, z: np.ndarray) -> Pose:
@@ -317,8 +330,8 @@ def _equations(bodies: Bodies, contacts: Contacts, z: np.ndarray, control: tuple
     cols += [np.array([3 * gc[0]]), np.array([3 * gc[0] + 1])]
     vals += [np.array([dc[0, 0]]), np.array([1.0])]
     row += 1
-    jac = np.zeros((row, 3 * g_count))
-    np.add.at(jac, (np.concatenate(rows_r).astype(int), np.concatenate(cols).astype(int)), np.concatenate(vals))
+    jac = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows_r).astype(int),
+                                                np.concatenate(cols).astype(int))), shape=(row, 3 * g_count))
     return np.concatenate(residual), jac
 
 
