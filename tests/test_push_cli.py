@@ -35,12 +35,15 @@ def test_push_json_is_one_object_with_the_spec_fields(files):
 
 
 def test_seismic_json(files):
-    out = _alma("seismic", "scene.json", "--site", "site.toml", "--steps", "8", "--json", cwd=files)
+    out = _alma("seismic", "scene.json", "--site", "site.toml", "--steps", "8", "--json", "--html", "check.html",
+                cwd=files)
     assert out.returncode == 0, out.stderr
     data = json.loads(out.stdout)
     for key in ("alpha0", "M_star", "e_star", "a0_star", "demand", "safety_index", "d0_star", "du_star", "Ts"):
         assert data[key] is not None, key
     assert data["nonlinear"]["safety_index"] > 0
+    page = (files / "check.html").read_text()
+    assert page.count("<svg") == 2 and "a0_star" in page and "<script" not in page
 
 
 @pytest.mark.parametrize("args, word", [(("push", "scene.json", "--control", "nope"), "nope"),

@@ -10,6 +10,7 @@ from typing import Callable
 from alma.geometry.scene import Scene, SceneError, load_scene
 from alma.push import PUSH_MODELS, PushResult, push
 from alma.report.capacity import plot_capacity
+from alma.report.capacity_html import write_capacity_html
 from alma.seismic import SeismicResult, load_site, seismic
 
 
@@ -36,12 +37,14 @@ def register(sub, invalid: Callable) -> None:
 def _outputs(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p.add_argument("--plot", metavar="OUT.png", help="write the capacity curve and the displaced geometry")
+    p.add_argument("--html", metavar="OUT.html", help="write a standalone page: the curve(s) in SVG and the numbers")
 
 
 def _run(args: argparse.Namespace, invalid: Callable, site_path: str | None) -> int:
     try:
-        if args.plot:
-            _check_output(args.plot, (args.scene, site_path))
+        for out in (args.plot, args.html):
+            if out:
+                _check_output(out, (args.scene, site_path))
         scene = load_scene(args.scene)
         site = load_site(site_path) if site_path else None
         if args.steps is not None and args.steps < 1:
@@ -57,6 +60,9 @@ def _run(args: argparse.Namespace, invalid: Callable, site_path: str | None) -> 
     if args.plot and curve.curve:
         plot_capacity(scene, curve, args.plot, check=result if isinstance(result, SeismicResult) else None,
                       title=scene.name or None)
+    if args.html and curve.curve:
+        write_capacity_html(curve, args.html, check=result if isinstance(result, SeismicResult) else None,
+                            title=scene.name or "capacity curve")
     if args.json:
         print(json.dumps(result.to_dict()))
     else:
@@ -67,9 +73,9 @@ def _run(args: argparse.Namespace, invalid: Callable, site_path: str | None) -> 
 def _check_output(path: str, inputs: tuple[str | None, ...]) -> None:
     out = Path(path).resolve()
     if any(i is not None and Path(i).resolve() == out for i in inputs):
-        raise ValueError(f"--plot {path}: refusing to write over an input file")
+        raise ValueError(f"{path}: refusing to write over an input file")
     if not out.parent.is_dir():
-        raise ValueError(f"--plot {path}: the directory {out.parent} does not exist")
+        raise ValueError(f"{path}: the directory {out.parent} does not exist")
 
 
 def _print_text(scene: Scene, result: PushResult | SeismicResult, picture: str | None) -> None:

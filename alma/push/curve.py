@@ -144,7 +144,7 @@ def push(scene: Scene, *, model: str = "associative", control: str | None = None
     if steps is not None:
         if not (isinstance(steps, int) and steps >= 1):
             raise ValueError(f"steps must be a positive integer, got {steps!r}")
-        p = PushSettings(**{**p.__dict__, "steps": steps})
+        p = dataclasses.replace(p, steps=steps)
     if not scene.validated:
         scene.validate()
     areas, _ = block_areas_and_centroids(scene)
