@@ -91,6 +91,7 @@ class Contacts:
     normal: np.ndarray  # (p, 2) from a into b
     hinge: np.ndarray  # (p,) bool: no relative velocity, two different bodies
     sliding: np.ndarray  # (p,) bool: tangential relative velocity, the normal one only dilatancy
+    friction: np.ndarray  # (p,) the joint's friction coefficient
 
 
 def displaced(scene: Scene, pose: Pose) -> Scene:
@@ -144,7 +145,7 @@ def classify(joints: Joints, bodies: Bodies, friction: np.ndarray) -> Contacts:
     hinge = apart & (np.hypot(rel[:, 0], rel[:, 1]) <= tol)
     f = np.repeat(friction, 2)
     sliding = apart & ~hinge & (v_t > tol) & (v_n <= f * v_t * (1 + 1e-6) + tol)
-    return Contacts(a, b, point, normal, hinge, sliding)
+    return Contacts(a, b, point, normal, hinge, sliding, f)
 
 
 def signature(scene: Scene, result: Result, contacts: Contacts) -> tuple:
@@ -218,7 +219,13 @@ def joints_after(scene: Scene, contacts: Contacts, bodies: Bodies, z: np.ndarray
     snap, _ = contact_lengths(scene, scene_edges(scene))
     pa = _moved(bodies, z, contacts.a, contacts.point)
     pb = _moved(bodies, z, contacts.b, contacts.point)
-    closed = np.hypot(*(pa - pb).T) <= snap
+    gap = pb - pa
+    closed = np.hypot(*gap.T) <= snap
+    # a sliding point stays a contact where it opened by no more than the associative dilatancy
+    normal = contacts.normal
+    opening = (gap * normal).sum(axis=1)
+    slip = np.abs(gap[:, 0] * normal[:, 1] - gap[:, 1] * normal[:, 0])
+    closed |= contacts.sliding & (opening <= contacts.friction * slip + snap)
     closed &= (bodies.of_block[contacts.a] >= 0) | (bodies.of_block[contacts.b] >= 0)
     closed &= ~_covered(found, contacts.a, contacts.b, 0.5 * (pa + pb), snap)
     if not closed.any():
