@@ -8,6 +8,7 @@ import sys
 import types
 from pathlib import Path
 
+from alma.cli import push as push_cli
 from alma.geometry.chains import parse_chain, with_chain
 from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, paper_panel
 from alma.geometry.scene import Scene, SceneError, load_scene
@@ -71,8 +72,6 @@ def main(argv: list[str] | None = None) -> int:
     from alma.cli import generate
 
     generate.register(sub, _add_common, _run, export_scene, _invalid)
-    from alma.cli import push as push_cli
-
     push_cli.register(sub, _invalid)
 
     try:
