@@ -172,3 +172,23 @@ def test_curve_does_not_depend_on_units_origin_or_block_order(scale, dx, dy, rev
     assert np.allclose([p.alpha for p in other.curve], [p.alpha for p in base.curve], atol=1e-7)
     assert np.allclose([p.d / scale for p in other.curve], [p.d for p in base.curve], rtol=1e-7, atol=1e-6)
     assert other.d0 / scale == pytest.approx(base.d0, rel=1e-6)
+
+
+def test_a_sliding_block_never_reaches_zero_and_says_so():
+    # 240 × 60 with f = 0.6 slides at α = f (rocking would need b/h = 4): the curve stays flat and
+    # the step budget, not a clock, ends it
+    scene = _scene([{"id": "brick", "vertices": _rect(0, 0, 240, 60)}], friction=0.6)
+    result = push(scene, push_settings=PushSettings(steps=3, max_steps_factor=2))
+    assert result.status == alma.Status.LIMIT_REACHED
+    assert max(abs(p.alpha - 0.6) for p in result.curve) <= 1e-6
+    assert len(result.curve) == 3 * 2 + 2 and result.to_dict()["d0"] is None
+    # the sliding contact stays closed over the finite steps: no dilatant lift
+    last = displaced(scene, result.curve[-1].pose).blocks[1].vertices
+    assert np.allclose(last[:, 1].min(), 0.0, atol=1e-6) and last[0, 0] == pytest.approx(result.curve[-1].d)
+
+
+@pytest.mark.parametrize("kwargs, word", [({"model": "both"}, "model"), ({"control": "nope"}, "nope"),
+                                          ({"control": "ground"}, "fixed"), ({"steps": 0}, "steps")])
+def test_bad_arguments_are_refused_by_name(kwargs, word):
+    with pytest.raises(ValueError, match=word):
+        push(SINGLE, **kwargs)
