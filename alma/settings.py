@@ -151,6 +151,8 @@ class PushSettings:
     probe: float = 1e-3
     #: The step when α does not fall over the probe (a sliding mechanism): the curve still advances.
     flat_step: float = 1e-2
+    #: The longest step: a secant through a nearly flat start would otherwise leap past the structure.
+    max_step: float = 0.05
     #: Main steps the analysis may take, as a multiple of ``steps`` (a work budget).
     max_steps_factor: int = 4
     #: Width of the bracket of d₀ that ends its refinement: d₀ is stated to this accuracy.

@@ -8,7 +8,8 @@ displaced geometry the joints are found again and the limit analysis is solved a
 next step, until α ≤ 0.
 
 Steps: a probe of ``PushSettings.probe`` × L (L = √(total area of the free blocks)) estimates
-d₀ by a secant through α_c; the curve then advances in steps of that estimate / ``steps``.  The
+d₀ by a secant through α_c; the curve then advances in steps of that estimate / ``steps`` (at most
+``max_step`` × L; ``flat_step`` × L when α does not fall over the probe).  The
 last interval (α > 0 at its start, α ≤ 0 at its end) is refined by secant steps, each followed
 by a guard step ``d0_tolerance`` × L / 2 beyond it, until the bracket of d₀ is narrower than
 ``d0_tolerance`` × L: d₀ is stated to that accuracy.  Every number of the analysis is relative
@@ -219,8 +220,9 @@ def _curve(run: _Run, start: _State) -> PushResult:
             bracket = (state, nxt)
         elif len(states) == 2:
             drop = start.alpha - nxt.alpha
-            step = (nxt.d * start.alpha / drop / p.steps) if drop > 0 else p.flat_step * run.length
-            step = max(step, p.probe * run.length)
+            flat = drop <= 1e-9 * max(1.0, abs(start.alpha))
+            step = p.flat_step * run.length if flat else nxt.d * start.alpha / drop / p.steps
+            step = min(max(step, p.probe * run.length), p.max_step * run.length)
         state = nxt
     if bracket is None:
         return _result(run, states, failure, (math.nan, math.nan), math.nan, solves)
