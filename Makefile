@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: bench-friction bench-friction-perturb demo test test-latest test-latest-subset explore compare bench bench-compressive bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded bench-engine bench-crisp bench-crisp-floor bench-first-order figures html-screenshot venv clean
+.PHONY: bench-friction bench-friction-perturb demo test test-latest test-latest-subset explore compare bench bench-compressive bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded bench-engine bench-crisp bench-crisp-floor bench-first-order bench-push figures html-screenshot venv clean
 
 venv: $(STAMP)
 
@@ -74,6 +74,10 @@ bench-scaling: $(STAMP)
 
 bench-joints: $(STAMP)
 	$(BIN)/python benchmarks/bench_joints.py
+
+# A 40-step capacity curve of the 444-block panel against one associative solve (issue 33).
+bench-push: $(STAMP)
+	$(BIN)/python benchmarks/bench_push.py
 
 bench-nonassociative: $(STAMP)
 	$(BIN)/python benchmarks/bench_nonassociative.py

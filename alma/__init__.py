@@ -10,7 +10,9 @@ from alma.geometry.panels import paper_panel
 from alma.geometry.scene import Block, Scene, SceneError, load_scene
 from alma.mechanics.model import Model, build_model
 from alma.results.types import (AssociativeResult, Bounds, Comparison, NonAssociativeResult, Result)
-from alma.settings import AssociativeSettings, CertifySettings, SearchSettings, Settings
+from alma.settings import AssociativeSettings, CertifySettings, PushSettings, SearchSettings, Settings
+from alma.push import PushResult, push
+from alma.seismic import SeismicResult, Site, load_site, seismic
 from alma.settle import SettlementResult, settle
 from alma.solve import solve
 from alma.status import Status
@@ -19,5 +21,6 @@ from alma.tilt import TiltResult, TiltSettings, tilt
 __all__ = ["AssociativeResult", "arch", "coursed_wall", "facade", "AssociativeSettings", "Block", "Bounds", "CertifySettings", "Comparison",
            "Joints", "Model", "NonAssociativeResult", "Result", "Scene", "SceneError", "SearchSettings",
            "Settings", "SettlementResult", "Status", "TiltResult", "TiltSettings", "build_model", "find_joints",
-           "load_scene", "paper_panel", "settle", "solve", "tilt", "wall"]
+           "load_scene", "paper_panel", "settle", "solve", "tilt", "wall", "PushResult", "PushSettings", "push",
+           "SeismicResult", "Site", "load_site", "seismic"]
 __version__ = "0.2.0"

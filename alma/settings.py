@@ -155,6 +155,34 @@ class SearchSettings:
 
 
 @dataclass(frozen=True)
+class PushSettings:
+    """The incremental large-displacement analysis (``alma.push``): steps, budgets, accuracy.
+
+    Lengths are relative to √(total area of the free blocks), so that the same structure drawn
+    in other units or elsewhere takes the same steps.
+    """
+
+    #: Steps from α_c to α = 0 (after the probe): 40 draws a smooth curve of a rocking panel.
+    steps: int = 40
+    #: The probe step that estimates d₀ by a secant: small enough to stay on the first mechanism.
+    probe: float = 1e-3
+    #: The step when α does not fall over the probe (a sliding mechanism): the curve still advances.
+    flat_step: float = 1e-2
+    #: The longest step: a secant through a nearly flat start would otherwise leap past the structure.
+    max_step: float = 0.05
+    #: Main steps the analysis may take, as a multiple of ``steps`` (a work budget).
+    max_steps_factor: int = 4
+    #: Width of the bracket of d₀ that ends its refinement: d₀ is stated to this accuracy.
+    d0_tolerance: float = 1e-7
+    #: LP solves the refinement of d₀ may spend (each halves the bracket at worst).
+    refine_solves: int = 40
+    #: Newton iterations of the closure corrector that keeps hinges closed over a finite step.
+    corrector_iterations: int = 30
+    #: Residual of the corrector (relative to the length scale): the hinges meet to round-off.
+    corrector_tolerance: float = 1e-12
+
+
+@dataclass(frozen=True)
 class Settings:
     """All settings of one analysis.  ``time_limit`` (s) is a user's cap, not a budget."""
 

@@ -7,6 +7,7 @@ import math
 import sys
 from pathlib import Path
 
+from alma.cli import push as push_cli
 from alma.cli.json_output import dumps
 from alma.cli.outputs import OutputPathError, check_outputs
 from alma.cli.scene_options import add_scene_options, positive_float, scene_from_args
@@ -103,6 +104,7 @@ def _build_parser() -> argparse.ArgumentParser:
     from alma.cli import generate
 
     generate.register(sub, _add_common, _run, export_scene, _invalid)
+    push_cli.register(sub, _invalid)
 
     try:
         from alma.cli import study as study_cli

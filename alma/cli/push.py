@@ -1,0 +1,104 @@
+"""``alma push`` and ``alma seismic`` (SPEC §3): the capacity curve and the kinematic check."""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Callable
+
+from alma.cli.scene_options import add_scene_options, scene_from_args
+from alma.geometry.scene import Scene, SceneError
+from alma.push import PUSH_MODELS, PushResult, push
+from alma.report.capacity import plot_capacity
+from alma.report.capacity_html import write_capacity_html
+from alma.seismic import SeismicResult, load_site, seismic
+
+
+def register(sub, invalid: Callable) -> None:
+    """Add the two commands to the ``alma`` parser; ``invalid`` reports bad input (exit 2)."""
+    p = sub.add_parser("push", help="the capacity curve α(d): incremental large-displacement analysis")
+    p.add_argument("scene", help="scene file: JSON (SPEC §2) or a DXF drawing")
+    p.add_argument("--model", default="associative", choices=PUSH_MODELS)
+    p.add_argument("--control", metavar="BLOCK", help="block whose centroid's horizontal displacement is d "
+                   "(default: the block that moves most horizontally)")
+    p.add_argument("--steps", type=int, default=None, help="steps from α_c to α = 0 (default 40)")
+    _outputs(p)
+    add_scene_options(p)
+    p.set_defaults(func=lambda args: _run(args, invalid, None))
+
+    p = sub.add_parser("seismic", help="the kinematic seismic check (NTC 2018, Circolare 2019 §C8.7.1)")
+    p.add_argument("scene", help="scene file: JSON (SPEC §2) or a DXF drawing")
+    p.add_argument("--site", required=True, metavar="SITE.toml", help="the site's parameters (SPEC §3 keys)")
+    p.add_argument("--control", metavar="BLOCK", help="the control block of the capacity curve")
+    p.add_argument("--steps", type=int, default=None, help="steps of the capacity curve (default 40)")
+    _outputs(p)
+    add_scene_options(p)
+    p.set_defaults(func=lambda args: _run(args, invalid, args.site))
+
+
+def _outputs(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
+    p.add_argument("--plot", metavar="OUT.png", help="write the capacity curve and the displaced geometry")
+    p.add_argument("--html", metavar="OUT.html", help="write a standalone page: the curve(s) in SVG and the numbers")
+
+
+def _run(args: argparse.Namespace, invalid: Callable, site_path: str | None) -> int:
+    try:
+        for out in (args.plot, args.html):
+            if out:
+                _check_output(out, (args.scene, site_path))
+        scene = scene_from_args(args)
+        site = load_site(site_path) if site_path else None
+        if args.steps is not None and args.steps < 1:
+            raise ValueError(f"--steps must be a positive integer, got {args.steps}")
+        options = {"control": args.control, "steps": args.steps}
+        if site is None:
+            result: PushResult | SeismicResult = push(scene, model=args.model, **options)
+        else:
+            result = seismic(scene, site, **options)
+    except (SceneError, ValueError) as exc:
+        return invalid(exc, args)
+    curve = result if isinstance(result, PushResult) else result.push
+    if args.plot and curve.curve:
+        plot_capacity(scene, curve, args.plot, check=result if isinstance(result, SeismicResult) else None,
+                      title=scene.name or None)
+    if args.html and curve.curve:
+        write_capacity_html(curve, args.html, check=result if isinstance(result, SeismicResult) else None,
+                            title=scene.name or "capacity curve")
+    if args.json:
+        print(json.dumps(result.to_dict()))
+    else:
+        _print_text(scene, result, args.plot)
+    return 0
+
+
+def _check_output(path: str, inputs: tuple[str | None, ...]) -> None:
+    out = Path(path).resolve()
+    if any(i is not None and Path(i).resolve() == out for i in inputs):
+        raise ValueError(f"{path}: refusing to write over an input file")
+    if not out.parent.is_dir():
+        raise ValueError(f"{path}: the directory {out.parent} does not exist")
+
+
+def _print_text(scene: Scene, result: PushResult | SeismicResult, picture: str | None) -> None:
+    curve = result if isinstance(result, PushResult) else result.push
+    print(f"{scene.name or 'scene'}")
+    print(f"  status     {result.status} — {result.message}")
+    if curve.curve:
+        print(f"  control    {curve.control}")
+        print(f"  alpha_c    {curve.alpha_c:.6f}")
+        print(f"  d0         {curve.d0:.6g} mm  ({len(curve.curve)} points, {curve.solves} LP solves, "
+              f"{sum(p.mechanism_changed for p in curve.curve)} mechanism changes)")
+    if isinstance(result, SeismicResult) and curve.curve:
+        lin, nl = result.linear, result.nonlinear
+        print(f"  M*, e*     {result.M_star:.6g} kg, {result.e_star:.4f}")
+        print(f"  linear     a0* = {result.a0_star:.4g} m/s² vs demand {lin['demand']:.4g} m/s²: "
+              f"safety index {lin['safety_index']:.3f} ({'verified' if lin['verified'] else 'NOT verified'})")
+        if nl.get("verified") is not None:
+            print(f"  nonlinear  du* = {nl['du_star'] * 1e3:.4g} mm vs demand {nl['demand'] * 1e3:.4g} mm "
+                  f"(Ts = {nl['Ts']:.3f} s): safety index {nl['safety_index']:.3f} "
+                  f"({'verified' if nl['verified'] else 'NOT verified'})")
+    if picture:
+        print(f"  picture    {picture}")
+    sys.stdout.flush()

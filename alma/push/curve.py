@@ -1,0 +1,341 @@
+"""The capacity curve α(d): incremental large-displacement limit analysis (SPEC §3 ``alma push``).
+
+From the collapse mechanism at d = 0 (α = α_c), the blocks move rigidly along the current
+mechanism (:mod:`alma.push.motion`: finite rotations about the instantaneous centres, the
+hinges kept closed) in steps of the control point's horizontal displacement d; on each
+displaced geometry the joints are found again and the limit analysis is solved again
+(Eq. 10, or Eq. 9 with ``model="nonassociative"``), which gives α(d) and the mechanism for the
+next step, until α ≤ 0.
+
+Steps: a probe of ``PushSettings.probe`` × L (L = √(total area of the free blocks)) estimates
+d₀ by a secant through α_c; the curve then advances in steps of that estimate / ``steps`` (at most
+``max_step`` × L; ``flat_step`` × L when α does not fall over the probe).  The
+last interval (α > 0 at its start, α ≤ 0 at its end) is refined by secant steps, each followed
+by a guard step ``d0_tolerance`` × L / 2 beyond it, until the bracket of d₀ is narrower than
+``d0_tolerance`` × L: d₀ is stated to that accuracy.  Every number of the analysis is relative
+to L, so a drawing in other units, moved or with its blocks listed in another order takes the
+same steps.  The work is counted in LP solves, never in seconds.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
+from alma.geometry.scene import Scene
+from alma.mechanics.model import Model, build_model
+from alma.push.motion import (Bodies, Contacts, MotionError, Pose, advance, bodies_of, classify, corrected,
+                              displaced, joints_after, predictor, signature)
+from alma.results.types import Result, finite
+from alma.settings import PushSettings, Settings
+from alma.solve import solve
+from alma.status import Status
+
+PUSH_MODELS = ("associative", "nonassociative")
+
+
+@dataclass(frozen=True)
+class PushPoint:
+    """One configuration of the curve: the control displacement ``d`` (mm), α there, whether the
+    mechanism differs from the previous point's, and the blocks' pose (not serialised)."""
+
+    d: float
+    alpha: float
+    mechanism_changed: bool
+    status: Status
+    mechanism_class: str
+    pose: Pose = field(repr=False, compare=False)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"d": self.d, "alpha": finite(self.alpha), "mechanism_changed": self.mechanism_changed,
+                "status": str(self.status), "mechanism_class": self.mechanism_class}
+
+
+@dataclass(frozen=True)
+class PushResult:
+    """The capacity curve of SPEC §3 ``alma push``: α(d) from α_c to α = 0 at d₀ (mm)."""
+
+    status: Status
+    message: str
+    model: str
+    control: str | None
+    curve: tuple[PushPoint, ...]
+    d0: float
+    d0_bracket: tuple[float, float]
+    solves: int
+    #: The analysis at d = 0 (the collapse mechanism the seismic check reads its virtual
+    #: displacements from).
+    first: Result = field(repr=False, compare=False)
+    #: +1 when d grows with the control block's x, −1 when the mechanism moves it towards −x.
+    sense: float = 1.0
+
+    @property
+    def alpha_c(self) -> float:
+        return self.curve[0].alpha if self.curve else math.nan
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON object of SPEC §3 for ``alma push``."""
+        return {"status": str(self.status), "message": self.message, "model": self.model,
+                "control": self.control, "alpha_c": finite(self.alpha_c),
+                "curve": [p.to_dict() for p in self.curve], "d0": finite(self.d0),
+                "d0_bracket": [finite(x) for x in self.d0_bracket], "solves": self.solves}
+
+
+@dataclass(frozen=True)
+class _State:
+    """A solved configuration and what the next step needs of it."""
+
+    d: float
+    pose: Pose
+    result: Result
+    bodies: Bodies
+    contacts: Contacts
+    signature: tuple
+
+    @property
+    def alpha(self) -> float:
+        return float(self.result.alpha)
+
+
+@dataclass(frozen=True)
+class _Run:
+    """What does not change over the analysis."""
+
+    scene: Scene
+    model: str
+    settings: Settings | None
+    push: PushSettings
+    length: float  # L, mm
+    control: int
+    sense: float
+
+
+def push(scene: Scene, *, model: str = "associative", control: str | None = None, steps: int | None = None,
+         settings: Settings | None = None, push_settings: PushSettings | None = None) -> PushResult:
+    """The capacity curve α(d) of ``scene`` by incremental large-displacement analysis.
+
+    Parameters
+    ----------
+    scene
+        A validated :class:`~alma.geometry.scene.Scene` (mm, kN).
+    model
+        ``"associative"`` (Eq. 10, the default) or ``"nonassociative"`` (Eq. 9's search at
+        every step).
+    control
+        The block whose centroid's horizontal displacement is d (mm); default: the moving block
+        whose centroid moves most horizontally in the collapse mechanism (ties: the smaller id).
+    steps
+        Steps from α_c to α = 0 (``PushSettings.steps`` when None).
+
+    Returns
+    -------
+    PushResult
+        ``status`` ``optimal`` when every α of the curve is certified (Eq. 10's bounds) and the
+        bracket of d₀ is closed to ``PushSettings.d0_tolerance`` × L with α proven > 0 at its start
+        and ≤ 0 at its end; ``feasible`` for the non-associative model; ``limit_reached`` when the
+        step budget ran out before α reached 0 (a sliding mechanism never does).
+    """
+    if model not in PUSH_MODELS:
+        raise ValueError(f"model must be one of {PUSH_MODELS}, got {model!r}")
+    p = push_settings or PushSettings()
+    if steps is not None:
+        if not (isinstance(steps, int) and steps >= 1):
+            raise ValueError(f"steps must be a positive integer, got {steps!r}")
+        p = dataclasses.replace(p, steps=steps)
+    if not scene.validated:
+        scene.validate()
+    areas, _ = block_areas_and_centroids(scene)
+    free = np.array([not b.fixed for b in scene.blocks])
+    length = float(np.sqrt(np.abs(areas[free]).sum()))
+    pose = Pose.rest(len(scene.blocks))
+    solved = _solve(scene, pose, find_joints(scene), model, settings)
+    first = solved[0]
+    if first.status not in (Status.OPTIMAL, Status.FEASIBLE):
+        return PushResult(first.status, f"no capacity curve: {first.message}", model, None,
+                          (), math.nan, (math.nan, math.nan), 1, first)
+    index, sense = _control(scene, first, control)
+    run = _Run(scene, model, settings, p, length, index, sense)
+    return _curve(run, _state(run, 0.0, pose, solved))
+
+
+def _control(scene: Scene, result: Result, control: str | None) -> tuple[int, float]:
+    """The control block's scene index and the sense of its horizontal motion."""
+    ids = scene.block_ids
+    ux = {b.id: b.u[0] for b in result.blocks}
+    top = max(abs(v) for v in ux.values()) if ux else 0.0
+    if control is None:
+        if not top > 0:
+            raise ValueError("the collapse mechanism moves no block horizontally: give --control")
+        control = min((k for k, v in ux.items() if abs(v) >= top * (1 - 1e-9)))
+    if control not in ids:
+        raise ValueError(f"control block '{control}': no such block")
+    if control not in ux:
+        raise ValueError(f"control block '{control}': a fixed block does not move")
+    if not abs(ux[control]) > 1e-6 * top:
+        raise ValueError(f"control block '{control}': its centroid does not move horizontally in the "
+                         "collapse mechanism")
+    return ids.index(control), math.copysign(1.0, ux[control])
+
+
+def _solve(scene: Scene, pose: Pose, joints: Joints, model: str, settings: Settings | None
+           ) -> tuple[Result, Model]:
+    built = build_model(displaced(scene, pose), joints)
+    return solve(built, model=model, settings=settings), built
+
+
+def _state(run: _Run, d: float, pose: Pose, solved: tuple[Result, Model]) -> _State:
+    result, built = solved
+    current = built.scene
+    bodies = bodies_of(current, result)
+    contacts = classify(built.joints, bodies, built.friction)
+    return _State(d, pose, result, bodies, contacts, signature(current, result, contacts))
+
+
+def _curve(run: _Run, start: _State) -> PushResult:
+    p = run.push
+    states = [start]
+    state, step = start, p.probe * run.length
+    budget = p.steps * p.max_steps_factor + 1
+    solves, bracket, failure = 1, None, None
+    while bracket is None:
+        if len(states) > budget:
+            failure = (Status.LIMIT_REACHED, f"α is still {state.alpha:.6g} > 0 after {len(states) - 1} steps "
+                       f"(d = {state.d:.6g} mm): the step budget ran out")
+            break
+        try:
+            nxt = _move(run, state, state.d + step)
+        except MotionError as exc:
+            failure = (Status.NOT_CONVERGED, f"at d = {state.d:.6g} mm: {exc}")
+            break
+        solves += 1
+        if not _usable(nxt):
+            failure = (Status.NOT_CONVERGED, f"at d = {nxt.d:.6g} mm: {nxt.result.message}")
+            break
+        states.append(nxt)
+        if nxt.alpha <= 0:
+            bracket = (state, nxt)
+        elif len(states) == 2:
+            drop = start.alpha - nxt.alpha
+            flat = drop <= 1e-9 * max(1.0, abs(start.alpha))
+            step = p.flat_step * run.length if flat else nxt.d * start.alpha / drop / p.steps
+            step = min(max(step, p.probe * run.length), p.max_step * run.length)
+        state = nxt
+    if bracket is None:
+        return _result(run, states, failure, (math.nan, math.nan), math.nan, solves)
+    lo, hi, extra, failure = _refine(run, *bracket)
+    states += extra
+    root = _secant(lo, hi)
+    root = root if math.isfinite(root) else 0.5 * (lo.d + hi.d)
+    return _result(run, [s for s in states if s.d <= hi.d], failure, (lo.d, hi.d), root,
+                   solves + len(extra))
+
+
+def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_State], tuple | None]:
+    """Secant steps with a guard beyond each, inside [lo, hi], until hi.d − lo.d ≤ the tolerance."""
+    tol = run.push.d0_tolerance * run.length
+    extra: list[_State] = []
+    while hi.d - lo.d > tol:
+        if len(extra) >= run.push.refine_solves:
+            return lo, hi, extra, (Status.LIMIT_REACHED, f"d₀ bracketed in [{lo.d:.9g}, {hi.d:.9g}] mm after "
+                                   f"{len(extra)} refining solves")
+        secant = _secant(lo, hi)
+        d = secant if math.isfinite(secant) else 0.5 * (lo.d + hi.d)
+        d = min(max(d, lo.d + 0.25 * tol), hi.d - 0.25 * tol)
+        for target in (d, None):
+            if target is None:  # the guard: just across the root from the secant's point
+                target = d + 0.5 * tol if lo.d == d else d - 0.5 * tol
+                if not lo.d < target < hi.d:
+                    break
+            try:
+                s = _move(run, lo, target)
+            except MotionError as exc:
+                return lo, hi, extra, (Status.NOT_CONVERGED, f"refining d₀ at {target:.9g} mm: {exc}")
+            if not _usable(s):
+                return lo, hi, extra, (Status.NOT_CONVERGED, f"refining d₀ at {target:.9g} mm: {s.result.message}")
+            extra.append(s)
+            lo, hi = (s, hi) if s.alpha > 0 else (lo, s)
+            if hi.d - lo.d <= tol:
+                break
+    return lo, hi, extra, None
+
+
+def _secant(lo: _State, hi: _State) -> float:
+    """The zero of the line through (lo.d, α) and (hi.d, α); NaN when α at hi is not a number (an
+    LP that finds no admissible field for any multiplier: the structure cannot stand there)."""
+    if not (math.isfinite(hi.alpha) and hi.alpha < lo.alpha):
+        return math.nan
+    return lo.d + (hi.d - lo.d) * lo.alpha / (lo.alpha - hi.alpha)
+
+
+def _move(run: _Run, state: _State, d: float) -> _State:
+    """The configuration at control displacement ``d`` along ``state``'s mechanism, solved."""
+    bodies = state.bodies
+    if bodies.count == 0 or bodies.of_block[run.control] < 0:
+        raise MotionError(f"the control block no longer moves in the mechanism at d = {state.d:.6g} mm")
+    scene0 = run.scene
+    here = displaced(scene0, state.pose)
+    where = block_areas_and_centroids(here)[1][run.control]
+    rate = bodies.velocity_at(np.array([run.control]), where[None, :])[0, 0] * run.sense
+    if not rate > 0:
+        raise MotionError(f"the mechanism at d = {state.d:.6g} mm moves the control block backwards")
+    target = (d - state.d) * run.sense
+    z0 = predictor(bodies, (d - state.d) / rate)
+    args = (z0, (run.control, where), target, run.length, run.push.corrector_iterations,
+            run.push.corrector_tolerance)
+    try:
+        z = corrected(bodies, state.contacts, *args)
+    except MotionError:
+        # sliding points kept closed over-constrain a dilatant mechanism of many bodies: let them
+        # open as the associative flow rule does, and keep the hinges
+        z = corrected(bodies, dataclasses.replace(state.contacts, sliding=np.zeros_like(state.contacts.sliding)),
+                      *args)
+    pose = advance(state.pose, scene0, bodies, z)
+    joints = joints_after(displaced(scene0, pose), state.contacts, bodies, z)
+    return _state(run, d, pose, _solve(scene0, pose, joints, run.model, run.settings))
+
+
+def _usable(state: _State) -> bool:
+    """An α the curve can use: a certified (or verified) value, negative ones included."""
+    status = state.result.status
+    if status == Status.NO_EQUILIBRIUM:
+        return not math.isnan(state.alpha)  # −inf: no field carries the dead load at any α
+    return status in (Status.OPTIMAL, Status.FEASIBLE) and math.isfinite(state.alpha)
+
+
+def _result(run: _Run, states: list[_State], failure: tuple | None, bracket: tuple[float, float],
+            d0: float, solves: int) -> PushResult:
+    ordered = sorted(states, key=lambda s: s.d)
+    points = tuple(PushPoint(s.d, s.alpha, k > 0 and s.signature != ordered[k - 1].signature, s.result.status,
+                             s.result.mechanism_class, s.pose) for k, s in enumerate(ordered))
+    changes = sum(pt.mechanism_changed for pt in points)
+    control = run.scene.blocks[run.control].id
+    if failure is not None:
+        status, message = failure
+    else:
+        status, message = _status(run, ordered, bracket, d0, changes)
+    if failure is not None and math.isfinite(d0):
+        message = f"{message}; d0 = {d0:.6g} mm is known only to its bracket [{bracket[0]:.9g}, {bracket[1]:.9g}] mm"
+    return PushResult(status, message, run.model, control, points, d0, bracket, solves, ordered[0].result, run.sense)
+
+
+def _status(run: _Run, states: list[_State], bracket: tuple[float, float], d0: float,
+            changes: int) -> tuple[Status, str]:
+    lo = next(s for s in states if s.d == bracket[0])
+    hi = next(s for s in states if s.d == bracket[1])
+    proven = lo.result.bounds.lower > 0 and hi.result.bounds.upper <= 0
+    every = all(s.result.status in (Status.OPTIMAL, Status.NO_EQUILIBRIUM) for s in states)
+    text = (f"d0 = {d0:.6g} mm (bracket width {bracket[1] - bracket[0]:.2g} mm) after {len(states)} "
+            f"configurations; the mechanism changed {changes} time(s)")
+    if not math.isfinite(hi.alpha):
+        text += (f"; α falls from {lo.alpha:.4g} to no equilibrium at any multiplier within the bracket "
+                 "(a jump, not a zero crossing: check the displaced geometry)")
+    if run.model == "nonassociative":
+        return Status.FEASIBLE, f"{text}; each α is a verified non-associative state"
+    if proven and every:
+        return Status.OPTIMAL, f"{text}; every α certified"
+    return Status.NOT_CONVERGED, f"{text}; the sign of α at the bracket of d0 is not proven"
+

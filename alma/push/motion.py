@@ -1,0 +1,395 @@
+"""Finite rigid motions of blocks along a collapse mechanism, and the contacts they keep.
+
+A mechanism of the limit analysis is a velocity field: its moving macro-blocks (bodies) turn
+about instantaneous centres.  A finite step turns each body about its centre by the finite
+angle ω s (the *predictor*, not the linearised displacement u s), then a Newton *corrector*
+moves the bodies so that every contact point that the mechanism keeps closed stays closed to
+round-off: the hinges (no relative velocity: both bodies meet at the point) and the sliding
+points (the normal gap stays zero; the associative model's dilatancy is a property of its
+flow rule, not a motion of the masonry, so the finite step does not lift a sliding block).
+One more equation fixes the control block's horizontal displacement.  For a linkage (a portal
+frame's four hinges) this follows the linkage's exact path, which proportional rotations about
+the first centres would leave at second order.
+
+Contacts after the step: :func:`alma.geometry.contacts.find_joints` on the displaced geometry
+(the flat joints: those that stayed flat, and new flat contacts), plus the contact points of the
+previous configuration that stayed closed (|T_a(p) − T_b(p)| ≤ the contact tolerance) and are not
+on a flat joint: the hinge about which a joint turned becomes a point contact (start = end),
+whose normal is the face's that the other block's corner bears on (the bisector when two
+corners meet).  Lengths in mm, angles in rad; everything is vectorised over blocks and joints.
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import lsmr
+
+from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
+from alma.geometry.edges import contact_lengths, scene_edges
+from alma.geometry.scene import Scene
+from alma.results.joints import MOTION_TOLERANCE
+from alma.results.types import Result
+
+
+#: Columns (3 per moving body) up to which the corrector's least squares are solved densely.
+DENSE_COLUMNS = 150
+
+
+class MotionError(RuntimeError):
+    """The corrector could not keep the mechanism's contacts closed over the step."""
+
+
+@dataclass(frozen=True)
+class Pose:
+    """Each block's rigid motion from the original scene: x = R(angle)(X − G₀) + G₀ + shift."""
+
+    angle: np.ndarray  # (n,) rad, counter-clockwise
+    shift: np.ndarray  # (n, 2) mm, the displacement of each block's original centroid
+
+    @classmethod
+    def rest(cls, n: int) -> "Pose":
+        return cls(np.zeros(n), np.zeros((n, 2)))
+
+
+@dataclass(frozen=True)
+class Bodies:
+    """The moving macro-blocks of a mechanism: body index per block (−1: at rest or fixed), a
+    reference point per body (mm), its rotation rate ω and the velocity at that point
+    (per unit mechanism)."""
+
+    of_block: np.ndarray  # (n,) int
+    centre: np.ndarray  # (g, 2)
+    omega: np.ndarray  # (g,)
+    velocity: np.ndarray  # (g, 2)
+
+    @property
+    def count(self) -> int:
+        return int(self.omega.shape[0])
+
+    def velocity_at(self, blocks: np.ndarray, points: np.ndarray) -> np.ndarray:
+        """Velocity of ``blocks`` (rows, scene indices) at ``points``; zero for blocks at rest."""
+        g = self.of_block[blocks]
+        moving = g >= 0
+        if self.count == 0:
+            return np.zeros_like(points, dtype=float)
+        gg = np.where(moving, g, 0)
+        r = points - self.centre[gg]
+        v = self.velocity[gg] + self.omega[gg, None] * np.column_stack([-r[:, 1], r[:, 0]])
+        return np.where(moving[:, None], v, 0.0)
+
+
+@dataclass(frozen=True)
+class Contacts:
+    """The contact points of a configuration sorted by what the mechanism does to them."""
+
+    a: np.ndarray  # (p,) scene index of block a
+    b: np.ndarray  # (p,) scene index of block b
+    point: np.ndarray  # (p, 2) mm
+    normal: np.ndarray  # (p, 2) from a into b
+    hinge: np.ndarray  # (p,) bool: no relative velocity, two different bodies
+    sliding: np.ndarray  # (p,) bool: tangential relative velocity, the normal one only dilatancy
+    friction: np.ndarray  # (p,) the joint's friction coefficient
+
+
+def displaced(scene: Scene, pose: Pose) -> Scene:
+    """``scene`` with every block moved by ``pose`` (a validated geometry stays valid: no check)."""
+    origin = _centroids(scene)
+    blocks = tuple(dataclasses.replace(b, vertices=_apply(b.vertices, pose.angle[i], origin[i],
+                                                          origin[i] + pose.shift[i]))
+                   for i, b in enumerate(scene.blocks))
+    moved = dataclasses.replace(scene, blocks=blocks)
+    object.__setattr__(moved, "validated", True)
+    return moved
+
+
+def bodies_of(scene: Scene, result: Result) -> Bodies:
+    """The moving macro-blocks of ``result`` (a solve of ``scene``) as rigid velocity fields."""
+    index = {block.id: i for i, block in enumerate(scene.blocks)}
+    n = len(scene.blocks)
+    of_block = np.full(n, -1)
+    for g, macro in enumerate(result.macro_blocks):
+        of_block[[index[k] for k in macro.blocks]] = g
+    count = len(result.macro_blocks)
+    u = np.zeros((n, 3))
+    rows = [index[b.id] for b in result.blocks]
+    u[rows] = np.array([b.u for b in result.blocks], dtype=float).reshape(-1, 3)
+    centroid = _centroids(scene)
+    members = np.flatnonzero(of_block >= 0)
+    g = of_block[members]
+    size = np.bincount(g, minlength=count).astype(float)
+    centre = np.column_stack([np.bincount(g, centroid[members, i], count) for i in (0, 1)]) / size[:, None]
+    omega = np.bincount(g, u[members, 2], count) / size
+    r = centre[g] - centroid[members]
+    v = u[members, :2] + u[members, 2, None] * np.column_stack([-r[:, 1], r[:, 0]])
+    velocity = np.column_stack([np.bincount(g, v[:, i], count) for i in (0, 1)]) / size[:, None]
+    return Bodies(of_block, centre, omega, velocity)
+
+
+def classify(joints: Joints, bodies: Bodies, friction: np.ndarray) -> Contacts:
+    """Every contact point of ``joints`` as a hinge, a sliding point or neither (it opens)."""
+    a = np.repeat(joints.block_a, 2)
+    b = np.repeat(joints.block_b, 2)
+    point = np.stack([joints.start, joints.end], axis=1).reshape(-1, 2)
+    normal = np.repeat(joints.normal, 2, axis=0)
+    rel = bodies.velocity_at(b, point) - bodies.velocity_at(a, point)
+    # the bodies' own speeds set the scale: a structure standing on one hinge has no other
+    # relative velocity to compare with
+    scale = max(float(np.abs(rel).max(initial=0.0)), float(np.abs(bodies.velocity).max(initial=0.0)), 1e-300)
+    tol = MOTION_TOLERANCE * scale
+    v_n = (rel * normal).sum(axis=1)
+    v_t = np.abs(rel[:, 0] * normal[:, 1] - rel[:, 1] * normal[:, 0])
+    apart = bodies.of_block[a] != bodies.of_block[b]
+    hinge = apart & (np.hypot(rel[:, 0], rel[:, 1]) <= tol)
+    f = np.repeat(friction, 2)
+    sliding = apart & ~hinge & (v_t > tol) & (v_n <= f * v_t * (1 + 1e-6) + tol)
+    return Contacts(a, b, point, normal, hinge, sliding, f)
+
+
+def signature(scene: Scene, result: Result, contacts: Contacts) -> tuple:
+    """What identifies a mechanism across configurations: its macro-blocks (members and kind of
+    motion) and the block pairs it hinges or slides on (ids, so independent of block order)."""
+    ids = np.asarray(scene.block_ids, dtype=object)
+    macros = frozenset((frozenset(m.blocks), m.motion) for m in result.macro_blocks)
+    pairs = lambda keep: frozenset(  # noqa: E731
+        tuple(sorted(p)) for p in zip(ids[contacts.a[keep]].tolist(), ids[contacts.b[keep]].tolist()))
+    return macros, pairs(contacts.hinge), pairs(contacts.sliding)
+
+
+def predictor(bodies: Bodies, s: float) -> np.ndarray:
+    """Increments (angle, shift of the body's centre) turning each body about its instantaneous
+    centre by the finite angle ω s; a translating body (ω = 0) moves by v s.  Shape (g, 3)."""
+    theta = bodies.omega * s
+    half = 0.5 * theta
+    a = s * half * np.sinc(half / np.pi) ** 2  # s (1 − cos θ)/θ, stable at θ = 0
+    b = s * np.sinc(theta / np.pi)  # s sin θ / θ
+    vx, vy = bodies.velocity[:, 0], bodies.velocity[:, 1]
+    # (R(θ) − I)(c − q) with c − q = (v_y, −v_x)/ω, written with the two stable ratios above
+    shift = np.column_stack([b * vx - a * vy, a * vx + b * vy])
+    return np.column_stack([theta, shift])
+
+
+def corrected(bodies: Bodies, contacts: Contacts, start: np.ndarray, control: tuple[int, np.ndarray],
+              target: float, length: float, iterations: int, tolerance: float) -> np.ndarray:
+    """Increments (g, 3) that close every hinge and sliding point of ``contacts`` and move the
+    control point (``control``: its block and its current position, mm) horizontally by
+    ``target`` mm, by Newton's method from ``start`` (least squares: a mechanism with spare
+    freedoms moves least)."""
+    z = start.copy()
+    scale = np.array([1.0, length, length])
+    for _ in range(iterations):
+        residual, jacobian = _equations(bodies, contacts, z, control, target)
+        if np.abs(residual).max(initial=0.0) <= tolerance * length:
+            return z
+        step = _least_squares(jacobian @ sp.diags(np.tile(scale, bodies.count)), residual)
+        z = z - (step * np.tile(scale, bodies.count)).reshape(-1, 3)
+    residual, _ = _equations(bodies, contacts, z, control, target)
+    if np.abs(residual).max(initial=0.0) <= tolerance * length * 1e3:
+        return z
+    raise MotionError(f"the mechanism's hinges cannot stay closed over this step (residual "
+                      f"{np.abs(residual).max():.3g} mm after {iterations} Newton iterations)")
+
+
+def _least_squares(jacobian: sp.csr_matrix, residual: np.ndarray) -> np.ndarray:
+    """The least-norm least-squares step: dense for a few bodies, LSMR (sparse) for many."""
+    if jacobian.shape[1] <= DENSE_COLUMNS:
+        return np.linalg.lstsq(jacobian.toarray(), residual, rcond=None)[0]
+    return lsmr(jacobian, residual, atol=1e-15, btol=1e-15, maxiter=20 * jacobian.shape[1])[0]
+
+
+def advance(pose: Pose, scene0: Scene, bodies: Bodies, z: np.ndarray) -> Pose:
+    """The pose after moving each body by its increment ``z`` (angle, centre shift)."""
+    g = bodies.of_block
+    moving = g >= 0
+    gg = np.where(moving, g, 0)
+    origin = _centroids(scene0)
+    current = origin + pose.shift
+    new = _transform(current, z[gg, 0], bodies.centre[gg], z[gg, 1:])
+    angle = np.where(moving, pose.angle + z[gg, 0], pose.angle)
+    shift = np.where(moving[:, None], new - origin, pose.shift)
+    return Pose(angle, shift)
+
+
+def joints_after(scene: Scene, contacts: Contacts, bodies: Bodies, z: np.ndarray) -> Joints:
+    """The joints of the displaced ``scene``: its flat contacts plus the previous contact points
+    that stayed closed and lie on none of them (see the module docstring)."""
+    found = find_joints(scene)
+    snap, _ = contact_lengths(scene, scene_edges(scene))
+    pa = _moved(bodies, z, contacts.a, contacts.point)
+    pb = _moved(bodies, z, contacts.b, contacts.point)
+    gap = pb - pa
+    closed = np.hypot(*gap.T) <= snap
+    # a sliding point stays a contact where it opened by no more than the associative dilatancy
+    normal = contacts.normal
+    opening = (gap * normal).sum(axis=1)
+    slip = np.abs(gap[:, 0] * normal[:, 1] - gap[:, 1] * normal[:, 0])
+    closed |= contacts.sliding & (opening <= contacts.friction * slip + snap)
+    closed &= (bodies.of_block[contacts.a] >= 0) | (bodies.of_block[contacts.b] >= 0)
+    closed &= ~_covered(found, contacts.a, contacts.b, 0.5 * (pa + pb), snap)
+    if not closed.any():
+        return found
+    keep = np.flatnonzero(closed)
+    point = 0.5 * (pa + pb)[keep]
+    normal = _hinge_normal(scene, bodies, z, contacts, keep, snap)
+    a, b = contacts.a[keep], contacts.b[keep]
+    # one joint per pair of closed points of one previous joint, else a point contact
+    joint = keep // 2
+    pair = np.flatnonzero(np.diff(joint) == 0)
+    single = np.ones(keep.size, dtype=bool)
+    single[pair] = single[pair + 1] = False
+    first = np.concatenate([pair, np.flatnonzero(single)])
+    last = np.concatenate([pair + 1, np.flatnonzero(single)])
+    block_a = np.concatenate([found.block_a, a[first]])
+    block_b = np.concatenate([found.block_b, b[first]])
+    start = np.concatenate([found.start, point[first]])
+    end = np.concatenate([found.end, point[last]])
+    normals = np.concatenate([found.normal, normal[first]])
+    order = np.lexsort((start[:, 1], start[:, 0], block_b, block_a))
+    return Joints(block_a=block_a[order], block_b=block_b[order], start=start[order], end=end[order],
+                  normal=normals[order])
+
+
+# ---------------------------------------------------------------- helpers
+def _centroids(scene: Scene) -> np.ndarray:
+    return block_areas_and_centroids(scene)[1]
+
+
+def _rotate(v: np.ndarray, angle: np.ndarray) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    return np.column_stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1]])
+
+
+def _perp(v: np.ndarray) -> np.ndarray:
+    return np.column_stack([-v[:, 1], v[:, 0]])
+
+
+def _transform(x: np.ndarray, angle: np.ndarray, centre: np.ndarray, shift: np.ndarray) -> np.ndarray:
+    """x ↦ R(angle)(x − centre) + centre + shift, row by row."""
+    return _rotate(x - centre, angle) + centre + shift
+
+
+def _apply(vertices: np.ndarray, angle: float, origin: np.ndarray, target: np.ndarray) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    r = vertices - origin
+    return np.column_stack([c * r[:, 0] - s * r[:, 1], s * r[:, 0] + c * r[:, 1]]) + target
+
+
+def _moved(bodies: Bodies, z: np.ndarray, blocks: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """``points`` carried by the increments of the bodies of ``blocks`` (at rest: unmoved)."""
+    g = bodies.of_block[blocks]
+    moving = g >= 0
+    gg = np.where(moving, g, 0)
+    if bodies.count == 0:
+        return points.copy()
+    out = _transform(points, z[gg, 0], bodies.centre[gg], z[gg, 1:])
+    return np.where(moving[:, None], out, points)
+
+
+def _equations(bodies: Bodies, contacts: Contacts, z: np.ndarray, control: tuple[int, np.ndarray],
+               target: float) -> tuple[np.ndarray, np.ndarray]:
+    """Residual and Jacobian (columns: angle, shift x, shift y of each body) of the corrector."""
+    g_count = bodies.count
+    rows_r, cols, vals = [], [], []
+    residual = []
+    row = 0
+
+    def side(blocks: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        g = bodies.of_block[blocks]
+        gg = np.where(g >= 0, g, 0)
+        arm = _rotate(points - bodies.centre[gg], z[gg, 0])
+        moved = np.where((g >= 0)[:, None], arm + bodies.centre[gg] + z[gg, 1:], points)
+        return g, moved, _perp(arm)
+
+    h = np.flatnonzero(contacts.hinge)
+    if h.size:
+        ga, xa, da = side(contacts.a[h], contacts.point[h])
+        gb, xb, db = side(contacts.b[h], contacts.point[h])
+        residual.append((xa - xb).reshape(-1))
+        r = row + 2 * np.arange(h.size)
+        for g, d, sign in ((ga, da, 1.0), (gb, db, -1.0)):
+            m = g >= 0
+            for k in (0, 1):
+                rows_r += [r[m] + k, r[m] + k]
+                cols += [3 * g[m], 3 * g[m] + 1 + k]
+                vals += [sign * d[m, k], np.full(int(m.sum()), sign)]
+        row += 2 * h.size
+    s = np.flatnonzero(contacts.sliding)
+    if s.size:
+        ga, xa, da = side(contacts.a[s], contacts.point[s])
+        gb, xb, db = side(contacts.b[s], contacts.point[s])
+        na = np.where((ga >= 0)[:, None], _rotate(contacts.normal[s], z[np.where(ga >= 0, ga, 0), 0]),
+                      contacts.normal[s])
+        gap = xb - xa
+        residual.append((gap * na).sum(axis=1))
+        r = row + np.arange(s.size)
+        ma, mb = ga >= 0, gb >= 0
+        rows_r += [r[ma], r[ma], r[ma], r[mb], r[mb], r[mb]]
+        cols += [3 * ga[ma], 3 * ga[ma] + 1, 3 * ga[ma] + 2, 3 * gb[mb], 3 * gb[mb] + 1, 3 * gb[mb] + 2]
+        vals += [(-(da * na).sum(axis=1) + (gap * _perp(na)).sum(axis=1))[ma], -na[ma, 0], -na[ma, 1],
+                 (db * na).sum(axis=1)[mb], na[mb, 0], na[mb, 1]]
+        row += s.size
+    block, where = control
+    gc, moved, dc = side(np.array([block]), where[None, :])
+    residual.append(np.array([moved[0, 0] - where[0] - target]))
+    rows_r += [np.array([row]), np.array([row])]
+    cols += [np.array([3 * gc[0]]), np.array([3 * gc[0] + 1])]
+    vals += [np.array([dc[0, 0]]), np.array([1.0])]
+    row += 1
+    jac = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows_r).astype(int),
+                                                np.concatenate(cols).astype(int))), shape=(row, 3 * g_count))
+    return np.concatenate(residual), jac
+
+
+def _covered(found: Joints, a: np.ndarray, b: np.ndarray, points: np.ndarray, snap: float) -> np.ndarray:
+    """Per point: it lies within ``snap`` of a found joint between the same two blocks."""
+    if found.count == 0 or a.size == 0:
+        return np.zeros(a.size, dtype=bool)
+    n = int(max(found.block_a.max(), found.block_b.max(), a.max(), b.max())) + 1
+    key = found.block_a.astype(np.int64) * n + found.block_b
+    order = np.argsort(key, kind="stable")
+    sorted_key = key[order]
+    mine = np.minimum(a, b).astype(np.int64) * n + np.maximum(a, b)
+    lo = np.searchsorted(sorted_key, mine, "left")
+    hi = np.searchsorted(sorted_key, mine, "right")
+    count = hi - lo
+    owner = np.repeat(np.arange(a.size), count)
+    k = order[np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count - lo, count)]
+    p = points[owner]
+    s0, s1 = found.start[k], found.end[k]
+    seg = s1 - s0
+    t = np.clip(((p - s0) * seg).sum(axis=1) / np.maximum((seg * seg).sum(axis=1), 1e-300), 0.0, 1.0)
+    near = np.hypot(*(p - s0 - t[:, None] * seg).T) <= snap
+    out = np.zeros(a.size, dtype=bool)
+    np.logical_or.at(out, owner, near)
+    return out
+
+
+def _hinge_normal(scene: Scene, bodies: Bodies, z: np.ndarray, contacts: Contacts, keep: np.ndarray,
+                  snap: float) -> np.ndarray:
+    """The normal of each kept point contact after the step: the face's of the block the other's
+    corner bears on; the bisector of the two turned normals where two corners meet."""
+    a, b, n = contacts.a[keep], contacts.b[keep], contacts.normal[keep]
+    angle = lambda blocks: np.where(bodies.of_block[blocks] >= 0,  # noqa: E731
+                                    z[np.maximum(bodies.of_block[blocks], 0), 0] if bodies.count else 0.0, 0.0)
+    na, nb = _rotate(n, angle(a)), _rotate(n, angle(b))
+    corner_a = _at_vertex(scene, a, _moved(bodies, z, a, contacts.point[keep]), snap)
+    corner_b = _at_vertex(scene, b, _moved(bodies, z, b, contacts.point[keep]), snap)
+    bisector = na + nb
+    bisector /= np.hypot(bisector[:, 0], bisector[:, 1])[:, None]
+    out = np.where((corner_b & ~corner_a)[:, None], na, bisector)
+    return np.where((corner_a & ~corner_b)[:, None], nb, out)
+
+
+def _at_vertex(scene: Scene, blocks: np.ndarray, points: np.ndarray, snap: float) -> np.ndarray:
+    """Per point: it is within ``snap`` of a vertex of its block (in the displaced scene)."""
+    counts = np.array([len(blk.vertices) for blk in scene.blocks])
+    width = int(counts.max())
+    padded = np.full((len(scene.blocks), width, 2), np.inf)
+    flat = np.concatenate([blk.vertices for blk in scene.blocks])
+    row = np.repeat(np.arange(len(counts)), counts)
+    col = np.arange(flat.shape[0]) - np.repeat(np.cumsum(counts) - counts, counts)
+    padded[row, col] = flat
+    d = np.hypot(*(padded[blocks] - points[:, None, :]).transpose(2, 0, 1))
+    return d.min(axis=1) <= snap

@@ -1,0 +1,97 @@
+"""Pictures of capacity curves: α(d) of ``alma.push``, a*(d*) of ``alma.seismic`` with the
+demand, and the structure at chosen steps of the curve (its displaced geometry, drawn to scale)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from alma.geometry.scene import Scene
+from alma.push import PushResult
+from alma.push.motion import displaced
+from alma.seismic import SeismicResult
+
+
+def plot_capacity(scene: Scene, result: PushResult, path: str | Path, *, check: SeismicResult | None = None,
+                  title: str | None = None, snapshots: int = 3) -> Path:
+    """Save a PNG: α(d) (mm), the configurations at ``snapshots`` steps from d = 0 to d₀, and with
+    ``check`` the curve a*(d*) (m, m/s²) with a₀*, d_u*, the demand displacement and the linear
+    demand."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    panels = 3 if check is not None else 2
+    fig, axes = plt.subplots(1, panels, figsize=(5.2 * panels, 4.4))
+    d = np.array([p.d for p in result.curve])
+    alpha = np.array([p.alpha for p in result.curve])
+    ax = axes[0]
+    ax.plot(d, alpha, "-", color="tab:blue", lw=1.5, label="α(d)")
+    ax.plot(d, alpha, ".", color="tab:blue", ms=3)
+    changed = np.array([p.mechanism_changed for p in result.curve], dtype=bool)
+    if changed.any():
+        ax.plot(d[changed], alpha[changed], "o", mfc="none", color="tab:red", label="mechanism changes")
+    if np.isfinite(result.d0):
+        ax.axvline(result.d0, color="0.4", ls=":", lw=1)
+        ax.annotate(f"d₀ = {result.d0:.4g} mm", (result.d0, 0), textcoords="offset points", xytext=(-70, 10),
+                    fontsize=8)
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xlabel(f"d: horizontal displacement of {result.control} [mm]")
+    ax.set_ylabel("α")
+    ax.set_title(f"capacity curve ({result.model}, {result.status})", fontsize=10)
+    ax.legend(fontsize=8)
+    _snapshots(axes[1], scene, result, snapshots)
+    if check is not None:
+        _spectral(axes[2], check)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    return path
+
+
+def _snapshots(ax, scene: Scene, result: PushResult, count: int) -> None:
+    """Outlines of the structure at ``count`` points of the curve spread from d = 0 to d₀."""
+    from matplotlib.collections import PolyCollection
+
+    points = result.curve
+    picks = sorted({int(round(k)) for k in np.linspace(0, len(points) - 1, max(count, 2))})
+    colours = ["0.55", "tab:orange", "tab:red", "tab:purple", "tab:green"]
+    for n, k in enumerate(picks):
+        moved = displaced(scene, points[k].pose)
+        polygons = [b.vertices for b in moved.blocks]
+        fixed = [b.fixed for b in moved.blocks]
+        face = ["0.8" if f else "none" for f in fixed]
+        ax.add_collection(PolyCollection(polygons, facecolors=face, edgecolors=colours[n % len(colours)],
+                                         linewidths=0.8, label=f"d = {points[k].d:.3g} mm, α = {points[k].alpha:.3g}"))
+    ax.autoscale_view()
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+    ax.set_title("displaced geometry (to scale)", fontsize=10)
+    ax.legend(fontsize=7, loc="upper left")
+
+
+def _spectral(ax, check: SeismicResult) -> None:
+    """a*(d*) with the checks' quantities."""
+    if not check.curve_star:
+        return
+    ds, a = np.array(check.curve_star).T
+    ax.plot(ds * 1e3, a, "-", color="tab:blue", lw=1.5, label="a*(d*)")
+    ax.axhline(check.linear["demand"], color="tab:red", ls="--", lw=1,
+               label=f"linear demand {check.linear['demand']:.3g} m/s²")
+    ax.plot([0], [check.a0_star], "o", color="tab:blue", label=f"a₀* = {check.a0_star:.3g} m/s²")
+    nl = check.nonlinear
+    if nl and np.isfinite(nl.get("du_star", np.nan)):
+        ax.axvline(nl["du_star"] * 1e3, color="tab:green", lw=1, label=f"d_u* = {nl['du_star'] * 1e3:.3g} mm")
+        ax.axvline(nl["demand"] * 1e3, color="tab:red", lw=1, label=f"demand Δ = {nl['demand'] * 1e3:.3g} mm")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xlabel("d* [mm]")
+    ax.set_ylabel("a* [m/s²]")
+    si = check.linear["safety_index"]
+    si2 = nl.get("safety_index", np.nan) if nl else np.nan
+    ax.set_title(f"kinematic check: linear {si:.3g}, nonlinear {si2:.3g}", fontsize=10)
+    ax.legend(fontsize=7)

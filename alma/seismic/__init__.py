@@ -1,0 +1,5 @@
+"""The kinematic seismic check of local mechanisms (NTC 2018, Circolare 2019 §C8.7.1)."""
+from alma.seismic.check import SeismicResult, Site, load_site, seismic
+from alma.seismic.spectrum import Spectrum, elastic_spectrum
+
+__all__ = ["SeismicResult", "Site", "Spectrum", "elastic_spectrum", "load_site", "seismic"]

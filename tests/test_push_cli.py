@@ -1,0 +1,57 @@
+"""``alma push`` and ``alma seismic`` on the command line (SPEC §3)."""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+ROCKING = {"name": "slender block", "thickness": 120, "unit_weight": 18, "friction": 0.8, "blocks": [
+    {"id": "ground", "vertices": [[-500, -100], [800, -100], [800, 0], [-500, 0]], "fixed": True},
+    {"id": "wall", "vertices": [[0, 0], [240, 0], [240, 600], [0, 600]]}]}
+SITE = 'ag = 0.2\nF0 = 2.4\nTc_star = 0.3\nsoil = "B"\n'
+
+
+def _alma(*args, cwd):
+    return subprocess.run([sys.executable, "-m", "alma.cli", *args], capture_output=True, text=True, cwd=cwd)
+
+
+@pytest.fixture()
+def files(tmp_path):
+    (tmp_path / "scene.json").write_text(json.dumps(ROCKING))
+    (tmp_path / "site.toml").write_text(SITE)
+    return tmp_path
+
+
+def test_push_json_is_one_object_with_the_spec_fields(files):
+    out = _alma("push", "scene.json", "--steps", "8", "--json", "--plot", "curve.png", cwd=files)
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    assert data["status"] == "optimal" and data["control"] == "wall"
+    assert data["d0"] == pytest.approx(120.0, abs=1e-4)
+    assert data["curve"][0] == {**data["curve"][0], "d": 0.0, "mechanism_changed": False}
+    assert (files / "curve.png").stat().st_size > 0
+
+
+def test_seismic_json(files):
+    out = _alma("seismic", "scene.json", "--site", "site.toml", "--steps", "8", "--json", "--html", "check.html",
+                cwd=files)
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    for key in ("alpha0", "M_star", "e_star", "a0_star", "demand", "safety_index", "d0_star", "du_star", "Ts"):
+        assert data[key] is not None, key
+    assert data["nonlinear"]["safety_index"] > 0
+    page = (files / "check.html").read_text()
+    assert page.count("<svg") == 2 and "a0_star" in page and "<script" not in page
+
+
+@pytest.mark.parametrize("args, word", [(("push", "scene.json", "--control", "nope"), "nope"),
+                                        (("push", "scene.json", "--control", "ground"), "fixed"),
+                                        (("seismic", "scene.json", "--site", "missing.toml"), "missing.toml"),
+                                        (("push", "scene.json", "--plot", "scene.json"), "input")])
+def test_bad_input_exits_2_with_one_json_object(files, args, word):
+    out = _alma(*args, "--json", cwd=files)
+    assert out.returncode == 2
+    assert json.loads(out.stdout)["status"] == "invalid_input"
+    assert word in out.stderr

@@ -1,0 +1,194 @@
+"""The capacity curve α(d) of ``alma.push`` against closed forms of rigid-block statics.
+
+References written here from virtual work on the displaced geometry (finite rotation θ):
+
+- a block b × h rocking about its toe under αW at its centroid (horizontal) and W (vertical):
+  the centroid's arm is r (−cos(β + θ), sin(β + θ)) from the toe, r = ½√(b² + h²), β = atan(h/b),
+  so α(θ) = (b cos θ − h sin θ)/(h cos θ + b sin θ), zero at θ₀ = atan(b/h), where the centroid
+  has moved d₀ = b/2 (Housner's rocking block; the classical statics of overturning);
+- a fixed mechanism of several bodies: α = Σ W v_y / Σ W v_x with v the bodies' virtual
+  velocities at the displaced configuration (dead load −W ŷ, live load αW x̂).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+import alma
+from alma.push import push
+from alma.push.motion import displaced
+from alma.settings import PushSettings
+
+
+def _rect(x0, y0, w, h):
+    return [[x0, y0], [x0 + w, y0], [x0 + w, y0 + h], [x0, y0 + h]]
+
+
+def _scene(blocks, friction=0.8):
+    return alma.Scene.from_dict({"thickness": 120, "unit_weight": 18, "friction": friction, "blocks": [
+        {"id": "ground", "vertices": _rect(-2000, -100, 5000, 100), "fixed": True}, *blocks]})
+
+
+def _rocking_alpha(b, h, theta):
+    return (b * math.cos(theta) - h * math.sin(theta)) / (h * math.cos(theta) + b * math.sin(theta))
+
+
+def _theta_of_d(d, b, h):
+    """The block's rotation that moves its centroid horizontally by d (toe at the right)."""
+    r, beta = 0.5 * math.hypot(b, h), math.atan2(h, b)
+    return math.acos((r * math.cos(beta) - d) / r) - beta
+
+
+B, H = 240.0, 600.0
+SINGLE = _scene([{"id": "b1", "vertices": _rect(0, 0, B, H)}])
+
+
+@pytest.fixture(scope="module")
+def single():
+    return push(SINGLE)
+
+
+def test_single_block_curve_matches_the_closed_form_at_every_step(single):
+    assert single.status == alma.Status.OPTIMAL
+    assert single.control == "b1" and len(single.curve) > 40
+    errors = [abs(p.alpha - _rocking_alpha(B, H, _theta_of_d(p.d, B, H))) for p in single.curve]
+    assert max(errors) <= 1e-6
+    assert not any(p.mechanism_changed for p in single.curve)
+
+
+def test_single_block_d0_is_half_the_width_to_the_stated_accuracy(single):
+    tol = PushSettings().d0_tolerance * math.sqrt(B * H)
+    lo, hi = single.d0_bracket
+    assert hi - lo <= tol and lo <= B / 2 <= hi + 1e-9
+    assert single.d0 == pytest.approx(B / 2, abs=tol)
+    # the blocks turned about the toe: it has not moved
+    last = displaced(SINGLE, single.curve[-1].pose).blocks[1].vertices
+    assert np.allclose(last[1], [B, 0.0], atol=1e-6)
+    assert single.curve[-1].pose.angle[1] == pytest.approx(-math.atan(B / H), abs=1e-6)
+
+
+def test_json_has_the_fields_of_the_spec(single):
+    out = single.to_dict()
+    assert {"status", "control", "curve", "d0"} <= set(out)
+    assert set(out["curve"][0]) >= {"d", "alpha", "mechanism_changed"}
+    assert out["curve"][0]["d"] == 0.0 and out["curve"][0]["alpha"] == pytest.approx(B / H, rel=1e-9)
+
+
+def test_two_stacked_blocks_rock_as_one_about_the_base_toe():
+    scene = _scene([{"id": "low", "vertices": _rect(0, 0, 200, 400)}, {"id": "top", "vertices": _rect(0, 400, 200, 400)}])
+    result = push(scene, steps=10)
+    assert result.status == alma.Status.OPTIMAL
+    # one body 200 × 800 (the joint between the blocks stays closed: it is found again each step)
+    for p in result.curve:
+        theta = -p.pose.angle[2]
+        assert p.alpha == pytest.approx(_rocking_alpha(200, 800, theta), abs=1e-6)
+        assert p.pose.angle[1] == pytest.approx(p.pose.angle[2], abs=1e-12)
+    # the control is the top block, its centroid (−100, 600) from the toe: d₀ at θ₀ = atan(200/800)
+    theta0 = math.atan(200 / 800)
+    assert result.control == "top"
+    assert result.d0 == pytest.approx(100 * (1 - math.cos(theta0)) + 600 * math.sin(theta0), abs=1e-4)
+
+
+def test_slender_top_block_rocks_alone_on_the_lower_one():
+    scene = _scene([{"id": "base", "vertices": _rect(0, 0, 800, 200)}, {"id": "top", "vertices": _rect(100, 200, 150, 600)}])
+    result = push(scene, steps=10)
+    assert result.status == alma.Status.OPTIMAL and result.control == "top"
+    errors = [abs(p.alpha - _rocking_alpha(150, 600, _theta_of_d(p.d, 150, 600))) for p in result.curve]
+    assert max(errors) <= 1e-6
+    assert result.d0 == pytest.approx(75.0, abs=1e-4)
+
+
+# ------------------------------------------------------------------ portal frame (4 hinges)
+PB, PH, SPAN, LT = 200.0, 1000.0, 1000.0, 200.0
+PORTAL = _scene([{"id": "pier_l", "vertices": _rect(0, 0, PB, PH)},
+                 {"id": "pier_r", "vertices": _rect(SPAN - PB, 0, PB, PH)},
+                 {"id": "lintel", "vertices": _rect(-100, PH, SPAN + 200, LT)}])
+
+
+def _portal_alpha(theta):
+    """Sway of the portal: each pier turns clockwise by θ about its right toe, hinged to the lintel
+    at its top-left corner; the lintel translates with those corners (a parallelogram)."""
+    weights, vx, vy = [], [], []
+    for x0 in (0.0, SPAN - PB):
+        toe = np.array([x0 + PB, 0.0])
+        c, s = math.cos(theta), math.sin(theta)
+        rot = np.array([[c, s], [-s, c]])  # clockwise by θ
+        centroid = toe + rot @ np.array([-PB / 2, PH / 2])
+        corner = toe + rot @ np.array([-PB, PH])
+        for point, w in ((centroid, PB * PH), (corner, None)):
+            r = point - toe
+            v = np.array([r[1], -r[0]])  # clockwise unit rate
+            if w is None:
+                lintel_v = v
+            else:
+                weights.append(w), vx.append(v[0]), vy.append(v[1])
+    weights.append((SPAN + 200) * LT), vx.append(lintel_v[0]), vy.append(lintel_v[1])
+    w = np.array(weights)
+    return float(w @ np.array(vy) / (w @ np.array(vx)))
+
+
+def _portal_theta(d):
+    """θ that moves the lintel (its control centroid) by d: d = b(1 − cos θ) + h sin θ."""
+    lo, hi = 0.0, 1.5
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if PB * (1 - math.cos(mid)) + PH * math.sin(mid) < d else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def test_portal_frame_follows_its_four_hinge_mechanism_at_finite_rotation():
+    result = push(PORTAL, steps=10)
+    assert result.control == "lintel"
+    motions = {m.blocks: m.motion for m in result.first.macro_blocks}
+    assert motions == {("pier_l",): "rotation", ("pier_r",): "rotation", ("lintel",): "translation"}
+    checked = 0
+    for p in result.curve:
+        if p.mechanism_changed:
+            break
+        assert p.alpha == pytest.approx(_portal_alpha(_portal_theta(p.d)), abs=1e-6)
+        assert p.pose.angle[3] == pytest.approx(0.0, abs=1e-9)  # the lintel translates
+        checked += 1
+    assert checked >= 5
+
+
+# ------------------------------------------------------------------ invariance
+@settings(max_examples=3, deadline=None)
+@given(scale=st.sampled_from([0.1, 1.0, 25.4]), dx=st.floats(-1e4, 1e4), dy=st.floats(-1e4, 1e4),
+       reverse=st.booleans())
+def test_curve_does_not_depend_on_units_origin_or_block_order(scale, dx, dy, reverse):
+    base = push(PORTAL, steps=6)
+    data = PORTAL.to_dict()
+    for block in data["blocks"]:
+        block["vertices"] = (np.array(block["vertices"]) * scale + [dx, dy]).tolist()
+    if reverse:
+        data["blocks"] = data["blocks"][::-1]
+    data["unit_weight"] = 18 / scale ** 3  # the same weights: α and d/scale must not change
+    data["thickness"] = 120 * scale
+    other = push(alma.Scene.from_dict(data), steps=6)
+    assert other.control == base.control and len(other.curve) == len(base.curve)
+    assert np.allclose([p.alpha for p in other.curve], [p.alpha for p in base.curve], atol=1e-7)
+    assert np.allclose([p.d / scale for p in other.curve], [p.d for p in base.curve], rtol=1e-7, atol=1e-6)
+    assert other.d0 / scale == pytest.approx(base.d0, rel=1e-6)
+
+
+def test_a_sliding_block_never_reaches_zero_and_says_so():
+    # 240 × 60 with f = 0.6 slides at α = f (rocking would need b/h = 4): the curve stays flat and
+    # the step budget, not a clock, ends it
+    scene = _scene([{"id": "brick", "vertices": _rect(0, 0, 240, 60)}], friction=0.6)
+    result = push(scene, push_settings=PushSettings(steps=3, max_steps_factor=2))
+    assert result.status == alma.Status.LIMIT_REACHED
+    assert max(abs(p.alpha - 0.6) for p in result.curve) <= 1e-6
+    assert len(result.curve) == 3 * 2 + 2 and result.to_dict()["d0"] is None
+    # the sliding contact stays closed over the finite steps: no dilatant lift
+    last = displaced(scene, result.curve[-1].pose).blocks[1].vertices
+    assert np.allclose(last[:, 1].min(), 0.0, atol=1e-6) and last[0, 0] == pytest.approx(result.curve[-1].d)
+
+
+@pytest.mark.parametrize("kwargs, word", [({"model": "both"}, "model"), ({"control": "nope"}, "nope"),
+                                          ({"control": "ground"}, "fixed"), ({"steps": 0}, "steps")])
+def test_bad_arguments_are_refused_by_name(kwargs, word):
+    with pytest.raises(ValueError, match=word):
+        push(SINGLE, **kwargs)
