@@ -50,7 +50,7 @@ def _panel(scene: Scene, result: Any, k: int, label: str) -> str:
     b = result.bounds
     alpha = f"{result.alpha:.6g}" if math.isfinite(result.alpha) else str(result.alpha)
     rows = [("model", label), ("status", str(result.status)), ("α", alpha),
-            ("bounds", f"[{b.lower:.9g}, {b.upper:.9g}]" + (f", relative gap {b.gap:.2g}" if math.isfinite(b.gap) else "")),
+            ("bounds", b.describe()),
             ("mechanism", f"{result.mechanism_class} ({len(result.macro_blocks)} macro-blocks)"),
             ("message", result.message)]
     rows += [(f"time: {key.removesuffix('_s')}", f"{value:.3f} s") for key, value in result.timings.items()]
