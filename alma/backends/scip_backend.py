@@ -9,6 +9,11 @@ unless told otherwise, so every model is created here with output switched off a
 """
 from __future__ import annotations
 
+import ctypes
+import os
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -42,6 +47,23 @@ TERMINATION: dict[str, str] = {
     "inforunbd": "failed",
     "unknown": "failed",
 }
+
+
+@contextmanager
+def _stdout_to_stderr() -> Iterator[None]:
+    """Send what C code writes on file descriptor 1 to standard error meanwhile: SoPlex writes
+    some warnings (e.g. "Cannot set feasibility tolerance ...") to standard output even when
+    SCIP's output is hidden, and ``--json`` must stay the only thing there."""
+    sys.stdout.flush()
+    libc = ctypes.CDLL(None)
+    saved = os.dup(1)
+    try:
+        os.dup2(2, 1)
+        yield
+    finally:
+        libc.fflush(None)  # C stdio buffers written while redirected go to standard error
+        os.dup2(saved, 1)
+        os.close(saved)
 
 
 def available() -> bool:
@@ -117,7 +139,8 @@ def solve_mip(cost: np.ndarray, col_lo: np.ndarray, col_hi: np.ndarray, A: sp.sp
     if objective_limit is not None:
         m.setObjlimit(float(objective_limit))
     try:
-        m.optimize()
+        with _stdout_to_stderr():
+            m.optimize()
     except Exception as error:  # SCIP raises on unresolved numerical trouble in its LPs
         return MipOutcome("failed", f"error ({error})", -np.inf, np.inf, None, int(m.getNTotalNodes()))
     word = str(m.getStatus())
