@@ -8,9 +8,11 @@ from __future__ import annotations
 import json
 
 import pytest
+from hypothesis import given, strategies as st
 
 from alma.backends import scip_backend
 from alma.cli.main import main
+from alma.results.types import Bounds
 
 SCENE = {
     "name": "single block on the ground",
@@ -59,3 +61,10 @@ def test_scip_certificate_in_the_json(scene, capsys):
     assert out["certificate"]["backend"] == "scip" and out["certificate"]["status"] == "proven"
     assert "SCIP" in out["bounds"]["lower_is"] and out["bounds"]["upper_is"].startswith("verified collapse state")
     assert out["bounds"]["lower"] == pytest.approx(0.6, abs=1e-6)
+
+
+@given(lower=st.floats(allow_nan=True, allow_infinity=True), upper=st.floats(allow_nan=True, allow_infinity=True))
+def test_interval_text_never_prints_inf_or_nan(lower, upper):
+    text = Bounds(lower, upper, "proven bound (MILP certificate, SCIP)", "verified collapse state (α_NL)").describe()
+    assert "inf" not in text and "nan" not in text
+    assert text.startswith("[") and "lower: proven bound" in text and "upper: verified collapse state" in text
