@@ -7,7 +7,8 @@
   With cohesion and a tie too.
 - The proven bound equals HiGHS's big-M proof on the scenes ``test_certify`` found by hypothesis.
 - The state SCIP reports is a genuine collapse state (alma's exact-state verification).
-- A node budget gives the same bound on every run, never above the best verified state.
+- A node budget gives the same bound on every run, never above the best verified state, and a
+  node-limited proof's bound is the result's ``bounds.lower`` (status ``feasible``).
 
 Skipped with the reason when PySCIPOpt (the extra ``alma[scip]``) is not installed.
 """
@@ -169,3 +170,20 @@ def test_without_pyscipopt_the_certificate_says_how_to_install(monkeypatch):
     model, alpha_lp, mechanisms, best = _inputs(side_by_side(2, 1.0))
     cert = certify(model, alpha_lp, mechanisms, alpha_best=best, settings=SCIP)
     assert cert.status == "failed" and "alma[scip]" in cert.message and cert.lower == 0.0
+
+
+@pytest.mark.slow  # ~13 s: two searches and two proofs
+def test_a_node_limited_proof_is_the_results_lower_bound():
+    """Six 1 × 2 blocks side by side, f = 1, SCIP stopped after 5 nodes: its positive bound (measured
+    0.1105) is ``bounds.lower`` with status ``feasible`` and says it was stopped; it lies below the
+    completed proof (HiGHS, 0.5 = the rocking state)."""
+    scene = side_by_side(6, 1.0)
+    budget = alma.Settings(certify=dataclasses.replace(SCIP, node_limit=5))
+    result = alma.solve(scene, model="nonassociative", certify=True, effort="fast", settings=budget)
+    cert = result.extra["certificate"]
+    assert cert["status"] == "node_limit" and result.status == "feasible"
+    assert 0.0 < result.bounds.lower == cert["lower"] < result.alpha
+    assert result.bounds.lower_is == "proven bound (MILP certificate, SCIP, stopped by node limit)"
+    full = alma.solve(scene, model="nonassociative", certify=True, effort="fast")
+    assert full.status == "optimal" and full.bounds.lower == pytest.approx(0.5, abs=1e-6)
+    assert result.bounds.lower <= full.bounds.lower
