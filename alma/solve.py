@@ -39,9 +39,11 @@ def solve(scene: Scene | Model, model: str = "associative", *, settings: Setting
         Every tuned number (:class:`alma.settings.Settings`); ``tolerance`` (the LP's),
         ``effort`` ("auto", "fast", "thorough") and ``time_limit`` (s) override its fields.
     certify
-        Non-associative models only: prove a lower bound by mixed-integer programming.  The MILP
-        is written without bounded forces: with cohesion or ties it is not run, and the result's
-        message says so (Radenkovic's bound is still reported).
+        Non-associative models only: prove a lower bound by mixed-integer programming
+        (:mod:`alma.certify`; cohesion and ties included).  ``settings.certify.backend`` picks
+        HiGHS (big-M binaries, the default) or SCIP (SOS1 pairs, the extra ``alma[scip]``); its
+        ``node_limit`` is the work budget, and a proof stopped by it (or by ``time_limit``)
+        still gives the bound it reached as ``bounds.lower``.
     time_limit
         A user's wall-clock cap in seconds; when it cuts the work the status is
         ``limit_reached``.  Without it the answer depends on the input and settings only.
@@ -116,7 +118,7 @@ def _build(scene: Scene | Model, joints: Joints | None) -> tuple[Model, dict[str
 def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settings,
                     certify: bool) -> NonAssociativeResult:
     """Eq. 9: the search from the LP's mechanism and field, and the MILP proof if asked."""
-    t0 = time.perf_counter()
+    t0 = started = time.perf_counter()
     timings = dict(assoc.timings)
     solution = solve_nonassociative(built, lp.mechanism if lp.solved else None,
                                     lp.multipliers if lp.solved else None, effort=settings.search.effort,
@@ -131,8 +133,10 @@ def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settin
     if certify:
         mechanisms = [c.mechanism for c in solution.candidates] + ([lp.mechanism] if lp.solved else [])
         best = solution.best.alpha if solution.best is not None else None
-        certificate = certify_milp(built, lp.alpha, mechanisms, settings=settings.certify,
-                                   time_limit=settings.time_limit, alpha_best=best)
+        # The user's cap covers the search and the proof together: the proof gets what is left.
+        left = None if settings.time_limit is None else max(0.0, settings.time_limit - (time.perf_counter() - started))
+        certificate = certify_milp(built, lp.alpha, mechanisms, settings=settings.certify, time_limit=left,
+                                   alpha_best=best)
         timings["certification_s"] = certificate.time_s
     return nonassociative_result(built, assoc, solution, timings, certificate, radenkovic)
 
