@@ -26,6 +26,9 @@ this yields the valid row α n_free ≥ −f₀ᵀu + Σ_j f ℓ_j (γ⁺_j + γ
 with α ≤ α_cap it bounds every mechanism that lifts weight, slips under load or works a
 bounded force.
 
+With ``CertifySettings.backend = "scip"`` the same problem is solved by SCIP with the
+complementarity as SOS1 pairs instead of big-M rows (:mod:`alma.certify.sos1`).
+
 The big-M constants come from LPs per scene (:mod:`alma.certify.bigm`).  Points that carry
 no force in any admissible field need no binary (they may open); points loaded in every
 admissible field never open.  The proven statement is therefore: no collapse state with α
