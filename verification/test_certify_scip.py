@@ -56,7 +56,7 @@ def _static_min(model, pts, opened, slip, rate) -> float:
     b_eq = [-model.dead]
     A_ub, b_ub = [], []
     for p in range(P):
-        row = lambda a, b: np.concatenate([[0.0], a, b, np.zeros(q)])  # noqa: E731
+        row = lambda a, b: np.concatenate([[0.0], a, b, np.zeros(q)])
         e = np.eye(P)[p]
         A_ub += [row(-f[p] * e, e), row(-f[p] * e, -e)]  # |T| ≤ f N
         b_ub += [0.0, 0.0]
