@@ -13,7 +13,7 @@ venv: $(STAMP)
 $(STAMP): pyproject.toml constraints.txt
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -c constraints.txt -e ".[test,dask]"
+	$(BIN)/python -m pip install --quiet -c constraints.txt -e ".[test,dask,scip]"
 	touch $(STAMP)
 
 demo: $(STAMP)
@@ -31,7 +31,7 @@ test-latest:
 	rm -rf $(LATEST)
 	$(PYTHON) -m venv $(LATEST)
 	$(LATEST)/bin/python -m pip install --quiet --upgrade pip
-	$(LATEST)/bin/python -m pip install --quiet -e ".[test,dask]"
+	$(LATEST)/bin/python -m pip install --quiet -e ".[test,dask,scip]"
 	$(LATEST)/bin/python -m pip list --format=freeze > $(LATEST)/versions.txt
 	$(LATEST)/bin/python -m pytest tests/ verification/ -q
 
@@ -83,7 +83,7 @@ bench-nonassociative: $(STAMP)
 	$(BIN)/python benchmarks/bench_nonassociative.py
 
 bench-certify: $(STAMP)
-	$(BIN)/python benchmarks/bench_certify.py
+	$(BIN)/python benchmarks/bench_certify.py --backends highs,scip
 
 bench-bounded: $(STAMP)
 	$(BIN)/python benchmarks/bench_bounded.py --sweep

@@ -72,6 +72,15 @@ class CertifySettings:
     velocity_factor: float = 10.0
     #: Above this many contact points, one global normal-force bound replaces the per-point LPs.
     per_point_bounds: int = 400
+    #: "highs" (big-M binaries, always installed) or "scip" (SOS1 pairs, the extra alma[scip]).
+    backend: str = "highs"
+    #: Absolute MIP gap of the SCIP path: the proven bound is within this of the best state found.
+    absolute_gap: float = 1e-7
+    #: SCIP's feasibility tolerance: its default 1e-6 lets equilibrium drift by 1e-6 block weights
+    #: (α by as much); 1e-9 ended in unresolved LP trouble on a 14-block running wall, 1e-8 did not.
+    scip_feasibility: float = 1e-8
+    #: SCIP: add the exact energy balance (bilinear in N and the slips) as a quadratic equality.
+    scip_energy: bool = True
 
 
 @dataclass(frozen=True)

@@ -41,9 +41,11 @@ def solve(scene: Scene | Model, model: str = "associative", *, settings: Setting
         Every tuned number (:class:`alma.settings.Settings`); ``tolerance`` (the LP's),
         ``effort`` ("auto", "fast", "thorough") and ``time_limit`` (s) override its fields.
     certify
-        Non-associative models only: prove a lower bound by mixed-integer programming.  The MILP
-        is written without bounded forces: with cohesion or ties it is not run, and the result's
-        message says so (Radenkovic's bound is still reported).  A scene with a finite
+        Non-associative models only: prove a lower bound by mixed-integer programming
+        (:mod:`alma.certify`; cohesion and ties included).  ``settings.certify.backend`` picks
+        HiGHS (big-M binaries, the default) or SCIP (SOS1 pairs, the extra ``alma[scip]``); its
+        ``node_limit`` is the work budget, and a proof stopped by it (or by ``time_limit``)
+        still gives the bound it reached as ``bounds.lower``.  A scene with a finite
         ``compressive_strength`` is solved by the associative model only (a second-order cone
         program, :mod:`alma.associative.crushing`); the others refuse it with a SceneError.
     time_limit
@@ -140,7 +142,7 @@ def _search(built: Model, settings: Settings) -> NonAssociativeSolution:
 def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settings,
                     certify: bool) -> NonAssociativeResult:
     """Eq. 9: the search from the LP's mechanism and field, and the MILP proof if asked."""
-    t0 = time.perf_counter()
+    t0 = started = time.perf_counter()
     timings = dict(assoc.timings)
     solution = _search(built, settings)
     timings["nonassociative_s"] = time.perf_counter() - t0
@@ -152,8 +154,10 @@ def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settin
     if certify:
         mechanisms = [c.mechanism for c in solution.candidates] + ([lp.mechanism] if lp.solved else [])
         best = solution.best.alpha if solution.best is not None else None
-        certificate = certify_milp(built, lp.alpha, mechanisms, settings=settings.certify,
-                                   time_limit=settings.time_limit, alpha_best=best)
+        # The user's cap covers the search and the proof together: the proof gets what is left.
+        left = None if settings.time_limit is None else max(0.0, settings.time_limit - (time.perf_counter() - started))
+        certificate = certify_milp(built, lp.alpha, mechanisms, settings=settings.certify, time_limit=left,
+                                   alpha_best=best)
         timings["certification_s"] = certificate.time_s
     return nonassociative_result(built, assoc, solution, timings, certificate, radenkovic)
 

@@ -13,11 +13,14 @@ running-bond walls (``alma.wall``, blocks 120 × 60, f = 0.6) from 6 to 40 block
 (their bounded shear is then 0.14 C and 0.28 C of a block's weight; a bed joint of the walls
 carries 0.93 C): the MILP with bounded forces (τ, its rates and two binaries per column).
 
-    python benchmarks/bench_certify.py [--time-limit 60] [--families side1.0,side0.6,stack,running]
+    python benchmarks/bench_certify.py [--time-limit 60] [--families side1,side0.6,stack,running]
+                                       [--backends highs,scip] [--only NAME,...] [--overrides]
                                        [--cohesion 0] [--out benchmarks/results]
 
 Prints a table and the largest scene proven within the time limit per family and formulation;
-writes ``certify.csv`` (one row per scene and formulation).
+writes ``certify[_cC][_overrides]_<backends>.csv`` (one row per scene and certificate).
+``--backends highs,scip`` compares HiGHS's big-M MILP with SCIP's SOS1 form (``alma[scip]``);
+``--overrides`` puts a joint override (friction 0.4, no cohesion) on every joint on the ground.
 """
 from __future__ import annotations
 
@@ -32,8 +35,26 @@ import pandas as pd
 import alma
 from alma.associative.lp import solve_lp
 from alma.certify.milp import certify
+from alma.geometry.contacts import find_joints
 from alma.mechanics.model import build_model
 from alma.nonassociative.search import solve_nonassociative
+from alma.settings import CertifySettings
+
+#: The certificates compared: HiGHS on the big-M MILP, SCIP on the SOS1 form with and without
+#: the bilinear energy balance (CertifySettings.scip_energy).
+BACKENDS = {"highs": CertifySettings(), "scip": CertifySettings(backend="scip"),
+            "scip-noenergy": CertifySettings(backend="scip", scip_energy=False)}
+
+
+def with_overrides(scene: alma.Scene, friction: float = 0.4) -> alma.Scene:
+    """The scene with a joint override on every joint touching a fixed block: friction ``friction``
+    and no cohesion there (a damp-proof course at the base)."""
+    joints = find_joints(scene)
+    fixed = {i for i, b in enumerate(scene.blocks) if b.fixed}
+    data = scene.to_dict()
+    data["joints"] = [{"blocks": [scene.blocks[a].id, scene.blocks[b].id], "friction": friction, "cohesion": 0.0}
+                      for a, b in zip(joints.block_a, joints.block_b) if a in fixed or b in fixed]
+    return alma.Scene.from_dict(data)
 
 
 def side_by_side(k: int, f: float, b: float = 1.0, h: float = 2.0, cohesion: float = 0.0) -> alma.Scene:
@@ -74,7 +95,11 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--time-limit", type=float, default=60.0)
     parser.add_argument("--families", default="side1,side0.6,stack,running")
-    parser.add_argument("--formulations", default="tight", help="only 'tight' remains")
+    parser.add_argument("--formulations", "--backends", dest="formulations", default="highs",
+                        help=f"comma-separated certificates among {', '.join(BACKENDS)}")
+    parser.add_argument("--only", default="", help="comma-separated scene names to run (default: every size)")
+    parser.add_argument("--overrides", action="store_true",
+                        help="override the joints on the ground: friction 0.4, no cohesion")
     parser.add_argument("--cohesion", type=float, default=0.0, help="cohesion on every joint, kPa")
     parser.add_argument("--stop-after", type=int, default=2, help="unproven sizes in a row before a family stops")
     parser.add_argument("--out", default=str(Path(__file__).resolve().parent / "results"))
@@ -86,8 +111,12 @@ def main(argv: list[str] | None = None) -> None:
     for family in chosen:
         misses = {f: 0 for f in formulations}
         for name, scene in all_families[family]:
+            if args.only and name not in args.only.split(","):
+                continue
             if all(misses[f] >= args.stop_after for f in formulations):
                 break
+            if args.overrides:
+                scene = with_overrides(scene)
             model, alpha_lp, mechanisms, best = search(scene)
             points = 2 * model.n_joints
             for formulation in formulations:
@@ -96,12 +125,14 @@ def main(argv: list[str] | None = None) -> None:
                 if misses[formulation] >= args.stop_after:
                     row.update(status="skipped", lower=np.nan, upper=best, gap=np.nan, seconds=np.nan)
                 else:
-                    cert = certify(model, alpha_lp, mechanisms, time_limit=args.time_limit, alpha_best=best)
+                    cert = certify(model, alpha_lp, mechanisms, time_limit=args.time_limit, alpha_best=best,
+                                   settings=BACKENDS[formulation])
                     upper = min(best, cert.upper) if best is not None else cert.upper
                     proven = cert.status == "proven"
                     misses[formulation] = 0 if proven else misses[formulation] + 1
                     row.update(status=cert.status, lower=cert.lower, upper=upper, gap=upper - cert.lower,
-                               seconds=cert.time_s, velocity_bound_active=cert.velocity_bound_active)
+                               seconds=cert.time_s, velocity_bound_active=cert.velocity_bound_active,
+                               nodes=cert.nodes)
                 rows.append(row)
                 print(f"{name:28s} {row['blocks']:3d} blocks {points:4d} pts  {formulation:8s} {row['status']:10s} "
                       f"lower {row['lower']:.6f}  upper {row['upper']:.6f}  gap {row['gap']:.2e}  "
@@ -109,7 +140,8 @@ def main(argv: list[str] | None = None) -> None:
     df = pd.DataFrame(rows)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    csv = out / ("certify.csv" if not args.cohesion else f"certify_c{args.cohesion:g}.csv")
+    stem = "certify" + (f"_c{args.cohesion:g}" if args.cohesion else "") + ("_overrides" if args.overrides else "")
+    csv = out / f"{stem}_{'_'.join(formulations)}.csv"
     df.to_csv(csv, index=False)
 
     wide = df.pivot_table(index=["family", "scene", "blocks", "points"], columns="formulation",

@@ -26,6 +26,9 @@ this yields the valid row α n_free ≥ −f₀ᵀu + Σ_j f ℓ_j (γ⁺_j + γ
 with α ≤ α_cap it bounds every mechanism that lifts weight, slips under load or works a
 bounded force.
 
+With ``CertifySettings.backend = "scip"`` the same problem is solved by SCIP with the
+complementarity as SOS1 pairs instead of big-M rows (:mod:`alma.certify.sos1`).
+
 The big-M constants come from LPs per scene (:mod:`alma.certify.bigm`).  Points that carry
 no force in any admissible field need no binary (they may open); points loaded in every
 admissible field never open.  The proven statement is therefore: no collapse state with α
@@ -36,13 +39,15 @@ reported, and whether it was active at the optimum.  The work is bounded by a no
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
 
 import highspy
 import numpy as np
 
+from alma.backends import scip_backend
 from alma.certify.bigm import BoundsFailed, derive_big_m, pass_model
+from alma.certify.certificate import Certificate
 from alma.certify.rows import MilpData, milp_data
+from alma.certify.sos1 import scip_certificate, sos1_data
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.limits import Cap
@@ -56,24 +61,8 @@ MIP_ABSOLUTE_GAP = 1e-7
 MIP_INTEGRALITY_TOLERANCE = 1e-9
 
 MS = highspy.HighsModelStatus
-
-
-@dataclass(frozen=True)
-class Certificate:
-    """Outcome of :func:`certify`; α values dimensionless, ``time_s`` in seconds."""
-
-    status: str  # proven | node_limit | limit_reached (the user's cap) | failed
-    message: str
-    lower: float  # proven lower bound of α over the searched set (0 when nothing is proven)
-    upper: float  # best collapse state found by the MILP (inf if none)
-    gap: float
-    time_s: float
-    velocity_bound: float
-    velocity_bound_active: bool
-    mechanism: np.ndarray | None
-    binaries: int = 0
-    nodes: int = 0
-    bounds_s: float = 0.0  # time spent deriving the big-M constants
+#: The MIP solvers of the certificate: HiGHS (big-M binaries) and SCIP (SOS1 pairs, alma[scip]).
+BACKENDS = ("highs", "scip")
 
 
 def _run_milp(data: MilpData, alpha_hi: float, alpha_best: float | None, settings: CertifySettings,
@@ -139,8 +128,13 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     points = ContactPoints.from_model(model)
 
     def fail(message: str, status: str = "failed", U: float = np.nan) -> Certificate:
-        return Certificate(status, message, 0.0, np.inf, np.inf, time.perf_counter() - t0, U, False, None)
+        return Certificate(status, message, 0.0, np.inf, np.inf, time.perf_counter() - t0, U, False, None,
+                           backend=settings.backend)
 
+    if settings.backend not in BACKENDS:
+        return fail(f"unknown certification backend {settings.backend!r} (one of {BACKENDS})")
+    if settings.backend == "scip" and not scip_backend.available():
+        return fail(scip_backend.INSTALL_HINT)
     if not np.isfinite(alpha_associative) or alpha_associative < 0:
         return fail("the associative bound is not finite and non-negative")
     alpha_cap = alpha_associative if alpha_best is None else min(alpha_associative, alpha_best)
@@ -156,6 +150,12 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
         if error.by_cap:
             return fail(f"{error}; proven lower bound 0", "limit_reached", U)
         return fail(str(error))
+    if settings.backend == "scip":
+        written = sos1_data(model, points, big_m, first, alpha_hi, U)
+        if isinstance(written, str):
+            return fail(written)
+        return scip_certificate(*written, alpha_cap, alpha_hi, alpha_best, U, settings, cap, t0,
+                                time.perf_counter() - t0)
     data = milp_data(model, points, big_m, first, alpha_hi, U)
     if isinstance(data, str):
         return fail(data)

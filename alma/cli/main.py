@@ -7,6 +7,8 @@ import math
 import sys
 from pathlib import Path
 
+from alma.backends import scip_backend
+from alma.certify.milp import BACKENDS
 from alma.cli import push as push_cli
 from alma.cli.json_output import dumps
 from alma.cli.outputs import OutputPathError, check_outputs
@@ -18,7 +20,7 @@ from alma.report.html import write_html, write_settlement_html, write_tilt_html
 from alma.report.picture import StillPicture
 from alma.report.plot import plot_mechanism
 from alma.settle import SettleError, after_settlement, settle
-from alma.settings import AssociativeSettings, Settings
+from alma.settings import AssociativeSettings, CertifySettings, Settings
 from alma.solve import MODELS, solve
 from alma.tilt import tilt, tilted
 
@@ -119,6 +121,12 @@ def _add_common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--model", default="associative", choices=MODELS)
     p.add_argument("--certify", action="store_true",
                    help="prove a lower bound of the non-associative α by mixed-integer LP")
+    p.add_argument("--certify-backend", default="highs", choices=BACKENDS,
+                   help="the MIP solver of --certify: highs (big-M binaries, the default) or scip (SOS1 "
+                        "pairs, no big-M; needs the extra alma[scip])")
+    p.add_argument("--certify-nodes", type=int, default=None, metavar="N",
+                   help=f"branch-and-bound node budget of --certify (default {CertifySettings().node_limit:,}); "
+                        "when it stops the proof, the bound reached is reported")
     p.add_argument("--effort", default="auto", choices=("auto", "fast", "thorough"),
                    help="non-associative search effort (auto: thorough up to 200 blocks)")
     p.add_argument("--time-limit", type=positive_float, default=None,
@@ -230,10 +238,16 @@ def _run(scene: Scene, args: argparse.Namespace) -> int:
         print("alma: --certify applies to the non-associative model (--model nonassociative|both)",
               file=sys.stderr)
         return 2
+    certify = _certify_settings(args)
+    if isinstance(certify, str):
+        print(f"alma: {certify}", file=sys.stderr)
+        if args.json:
+            print(json.dumps({"status": "invalid_input", "message": certify}))
+        return 2
     try:
         scene = with_compressive_strength(scene, getattr(args, "compressive_strength", None))
-        crisp = Settings(associative=AssociativeSettings(crisp_mechanism=True)) if args.crisp else None
-        result = solve(scene, model=args.model, settings=crisp, effort=args.effort, certify=args.certify,
+        settings = Settings(associative=AssociativeSettings(crisp_mechanism=bool(args.crisp)), certify=certify)
+        result = solve(scene, model=args.model, settings=settings, effort=args.effort, certify=args.certify,
                        time_limit=args.time_limit)
     except SceneError as exc:
         return _invalid(exc, args)
@@ -250,6 +264,18 @@ def _run(scene: Scene, args: argparse.Namespace) -> int:
     return 0
 
 
+def _certify_settings(args: argparse.Namespace) -> CertifySettings | str:
+    """The certificate's settings from --certify-backend and --certify-nodes, or what is wrong."""
+    backend = getattr(args, "certify_backend", "highs")
+    nodes = getattr(args, "certify_nodes", None)
+    if backend == "scip" and not scip_backend.available():
+        return f"--certify-backend scip: {scip_backend.INSTALL_HINT}"
+    if nodes is not None and nodes < 1:
+        return f"--certify-nodes must be a positive number of nodes, got {nodes}"
+    base = CertifySettings(backend=backend)
+    return base if nodes is None else dataclasses.replace(base, node_limit=int(nodes))
+
+
 def _print_text(scene: Scene, result, picture: str | None) -> None:
     """The human-readable summary: one line per fact, every timing of the analysis."""
     b = result.bounds
@@ -262,7 +288,7 @@ def _print_text(scene: Scene, result, picture: str | None) -> None:
         print(f"  start      {result.extra.get('start')}  (the search's start that gave α)")
         if "certificate" in result.extra:
             print(f"  certified  {result.extra['certificate']['message']}")
-    print(f"  bounds     [{b.lower:.9f}, {b.upper:.9f}]  relative gap {b.gap:.1e}")
+    print(f"  bounds     {b.describe()}")
     print(f"  mechanism  {result.mechanism_class}  ({result.extra['n_blocks']} blocks, "
           f"{result.extra['n_joints']} joints)")
     names = {"joints_s": "joints", "build_s": "build", "solve_s": "LP solve", "certify_s": "LP certificate",

@@ -23,7 +23,8 @@ def associative_result(model: Model, lp: LPSolution, timings: dict[str, float]) 
     form = physical(model, lp.mechanism, normal, shear + cohesive_shear, lp.solved, dilatant=True)
     return AssociativeResult(
         model="associative", status=Status(lp.status), message=lp.message, alpha=lp.alpha,
-        bounds=Bounds(lower=lp.lower, upper=lp.upper), alpha_associative=lp.alpha, blocks=form.blocks,
+        bounds=Bounds(lower=lp.lower, upper=lp.upper, lower_is="static field (Eq. 10's lower bound)",
+                      upper_is="mechanism (Eq. 10's upper bound)"), alpha_associative=lp.alpha, blocks=form.blocks,
         joints=form.joints, mechanism_class=form.mechanism_class, macro_blocks=form.macro_blocks,
         residuals={"static_equilibrium": lp.static_residual, "kinematic_flow_rule": lp.kinematic_residual},
         timings=dict(timings), n_blocks=model.n_free, n_joints=model.n_joints, iterations=lp.iterations,
@@ -47,6 +48,7 @@ def nonassociative_result(model: Model, associative: AssociativeResult, solution
     proven = certificate is not None and (certificate.status == "proven" or
                                           (certificate.status != "failed" and certificate.lower > 0))
     lower = max(float(certificate.lower) if proven else -math.inf, radenkovic)
+    lower_is = _lower_is(certificate if proven and lower == certificate.lower else None, lower, radenkovic)
     record = _record(solution, certificate)
     record["search"]["radenkovic_lower_bound"] = finite(radenkovic)
     if best is None:
@@ -57,7 +59,9 @@ def nonassociative_result(model: Model, associative: AssociativeResult, solution
                         np.zeros(2 * model.n_joints), False)
         return NonAssociativeResult(
             model="nonassociative", status=status, message=message, alpha=float("nan"),
-            bounds=Bounds(lower=lower, upper=associative.bounds.upper), alpha_associative=associative.alpha,
+            bounds=Bounds(lower=lower, upper=associative.bounds.upper, lower_is=lower_is,
+                          upper_is="associative α (Radenkovic: α_NL ≤ α_LP); no state verified"),
+            alpha_associative=associative.alpha,
             blocks=form.blocks, joints=form.joints, mechanism_class=form.mechanism_class, residuals={},
             timings=dict(timings),
             n_blocks=model.n_free, n_joints=model.n_joints, associative=associative, **record)
@@ -69,11 +73,25 @@ def nonassociative_result(model: Model, associative: AssociativeResult, solution
     form = physical(model, best.mechanism / model.n_free, best.normal, shear, True)
     return NonAssociativeResult(
         model="nonassociative", status=status, message=message, alpha=best.alpha,
-        bounds=Bounds(lower=lower, upper=best.alpha), alpha_associative=associative.alpha, blocks=form.blocks,
+        bounds=Bounds(lower=lower, upper=best.alpha, lower_is=lower_is, upper_is="verified collapse state (α_NL)"),
+        alpha_associative=associative.alpha, blocks=form.blocks,
         joints=form.joints, mechanism_class=form.mechanism_class, residuals=dict(best.residuals),
         timings=dict(timings), macro_blocks=form.macro_blocks,
         n_blocks=model.n_free, n_joints=model.n_joints, associative=associative, start=best.start, ties=ties,
         **record)
+
+
+def _lower_is(certificate: Any, lower: float, radenkovic: float) -> str:
+    """What the non-associative lower bound is: the certificate's proof (complete or stopped by its
+    budget), Radenkovic's bound, or nothing."""
+    if certificate is not None:
+        backend = {"highs": "HiGHS", "scip": "SCIP"}.get(getattr(certificate, "backend", "highs"), "MIP")
+        if certificate.status == "proven":
+            return f"proven bound (MILP certificate, {backend})"
+        return f"proven bound (MILP certificate, {backend}, stopped by {certificate.status.replace('_', ' ')})"
+    if math.isfinite(lower) and lower == radenkovic:
+        return "Radenkovic's bound (the associative LP at f = 0)"
+    return ""
 
 
 def comparison(associative: AssociativeResult, nonassociative: NonAssociativeResult) -> Comparison:
@@ -127,5 +145,6 @@ def _record(solution: Any, certificate: Any) -> dict[str, Any]:
         cert = {"status": certificate.status, "message": certificate.message, "lower": certificate.lower,
                 "upper": finite(certificate.upper), "gap": finite(certificate.gap), "time_s": certificate.time_s,
                 "velocity_bound": finite(certificate.velocity_bound),
-                "velocity_bound_active": certificate.velocity_bound_active}
+                "velocity_bound_active": certificate.velocity_bound_active,
+                "backend": getattr(certificate, "backend", "highs"), "nodes": int(getattr(certificate, "nodes", 0))}
     return {"candidates": candidates, "starts": starts, "search": search, "certificate": cert}

@@ -19,10 +19,16 @@ from alma.status import Status
 
 @dataclass(frozen=True)
 class Bounds:
-    """Proven interval of the collapse multiplier: lower ≤ α_c ≤ upper."""
+    """Proven interval of the collapse multiplier: lower ≤ α_c ≤ upper.
+
+    ``lower_is`` and ``upper_is`` say what each side is (e.g. "proven bound (MILP certificate)",
+    "verified collapse state"); empty when the producer does not say.
+    """
 
     lower: float
     upper: float
+    lower_is: str = ""
+    upper_is: str = ""
 
     @property
     def gap(self) -> float:
@@ -30,6 +36,20 @@ class Bounds:
         if not (math.isfinite(self.lower) and math.isfinite(self.upper)):
             return float("nan")
         return (self.upper - self.lower) / max(1.0, abs(self.upper))
+
+    def describe(self, digits: int = 9) -> str:
+        """The interval as text, ``[lower, upper]`` with what each side is and the relative gap when
+        both sides are finite; a side that proves nothing is written "none" (never ±inf or nan)."""
+        def side(value: float) -> str:
+            return f"{value:.{digits}g}" if math.isfinite(value) else "none"
+
+        text = f"[{side(self.lower)}, {side(self.upper)}]"
+        named = [f"{label}: {what}" for label, what in (("lower", self.lower_is), ("upper", self.upper_is)) if what]
+        if named:
+            text += f"  ({'; '.join(named)})"
+        if math.isfinite(self.gap):
+            text += f"  relative gap {self.gap:.1e}"
+        return text
 
 
 @dataclass(frozen=True)
@@ -125,7 +145,8 @@ class Result:
             "message": self.message,
             "alpha": finite(self.alpha),
             "bounds": {"lower": finite(self.bounds.lower), "upper": finite(self.bounds.upper),
-                       "gap": finite(self.bounds.gap)},
+                       "gap": finite(self.bounds.gap), "lower_is": self.bounds.lower_is,
+                       "upper_is": self.bounds.upper_is},
             "alpha_associative": finite(self.alpha_associative),
             "mechanism_class": self.mechanism_class,
             "macro_blocks": [m.to_dict() for m in self.macro_blocks],
