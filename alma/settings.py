@@ -158,8 +158,9 @@ class SearchSettings:
     ipopt_iterations: int = 300
     #: "thorough": scenes up to this many free blocks get the MILP of ``alma.certify`` as a start.
     milp_start_blocks: int = 12
-    #: Branch-and-bound nodes × free blocks of that MILP start (a node costs more on a larger
-    #: scene): 200 nodes on 12 blocks, where 20,000 nodes found nothing in 18 minutes with cohesion.
+    #: Branch-and-bound nodes × (free blocks + bounded columns) of that MILP start (a node costs
+    #: more on a larger scene): 200 nodes on 12 dry blocks, 33 on 12 cohesive ones, where 20,000
+    #: nodes found nothing in 18 minutes.
     milp_start_work: int = 2_400
 
 

@@ -12,7 +12,7 @@
   go below a rocking state), ``ipopt`` up to :attr:`~alma.settings.SearchSettings.ipopt_blocks`
   free blocks (none by default: the polish runs when asked for) and ``milp`` up to
   :attr:`~alma.settings.SearchSettings.milp_start_blocks` free blocks, within
-  :attr:`~alma.settings.SearchSettings.milp_start_work` nodes × free blocks.
+  :attr:`~alma.settings.SearchSettings.milp_start_work` nodes × (free blocks + bounded columns).
 
 Every start takes cohesion and ties (bounded forces): ``ipopt`` (:mod:`alma.nonassociative.nlp`)
 and ``milp`` (:mod:`alma.certify.rows`) write them as bounded columns with their flow rule.

@@ -177,7 +177,7 @@ class MilpStart:
         mechanisms = [c.mechanism for c in ctx.candidates]
         if ctx.associative_mechanism is not None:
             mechanisms.append(ctx.associative_mechanism)
-        nodes = max(1, ctx.settings.milp_start_work // max(ctx.model.n_free, 1))
+        nodes = max(1, ctx.settings.milp_start_work // max(ctx.model.n_free + ctx.model.n_bounded, 1))
         settings = replace(CertifySettings(), node_limit=nodes)
         certificate = certify(ctx.model, float(ctx.associative_alpha), mechanisms, settings=settings,
                               alpha_best=best.alpha if best is not None else None,
