@@ -20,4 +20,4 @@ __all__ = ["AssociativeResult", "arch", "coursed_wall", "facade", "AssociativeSe
            "Joints", "Model", "NonAssociativeResult", "Result", "Scene", "SceneError", "SearchSettings",
            "Settings", "SettlementResult", "Status", "TiltResult", "TiltSettings", "build_model", "find_joints",
            "load_scene", "paper_panel", "settle", "solve", "tilt", "wall"]
-from alma._version import __version__  # noqa: E402  (from git: setuptools-scm)
+from alma._version import __version__ as __version__  # from git (setuptools-scm)
