@@ -1,19 +1,21 @@
 # Two commands do everything on a fresh machine:
 #   make demo   — set up .venv, then solve a paper panel and draw its mechanism
-#   make test   — set up .venv, then run pytest tests/ verification/
+#   make test   — set up .venv, then run pytest tests/ verification/ on every core, slow tests aside
+# make test-slow runs the tests marked slow, make test-all everything; CI (.ci/run) runs both parts.
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: bench-friction bench-friction-perturb demo test test-latest test-latest-subset explore compare bench bench-compressive bench-assoc bench-accuracy bench-scaling bench-joints bench-nonassociative bench-certify bench-ipopt bench-floor bench-bounded bench-engine bench-crisp bench-crisp-floor bench-first-order bench-push figures html-screenshot venv clean
+# (The bench-* names are not .PHONY: make applies no pattern rule to a phony target.)
+.PHONY: demo test test-slow test-all test-latest test-latest-subset explore lint compare bench bench-assoc bench-floor bench-ipopt figures html-screenshot venv clean
 
 venv: $(STAMP)
 
 $(STAMP): pyproject.toml constraints.txt
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -c constraints.txt -e ".[test,dask,scip]"
+	$(BIN)/python -m pip install --quiet -c constraints.txt -e ".[test,dask,scip,lint]"
 	touch $(STAMP)
 
 demo: $(STAMP)
@@ -21,8 +23,23 @@ demo: $(STAMP)
 	$(BIN)/alma panel --bond english --panel-ratio 1:1 --block-ratio 2:1 --friction 0.6 --plot demo/mechanism.png
 	@echo "picture written to demo/mechanism.png"
 
+# pytest-xdist on every core (-n auto: 2 here), each test file on one worker (its module fixtures
+# built once); `slow` marks the tests of minutes (pyproject.toml), which test-slow runs.
+PYTEST := $(BIN)/python -m pytest tests/ verification/ -q -n auto --dist loadfile
 test: $(STAMP)
-	$(BIN)/python -m pytest tests/ verification/ -q
+	$(PYTEST) -m "not slow"
+
+test-slow: $(STAMP)
+	$(PYTEST) -m slow
+
+test-all: $(STAMP)
+	$(PYTEST)
+
+# ruff and mypy as configured in pyproject.toml (also run by .pre-commit-config.yaml).
+lint: $(STAMP)
+	$(BIN)/ruff check alma tests verification benchmarks
+	$(BIN)/ruff format --check alma tests verification benchmarks
+	$(BIN)/mypy
 
 # The whole suite against the newest release of every dependency (no constraints file), in a
 # venv of its own: catches the next release of a dependency before a user meets it.
@@ -31,9 +48,9 @@ test-latest:
 	rm -rf $(LATEST)
 	$(PYTHON) -m venv $(LATEST)
 	$(LATEST)/bin/python -m pip install --quiet --upgrade pip
-	$(LATEST)/bin/python -m pip install --quiet -e ".[test,dask,scip]"
+	$(LATEST)/bin/python -m pip install --quiet -e ".[test,dask,scip,lint]"
 	$(LATEST)/bin/python -m pip list --format=freeze > $(LATEST)/versions.txt
-	$(LATEST)/bin/python -m pytest tests/ verification/ -q
+	$(LATEST)/bin/python -m pytest tests/ verification/ -q -n auto --dist loadfile
 
 # A few minutes of the same against the newest releases, for CI after `make test`: one JSON
 # object on stdout from every command (a dependency printing on fd 1 breaks it) and the search's
@@ -50,65 +67,35 @@ test-latest-subset:
 
 # The same suite with fresh random examples for the property tests (make test repeats its own).
 explore: $(STAMP)
-	$(BIN)/python -m pytest tests/ verification/ -q --hypothesis-profile=explore
+	$(PYTEST) --hypothesis-profile=explore
 
 # The 108-panel comparison of the two contact models (~10 min on 2 cores; resumable).
 COMPARE_OUT ?= compare
 compare: $(STAMP)
 	$(BIN)/alma compare --out $(COMPARE_OUT) --workers 2
 
-bench: $(STAMP)
-	$(BIN)/python benchmarks/bench_lp.py
+# Benchmarks: `make bench-NAME` runs benchmarks/bench_NAME.py (dashes as underscores), or the
+# one-off experiment studies/bench_NAME.py, as a module with the arguments BENCH_ARGS_NAME.
+# The names of the list below are kept as aliases.
+BENCH_ARGS_assoc_speed := --doe
+BENCH_ARGS_bounded     := --sweep
+BENCH_ARGS_engine      := --panels
+bench_module = $(if $(wildcard benchmarks/bench_$(1).py),benchmarks,studies).bench_$(1)
+bench-%: $(STAMP)
+	$(BIN)/python -m $(call bench_module,$(subst -,_,$*)) $(BENCH_ARGS_$(subst -,_,$*))
 
-bench-compressive: $(STAMP)
-	$(BIN)/python benchmarks/bench_compressive.py
-
-bench-assoc: $(STAMP)
-	$(BIN)/python benchmarks/bench_assoc_speed.py --doe
-
-bench-accuracy: $(STAMP)
-	$(BIN)/python benchmarks/bench_accuracy.py
-
-bench-scaling: $(STAMP)
-	$(BIN)/python benchmarks/bench_scaling.py
-
-bench-joints: $(STAMP)
-	$(BIN)/python benchmarks/bench_joints.py
-
-# A 40-step capacity curve of the 444-block panel against one associative solve (issue 33).
-bench-push: $(STAMP)
-	$(BIN)/python benchmarks/bench_push.py
-
-bench-nonassociative: $(STAMP)
-	$(BIN)/python benchmarks/bench_nonassociative.py
-
-bench-certify: $(STAMP)
-	$(BIN)/python benchmarks/bench_certify.py --backends highs,scip
-
-bench-bounded: $(STAMP)
-	$(BIN)/python benchmarks/bench_bounded.py --sweep
-
-bench-ipopt: $(STAMP)
-	$(BIN)/python benchmarks/bench_ipopt_lp_start.py
-
-# What Clarabel itself costs per iteration on the largest panel and the walls (the speed floor).
-bench-floor: $(STAMP)
-	$(BIN)/python benchmarks/bench_clarabel_floor.py
-
-# alma's interior point (alma.engine) against the Clarabel path: panel, walls, 108 panels.
-bench-engine: $(STAMP)
-	$(BIN)/python benchmarks/bench_engine.py --panels
-
-bench-crisp: $(STAMP)
-	$(BIN)/python benchmarks/bench_crisp.py
-
-# Why a vertex of the optimal face costs more than 20 % of the solve (issue 19; CLP if cylp is installed).
-bench-crisp-floor: $(STAMP)
-	$(BIN)/python benchmarks/bench_crisp_floor.py
-
-# HiGHS PDLP (a first-order method) on the largest panel, certified by alma (issue 16).
-bench-first-order: $(STAMP)
-	$(BIN)/python benchmarks/bench_first_order.py
+# bench: joints, build, solve and certification of the largest panels; bench-assoc: the
+# associative speed targets against plain Clarabel; bench-floor: what Clarabel itself costs per
+# iteration; bench-ipopt: the multi-start against IPOPT from the LP solution (a study).
+bench: bench-lp ;
+bench-assoc: bench-assoc-speed ;
+bench-floor: bench-clarabel-floor ;
+bench-ipopt: bench-ipopt-lp-start ;
+# Also: bench-accuracy, bench-scaling, bench-joints, bench-nonassociative, bench-certify,
+# bench-bounded, bench-engine, bench-crisp; the studies bench-crisp-floor, bench-first-order.
+BENCH_ARGS_certify     := --backends highs,scip
+# Also: bench-compressive (the cone program against the LP), bench-push (a capacity curve against
+# one associative solve), bench-friction (the friction search per scene, below).
 
 # Every picture of the README and docs/ again (the last step needs Debian's chromium; ~2 min).
 figures: $(STAMP)
@@ -129,7 +116,7 @@ clean:
 # LACT³'s drawings.  bench-friction-perturb solves each scene again perturbed by 1e-12.
 FRICTION_ARGS = $(if $(PANELS),--panels) $(if $(LACT3),--lact3 $(LACT3))
 bench-friction: $(STAMP)
-	$(BIN)/python benchmarks/bench_friction.py $(FRICTION_ARGS)
+	$(BIN)/python -m benchmarks.bench_friction $(FRICTION_ARGS)
 
 bench-friction-perturb: $(STAMP)
-	$(BIN)/python benchmarks/bench_friction.py --perturb $(FRICTION_ARGS)
+	$(BIN)/python -m benchmarks.bench_friction --perturb $(FRICTION_ARGS)

@@ -23,4 +23,4 @@ __all__ = ["AssociativeResult", "arch", "coursed_wall", "facade", "AssociativeSe
            "Settings", "SettlementResult", "Status", "TiltResult", "TiltSettings", "build_model", "find_joints",
            "load_scene", "paper_panel", "settle", "solve", "tilt", "wall", "PushResult", "PushSettings", "push",
            "SeismicResult", "Site", "load_site", "seismic"]
-__version__ = "0.2.0"
+from alma._version import __version__ as __version__  # from git (setuptools-scm)

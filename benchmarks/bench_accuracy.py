@@ -26,14 +26,13 @@ Each timing is the median of ``--repeat`` runs in the same process, except that 
 first run takes longer than ``--single-above`` seconds is run once (the budget of one command
 is ~15 minutes on 2 shared cores); a solve that hits ``--time-limit`` counts as not solved.
 
-    .venv/bin/python benchmarks/bench_accuracy.py [--cases default|full|quick] [--repeat 3]
+    .venv/bin/python -m benchmarks.bench_accuracy [--cases default|full|quick] [--repeat 3]
 """
 from __future__ import annotations
 
 import argparse
 import math
 import statistics
-import sys
 import time
 import warnings
 from pathlib import Path
@@ -43,14 +42,12 @@ import pandas as pd
 import scipy.sparse as sp
 from scipy.optimize import OptimizeWarning, linprog
 
-ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+import alma
+from alma.associative.lp import solve_lp
+from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS
+from benchmarks.bench_lp import plain_clarabel
 
-import alma  # noqa: E402
-from alma.associative.lp import solve_lp  # noqa: E402
-from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS  # noqa: E402
-from bench_lp import plain_clarabel  # noqa: E402  (same directory: the shared baseline)
+ROOT = Path(__file__).resolve().parents[1]
 
 DEFAULT_TOLERANCE = 1e-11
 TOLERANCES = (1e-6, 1e-8, 1e-10, 1e-11)

@@ -15,7 +15,7 @@ certificate; its ``direct_solve_method="auto"`` picks faer on large walls) and w
 QDLDL named explicitly ("plain qdldl").  Times are medians of ``--repeat`` runs (walls above
 ``--single-above`` blocks: one run).
 
-    python benchmarks/bench_assoc_speed.py [--repeat 3] [--walls 1000,3000] [--doe]
+    python -m benchmarks.bench_assoc_speed [--repeat 3] [--walls 1000,3000] [--doe]
 """
 from __future__ import annotations
 
@@ -29,14 +29,11 @@ from pathlib import Path
 
 import pandas as pd
 
+import alma
+from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS
+from benchmarks.bench_lp import plain_clarabel_solution
+
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-
-import alma  # noqa: E402
-from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS  # noqa: E402
-
-sys.path.insert(0, str(ROOT / "benchmarks"))
-from bench_lp import plain_clarabel_solution  # noqa: E402  (same directory: the shared baseline)
 
 
 def plain_clarabel(model, method: str = "auto", time_limit: float = 600.0) -> tuple[float, str, int]:
@@ -109,7 +106,7 @@ def whole_table(repeat: int, doe: bool) -> pd.DataFrame:
 
 
 def walls(sizes: list[int], repeat: int, single_above: int, plain_limit: float) -> pd.DataFrame:
-    from bench_scaling import wall_shape
+    from benchmarks.bench_scaling import wall_shape
 
     rows = []
     for n in sizes:

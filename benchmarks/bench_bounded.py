@@ -9,20 +9,16 @@ problem costs (more iterations).
 
 ``--sweep`` adds the cohesion sweep: how the iteration count of each engine follows c.
 
-    python benchmarks/bench_bounded.py [--repeat 5] [--sweep]      (make bench-bounded)
+    python -m benchmarks.bench_bounded [--repeat 5] [--sweep]      (make bench-bounded)
 """
 from __future__ import annotations
 
 import argparse
-import sys
-from pathlib import Path
 
 import alma
 from alma.associative.lp import solve_lp
 from alma.geometry.chains import with_chain
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_lp import median_time  # noqa: E402
+from benchmarks.harness import median_time
 
 #: "auto" is what a user gets by default: Clarabel for the plain panel (< AUTO_MIN_BLOCKS), the
 #: interior point with cohesion or ties (>= AUTO_MIN_BLOCKS_BOUNDED).

@@ -13,7 +13,7 @@ running-bond walls (``alma.wall``, blocks 120 × 60, f = 0.6) from 6 to 40 block
 (their bounded shear is then 0.14 C and 0.28 C of a block's weight; a bed joint of the walls
 carries 0.93 C): the MILP with bounded forces (τ, its rates and two binaries per column).
 
-    python benchmarks/bench_certify.py [--time-limit 60] [--families side1,side0.6,stack,running]
+    python -m benchmarks.bench_certify [--time-limit 60] [--families side1.0,side0.6,stack,running]
                                        [--backends highs,scip] [--only NAME,...] [--overrides]
                                        [--cohesion 0] [--out benchmarks/results]
 
@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import time
 from pathlib import Path
 
 import numpy as np

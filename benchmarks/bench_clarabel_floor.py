@@ -16,7 +16,7 @@ script measures, with alma's own Clarabel call (:func:`alma.associative.solve_lp
 - ``floor_s`` = joints_build + setup + (fewest iterations that certified) × per_iter + certify:
   what the end-to-end time would be if nothing outside Clarabel's own iterations cost anything.
 
-    .venv/bin/python benchmarks/bench_clarabel_floor.py [--repeat 3] [--walls 3000,10000,20000]
+    .venv/bin/python -m benchmarks.bench_clarabel_floor [--repeat 3] [--walls 3000,10000,20000]
 
 Writes benchmarks/results/clarabel_floor.csv (one row per case and tolerance).
 """
@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import statistics
-import sys
 import time
 from pathlib import Path
 
@@ -33,17 +32,14 @@ import pandas as pd
 import qdldl
 import scipy.sparse as sp
 
-ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "benchmarks"))
+import alma
+from alma.associative.lp import solve_lp
+from alma.geometry.contacts import find_joints
+from alma.mechanics.model import build_model
+from benchmarks.bench_scaling import wall_shape
+from benchmarks.harness import median_time
 
-import alma  # noqa: E402
-from alma.associative.lp import solve_lp  # noqa: E402
-from alma.geometry.contacts import find_joints  # noqa: E402
-from alma.mechanics.model import build_model  # noqa: E402
-from bench_lp import median_time  # noqa: E402  (same directory)
-from bench_scaling import wall_shape  # noqa: E402  (the same walls)
+ROOT = Path(__file__).resolve().parents[1]
 
 RESULTS = ROOT / "benchmarks" / "results"
 TARGETS = {"largest paper panel": 0.3, "wall 20000": 30.0}

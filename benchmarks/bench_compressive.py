@@ -12,17 +12,11 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import sys
-from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "benchmarks"))
-
-import alma  # noqa: E402
-from alma.geometry.contacts import find_joints  # noqa: E402
-from alma.geometry.panels import paper_panel  # noqa: E402
-from bench_scaling import wall_shape  # noqa: E402
+import alma
+from alma.geometry.contacts import find_joints
+from alma.geometry.panels import paper_panel
+from benchmarks.bench_scaling import wall_shape
 
 
 def measure(name: str, scene: alma.Scene, sigma: float) -> None:

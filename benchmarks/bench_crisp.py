@@ -5,7 +5,7 @@ and the crisp mechanism of its optimal face (``alma.associative.crisp``), timed 
 process; which form found a vertex, or why none.  The target of issue 19 is a crisp mechanism
 for at most 20 % of the solve on the largest paper panel.
 
-    python benchmarks/bench_crisp.py [--largest] [--out benchmarks/results/crisp.csv]   (make bench-crisp)
+    python -m benchmarks.bench_crisp [--largest] [--out benchmarks/results/crisp.csv]   (make bench-crisp)
 """
 from __future__ import annotations
 

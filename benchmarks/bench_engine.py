@@ -9,7 +9,7 @@ the record splits the time into pattern (symbolic, once per geometry), factorisa
 solves, and counts iterations; the certificate (``alma.associative.certificate``) decides the
 status for both engines.
 
-    .venv/bin/python benchmarks/bench_engine.py [--walls 1000,5000,10000,20000] [--repeat 3]
+    .venv/bin/python -m benchmarks.bench_engine [--walls 1000,5000,10000,20000] [--repeat 3]
         [--backend auto] [--panels] [--clarabel-walls 1000,5000,10000,20000]
         [--ipx-walls 1000,5000,10000] [--ipx-repeat 1]
 
@@ -25,23 +25,20 @@ import argparse
 import json
 import resource
 import statistics
-import subprocess
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
+from benchmarks.harness import run_worker
+
 ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "benchmarks"))
 RESULTS = ROOT / "benchmarks" / "results"
 
 
 def _model(case: str):
     import alma
-    from bench_scaling import wall_shape
+    from benchmarks.bench_scaling import wall_shape
 
     if case == "panel":
         scene = alma.paper_panel(bond="english", panel_ratio="1:2", block_ratio="1:1", friction=0.6)
@@ -54,8 +51,8 @@ def _model(case: str):
 def _one(scene, engine: str, backend: str) -> dict:
     """One end-to-end certified solve: joints + build + solve + certificate."""
     from alma.associative.lp import solve_lp
-    from alma.geometry.contacts import find_joints
     from alma.engine import IPMSettings
+    from alma.geometry.contacts import find_joints
     from alma.mechanics.model import build_model
 
     t0 = time.perf_counter()
@@ -129,10 +126,8 @@ def worker(case: str, engine: str, backend: str, repeat: int) -> dict:
 
 def panels_worker(engine: str, backend: str) -> dict:
     """The 108 panels one after another (geometry built once, friction varied)."""
-    sys.path.insert(0, str(ROOT / "verification"))
-    from helpers import panel_geometry, table5
-
     from alma.associative.lp import solve_lp
+    from benchmarks.harness import panel_geometry, table5
 
     total, certified, iterations = 0.0, 0, 0
     for bond, panel_ratio, block_ratio, friction, _ in table5():
@@ -147,11 +142,7 @@ def panels_worker(engine: str, backend: str) -> dict:
 
 
 def _spawn(args: list[str]) -> dict:
-    proc = subprocess.run([sys.executable, str(Path(__file__).resolve()), *args], capture_output=True,
-                          text=True, cwd=ROOT)
-    if proc.returncode != 0:
-        return dict(error=proc.stderr[-1500:])
-    return json.loads(proc.stdout.strip().splitlines()[-1])
+    return run_worker("benchmarks.bench_engine", args)
 
 
 def fit(blocks, seconds) -> float:

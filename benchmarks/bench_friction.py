@@ -6,7 +6,7 @@ one is). Scenes: the six Ferris & Tin-Loi walls, a 12-block stack-bond scene wit
 joint overrides, LACT³'s three drawings when their folder is given, and with ``--panels`` the
 paper's 108 panels.
 
-    python benchmarks/bench_friction.py [--panels] [--lact3 FOLDER] [--perturb] [--out FILE.csv]
+    python -m benchmarks.bench_friction [--panels] [--lact3 FOLDER] [--perturb] [--out FILE.csv]
 
 ``--perturb``: every scene solved again with its data perturbed by 1e-12 relative (unit weight,
 a translation, the block order reversed); the table then gives |Δα_NL| / α_NL.

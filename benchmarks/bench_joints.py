@@ -7,7 +7,8 @@ median time of ``--repeat`` calls and the peak RSS above the one after building 
 exported with ``git archive``) to compare implementations on the same machine.  ``--far D``
 adds one fixed block D mm to the right of the wall: the cost must not depend on the extent.
 
-    .venv/bin/python benchmarks/bench_joints.py [--sizes 1000,3000,...] [--repeat 5] [--alma DIR] [--far D]
+    .venv/bin/python -m benchmarks.bench_joints [--sizes 1000,3000,...] [--repeat 5] [--alma DIR] [--far D]
+    .venv/bin/python -m benchmarks.bench_joints [--sizes 1000,3000,...] [--repeat 5] [--alma DIR]
 """
 from __future__ import annotations
 
@@ -16,21 +17,19 @@ import json
 import os
 import resource
 import statistics
-import subprocess
-import sys
 import time
 from pathlib import Path
+
+from benchmarks.harness import run_worker
 
 ROOT = Path(__file__).resolve().parents[1]
 SIZES = (1000, 3000, 10000, 20000, 100000)
 
 
 def worker(n: int, repeat: int, far: float = 0.0) -> dict:
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
-    from bench_scaling import wall_shape
-
     import alma
     from alma.geometry.contacts import find_joints
+    from benchmarks.bench_scaling import wall_shape
 
     courses, per_course = wall_shape(n)
     scene = alma.wall("running", 240.0 * per_course, 60.0 * courses, 240.0)
@@ -63,15 +62,16 @@ def main() -> None:
     if args.worker:
         print(json.dumps(worker(args.worker, args.repeat, args.far)))
         return
-    env = dict(os.environ, PYTHONPATH=str(Path(args.alma).resolve()))
+    # The copy of alma to time first on the path, this clone after it for the benchmarks package;
+    # the worker starts in that copy's folder (python -m puts its working folder first).
+    alma_dir = Path(args.alma).resolve()
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(alma_dir), str(ROOT)]))
     for n in (int(s) for s in args.sizes.split(",") if s):
-        cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", str(n), "--repeat", str(args.repeat),
-               "--far", repr(args.far)]
-        proc = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, env=env)
-        if proc.returncode != 0:
-            print(f"{n}: worker failed ({proc.returncode}): {proc.stderr[-1000:]}", flush=True)
+        r = run_worker("benchmarks.bench_joints", ["--worker", str(n), "--repeat", str(args.repeat), "--far", repr(args.far)], env=env,
+                       cwd=alma_dir)
+        if "error" in r:
+            print(f"{n}: worker failed: {r['error']}", flush=True)
             continue
-        r = json.loads(proc.stdout.strip().splitlines()[-1])
         print(f"{r['blocks']:7d} blocks {r['joints']:7d} joints: find_joints median {r['joints_s']:.4f} s "
               f"(min {r['min_s']:.4f}), peak RSS {r['rss_peak_mb']:.0f} MB "
               f"({r['rss_above_scene_mb']:.0f} MB above the scene)  [{r['alma']}]", flush=True)

@@ -6,7 +6,7 @@ build). Each figure is the median of several runs; the baseline is a plain Clara
 solve of the same LP with default settings, run in the same process, so the ratio is
 meaningful on a shared, noisy machine.
 
-    python benchmarks/bench_lp.py [--repeat 3] [--out benchmarks/results]
+    python -m benchmarks.bench_lp [--repeat 3] [--out benchmarks/results]
 """
 from __future__ import annotations
 
@@ -22,8 +22,9 @@ import scipy.sparse as sp
 
 import alma
 from alma.geometry.contacts import find_joints
-from alma.mechanics.model import build_model
 from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, wall
+from alma.mechanics.model import build_model
+from benchmarks.harness import median_time
 
 
 def plain_clarabel_solution(model, time_limit: float | None = None, method: str = "auto"):
@@ -47,15 +48,6 @@ def plain_clarabel(model, time_limit: float | None = None) -> tuple[float, str]:
     """The baseline's (α, Clarabel status)."""
     sol = plain_clarabel_solution(model, time_limit)
     return float(sol.obj_val), str(sol.status)
-
-
-def median_time(fn, repeat: int) -> tuple[float, object]:
-    times, value = [], None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        value = fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), value
 
 
 def largest_panels(repeat: int) -> pd.DataFrame:

@@ -15,7 +15,7 @@ blocks, see ``bench_certify.py``), so the reference of a panel is the lowest ver
 found on it, and the error of a method is α − α_ref (≥ 0), or "failed" when it verified no state.
 Times are medians of ``--repeat`` runs in one process (the machine is shared).
 
-    .venv/bin/python benchmarks/bench_nonassociative.py [--max-blocks 300] [--repeat 1]
+    .venv/bin/python -m benchmarks.bench_nonassociative [--max-blocks 300] [--repeat 1]
 
 Writes benchmarks/results/nonassociative.csv (one row per panel and method),
 nonassociative_summary.csv and nonassociative.png (median time against mean error).
@@ -24,25 +24,22 @@ from __future__ import annotations
 
 import argparse
 import statistics
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+import alma
+from alma.associative.lp import solve_lp
+from alma.mechanics.contact_points import ContactPoints
+from alma.mechanics.model import build_model
+from alma.nonassociative.gilbert import gilbert
+from alma.nonassociative.search import solve_nonassociative
+from alma.nonassociative.states import exact_state
+from alma.settings import SearchSettings
 
-import alma  # noqa: E402
-from alma.associative.lp import solve_lp  # noqa: E402
-from alma.mechanics.contact_points import ContactPoints  # noqa: E402
-from alma.mechanics.model import build_model  # noqa: E402
-from alma.nonassociative.gilbert import gilbert  # noqa: E402
-from alma.nonassociative.search import solve_nonassociative  # noqa: E402
-from alma.nonassociative.states import exact_state  # noqa: E402
-from alma.settings import SearchSettings  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
 
 RESULTS = ROOT / "benchmarks" / "results"
 FRICTIONS = (0.27, 0.6, 1.0)

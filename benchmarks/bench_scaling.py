@@ -12,7 +12,7 @@ median of 3 runs up to 3,000 blocks, 1 run above.  Exponents are log–log least
 of time (or memory above the import baseline) against the number of blocks, fitted on the
 sizes ≥ 100 blocks (below that fixed per-call costs dominate).
 
-    .venv/bin/python benchmarks/bench_scaling.py [--sizes 10,30,...] [--repeat 3]
+    .venv/bin/python -m benchmarks.bench_scaling [--sizes 10,30,...] [--repeat 3]
 """
 from __future__ import annotations
 
@@ -21,10 +21,10 @@ import json
 import math
 import resource
 import statistics
-import subprocess
-import sys
 import time
 from pathlib import Path
+
+from benchmarks.harness import run_worker
 
 ROOT = Path(__file__).resolve().parents[1]
 SIZES = (10, 30, 100, 300, 1000, 3000, 10000, 20000)
@@ -45,8 +45,6 @@ def maxrss_mb() -> float:
 
 def worker(n: int, repeat: int, solve_runs: int) -> dict:
     """Measure one size (run in a fresh subprocess)."""
-    if str(ROOT) not in sys.path:
-        sys.path.insert(0, str(ROOT))
     import alma
     from alma.geometry.contacts import find_joints
 
@@ -115,14 +113,12 @@ def main() -> None:
     t_start = time.perf_counter()
     for n in sizes + build_only:
         solve_runs = 0 if n in build_only and n not in sizes else (3 if n <= 3000 else 1)
-        cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", str(n), "--repeat", str(args.repeat),
-               "--solve-runs", str(solve_runs)]
-        proc = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT)
-        if proc.returncode != 0:
-            print(f"size {n}: worker failed ({proc.returncode}):\n{proc.stderr[-2000:]}", flush=True)
-            rows.append(dict(target=n, status=f"worker failed ({proc.returncode})"))
+        row = run_worker("benchmarks.bench_scaling",
+                         ["--worker", str(n), "--repeat", str(args.repeat), "--solve-runs", str(solve_runs)])
+        if "error" in row:
+            print(f"size {n}: worker failed: {row['error']}", flush=True)
+            rows.append(dict(target=n, status="worker failed"))
             continue
-        row = json.loads(proc.stdout.strip().splitlines()[-1])
         rows.append(row)
         print(f"[{time.perf_counter() - t_start:6.0f} s] {row['blocks']:6d} blocks: joints {row['joints_s']:.3g} s, "
               f"build {row['build_s']:.3g} s" + (f", solve {row['solve_s']:.3g} s, certify {row['certify_s']:.3g} s, "

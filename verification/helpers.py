@@ -1,6 +1,7 @@
 """Shared helpers for the scientific verification of alma (``pytest verification/``).
 
-Imported by the tests as ``from helpers import ...``; ``conftest.py`` holds only fixtures.
+Imported by the tests as ``from helpers import ...``: ``conftest.py`` beside it puts this folder
+on ``sys.path`` (whatever pytest's rootdir or import mode) and holds only fixtures.
 
 Scene builders (single block, column, random small assemblies, semicircular arch), the
 Table 5 loader, and a hypothesis profile that keeps the whole run within a few minutes.

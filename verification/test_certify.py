@@ -71,6 +71,7 @@ THREE_SIDE_BY_SIDE = columns_on_ground_scene(0.45, [225.0, 194.0, 194.0], [[106.
 BLOCK_BESIDE_SMALL_CUBE = columns_on_ground_scene(0.3, [178.0, 20.0], [[176.0], [20.0]])
 
 
+@pytest.mark.slow  # 30 MILP proofs against the search: 57 s here
 @given(data=columns_on_ground())
 @example(data=COLUMN_BESIDE_SHORT_BLOCK)
 @example(data=THREE_SIDE_BY_SIDE)

@@ -101,6 +101,7 @@ def cohesive_columns(draw) -> alma.Scene:
     return alma.Scene.from_dict(data)
 
 
+@pytest.mark.slow  # 20 cohesive MILP proofs: 49 s here
 @given(scene=cohesive_columns())
 @example(scene=_with_cohesion(alma.Scene.from_dict(COLUMN_BESIDE_SHORT_BLOCK), 0.3))
 @settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow])

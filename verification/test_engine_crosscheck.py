@@ -88,7 +88,9 @@ STRESS_TESTS = sorted(name for name in dir(test_stress) if name.startswith("test
                       and callable(getattr(test_stress, name)))
 
 
-@pytest.mark.parametrize("name", STRESS_TESTS)
+# The 2,000-block wall through the interior point takes 70 s here: in the slow part.
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n == "test_wall_2000_blocks" else n
+                                  for n in STRESS_TESTS])
 def test_stress_suite_through_the_interior_point(name, monkeypatch):
     solve_module = sys.modules["alma.solve"]
     monkeypatch.setattr(solve_module, "solve_lp", functools.partial(solve_lp, engine="ipm"))

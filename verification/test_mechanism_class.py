@@ -128,6 +128,7 @@ def crisp_on_all_panels():
     return out
 
 
+@pytest.mark.slow  # a crisp LP on each of the 108 panels: 200 s of one core here
 def test_crisp_mechanism_has_the_certified_alpha_on_all_108_panels(crisp_on_all_panels):
     found = 0
     for model, lp, u, why in crisp_on_all_panels:

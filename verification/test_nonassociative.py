@@ -199,6 +199,7 @@ def test_kinematic_lp_meets_the_prescribed_active_set():
     assert kinematic_lp(model, points, np.zeros(points.count, dtype=bool), alone_slips)[0] is None
 
 
+@pytest.mark.slow  # runs the search to its time limit: 40 s here
 def test_time_limit_stops_the_search_and_says_what_was_skipped():
     """A time limit that has passed before the first start: nothing runs, the solution says the
     cap stopped it and names every start it skipped."""
@@ -253,7 +254,7 @@ def test_closest_field_returns_a_field_that_is_already_admissible():
 
 
 @pytest.mark.parametrize("bond, panel, block, friction, whole_search", [
-    ("english", "1:1", "4:1", 1.0, True),
+    pytest.param("english", "1:1", "4:1", 1.0, True, marks=pytest.mark.slow),  # the whole search: 40 s here
     ("english", "1:1", "2:1", 0.27, False)])
 def test_projected_iteration_settles_on_large_panels(bond, panel, block, friction, whole_search):
     """Two panels (228 and 444 blocks) where no fixed start of the 108-panel run of 2026-11-21

@@ -174,6 +174,7 @@ def test_ipopt_takes_a_tie_on_a_single_block(b, h, f, y_frac, share):
     assert state.bounded[0] == pytest.approx(model.capacity[0], rel=1e-7)
 
 
+@pytest.mark.slow  # IPOPT on a cohesive tied wall: 25-145 s each here
 @pytest.mark.parametrize("c,tie", [(2.0, 0.0), (0.5, 0.2), (0.0, 0.5)])
 def test_ipopt_on_a_cohesive_tied_wall_lies_between_the_bounds(c, tie):
     """A small running-bond wall (3 courses of 240 × 60 mm, f = 0.6) with cohesion and a tie

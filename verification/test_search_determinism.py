@@ -40,6 +40,7 @@ def _fingerprint(bond: str, panel: str, block: str, friction: float) -> tuple:
     return solution.best.alpha.hex() if solution.best is not None else None, candidates, work
 
 
+@pytest.mark.slow  # spins every core for the length of three searches, stalling the other xdist worker
 def test_same_states_with_a_cpu_hog_beside_the_search():
     """Three panels, once plainly and once with every core spinning: identical α, identical
     candidate lists (start names, α bit for bit, verified flags) and identical work per start."""

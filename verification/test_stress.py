@@ -28,6 +28,7 @@ import math
 import warnings
 
 import numpy as np
+import pytest
 import scipy.sparse as sp
 from hypothesis import HealthCheck, example, given, reject, settings
 from hypothesis import strategies as st
@@ -249,6 +250,7 @@ def test_boxed_block_no_collapse_and_upward_gravity_no_equilibrium():
     assert check(alma.Scene.from_dict(scene_dict(free, gravity=(0.0, 1.0)))).status == "no_equilibrium"
 
 
+@pytest.mark.slow  # 30 s here
 def test_wall_2000_blocks():
     """One ~2,000-block running-bond wall (20 s for alma, ~20–30 s for HiGHS's interior point)."""
     scene = alma.wall("running", 240.0 * 50, 60.0 * 40, 240.0)

@@ -91,7 +91,7 @@ def register(subparsers: Any) -> None:
     p.add_argument("--effort", default=None, choices=("auto", "fast", "thorough"),
                    help="non-associative search effort (default: auto = thorough up to 200 blocks)")
     p.add_argument("--time-limit", type=float, default=None, metavar="S",
-                   help="time limit of each non-associative search, s (default 60; part of the "
+                   help="time limit of each non-associative search, s (default: none; part of the "
                         "results' keys, so a different limit solves the panels again)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="address of an existing Dask distributed scheduler")

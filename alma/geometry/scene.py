@@ -1,8 +1,8 @@
 """Scenes: assemblies of convex polygonal rigid blocks (SPEC §2).
 
 A scene holds geometry and material data only; joints are found from it
-(``alma.contacts``) and the mechanical model is built downstream
-(``alma.model``).  Lengths in mm, unit weight in kN/m³.
+(``alma.geometry.contacts``) and the mechanical model is built downstream
+(``alma.mechanics.model``).  Lengths in mm, unit weight in kN/m³.
 """
 from __future__ import annotations
 

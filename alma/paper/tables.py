@@ -12,7 +12,7 @@ Runs the 108-panel associative study (resumable: ``DIR/doe/results.csv``) and wr
 - ``figures/fig05_…png`` … ``fig10_…png`` — Figures 5–10 from alma's results (``_alma``) and
   from the published Table 5 (``_table5``), drawn by :mod:`alma.stats.figures`;
 - ``figures/fig11a.png`` … ``fig15d.png`` — the collapse mechanisms of Figures 11–15 (same
-  panels and captions, α in the title) when ``alma.plot.plot_mechanism`` is available, and
+  panels and captions, α in the title), drawn by ``alma.report.plot.plot_mechanism``, and
   ``mechanisms.csv`` with the α printed in the paper, Table 5's and alma's;
 - ``comparison.md`` — every difference larger than the printed rounding, and why;
 - with ``--nonassociative`` (``alma paper --nonassociative``): ``nonassociative/compare.md``,

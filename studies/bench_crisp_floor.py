@@ -17,7 +17,7 @@ measured:
 4. **CLP's values-pass crossover** (``cylp``, EPL-2.0, not a dependency: run with it installed):
    the primal simplex started from the interior point's mechanism, all columns superbasic.
 
-    python benchmarks/bench_crisp_floor.py [--case english 1:2 1:1 0.6]
+    python -m studies.bench_crisp_floor [--case english 1:2 1:1 0.6]
 """
 from __future__ import annotations
 

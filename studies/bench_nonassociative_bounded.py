@@ -5,7 +5,7 @@ with an anchored top chain of S kN (``alma.with_chain``): α of Eq. 10, Radenkov
 lowest verified state of Eq. 9 and its start, the verified candidates, the search's seconds and
 LP solves.  Times are noisy on a shared machine; the LP solves are not.
 
-    python benchmarks/bench_nonassociative_bounded.py [--cohesion 5] [--chain 2]
+    python -m studies.bench_nonassociative_bounded [--cohesion 5] [--chain 2]
 """
 from __future__ import annotations
 

@@ -6,25 +6,22 @@ the best of ``--repeat`` runs each, and the totals are binned by the number of f
 with ``--cohesion C`` (kPa on every joint) the same for the bounded-force problem
 (``AUTO_MIN_BLOCKS_BOUNDED``).
 
-    python benchmarks/bench_engine_crossover.py [--repeat 2] [--cohesion 0]
+    python -m studies.bench_engine_crossover [--repeat 2] [--cohesion 0]
 """
 from __future__ import annotations
 
 import argparse
 import dataclasses
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
+from alma.associative.lp import solve_lp
+from alma.mechanics.model import build_model
+from benchmarks.harness import panel_geometry, table5
+
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "verification"))
-
-from helpers import panel_geometry, table5  # noqa: E402
-
-from alma.associative.lp import solve_lp  # noqa: E402
-from alma.mechanics.model import build_model  # noqa: E402
 
 EDGES = (0, 200, 400, 700, 1000, 1400, 2000)
 

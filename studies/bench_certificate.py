@@ -5,28 +5,25 @@ once; its pair is then certified (``alma.associative.lp._certified``) with the G
 factorisations forced to QDLDL and to feral in turn, ``--repeat`` times each, alternated in one
 process.  Medians, the ratio, and the bounds of each (they must agree to round-off).
 
-    python benchmarks/bench_certificate.py [--walls 5000,10000,20000] [--repeat 3]
+    python -m studies.bench_certificate [--walls 5000,10000,20000] [--repeat 3]
 """
 from __future__ import annotations
 
 import argparse
 import statistics
-import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "benchmarks"))
+import alma
+import alma.associative.lp as lp_module
+from alma.backends import gram_backend
+from alma.backends.clarabel_backend import ConicSolution
+from alma.engine.select import solve_with_engine
+from alma.settings import AssociativeSettings
+from alma.status import Status
+from benchmarks.bench_scaling import wall_shape
 
-import alma  # noqa: E402
-import alma.associative.lp as lp_module  # noqa: E402
-from alma.backends import gram_backend  # noqa: E402
-from alma.backends.clarabel_backend import ConicSolution  # noqa: E402
-from alma.engine.select import solve_with_engine  # noqa: E402
-from alma.settings import AssociativeSettings  # noqa: E402
-from alma.status import Status  # noqa: E402
-from bench_scaling import wall_shape  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
 
 BACKENDS = {"qdldl": 10**12, "feral": 1}  # FERAL_MIN_ROWS forcing each
 

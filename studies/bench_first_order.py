@@ -4,7 +4,7 @@ The kinematic LP of Eq. 10 as alma poses it for HiGHS, solved by PDLP (primal-du
 gradient with restarts: one matrix-vector product pair per iteration, no factorisation), its
 pair passed to alma's certificate.  Prints the status, iterations, time and the certified bounds.
 
-    python benchmarks/bench_first_order.py [--case panel|BLOCKS] [--tolerance 1e-8] [--iterations 200000]
+    python -m studies.bench_first_order [--case panel|BLOCKS] [--tolerance 1e-8] [--iterations 200000]
 """
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ from alma.backends.highs_backend import conic_lp, quiet_highs
 from alma.geometry.contacts import find_joints
 from alma.mechanics.model import build_model
 from alma.settings import AssociativeSettings
-from bench_engine import _model
+from benchmarks.bench_engine import _model
 
 
 def main() -> None:

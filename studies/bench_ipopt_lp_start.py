@@ -18,7 +18,7 @@ IPOPT on the full problem does not scale (prototype: 16 s at 52 blocks, 195 s at
 panels are the smallest ones; the 108-panel comparison (``alma compare``) reports the multi-start
 against the LP start's own exact state on every panel.
 
-    .venv/bin/python benchmarks/bench_ipopt_lp_start.py [--max-blocks 160] [--ipopt-limit 120]
+    .venv/bin/python -m studies.bench_ipopt_lp_start [--max-blocks 160] [--ipopt-limit 120]
 
 Writes benchmarks/results/ipopt_lp_start.csv (one row per panel, written as each finishes, and
 resumed from on a second run) and ipopt_lp_start.png (α of each against the other).
@@ -26,23 +26,20 @@ resumed from on a second run) and ipopt_lp_start.png (α of each against the oth
 from __future__ import annotations
 
 import argparse
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+import alma
+from alma.associative.lp import solve_lp
+from alma.mechanics.contact_points import ContactPoints
+from alma.mechanics.model import build_model
+from alma.nonassociative.nlp import ipopt_polish
+from benchmarks.bench_nonassociative import FRICTIONS, paper_geometries
 
-import alma  # noqa: E402
-from alma.associative.lp import solve_lp  # noqa: E402
-from alma.mechanics.contact_points import ContactPoints  # noqa: E402
-from alma.mechanics.model import build_model  # noqa: E402
-from alma.nonassociative.nlp import ipopt_polish  # noqa: E402
-from bench_nonassociative import FRICTIONS, paper_geometries  # noqa: E402  (same directory)
+ROOT = Path(__file__).resolve().parents[1]
 
 RESULTS = ROOT / "benchmarks" / "results"
 #: A difference in α below this is a tie (the verification tolerances are 1e-7).

@@ -5,7 +5,7 @@ LACT³ (GabrieleMilani/LACT3_v1.0, GPL-3) ships ``sample/Portal.dxf``, ``wall.dx
 at 27.30°, 16.73° and 17.10° (φ = 30°, 26°, 30°; c = 0; unit thickness; ρ = 25).  The drawings
 are GPL-3 and are not copied into alma: fetch the repository and pass its ``sample`` folder.
 
-    python benchmarks/lact3_tilt.py PATH/TO/LACT3_v1.0/sample
+    python -m studies.lact3_tilt PATH/TO/LACT3_v1.0/sample
 """
 from __future__ import annotations
 

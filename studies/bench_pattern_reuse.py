@@ -7,22 +7,19 @@ building its own pattern ("fresh") and once sharing the pattern of the first fri
 one process.  Prints the pattern and total seconds of each pass and checks that both give the
 same iterations and α.
 
-    python benchmarks/bench_pattern_reuse.py [--walls 1000,5000,20000] [--repeat 2]
+    python -m studies.bench_pattern_reuse [--walls 1000,5000,20000] [--repeat 2]
 """
 from __future__ import annotations
 
 import argparse
-import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "benchmarks"))
+import alma
+from alma.associative.lp import solve_lp
+from benchmarks.bench_scaling import wall_shape
 
-import alma  # noqa: E402
-from alma.associative.lp import solve_lp  # noqa: E402
-from bench_scaling import wall_shape  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
 
 FRICTIONS = (0.27, 0.6, 1.0)
 
