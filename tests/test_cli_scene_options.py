@@ -16,6 +16,7 @@ from alma.cli.main import main
 def _drawing(path, blocks) -> None:
     """A DXF with every block on layer 0, as LACT³ draws them (no support layer)."""
     document = ezdxf.new()
+    document.header["$INSUNITS"] = 4  # mm (ezdxf's new drawings say metres)
     space = document.modelspace()
     for vertices in blocks:
         space.add_lwpolyline(vertices, close=True, dxfattribs={"layer": "0"})

@@ -160,7 +160,7 @@ def static_correction(H: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: flo
 
 def cone_residual(model: Model, u: np.ndarray) -> float:
     """Largest distance of a contact point's relative velocity (ξ, γ) (Eq. 2) from the flow
-    rule's cone ξ ≥ f |γ| (Eq. 6), relative to the largest relative velocity.
+    rule's cone ξ ≥ f |γ| (Eq. 6), relative to the largest relative velocity or block velocity.
 
     The rows of Hᵀu ≥ 0 are ξ ± f γ: at a large f they are nearly parallel, so an interpenetration
     ξ < 0 hides under the round-off of f γ (f = 1e12: ε f ≈ 2e-4), and a small violation of each
@@ -175,7 +175,9 @@ def cone_residual(model: Model, u: np.ndarray) -> float:
         polar = f * opening + slip <= 0.0  # nearest point of the cone is its apex
         to_edge = (f * slip - opening) / np.hypot(1.0, f)
         distance = np.where(inside, 0.0, np.where(polar, np.hypot(opening, slip), to_edge))
-    size = float(np.hypot(opening, slip).max(initial=0.0))
+    # Relative to the mechanism's own speed too: a structure turning about one point contact has
+    # relative velocities of round-off only, and their ratio would mean nothing.
+    size = max(float(np.hypot(opening, slip).max(initial=0.0)), float(np.abs(u).max(initial=0.0)))
     worst = float(distance.max(initial=0.0))
     if not np.isfinite(worst) or not np.isfinite(size):
         return np.inf
