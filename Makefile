@@ -55,7 +55,8 @@ test-latest:
 # A few minutes of the same against the newest releases, for CI after `make test`: one JSON
 # object on stdout from every command (a dependency printing on fd 1 breaks it) and the search's
 # determinism. Reuses .venv-latest when it was made today, so a rerun is quick.
-LATEST_SUBSET := tests/test_cli_json.py verification/test_search_determinism.py
+LATEST_SUBSET := tests/test_cli_json.py verification/test_search_determinism.py tests/test_canonical.py \
+                 verification/test_friction_invariance.py
 test-latest-subset:
 	test -n "$$(find $(LATEST)/versions.txt -mtime -1 2>/dev/null)" || { \
 	  rm -rf $(LATEST) && $(PYTHON) -m venv $(LATEST) && \
@@ -63,7 +64,7 @@ test-latest-subset:
 	  $(LATEST)/bin/python -m pip install --quiet --upgrade -e ".[test]" && \
 	  $(LATEST)/bin/python -m pip list --format=freeze > $(LATEST)/versions.txt; }
 	grep -i -E '^(highspy|scipy|numpy|clarabel|casadi|ezdxf)==' $(LATEST)/versions.txt
-	$(LATEST)/bin/python -m pytest $(LATEST_SUBSET) -q
+	$(LATEST)/bin/python -m pytest $(LATEST_SUBSET) -q -m "not slow"
 
 # The same suite with fresh random examples for the property tests (make test repeats its own).
 explore: $(STAMP)
