@@ -22,7 +22,7 @@ def parts(result: Any) -> list[Any]:
 
 
 def alpha_words(r: Any) -> str:
-    """"α = 0.4097 (proven)", or what the status says instead of a value."""
+    """"α = 0.2264 (proven)", or what the status says instead of a value."""
     status = str(r.status)
     if status == "no_collapse":
         return "no collapse"
