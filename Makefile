@@ -8,7 +8,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
 # (The bench-* names are not .PHONY: make applies no pattern rule to a phony target.)
-.PHONY: demo test test-slow test-all test-latest test-latest-subset explore lint compare bench bench-assoc bench-floor bench-ipopt figures html-screenshot venv clean
+.PHONY: demo test test-slow test-all test-latest test-latest-subset test-next-highs explore lint compare bench bench-assoc bench-floor bench-ipopt figures html-screenshot venv clean
 
 venv: $(STAMP)
 
@@ -121,3 +121,14 @@ bench-friction: $(STAMP)
 
 bench-friction-perturb: $(STAMP)
 	$(BIN)/python -m benchmarks.bench_friction --perturb $(FRICTION_ARGS)
+
+# Whether the next HiGHS release gives the friction search's answers of the pinned one (pyproject
+# admits one minor series): the friction benchmark's scenes with each, exit 1 on a difference.
+NEXT_HIGHS := .venv-next-highs
+test-next-highs: $(STAMP)
+	test -x $(NEXT_HIGHS)/bin/python || { $(PYTHON) -m venv $(NEXT_HIGHS) && \
+	  $(NEXT_HIGHS)/bin/python -m pip install --quiet -c constraints.txt -e . && \
+	  $(NEXT_HIGHS)/bin/python -m pip install --quiet --upgrade --no-deps highspy; }
+	$(BIN)/python -m benchmarks.bench_friction --out $(NEXT_HIGHS)/pinned.csv $(FRICTION_ARGS)
+	$(NEXT_HIGHS)/bin/python -m pip list --format=freeze | grep -i '^highspy=='
+	$(NEXT_HIGHS)/bin/python -m benchmarks.bench_friction --against $(NEXT_HIGHS)/pinned.csv $(FRICTION_ARGS)

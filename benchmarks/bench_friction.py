@@ -113,7 +113,23 @@ def measure(name: str, scene: Scene, reference: float | None, perturb: bool) -> 
     return row
 
 
-def main() -> None:
+def differences(rows: list[dict], path: str, tolerance: float = 1e-9) -> list[str]:
+    """The scenes whose α_NL or status differ from the run written to ``path`` (relative ``tolerance``)."""
+    with open(path, newline="") as handle:
+        before = {row["scene"]: row for row in csv.DictReader(handle)}
+    out = []
+    for row in rows:
+        old = before.get(row["scene"])
+        if old is None:
+            continue
+        a, b = float(old["alpha_nl"]), row["alpha_nl"]
+        same = (math.isnan(a) and math.isnan(b)) or abs(a - b) <= tolerance * max(abs(a), abs(b), 1e-300)
+        if not same or old["status"] != row["status"]:
+            out.append(f"{row['scene']}: {old['status']} {a:.9f} in {path}, {row['status']} {b:.9f} now")
+    return out
+
+
+def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--panels", action="store_true", help="add the paper's 108 panels")
     parser.add_argument("--lact3", metavar="FOLDER", help="LACT³'s sample folder (Portal.dxf, wall.dxf, arch_1.dxf)")
@@ -121,6 +137,7 @@ def main() -> None:
     parser.add_argument("--only", metavar="TEXT", help="only scenes whose name contains TEXT")
     parser.add_argument("--out", metavar="CSV", help="also write the rows to this CSV file")
     parser.add_argument("--starts", action="store_true", help="print every start's α and time under its row")
+    parser.add_argument("--against", metavar="CSV", help="exit 1 when a scene's α_NL or status differs from this run")
     args = parser.parse_args()
     rows = []
     cols = "| scene | blocks | assoc [s] | search [s] | ratio | start kept | status | α_NL | reference |"
@@ -145,6 +162,11 @@ def main() -> None:
             writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
             writer.writeheader()
             writer.writerows(rows)
+    if args.against:
+        changed = differences(rows, args.against)
+        print(f"against {args.against}: {len(changed)} scene(s) differ" + "".join(f"\n  {c}" for c in changed))
+        return 1 if changed else 0
+    return 0
 
 
 if __name__ == "__main__":
