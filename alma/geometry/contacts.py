@@ -11,12 +11,14 @@ blocks or joints.
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from alma.geometry.edges import Edges, areas_and_centroids, contact_lengths, local_origin, scene_edges
+from alma.geometry.snap import snap_edges
 
 if TYPE_CHECKING:  # pragma: no cover
     from alma.geometry.scene import Scene
@@ -75,21 +77,25 @@ def block_areas_and_centroids(scene: "Scene") -> tuple[np.ndarray, np.ndarray]:
 def find_joints(scene: "Scene") -> Joints:
     """All joints of the scene (contacts of positive length between two blocks).
 
-    Two facing edges make a joint where both lie within the contact tolerance of each other's
-    line (a gap or an overlap that small is snapped: the joint lies midway) and overlap along
-    it by more than the tolerance.  Joints between two fixed blocks carry nothing and are
-    dropped.  Detection runs about a local origin, so that it does not depend on where the
-    drawing sits.
+    The vertices are snapped first (:mod:`alma.geometry.snap`: vertices of different blocks
+    within the contact tolerance are one point, a point that close to another block's edge lies
+    on it).  Two facing edges then make a joint where both lie within the contact tolerance of
+    each other's line (a gap or an overlap that small is closed: the joint lies midway) and
+    overlap along it by more than the tolerance.  Joints between two fixed blocks carry nothing
+    and are dropped.  Detection runs about a local origin, so that it does not depend on where
+    the drawing sits.
     """
     origin = local_origin(scene)
-    edges = scene_edges(scene, origin)  # flattened once: gathering the vertices is the one pass over blocks
-    snap, band = contact_lengths(scene, edges)
+    raw = scene_edges(scene, origin)  # flattened once: gathering the vertices is the one pass over blocks
+    snap, band = contact_lengths(scene, raw)
+    snapped = snap_edges(scene, raw, snap)
+    edges = snapped.edges
     pairs = _candidate_pairs(edges, snap, band)
     if pairs is None:
-        return _empty_joints()
+        return dataclasses.replace(_empty_joints(), warnings=snapped.warnings)
     joints, near = _contact_segments(scene, edges, *pairs, snap, band)
     return Joints(block_a=joints.block_a, block_b=joints.block_b, start=joints.start + origin,
-                  end=joints.end + origin, normal=joints.normal, warnings=near)
+                  end=joints.end + origin, normal=joints.normal, warnings=snapped.warnings + near)
 
 
 def _candidate_pairs(edges: Edges, snap: float, band: float) -> tuple[np.ndarray, ...] | None:

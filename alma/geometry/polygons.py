@@ -13,6 +13,7 @@ import numpy as np
 
 from alma.geometry.edges import Edges, contact_lengths, local_origin, scene_edges, signed_areas
 from alma.geometry.parsing import SceneError
+from alma.geometry.snap import snap_edges
 
 if TYPE_CHECKING:  # pragma: no cover
     from alma.geometry.scene import Scene
@@ -67,12 +68,14 @@ def find_overlaps(scene: "Scene") -> list[tuple[int, int]]:
 
     The depth of an overlap is 2 area / perimeter of the intersection (the width of a thin
     sliver), so an overlap snapped to a joint by :func:`alma.geometry.contacts.find_joints` is
-    not an error and a real one is.
+    not an error and a real one is.  The outlines are those after snapping
+    (:mod:`alma.geometry.snap`), as joint detection sees them.
     """
     import shapely
 
-    edges = scene_edges(scene, local_origin(scene))
-    snap, _ = contact_lengths(scene, edges)
+    raw = scene_edges(scene, local_origin(scene))
+    snap, _ = contact_lengths(scene, raw)
+    edges = snap_edges(scene, raw, snap).edges
     polygons = shapely.polygons(shapely.linearrings(edges.start, indices=edges.block))
     tree = shapely.STRtree(polygons)
     a, b = tree.query(polygons, predicate="intersects")
