@@ -44,7 +44,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import splu
 from scipy.spatial import cKDTree
 
-from alma.geometry.edges import CONTACT, Edges, contact_lengths, local_origin, scene_edges
+from alma.geometry.edges import CONTACT, Edges, contact_lengths, local_origin, scene_edges, signed_areas
 from alma.geometry.parsing import SceneError
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -73,15 +73,17 @@ def snap_edges(scene: "Scene", edges: Edges, snap: float) -> SnappedEdges:
     Raises
     ------
     SceneError
-        Two vertices of one block would become one point (a block thinner than ``snap``, or a
-        chain of merges across it), naming the block and the two vertices.
+        Two vertices of one block would become one point (a chain of merges across a block about
+        as thin as the tolerance), naming the block and the two vertices; or a block's snapped
+        outline is flat (:func:`_refuse_flattened`).
     """
     nxt = _next_vertex(edges)
     radius = CONTACT.vertex_merge * snap
     merged, warnings = _merge_vertices(scene, edges, radius, snap)
     points = _onto_edges(edges, merged, nxt, radius)
-    moved = np.hypot(*(points - edges.start).T)
-    return SnappedEdges(Edges(block=edges.block, start=points, end=points[nxt]), moved, warnings)
+    snapped = Edges(block=edges.block, start=points, end=points[nxt])
+    _refuse_flattened(scene, edges, snapped, snap)
+    return SnappedEdges(snapped, np.hypot(*(points - edges.start).T), warnings)
 
 
 def snapped_vertices(scene: "Scene", snap: float | None = None) -> tuple[np.ndarray, ...]:
@@ -93,7 +95,10 @@ def snapped_vertices(scene: "Scene", snap: float | None = None) -> tuple[np.ndar
     origin = local_origin(scene)
     edges = scene_edges(scene, origin)
     tol = contact_lengths(scene, edges)[0] if snap is None else snap
-    points = snap_edges(scene, edges, tol).edges.start + origin
+    snapped = snap_edges(scene, edges, tol)
+    drawn = np.concatenate([b.vertices for b in scene.blocks])
+    # An unmoved vertex is returned as drawn, not through the local origin and back (round-off).
+    points = np.where(snapped.moved[:, None] > 0, snapped.edges.start + origin, drawn)
     counts = np.bincount(edges.block, minlength=len(scene.blocks))
     return tuple(np.split(points, np.cumsum(counts)[:-1]))
 
@@ -151,6 +156,26 @@ def _refuse_one_block_twice(scene: "Scene", edges: Edges, order: np.ndarray, sor
         f"point{through} (vertices of different blocks within twice the contact tolerance are one point): "
         "the block is about as thin as the tolerance, or the drawing is noisier than it (lower "
         "contact_tolerance, or redraw the block)")
+
+
+def _refuse_flattened(scene: "Scene", raw: Edges, snapped: Edges, snap: float) -> None:
+    """Refuse the first block whose snapped outline is flat by the outline check's rule (area at
+    most ``snap`` × its extent, :func:`alma.geometry.polygons.check_polygons`): a block less than
+    twice the tolerance thick whose far side was put on a neighbour's edge."""
+    area = signed_areas(snapped)
+    n = len(scene.blocks)
+    lo = np.full((n, 2), np.inf)
+    hi = np.full((n, 2), -np.inf)
+    np.minimum.at(lo, raw.block, raw.start)
+    np.maximum.at(hi, raw.block, raw.start)
+    extent = (hi - lo).max(axis=1)
+    flat = ~(area > np.maximum(snap * extent, 1e-9 * extent ** 2))
+    if flat.any():
+        block = scene.blocks[int(np.flatnonzero(flat)[0])]
+        raise SceneError(
+            f"block '{block.id}': flat once its vertices are snapped (vertices within twice the contact "
+            "tolerance of another block's vertex or edge lie on it): the block is about as thin as the "
+            "tolerance (lower contact_tolerance, or redraw the block)")
 
 
 def _wide_clusters(scene: "Scene", edges: Edges, label: np.ndarray, spread: np.ndarray, radius: float,
