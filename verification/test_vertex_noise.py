@@ -35,7 +35,7 @@ from hypothesis import strategies as st
 
 import alma
 from alma.geometry.edges import CONTACT
-from alma.geometry.snap import snapped_vertices
+from alma.geometry.contacts import snapped_vertices
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -194,14 +194,14 @@ def _strip(height: float) -> dict:
 
 
 def test_a_small_block_keeps_its_own_vertices():
-    """A block's own vertices are never merged with each other nor put on a neighbour's edge when
-    it is thicker than twice the tolerance: a 0.03 mm strip (3 tol) on the ground keeps its four
-    corners as drawn; a 0.015 mm one (1.5 tol), whose top corners would be put on the ground's
-    edge, is refused naming it."""
-    scene = alma.Scene.from_dict(_strip(0.03))
-    assert np.array_equal(snapped_vertices(scene)[2], scene.blocks[2].vertices)
-    with pytest.raises(alma.SceneError, match="'strip': flat once its vertices are snapped"):
-        alma.Scene.from_dict(_strip(0.015))
+    """A block's own vertices are never merged with each other, however close, nor put on an
+    edge its own edge does not face: a strip 3 tol or 1.5 tol high on the ground keeps its four
+    corners as drawn (its top corners lie within 2 tol of the ground's edge, which faces up as
+    the strip's top does)."""
+    for height in (0.03, 0.015):
+        scene = alma.Scene.from_dict(_strip(height))
+        assert np.array_equal(snapped_vertices(scene)[2], scene.blocks[2].vertices)
+        assert _joints(scene)[0] == [(0, 1), (0, 2), (0, 3)]
 
 
 def test_a_chain_of_merges_wider_than_the_guarantee_is_a_warning():
