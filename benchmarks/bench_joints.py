@@ -101,8 +101,8 @@ def main() -> None:
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(alma_dir), str(ROOT)]))
     sizes = [1] if args.panel else [int(s) for s in args.sizes.split(",") if s]
     for n in sizes:
-        r = run_worker("benchmarks.bench_joints", ["--worker", str(n), "--repeat", str(args.repeat), "--far", repr(args.far),
-                                                   "--panel", args.panel], env=env, cwd=alma_dir)
+        argv = ["--worker", str(n), "--repeat", str(args.repeat), "--far", repr(args.far), "--panel", args.panel]
+        r = run_worker("benchmarks.bench_joints", argv, env=env, cwd=alma_dir)
         if "error" in r:
             print(f"{n}: worker failed: {r['error']}", flush=True)
             continue

@@ -34,8 +34,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import alma
-from alma.geometry.edges import CONTACT
 from alma.geometry.contacts import snapped_vertices
+from alma.geometry.edges import CONTACT
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -79,7 +79,7 @@ def _noisy(scene: alma.Scene, delta: float, seed: int, *, per_coordinate: bool =
 
 def _joints(scene: alma.Scene) -> tuple[list[tuple[int, int]], alma.Joints]:
     j = alma.find_joints(scene)
-    return sorted(zip(j.block_a.tolist(), j.block_b.tolist())), j
+    return sorted(zip(j.block_a.tolist(), j.block_b.tolist(), strict=True)), j
 
 
 def _alpha_bound(scene: alma.Scene, delta: float) -> float:
@@ -173,9 +173,9 @@ def test_a_block_thinner_than_the_tolerance_is_refused_naming_it():
     """tol = 1e-4 × 100 mm = 0.01 mm: a 0.005 mm block is refused by the outline check (as
     before snapping); a 0.015 mm one would have its top and bottom merged through its
     neighbours' corners (1.5 tol apart, within 2 tol), and is refused naming it."""
-    with pytest.raises(alma.SceneError, match="'thin'.*(degenerate|zero area|repeated)"):
+    with pytest.raises(alma.SceneError, match=r"'thin'.*(degenerate|zero area|repeated)"):
         alma.Scene.from_dict(_stack(0.005))
-    with pytest.raises(alma.SceneError, match="'thin': vertices .* would be merged into one point"):
+    with pytest.raises(alma.SceneError, match=r"'thin': vertices .* would be merged into one point"):
         alma.Scene.from_dict(_stack(0.015))
     # 3 tol thick: nothing is merged across it; the block stands as drawn.
     scene = alma.Scene.from_dict(_stack(0.03))
@@ -226,7 +226,7 @@ def test_a_chain_of_merges_wider_than_the_guarantee_is_a_warning():
 def _permuted(scene: alma.Scene, order: list[int], rolls: list[int]) -> alma.Scene:
     data = scene.to_dict()
     blocks = []
-    for k, roll in zip(order, rolls):
+    for k, roll in zip(order, rolls, strict=True):
         block = dict(data["blocks"][k])
         block["vertices"] = np.roll(np.array(block["vertices"]), roll, axis=0).tolist()
         blocks.append(block)
@@ -247,8 +247,8 @@ def test_block_and_vertex_order_do_not_change_the_snapped_scene(rnd):
     rnd.shuffle(order)
     rolls = [rnd.randrange(len(scene.blocks[k].vertices)) for k in order]
     shuffled = _permuted(scene, order, rolls)
-    before = {b.id: v for b, v in zip(scene.blocks, snapped_vertices(scene))}
-    after = {b.id: v for b, v in zip(shuffled.blocks, snapped_vertices(shuffled))}
+    before = {b.id: v for b, v in zip(scene.blocks, snapped_vertices(scene), strict=True)}
+    after = {b.id: v for b, v in zip(shuffled.blocks, snapped_vertices(shuffled), strict=True)}
     for block_id, v in before.items():
         w = after[block_id]
         assert np.array_equal(v[np.lexsort(v.T[::-1])], w[np.lexsort(w.T[::-1])]), block_id
@@ -262,5 +262,5 @@ def test_block_and_vertex_order_do_not_change_the_snapped_scene(rnd):
 def test_a_clean_drawing_is_not_moved():
     """Exact corners stay bit for bit: snapping changes nothing on the generators' drawings."""
     for name, scene in SCENES.items():
-        for block, v in zip(scene.blocks, snapped_vertices(scene)):
+        for block, v in zip(scene.blocks, snapped_vertices(scene), strict=True):
             assert np.array_equal(v, block.vertices), (name, block.id)

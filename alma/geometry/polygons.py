@@ -11,9 +11,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from alma.geometry.contacts import snapped_edges
 from alma.geometry.edges import Edges, contact_lengths, local_origin, scene_edges, signed_areas
 from alma.geometry.parsing import SceneError
-from alma.geometry.contacts import snapped_edges
 
 if TYPE_CHECKING:  # pragma: no cover
     from alma.geometry.scene import Scene
@@ -87,7 +87,7 @@ def find_overlaps(scene: "Scene") -> tuple[list[tuple[int, int, float]], float]:
     area, perimeter = shapely.area(common), shapely.length(common)
     depth = np.where(perimeter > 0, 2.0 * area / np.where(perimeter > 0, perimeter, 1.0), 0.0)
     bad = depth > max(snap, 1e-12)
-    return [(int(x), int(y), float(z)) for x, y, z in zip(a[bad], b[bad], depth[bad])], snap
+    return [(int(x), int(y), float(z)) for x, y, z in zip(a[bad], b[bad], depth[bad], strict=True)], snap
 
 
 def _previous(edges: Edges) -> np.ndarray:
