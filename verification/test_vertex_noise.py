@@ -36,6 +36,7 @@ from hypothesis import strategies as st
 import alma
 from alma.geometry.contacts import snapped_vertices
 from alma.geometry.edges import CONTACT
+from alma.geometry.snap import _on_their_edges
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -264,3 +265,14 @@ def test_a_clean_drawing_is_not_moved():
     for name, scene in SCENES.items():
         for block, v in zip(scene.blocks, snapped_vertices(scene), strict=True):
             assert np.array_equal(v, block.vertices), (name, block.id)
+
+
+def test_a_ring_of_t_junctions_is_put_on_its_edges_as_they_lie():
+    """Three points each on the edge between the other two (a ring with no fixed corner): the
+    system x_p = (1 − t) x_a + t x_b is singular (any common translation solves it), so each
+    point goes to its foot on its edge as that edge lies — finite, never an exception."""
+    centre = np.array([[0.0, 0.0], [1.0, 0.0], [0.5, 1.0]])
+    p, a, b = np.array([0, 1, 2]), np.array([1, 2, 0]), np.array([2, 0, 1])
+    t = np.full(3, 0.5)
+    out = _on_their_edges(centre, p, a, b, t, radius=10.0)
+    assert np.array_equal(out, 0.5 * centre[a] + 0.5 * centre[b])

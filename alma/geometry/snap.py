@@ -204,9 +204,9 @@ def _onto_edges(edges: Edges, centre: np.ndarray, cluster: np.ndarray, nxt: np.n
     The point keeps its place along the edge, ``p = (1 − t) a + t b``; as an edge's ends may be
     such points too (two edges overlapping in part: each has an end inside the other), all these
     equations are solved together, one sparse linear system, so that the points end exactly on
-    the edges as they end.  A point within ``radius`` of an edge's end is left alone (it is a
-    near miss of that end, not a T-junction), which keeps every weight t in the system at least
-    ``radius / length`` away from 0 and 1: its matrix is then diagonally dominant.
+    the edges as they end (:func:`_on_their_edges`).  A point within ``radius`` of an edge's end
+    is left alone (it is a near miss of that end, not a T-junction), which keeps every weight t
+    in the system at least ``radius / length`` away from 0 and 1.
     """
     a, b = cluster, cluster[nxt]  # each edge's ends, as points of ``centre``
     direction = centre[b] - centre[a]
@@ -242,7 +242,7 @@ def _onto_edges(edges: Edges, centre: np.ndarray, cluster: np.ndarray, nxt: np.n
     pick = np.lexsort((foot[:, 1], foot[:, 0], distance, p))
     keep = pick[np.concatenate([[True], np.diff(p[pick]) != 0])]
     moved = centre.copy()
-    moved[p[keep]] = _on_their_edges(centre, p[keep], a[e[keep]], b[e[keep]], t[keep])
+    moved[p[keep]] = _on_their_edges(centre, p[keep], a[e[keep]], b[e[keep]], t[keep], radius)
     return moved
 
 
@@ -252,10 +252,19 @@ def _distinct(keys: np.ndarray) -> np.ndarray:
     return ordered[np.concatenate([[True], ordered[1:] != ordered[:-1]])] if ordered.size else ordered
 
 
-def _on_their_edges(centre: np.ndarray, p: np.ndarray, a: np.ndarray, b: np.ndarray, t: np.ndarray) -> np.ndarray:
+def _on_their_edges(centre: np.ndarray, p: np.ndarray, a: np.ndarray, b: np.ndarray, t: np.ndarray,
+                    radius: float) -> np.ndarray:
     """Solve x_p = (1 − t) x_a + t x_b for the points ``p`` (rows of ``centre``; an end that is no
-    such point keeps its place): the points on their edges, all at once."""
+    such point keeps its place): the points on their edges, all at once.
+
+    Each row has weights 1 and −(1 − t), −t: the matrix is singular only if a set of points all
+    lie on edges ending at points of the same set (a ring of T-junctions with no fixed corner,
+    which a finite drawing near a consistent one does not have); there, or wherever the solution
+    would move a point farther than ``radius`` from its foot, each point is put on its edge as
+    that edge lies now (the feet), and joint detection's tolerance closes what is left.
+    """
     n = len(p)
+    feet = (1.0 - t)[:, None] * centre[a] + t[:, None] * centre[b]
     var = np.full(len(centre), -1)
     var[p] = np.arange(n)
     rows, cols, vals = [np.arange(n)], [np.arange(n)], [np.ones(n)]
@@ -269,4 +278,10 @@ def _on_their_edges(centre: np.ndarray, p: np.ndarray, a: np.ndarray, b: np.ndar
     matrix = sp.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
     if matrix.nnz == n:  # no point lies on an edge that ends at another: the feet themselves
         return rhs
-    return splu(matrix).solve(rhs)
+    try:
+        solved = splu(matrix).solve(rhs)
+    except RuntimeError:  # exactly singular (see above)
+        return feet
+    if not np.isfinite(solved).all() or np.hypot(*(solved - feet).T).max() > radius:
+        return feet
+    return solved
