@@ -65,14 +65,16 @@ def test_vertex_noise_below_the_tolerance_keeps_joints_and_alpha(name, fraction)
 
 
 @pytest.mark.parametrize("epsilon", [1e-8, 1e-6, 3e-5])
-def test_noise_on_a_pure_sliding_panel_is_certified_by_a_simplex_vertex(epsilon):
+def test_noise_on_a_pure_sliding_panel_is_certified(epsilon):
     """Every course of running 2:1 4:1 f = 0.6 slides at α = f: a fully degenerate optimal face.
-    With noise on every vertex Clarabel ends 'AlmostSolved' and its pair does not certify (static
-    residual 2.5e-8 at ε = 1e-8); HiGHS's dual simplex gives a vertex that does."""
+    With noise on every vertex Clarabel may end 'AlmostSolved' with a pair that does not certify
+    (static residual 2.5e-8 at ε = 1e-8); HiGHS's dual simplex then gives a vertex that does.
+    Since vertices are snapped (alma.geometry.snap) the noise of 3e-5 is certified by Clarabel
+    itself, 1e-8 and 1e-6 still through the simplex: either way the answer is proven."""
     noisy = _perturbed(_scenes()["running 2:1 4:1 f=0.6"], epsilon, seed=7)
     result = alma.solve(noisy)
     assert result.status == "optimal", result.message
-    assert "HiGHS simplex" in result.message
+    assert result.message.startswith("certified")
     assert result.alpha == pytest.approx(0.6, rel=LIPSCHITZ * epsilon)
 
 

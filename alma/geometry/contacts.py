@@ -11,12 +11,15 @@ blocks or joints.
 """
 from __future__ import annotations
 
+import dataclasses
+import functools
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from alma.geometry.edges import Edges, areas_and_centroids, contact_lengths, local_origin, scene_edges
+from alma.geometry.edges import CONTACT, Edges, areas_and_centroids, contact_lengths, local_origin, scene_edges
+from alma.geometry.snap import SnappedEdges, snap_edges
 
 if TYPE_CHECKING:  # pragma: no cover
     from alma.geometry.scene import Scene
@@ -75,33 +78,83 @@ def block_areas_and_centroids(scene: "Scene") -> tuple[np.ndarray, np.ndarray]:
 def find_joints(scene: "Scene") -> Joints:
     """All joints of the scene (contacts of positive length between two blocks).
 
-    Two facing edges make a joint where both lie within the contact tolerance of each other's
-    line (a gap or an overlap that small is snapped: the joint lies midway) and overlap along
-    it by more than the tolerance.  Joints between two fixed blocks carry nothing and are
-    dropped.  Detection runs about a local origin, so that it does not depend on where the
-    drawing sits.
+    The vertices are snapped first (:mod:`alma.geometry.snap`: vertices of different blocks
+    within the contact tolerance are one point, a point that close to another block's edge lies
+    on it).  Two facing edges then make a joint where both lie within the contact tolerance of
+    each other's line (a gap or an overlap that small is closed: the joint lies midway) and
+    overlap along it by more than the tolerance.  Joints between two fixed blocks carry nothing
+    and are dropped.  Detection runs about a local origin, so that it does not depend on where
+    the drawing sits.
     """
     origin = local_origin(scene)
-    edges = scene_edges(scene, origin)  # flattened once: gathering the vertices is the one pass over blocks
-    snap, band = contact_lengths(scene, edges)
+    snapped, snap, band = snapped_edges(scene, origin)
+    edges = snapped.edges
+    i, j = snapped.pairs
+    if i.size == 0:
+        return dataclasses.replace(_empty_joints(), warnings=snapped.warnings)
+    joints, near = _contact_segments(scene, edges, i, j, *_frames(edges, snap), snap, band)
+    return Joints(block_a=joints.block_a, block_b=joints.block_b, start=joints.start + origin,
+                  end=joints.end + origin, normal=joints.normal, warnings=snapped.warnings + near)
+
+
+def snapped_edges(scene: "Scene", origin: np.ndarray) -> tuple[SnappedEdges, float, float]:
+    """The scene's edges about ``origin`` after snapping (:mod:`alma.geometry.snap`), with the
+    contact tolerance and the near-miss band (mm).
+
+    The snapping looks for T-junctions among the candidate facing pairs of the merged edges,
+    searched with tolerances widened by the snapping's reach (a point moves by at most
+    ``CONTACT.vertex_merge`` tolerances), so that the pairs are a superset of the snapped
+    drawing's joints and :func:`find_joints` reuses them.
+    """
+    raw = scene_edges(scene, origin)  # flattened once: gathering the vertices is the one pass over blocks
+    snap, band = contact_lengths(scene, raw)
+    reach = (CONTACT.vertex_merge + 1.0) * snap
+    return snap_edges(scene, raw, snap, functools.partial(_pair_indices, snap=reach, band=max(band, reach))), snap, band
+
+
+def snapped_vertices(scene: "Scene") -> tuple[np.ndarray, ...]:
+    """Each block's vertices after snapping (mm, in the drawing's frame), in the scene's order:
+    the drawing as joint detection and the overlap check see it (an unmoved vertex as drawn)."""
+    origin = local_origin(scene)
+    snapped, _, _ = snapped_edges(scene, origin)
+    drawn = np.concatenate([b.vertices for b in scene.blocks])
+    # An unmoved vertex is returned as drawn, not through the local origin and back (round-off).
+    points = np.where(snapped.moved[:, None] > 0, snapped.edges.start + origin, drawn)
+    counts = np.bincount(snapped.edges.block, minlength=len(scene.blocks))
+    return tuple(np.split(points, np.cumsum(counts)[:-1]))
+
+
+def _pair_indices(edges: Edges, snap: float, band: float) -> tuple[np.ndarray, np.ndarray]:
+    """The candidate facing pairs (i, j) of :func:`_candidate_pairs`, empty when there is none."""
     pairs = _candidate_pairs(edges, snap, band)
     if pairs is None:
-        return _empty_joints()
-    joints, near = _contact_segments(scene, edges, *pairs, snap, band)
-    return Joints(block_a=joints.block_a, block_b=joints.block_b, start=joints.start + origin,
-                  end=joints.end + origin, normal=joints.normal, warnings=near)
+        empty = np.zeros(0, dtype=np.int64)
+        return empty, empty
+    i, j, _, outward, _, angle_tol = pairs
+    # Only the pairs the search guarantees (tilt within its angle tolerance): a wider search (all
+    # pairs) then gives the same pairs, hence the same snapping.
+    tilt = np.abs(outward[i, 0] * outward[j, 1] - outward[i, 1] * outward[j, 0])
+    keep = (tilt <= angle_tol) & ((outward[i] * outward[j]).sum(axis=1) < 0)
+    return i[keep], j[keep]
 
 
-def _candidate_pairs(edges: Edges, snap: float, band: float) -> tuple[np.ndarray, ...] | None:
-    """Edge pairs (i, j) of two blocks on nearly the same line (offsets within ``band``) with
-    opposite outward normals, with each edge's direction, outward normal and length; None when
-    there is none."""
+def _frames(edges: Edges, snap: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """Each edge's direction, outward normal and length, and the widest angle between two edges
+    whose ends lie within ``snap`` of each other's line (2 snap / the shortest edge)."""
     vec = edges.end - edges.start
     length = np.hypot(vec[:, 0], vec[:, 1])
     direction = vec / length[:, None]
     outward = np.column_stack([direction[:, 1], -direction[:, 0]])  # CCW polygon: outward = right of edge
     # Two edges whose ends lie within ``snap`` of each other's line differ in angle by ≤ 2 snap / length.
     angle_tol = min(MAX_ANGLE_TOLERANCE, max(2.0 * snap / float(length.min()), 1e-12))
+    return direction, outward, length, angle_tol
+
+
+def _candidate_pairs(edges: Edges, snap: float, band: float) -> tuple[np.ndarray, ...] | None:
+    """Edge pairs (i, j) of two blocks on nearly the same line (offsets within ``band``) with
+    opposite outward normals, with each edge's direction, outward normal and length; None when
+    there is none."""
+    direction, outward, length, angle_tol = _frames(edges, snap)
 
     # Canonical line: unit normal d with angle in [0, π); its sign s relates to the outward normal.
     angle = np.mod(np.arctan2(outward[:, 1], outward[:, 0]), np.pi)

@@ -26,6 +26,10 @@ class ContactSettings:
     #: Facing edges apart by up to this (and beyond ``tolerance``) are reported as near misses:
     #: a gap a drawing most likely meant to close.
     warning_band: float = 1e-2
+    #: Vertices of different blocks within this multiple of the tolerance are one point, and a
+    #: vertex that close to another block's edge lies on it (alma.geometry.snap): two copies of a
+    #: corner, each drawn within the tolerance of it, lie within twice the tolerance of each other.
+    vertex_merge: float = 2.0
 
 
 CONTACT = ContactSettings()

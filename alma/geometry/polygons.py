@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from alma.geometry.contacts import snapped_edges
 from alma.geometry.edges import Edges, contact_lengths, local_origin, scene_edges, signed_areas
 from alma.geometry.parsing import SceneError
 
@@ -62,29 +63,31 @@ def _check_simple(scene: "Scene", edges: Edges) -> None:
                          "polygon is self-intersecting (its outline crosses itself): neither convex nor simple")
 
 
-def find_overlaps(scene: "Scene") -> list[tuple[int, int]]:
-    """Pairs of blocks that interpenetrate deeper than the contact tolerance.
+def find_overlaps(scene: "Scene") -> tuple[list[tuple[int, int, float]], float]:
+    """Pairs of blocks that interpenetrate deeper than the contact tolerance, each with its depth
+    (mm), and that tolerance (mm).
 
     The depth of an overlap is 2 area / perimeter of the intersection (the width of a thin
     sliver), so an overlap snapped to a joint by :func:`alma.geometry.contacts.find_joints` is
-    not an error and a real one is.
+    not an error and a real one is.  The outlines are those after snapping
+    (:mod:`alma.geometry.snap`), as joint detection sees them.
     """
     import shapely
 
-    edges = scene_edges(scene, local_origin(scene))
-    snap, _ = contact_lengths(scene, edges)
+    snapped, snap, _ = snapped_edges(scene, local_origin(scene))
+    edges = snapped.edges
     polygons = shapely.polygons(shapely.linearrings(edges.start, indices=edges.block))
     tree = shapely.STRtree(polygons)
     a, b = tree.query(polygons, predicate="intersects")
     keep = a < b
     a, b = a[keep], b[keep]
     if a.size == 0:
-        return []
+        return [], snap
     common = shapely.intersection(polygons[a], polygons[b])
     area, perimeter = shapely.area(common), shapely.length(common)
     depth = np.where(perimeter > 0, 2.0 * area / np.where(perimeter > 0, perimeter, 1.0), 0.0)
     bad = depth > max(snap, 1e-12)
-    return [(int(x), int(y)) for x, y in zip(a[bad], b[bad])]
+    return [(int(x), int(y), float(z)) for x, y, z in zip(a[bad], b[bad], depth[bad], strict=True)], snap
 
 
 def _previous(edges: Edges) -> np.ndarray:

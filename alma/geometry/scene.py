@@ -207,12 +207,13 @@ class Scene:
             raise SceneError("scene: no support — at least one block must be 'fixed': true")
         if all(b.fixed for b in self.blocks):
             raise SceneError("scene: no free block — every block is fixed")
-        overlaps = find_overlaps(self)
+        overlaps, tolerance = find_overlaps(self)
         if overlaps:
-            i, j = overlaps[0]
+            i, j, depth = overlaps[0]
             raise SceneError(
                 f"blocks '{self.blocks[i].id}' and '{self.blocks[j].id}' overlap: blocks may touch "
-                f"but not interpenetrate ({len(overlaps)} overlapping pair(s) in all)")
+                f"but not interpenetrate (a sliver {depth:.3g} mm deep, beyond the contact tolerance of "
+                f"{tolerance:.3g} mm; {len(overlaps)} overlapping pair(s) in all)")
         joints = find_joints(self)
         touched = np.zeros(len(self.blocks), dtype=bool)
         touched[joints.block_a] = True
