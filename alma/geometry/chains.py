@@ -27,7 +27,7 @@ def with_chain(scene: Scene, height: float, strength: float, *, anchored: bool =
     free = [b for b in scene.blocks if not b.fixed]
     lo = np.array([b.vertices[:, 1].min() for b in free])
     hi = np.array([b.vertices[:, 1].max() for b in free])
-    crossed = [b for b, a, c in zip(free, lo, hi) if a < height < c]
+    crossed = [b for b, a, c in zip(free, lo, hi, strict=True) if a < height < c]
     if not crossed:
         raise SceneError(f"chain at {height:g} mm: no block of the wall spans that height "
                          f"(the wall's free blocks lie between {lo.min():g} and {hi.max():g} mm)")

@@ -18,7 +18,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from alma.geometry.scene import Scene
 
 
-def check_polygons(scene: "Scene") -> None:
+def check_polygons(scene: Scene) -> None:
     """Refuse the first block (in scene order) whose outline breaks a rule, naming it and the rule."""
     edges = scene_edges(scene, local_origin(scene))
     snap, _ = contact_lengths(scene, edges)
@@ -52,7 +52,7 @@ def check_polygons(scene: "Scene") -> None:
     _check_simple(scene, edges)
 
 
-def _check_simple(scene: "Scene", edges: Edges) -> None:
+def _check_simple(scene: Scene, edges: Edges) -> None:
     import shapely
 
     rings = shapely.linearrings(edges.start, indices=edges.block)
@@ -62,7 +62,7 @@ def _check_simple(scene: "Scene", edges: Edges) -> None:
                          "polygon is self-intersecting (its outline crosses itself): neither convex nor simple")
 
 
-def find_overlaps(scene: "Scene") -> list[tuple[int, int]]:
+def find_overlaps(scene: Scene) -> list[tuple[int, int]]:
     """Pairs of blocks that interpenetrate deeper than the contact tolerance.
 
     The depth of an overlap is 2 area / perimeter of the intersection (the width of a thin
@@ -84,7 +84,7 @@ def find_overlaps(scene: "Scene") -> list[tuple[int, int]]:
     area, perimeter = shapely.area(common), shapely.length(common)
     depth = np.where(perimeter > 0, 2.0 * area / np.where(perimeter > 0, perimeter, 1.0), 0.0)
     bad = depth > max(snap, 1e-12)
-    return [(int(x), int(y)) for x, y in zip(a[bad], b[bad])]
+    return [(int(x), int(y)) for x, y in zip(a[bad], b[bad], strict=True)]
 
 
 def _previous(edges: Edges) -> np.ndarray:
