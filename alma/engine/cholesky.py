@@ -94,7 +94,7 @@ class Factoriser(ABC):
     def _solve(self, rhs: np.ndarray) -> np.ndarray:
         """The backend's solve with its last factorisation."""
 
-    def close(self) -> None:
+    def close(self) -> None:  # noqa: B027  (a no-op default: only a backend holding native memory overrides it)
         """Release native memory (a no-op unless the backend holds some)."""
 
 
