@@ -90,7 +90,7 @@ class Model:
         scale = np.repeat(self.friction, 4)
         return (self.normal_part + self.tangent_part @ sp.diags(scale)).tocsc()
 
-    def with_friction(self, friction: float) -> "Model":
+    def with_friction(self, friction: float) -> Model:
         """The same geometry and joints with a uniform friction coefficient."""
         if not (np.isfinite(friction) and friction >= 0):
             raise SceneError(f"friction must be a finite number >= 0, got {friction}")
