@@ -54,8 +54,8 @@ def _side_arrow(scene: Scene, cls: str, direction: Any, length: float, font: flo
     tail = head - 1.5 * length * d
     colour = LIVE_COLOUR if cls == "live" else DEAD_COLOUR
     anchor = "end" if d[0] > 0.3 else "start" if d[0] < -0.3 else "middle"
-    return arrow(cls, tail, head, colour, 0.35 * length, width=2.5) + [
-        label(cls, tail + np.array([0.0, 0.5 * font]), text, font, colour=colour, anchor=anchor)]
+    return [*arrow(cls, tail, head, colour, 0.35 * length, width=2.5),
+            label(cls, tail + np.array([0.0, 0.5 * font]), text, font, colour=colour, anchor=anchor)]
 
 
 def _point_loads(scene: Scene, length: float, font: float) -> list[Mark]:
