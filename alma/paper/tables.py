@@ -32,9 +32,9 @@ from typing import Any
 import pandas as pd
 
 import alma
-from alma.stats.anova import anova, load_results
 from alma.paper.printed import TABLE5_DECIMALS, _printed
 from alma.paper.report import write_report
+from alma.stats.anova import anova, load_results
 from alma.study.compare import run_compare
 from alma.study.doe import run_doe
 
