@@ -32,9 +32,9 @@ import scipy.sparse as sp
 from alma.associative.certificate import _repair_field
 from alma.backends.clarabel_backend import solve_conic_lp
 from alma.geometry.scene import JointOverride, Scene, SceneError
+from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.forces import joint_values
 from alma.mechanics.model import Model, build_model
-from alma.mechanics.contact_points import ContactPoints
 from alma.results.joints import MOTION_TOLERANCE, multipliers_to_forces, physical, states_from_relative
 from alma.results.types import BlockMotion, Bounds, JointResult, finite
 from alma.settings import AssociativeSettings
@@ -301,7 +301,7 @@ def _with_ties(model: Model, support: int, points: np.ndarray, forces: np.ndarra
         return points, forces
     tension = tau[tau.shape[0] - len(scene.ties):] * model.force_scale
     extra_at, extra_force = [], []
-    for t, pull in zip(scene.ties, tension):  # the scene's few ties
+    for t, pull in zip(scene.ties, tension, strict=True):  # the scene's few ties
         a, b = np.asarray(t.from_point, dtype=float), np.asarray(t.to_point, dtype=float)
         d = (b - a) / np.hypot(*(b - a))
         if scene.blocks[support].id == t.from_block:
