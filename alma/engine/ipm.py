@@ -224,7 +224,7 @@ def solve_eq10(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value:
     aux = auxiliary_rows(H, n_primary) if n_primary is not None and n_primary < H.shape[0] else None
     primary = canonical(H if aux is None else aux.U)
     reuse = pattern is not None and pattern.fits(primary)
-    pattern = pattern.with_values(primary) if reuse else normal_pattern(primary)
+    pattern = pattern.with_values(primary) if pattern is not None and reuse else normal_pattern(primary)
     factoriser = make_factoriser(pattern, s_.backend, border=live[:primary.shape[0]])
     t_pattern = time.perf_counter() - t_start
     newton = _Newton(H, live, pattern, factoriser, s_, aux)

@@ -133,9 +133,7 @@ def _block_order(blocks: list, step: float) -> np.ndarray:
     return np.lexsort(np.round(keys / step).T[::-1])
 
 
-def _point(point: tuple[float, float] | None, frame: CanonicalFrame) -> tuple[float, float] | None:
-    if point is None:
-        return None
+def _point(point: tuple[float, float], frame: CanonicalFrame) -> tuple[float, float]:
     x = (frame.matrix @ np.asarray(point, dtype=float) + frame.offset) / frame.unit
     return float(x[0]), float(x[1])
 
@@ -146,7 +144,8 @@ def _vector(vector: tuple[float, float], frame: CanonicalFrame) -> tuple[float, 
 
 
 def _load(load: PointLoad, frame: CanonicalFrame) -> PointLoad:
-    return dataclasses.replace(load, point=_point(load.point, frame), dead=_vector(load.dead, frame),
+    point = None if load.point is None else _point(load.point, frame)  # None: the block's centroid
+    return dataclasses.replace(load, point=point, dead=_vector(load.dead, frame),
                                live=_vector(load.live, frame))
 
 

@@ -232,11 +232,11 @@ class Scene:
             if not block.fixed and not touched[index]:
                 raise SceneError(f"block '{block.id}': touches nothing — a free block needs at least one joint")
         if self.joint_overrides:
-            index = {b.id: i for i, b in enumerate(self.blocks)}
+            position = {b.id: i for i, b in enumerate(self.blocks)}
             pairs = set(zip(np.minimum(joints.block_a, joints.block_b).tolist(),
                             np.maximum(joints.block_a, joints.block_b).tolist(), strict=True))
             for override in self.joint_overrides:
-                i, j = sorted(index[k] for k in override.blocks)
+                i, j = sorted(position[k] for k in override.blocks)
                 if (i, j) not in pairs:
                     raise SceneError(f"joint {list(override.blocks)}: these blocks do not touch")
         check_items(self.blocks, self.loads, self.ties)
@@ -253,8 +253,8 @@ class Scene:
         import dataclasses
 
         matrix = np.asarray(matrix, dtype=float)
-        offset = np.asarray(offset, dtype=float)
-        blocks = tuple(dataclasses.replace(b, vertices=_ccw(b.vertices @ matrix.T + offset)) for b in self.blocks)
+        shift = np.asarray(offset, dtype=float)
+        blocks = tuple(dataclasses.replace(b, vertices=_ccw(b.vertices @ matrix.T + shift)) for b in self.blocks)
         gravity, live = self.gravity, self.live_load_direction
         if rotate_loads:
             gravity = _direction(matrix @ np.asarray(gravity), "transformed gravity")

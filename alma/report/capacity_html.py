@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from alma.push import PushResult
+from alma.report.capacity import nonlinear_value
 from alma.seismic import SeismicResult
 
 _W, _H, _PAD = 520, 320, 48
@@ -25,10 +26,9 @@ def write_capacity_html(result: PushResult, path: str | Path, *, check: SeismicR
             ("α_c", f"{result.alpha_c:.6g}"), ("d₀ [mm]", f"{result.d0:.6g}"), ("LP solves", str(result.solves))]
     if check is not None and check.curve_star:
         ds, a = np.array(check.curve_star).T
-        nl = check.nonlinear
         figures.append(_svg(ds * 1e3, a, "d* [mm]", "a* [m/s²]",
-                            marks=[("d_u*", nl.get("du_star", np.nan) * 1e3, None),
-                                   ("demand", nl.get("demand", np.nan) * 1e3, None),
+                            marks=[("d_u*", nonlinear_value(check, "du_star") * 1e3, None),
+                                   ("demand", nonlinear_value(check, "demand") * 1e3, None),
                                    ("linear demand", None, check.linear["demand"])]))
         rows += [(k, json.dumps(v)) for k, v in check.to_dict().items()
                  if k not in ("curve_star", "push", "message", "status", "control")]

@@ -106,7 +106,7 @@ def _parts(scene: Scene, macro: tuple, motion: Motion, share: np.ndarray, hinges
             marks += _outline([scene.blocks[i].vertices for i in members[k]], carrier, colour, size)
         centre = None if m.centre is None else np.asarray(m.centre, dtype=float)
         near = hinges.size and float(np.hypot(*(hinges - centre).T).min()) < 1e-2 * size if centre is not None else True
-        if m.motion == "rotation" and not near and np.all((low <= centre) & (centre <= high)):
+        if m.motion == "rotation" and centre is not None and not near and np.all((low <= centre) & (centre <= high)):
             marks.append(Mark("point", "centre", centre.reshape(1, 2), (), stroke=colour, width=2.0, size=0.011 * size,
                               text="x", title=f"rotation centre of a part of {len(members[k])} blocks"))
         elif m.motion == "translation" and m.direction is not None:

@@ -71,8 +71,8 @@ def _point(ax: Any, m: Mark, xy: np.ndarray, z: int) -> None:
     elif m.text == "*":
         ax.add_patch(Polygon(star(xy, m.size), closed=True, facecolor=m.fill, edgecolor=m.stroke, zorder=z))
     else:
-        ax.add_patch(Circle(xy, m.size, facecolor=m.fill or "none", edgecolor=m.stroke or "none",
-                            linewidth=0.75 * m.width, zorder=z))
+        ax.add_patch(Circle((float(xy[0]), float(xy[1])), m.size, facecolor=m.fill or "none",
+                            edgecolor=m.stroke or "none", linewidth=0.75 * m.width, zorder=z))
 
 
 def legend_handles(classes: list[str]) -> list[Any]:
@@ -80,7 +80,7 @@ def legend_handles(classes: list[str]) -> list[Any]:
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    handles = []
+    handles: list[Any] = []  # Patch and Line2D
     for c in classes:
         e = LEGEND[c]
         if e.swatch == "patch":

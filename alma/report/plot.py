@@ -74,7 +74,8 @@ def plot_drawings(drawings: list[Drawing], texts: list[str], path: str | Path, *
 
     box = np.array([d.box for d in drawings])
     union = (*box[:, :2].min(axis=0), *box[:, 2:].max(axis=0))
-    drawings = [replace(d, box=tuple(float(v) for v in union)) for d in drawings]
+    four = (float(union[0]), float(union[1]), float(union[2]), float(union[3]))
+    drawings = [replace(d, box=four) for d in drawings]
     aspect = (union[3] - union[1]) / (union[2] - union[0])
     n = len(drawings)
     classes = [c for c in dict.fromkeys(c for d in drawings for c in d.classes()) if thrust or c != "thrust"]

@@ -73,6 +73,7 @@ class JointTable(Sequence):
         """Joint i's crushing capacity and stress block, when it has a finite strength."""
         if self.capacity is None or not np.isfinite(self.capacity[i]):
             return {}
+        assert self.stress_block is not None  # set together with capacity (alma.results.joints)
         block = self.stress_block[i]
         return {"capacity": float(self.capacity[i]),
                 "stress_block": (tuple(block[0].tolist()), tuple(block[1].tolist()))}
@@ -99,6 +100,7 @@ class JointTable(Sequence):
                 "opening": op, "points": [{"N": pn, "T": pt} for pn, pt in pts]}
                for (a, b), n, t, mo, s, le, sl, op, pts in cols]
         if self.capacity is not None:  # finite compressive strength only: other results stay as they were
+            assert self.stress_block is not None  # set together with capacity (alma.results.joints)
             extent = np.hypot(*(self.stress_block[:, 1] - self.stress_block[:, 0]).T)
             for i in np.flatnonzero(np.isfinite(self.capacity)).tolist():
                 out[i]["capacity"] = float(self.capacity[i])

@@ -207,7 +207,9 @@ def bounded_forces(model: Model, tau: np.ndarray, mechanism: np.ndarray
         net = np.zeros(model.n_joints)
         np.add.at(net, joint, sign * tau[cohesive])
         shear += np.repeat(0.5 * net, 2)
+    assert model.bounded is not None  # called for a model with bounded forces only
     power = model.bounded.T @ mechanism if mechanism.size else np.zeros(model.n_bounded)
-    ties = tuple({"id": str(x)[4:], "force": float(f * model.force_scale), "elongation": float(-p * model.n_free)}
-                 for x, f, p, c in zip(labels, tau, power, cohesive, strict=True) if not c)
+    ties: tuple[dict[str, float | str], ...] = tuple(
+        {"id": str(x)[4:], "force": float(f * model.force_scale), "elongation": float(-p * model.n_free)}
+        for x, f, p, c in zip(labels, tau, power, cohesive, strict=True) if not c)
     return shear, ties
