@@ -187,7 +187,7 @@ def cases(which: str):
 # ----------------------------------------------------------------------------- timing
 def timed(fn, model, repeat: int, single_above: float, time_limit: float):
     times, value = [], None
-    for i in range(repeat):
+    for _ in range(repeat):
         t0 = time.perf_counter()
         value = fn(model, time_limit)
         dt = time.perf_counter() - t0
@@ -324,7 +324,7 @@ def main() -> None:
     bad = ref[~(agree <= 1e-9)]
     print(f"independent check (HiGHS dual simplex, kinematic LP, feasibility tol 1e-10): max |Δα|/α "
           f"{agree.max():.2e}, median {agree.median():.2e}; {len(bad)} of {len(ref)} cases disagree by more "
-          f"than 1e-9" + (": " + ", ".join(f"{c} ({a:.1e})" for c, a in zip(bad.case, bad.check_agreement))
+          f"than 1e-9" + (": " + ", ".join(f"{c} ({a:.1e})" for c, a in zip(bad.case, bad.check_agreement, strict=True))
                           if len(bad) else ""))
     on_front, dominating = pareto(summary)
     print(f"\ndefault ({DEFAULT_NAME}) on the Pareto front: {'YES' if on_front else 'NO'}"

@@ -179,7 +179,8 @@ def main() -> None:
     rows = []
     for case in ["panel", *walls]:
         for engine in ("ipm", "clarabel", "ipx"):
-            if case != "panel" and case not in {"ipm": set(walls), "clarabel": clarabel_walls, "ipx": ipx_walls}[engine]:
+            runs = {"ipm": set(walls), "clarabel": clarabel_walls, "ipx": ipx_walls}[engine]
+            if case != "panel" and case not in runs:
                 continue
             repeat = args.ipx_repeat if engine == "ipx" else args.repeat
             row = _spawn(["--worker", case, engine, "--repeat", str(repeat), "--backend", args.backend])

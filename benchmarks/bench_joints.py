@@ -67,8 +67,9 @@ def main() -> None:
     alma_dir = Path(args.alma).resolve()
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(alma_dir), str(ROOT)]))
     for n in (int(s) for s in args.sizes.split(",") if s):
-        r = run_worker("benchmarks.bench_joints", ["--worker", str(n), "--repeat", str(args.repeat), "--far", repr(args.far)], env=env,
-                       cwd=alma_dir)
+        r = run_worker("benchmarks.bench_joints",
+                       ["--worker", str(n), "--repeat", str(args.repeat), "--far", repr(args.far)],
+                       env=env, cwd=alma_dir)
         if "error" in r:
             print(f"{n}: worker failed: {r['error']}", flush=True)
             continue

@@ -120,8 +120,9 @@ def main() -> None:
     for name, row in summary.iterrows():
         marker = "*" if name == "effort=fast" else ("s" if name == "effort=thorough" else "o")
         ax.scatter(row["median_time_s"], row["mean_error"] + 1e-6, marker=marker, s=80 if marker != "o" else 30)
-        ax.annotate(f"{name} ({int(row['verified'])}/{int(row['panels'])})", (row["median_time_s"], row["mean_error"] + 1e-6),
-                    fontsize=7, xytext=(3, 3), textcoords="offset points")
+        ax.annotate(f"{name} ({int(row['verified'])}/{int(row['panels'])})",
+                    (row["median_time_s"], row["mean_error"] + 1e-6), fontsize=7, xytext=(3, 3),
+                    textcoords="offset points")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("median time per panel [s]")

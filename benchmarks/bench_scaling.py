@@ -164,8 +164,7 @@ def plot(df, exps, path: Path) -> None:
     for col, label in (("joints_s", "joint detection"), ("build_s", "model build"), ("solve_s", "solve (Clarabel)"),
                        ("certify_s", "certification")):
         d = df[df[col].notna()] if col in df else df.iloc[:0]
-        key = col if col in exps else col
-        ax.loglog(d.blocks, d[col], "o-", label=f"{label} (k = {exps.get(key, float('nan')):.2f})")
+        ax.loglog(d.blocks, d[col], "o-", label=f"{label} (k = {exps.get(col, float('nan')):.2f})")
     ax.set_xlabel("blocks")
     ax.set_ylabel("time [s]")
     ax.set_title("Running-bond walls: time per phase")
