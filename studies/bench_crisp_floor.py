@@ -109,7 +109,8 @@ def main() -> None:
         null = held_null_vector(model, lp, t)
         print(f"2. μ ≥ {t:.0e} max: {null['held']} held, eigenvalues {null['eig'][0]:.1e} {null['eig'][1]:.1e} "
               f"({null['seconds']:.3f} s); null vector α {null['alpha']:.12f}, flow-rule violation "
-              f"{null['violation']:.1e}\n3.   diameter bound of the optimal face / ‖u‖∞: {uniqueness_bound(model, lp, null):.1e}")
+              f"{null['violation']:.1e}\n"
+              f"3.   diameter bound of the optimal face / ‖u‖∞: {uniqueness_bound(model, lp, null):.1e}")
     print(f"4. CLP values pass: {clp_values_pass(model, lp)}")
 
 
