@@ -61,6 +61,7 @@ def largest_panel(repeat: int) -> pd.DataFrame:
         t_plain.append(t)
         t, _plain_q = timed(lambda: plain_clarabel(model, "qdldl"))
         t_qdldl.append(t)
+    assert result is not None and plain is not None, "repeat must be at least 1"
     alma_s, plain_s = statistics.median(t_alma), statistics.median(t_plain)
     return pd.DataFrame([dict(case="english 1:2 1:1 f=0.6", blocks=model.n_free, joints=model.n_joints,
                               status=result.status, alpha=result.alpha, gap=result.bounds.gap,
@@ -120,6 +121,7 @@ def walls(sizes: list[int], repeat: int, single_above: int, plain_limit: float) 
             t_alma.append(t)
             t, plain = timed(partial(plain_clarabel, model, time_limit=plain_limit))
             t_plain.append(t)
+        assert result is not None and plain is not None, "repeat must be at least 1"
         alma_s, plain_s = statistics.median(t_alma), statistics.median(t_plain)
         rows.append(dict(blocks=model.n_free, joints=model.n_joints, status=result.status, alpha=result.alpha,
                          gap=result.bounds.gap, iterations=result.extra["iterations"],

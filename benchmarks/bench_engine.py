@@ -27,6 +27,7 @@ import resource
 import statistics
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -58,7 +59,7 @@ def _one(scene, engine: str, backend: str) -> dict:
     t0 = time.perf_counter()
     model = build_model(scene, find_joints(scene))
     t1 = time.perf_counter()
-    row = dict(blocks=model.n_free, build_s=t1 - t0)
+    row: dict[str, Any] = dict(blocks=model.n_free, build_s=t1 - t0)
     if engine == "clarabel":
         lp = solve_lp(model, engine="clarabel")
     else:

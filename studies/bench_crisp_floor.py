@@ -97,7 +97,8 @@ def main() -> None:
                         metavar=("BOND", "PANEL", "BLOCKS", "F"))
     parser.add_argument("--thresholds", default="1e-7,3e-7,1e-6,1e-5")
     args = parser.parse_args()
-    model = alma.build_model(alma.paper_panel(*args.case[:3], float(args.case[3])))
+    bond, panel, blocks, friction = args.case
+    model = alma.build_model(alma.paper_panel(bond, panel, blocks, float(friction)))
     t0 = time.perf_counter()
     lp = solve_lp(model)
     solve = time.perf_counter() - t0

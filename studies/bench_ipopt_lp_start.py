@@ -60,7 +60,7 @@ def run_panel(bond: str, panel_ratio: str, block_ratio: str, friction: float,
     result = alma.solve(model, "nonassociative")
     alma_s = time.perf_counter() - t0
     alma_ok = result.status in ("feasible", "optimal")
-    alpha_ipopt = state.alpha if ipopt_ok else np.nan
+    alpha_ipopt = state.alpha if state is not None and ipopt_ok else np.nan
     alpha_alma = result.alpha if alma_ok else np.nan
     if alma_ok and (not ipopt_ok or alpha_alma < alpha_ipopt - TIE):
         verdict = "alma lower"
