@@ -66,7 +66,7 @@ def mypy_counts(config: dict, modules: list[str]) -> Counter[str]:
     Path(fh.name).unlink()
     counts: Counter[str] = Counter()
     for line in out.stdout.splitlines():
-        m = re.match(r"(alma/\S+)\.py:\d+: error:", line)
+        m = re.match(r"(\S+)\.py:\d+: error:", line)
         if m:
             module = m.group(1).replace("/", ".").removesuffix(".__init__")
             counts.update(p for p in modules if module == p or (p.endswith(".*") and
