@@ -9,18 +9,18 @@ from alma.geometry.generators import arch, coursed_wall, facade, wall
 from alma.geometry.panels import paper_panel
 from alma.geometry.scene import Block, Scene, SceneError, load_scene
 from alma.mechanics.model import Model, build_model
-from alma.results.types import (AssociativeResult, Bounds, Comparison, NonAssociativeResult, Result)
-from alma.settings import AssociativeSettings, CertifySettings, PushSettings, SearchSettings, Settings
 from alma.push import PushResult, push
+from alma.results.types import AssociativeResult, Bounds, Comparison, NonAssociativeResult, Result
 from alma.seismic import SeismicResult, Site, load_site, seismic
+from alma.settings import AssociativeSettings, CertifySettings, PushSettings, SearchSettings, Settings
 from alma.settle import SettlementResult, settle
 from alma.solve import solve
 from alma.status import Status
 from alma.tilt import TiltResult, TiltSettings, tilt
 
-__all__ = ["AssociativeResult", "arch", "coursed_wall", "facade", "AssociativeSettings", "Block", "Bounds", "CertifySettings", "Comparison",
-           "Joints", "Model", "NonAssociativeResult", "Result", "Scene", "SceneError", "SearchSettings",
-           "Settings", "SettlementResult", "Status", "TiltResult", "TiltSettings", "build_model", "find_joints",
-           "load_scene", "paper_panel", "settle", "solve", "tilt", "wall", "PushResult", "PushSettings", "push",
-           "SeismicResult", "Site", "load_site", "seismic"]
+__all__ = ["AssociativeResult", "AssociativeSettings", "Block", "Bounds", "CertifySettings", "Comparison", "Joints",
+           "Model", "NonAssociativeResult", "PushResult", "PushSettings", "Result", "Scene", "SceneError",
+           "SearchSettings", "SeismicResult", "Settings", "SettlementResult", "Site", "Status", "TiltResult",
+           "TiltSettings", "arch", "build_model", "coursed_wall", "facade", "find_joints", "load_scene", "load_site",
+           "paper_panel", "push", "seismic", "settle", "solve", "tilt", "wall"]
 from alma._version import __version__ as __version__  # from git (setuptools-scm)

@@ -32,9 +32,9 @@ import scipy.sparse as sp
 from alma.associative.certificate import _repair_field
 from alma.backends.clarabel_backend import solve_conic_lp
 from alma.geometry.scene import JointOverride, Scene, SceneError
+from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.forces import joint_values
 from alma.mechanics.model import Model, build_model
-from alma.mechanics.contact_points import ContactPoints
 from alma.results.joints import MOTION_TOLERANCE, multipliers_to_forces, physical, states_from_relative
 from alma.results.types import BlockMotion, Bounds, JointResult, finite
 from alma.settings import AssociativeSettings
@@ -92,7 +92,7 @@ def settle(scene: Scene, settings: AssociativeSettings | None = None) -> Settlem
     h, g = support_power(model), bounded_support_power(model)
     H, q = model.equilibrium, model.n_bounded
     n, k = H.shape
-    G = model.bounded if q else sp.csc_matrix((n, 0))
+    G = model.bounded if q and model.bounded is not None else sp.csc_matrix((n, 0))
     capacity = model.capacity
     # x = (u, w): min −f₀ᵀu + cᵀw  s.t.  Hᵀu + h ≥ 0, w ≥ −(Gᵀu + g), w ≥ 0 (no equality rows);
     # the duals of the three row blocks are μ, τ and c − τ.
@@ -110,7 +110,8 @@ def settle(scene: Scene, settings: AssociativeSettings | None = None) -> Settlem
     u = sol.x[:n] if moves else np.zeros(n)
     fields = np.clip(sol.z[:k + q], 0.0, np.concatenate([np.full(k, np.inf), capacity]))
     field = types.SimpleNamespace(dead=model.dead, live=np.zeros(n))
-    fields, _, static_residual = _repair_field(sp.hstack([H, G]).tocsc(), field, fields, 0.0,
+    # _repair_field reads only .dead and .live of its model: the settlement's field carries no live load.
+    fields, _, static_residual = _repair_field(sp.hstack([H, G]).tocsc(), field, fields, 0.0,  # type: ignore[arg-type]
                                                np.concatenate([np.full(k, np.inf), capacity]), 0.0,
                                                s.residual_tolerance, s.gap_tolerance)
     mu, tau = fields[:k], fields[k:]
@@ -139,7 +140,7 @@ def after_settlement(scene: Scene, result: SettlementResult | None = None) -> Sc
     if result.status != Status.OPTIMAL:
         raise ValueError(f"the settlement analysis did not certify its mechanism ({result.status}: "
                          f"{result.message}); the opened joints are not known")
-    opened = {tuple(sorted(pair)) for pair in result.opened}
+    opened = {(min(a, b), max(a, b)) for a, b in result.opened}
     kept = tuple(o for o in scene.joint_overrides if tuple(sorted(o.blocks)) not in opened)
     lost = tuple(JointOverride(blocks=pair, friction=_friction_of(scene, pair), cohesion=0.0)
                  for pair in sorted(opened))
@@ -237,7 +238,8 @@ def _result(model: Model, status: Status, message: str, u: np.ndarray, mu: np.nd
     blocks, joints = form.blocks, form.joints
     # ``physical`` reports a mechanism scaled by 1 / length_scale (translations read as mm); a
     # settlement's motion is real: translations in mm, rotations in rad.
-    blocks = tuple(BlockMotion(b.id, tuple(x * model.length_scale for x in b.u)) for b in blocks)
+    ls = model.length_scale
+    blocks = tuple(BlockMotion(b.id, (b.u[0] * ls, b.u[1] * ls, b.u[2] * ls)) for b in blocks)
     support = support_relative(model)
     rel = (ContactPoints.from_model(model).relative_velocities(u) + support) * model.length_scale
     # Motions are real displacements here: the scale is the largest of the blocks' and supports'.
@@ -301,7 +303,7 @@ def _with_ties(model: Model, support: int, points: np.ndarray, forces: np.ndarra
         return points, forces
     tension = tau[tau.shape[0] - len(scene.ties):] * model.force_scale
     extra_at, extra_force = [], []
-    for t, pull in zip(scene.ties, tension):  # the scene's few ties
+    for t, pull in zip(scene.ties, tension, strict=True):  # the scene's few ties
         a, b = np.asarray(t.from_point, dtype=float), np.asarray(t.to_point, dtype=float)
         d = (b - a) / np.hypot(*(b - a))
         if scene.blocks[support].id == t.from_block:

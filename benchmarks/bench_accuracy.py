@@ -35,6 +35,7 @@ import math
 import statistics
 import time
 import warnings
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -74,7 +75,7 @@ def _static_arrays(model):
 def highs_static(method: str, crossover: bool = True):
     def run(model, time_limit):
         c, A, bounds = _static_arrays(model)
-        options = {"time_limit": float(time_limit)}
+        options: dict[str, float | str] = {"time_limit": float(time_limit)}
         if not crossover:
             options["run_crossover"] = "off"  # passed to HiGHS verbatim by SciPy
         with warnings.catch_warnings():
@@ -165,6 +166,7 @@ def cases(which: str):
         for bond in BONDS:
             for pr in PANEL_HEIGHTS:
                 for br in BLOCK_LENGTHS:
+                    fs: tuple[float, ...]
                     if which == "full":
                         fs = frictions_all
                     elif which == "default":
@@ -176,18 +178,17 @@ def cases(which: str):
         walls = [(40, 50), (50, 100)] if which == "full" else [(40, 50)]
     result = []
     for bond, pr, br, f in panels:
-        result.append((f"{bond} {pr} {br} f={f:g}", "panel",
-                       lambda bond=bond, pr=pr, br=br, f=f: alma.paper_panel(bond, pr, br, f)))
+        result.append((f"{bond} {pr} {br} f={f:g}", "panel", partial(alma.paper_panel, bond, pr, br, f)))
     for courses, per_course in walls:
         result.append((f"running wall {courses}x{per_course}", "wall",
-                       lambda c=courses, p=per_course: alma.wall("running", 240.0 * p, 60.0 * c, 240.0)))
+                       partial(alma.wall, "running", 240.0 * per_course, 60.0 * courses, 240.0)))
     return result
 
 
 # ----------------------------------------------------------------------------- timing
 def timed(fn, model, repeat: int, single_above: float, time_limit: float):
     times, value = [], None
-    for i in range(repeat):
+    for _ in range(repeat):
         t0 = time.perf_counter()
         value = fn(model, time_limit)
         dt = time.perf_counter() - t0
@@ -200,7 +201,7 @@ def timed(fn, model, repeat: int, single_above: float, time_limit: float):
 def run(which: str, repeat: int, single_above: float, time_limit: float, out: Path) -> pd.DataFrame:
     methods = method_table()
     rows = []
-    geometry_cache = {}
+    geometry_cache: dict[str, alma.Model] = {}
     t_start = time.perf_counter()
     for name, kind, factory in cases(which):
         scene = factory()
@@ -324,7 +325,7 @@ def main() -> None:
     bad = ref[~(agree <= 1e-9)]
     print(f"independent check (HiGHS dual simplex, kinematic LP, feasibility tol 1e-10): max |Δα|/α "
           f"{agree.max():.2e}, median {agree.median():.2e}; {len(bad)} of {len(ref)} cases disagree by more "
-          f"than 1e-9" + (": " + ", ".join(f"{c} ({a:.1e})" for c, a in zip(bad.case, bad.check_agreement))
+          f"than 1e-9" + (": " + ", ".join(f"{c} ({a:.1e})" for c, a in zip(bad.case, bad.check_agreement, strict=True))
                           if len(bad) else ""))
     on_front, dominating = pareto(summary)
     print(f"\ndefault ({DEFAULT_NAME}) on the Pareto front: {'YES' if on_front else 'NO'}"

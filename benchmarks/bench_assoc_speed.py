@@ -25,6 +25,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from functools import partial
 from pathlib import Path
 
 import pandas as pd
@@ -52,14 +53,15 @@ def timed(fn):
 def largest_panel(repeat: int) -> pd.DataFrame:
     scene = alma.paper_panel("english", "1:2", "1:1", 0.6)
     model = alma.build_model(scene)
-    t_alma, t_plain, t_qdldl, result, plain, plain_q = [], [], [], None, None, None
+    t_alma, t_plain, t_qdldl, result, plain = [], [], [], None, None
     for _ in range(repeat):
         t, result = timed(lambda: alma.solve(scene))
         t_alma.append(t)
         t, plain = timed(lambda: plain_clarabel(model))
         t_plain.append(t)
-        t, plain_q = timed(lambda: plain_clarabel(model, "qdldl"))
+        t, _plain_q = timed(lambda: plain_clarabel(model, "qdldl"))
         t_qdldl.append(t)
+    assert result is not None and plain is not None, "repeat must be at least 1"
     alma_s, plain_s = statistics.median(t_alma), statistics.median(t_plain)
     return pd.DataFrame([dict(case="english 1:2 1:1 f=0.6", blocks=model.n_free, joints=model.n_joints,
                               status=result.status, alpha=result.alpha, gap=result.bounds.gap,
@@ -115,10 +117,11 @@ def walls(sizes: list[int], repeat: int, single_above: int, plain_limit: float) 
         runs = 1 if model.n_free > single_above else repeat
         t_alma, t_plain, result, plain = [], [], None, None
         for _ in range(runs):
-            t, result = timed(lambda: alma.solve(model))
+            t, result = timed(partial(alma.solve, model))
             t_alma.append(t)
-            t, plain = timed(lambda: plain_clarabel(model, time_limit=plain_limit))
+            t, plain = timed(partial(plain_clarabel, model, time_limit=plain_limit))
             t_plain.append(t)
+        assert result is not None and plain is not None, "repeat must be at least 1"
         alma_s, plain_s = statistics.median(t_alma), statistics.median(t_plain)
         rows.append(dict(blocks=model.n_free, joints=model.n_joints, status=result.status, alpha=result.alpha,
                          gap=result.bounds.gap, iterations=result.extra["iterations"],
@@ -148,7 +151,8 @@ def main() -> None:
     sizes = [int(s) for s in args.walls.split(",") if s]
     if sizes:
         print(f"\n== running-bond walls (median of {args.repeat}; one run above {args.single_above} blocks) ==")
-        print(walls(sizes, args.repeat, args.single_above, args.plain_time_limit).to_string(index=False, float_format=fmt), flush=True)
+        table = walls(sizes, args.repeat, args.single_above, args.plain_time_limit)
+        print(table.to_string(index=False, float_format=fmt), flush=True)
 
 
 if __name__ == "__main__":

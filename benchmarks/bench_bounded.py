@@ -14,6 +14,7 @@ problem costs (more iterations).
 from __future__ import annotations
 
 import argparse
+from functools import partial
 
 import alma
 from alma.associative.lp import solve_lp
@@ -46,7 +47,7 @@ def _table(scenes: dict[str, alma.Scene], repeat: int) -> list[tuple]:
         base = None
         for name, scene in scenes.items():
             model = alma.build_model(scene)
-            seconds, lp = median_time(lambda m=model, e=engine: solve_lp(m, engine=e), repeat)
+            seconds, lp = median_time(partial(solve_lp, model, engine=engine), repeat)
             base = base or (seconds, lp.iterations)
             rows.append((engine, name, seconds, seconds / base[0], lp.iterations, lp.iterations / base[1],
                          1e3 * seconds / max(lp.iterations, 1), str(lp.status), lp.alpha))

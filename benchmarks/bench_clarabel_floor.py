@@ -26,6 +26,7 @@ import argparse
 import statistics
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -71,7 +72,7 @@ def measure(case: str, scene, tolerances: list[float], repeat: int, probe_iterat
     probe_s = statistics.median(solve_lp(model, max_iter=probe_iterations).solve_time for _ in range(repeat))
     per_iter_s = (probe_s - setup_s) / probe_iterations
     factor_s = kkt_factor_time(model, repeat)
-    rows = []
+    rows: list[dict[str, Any]] = []
     for tol in tolerances:
         runs = [solve_lp(model, tolerance=tol) for _ in range(repeat)]
         sol = runs[-1]

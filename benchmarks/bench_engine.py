@@ -27,6 +27,7 @@ import resource
 import statistics
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -58,7 +59,7 @@ def _one(scene, engine: str, backend: str) -> dict:
     t0 = time.perf_counter()
     model = build_model(scene, find_joints(scene))
     t1 = time.perf_counter()
-    row = dict(blocks=model.n_free, build_s=t1 - t0)
+    row: dict[str, Any] = dict(blocks=model.n_free, build_s=t1 - t0)
     if engine == "clarabel":
         lp = solve_lp(model, engine="clarabel")
     else:
@@ -179,7 +180,8 @@ def main() -> None:
     rows = []
     for case in ["panel", *walls]:
         for engine in ("ipm", "clarabel", "ipx"):
-            if case != "panel" and case not in {"ipm": set(walls), "clarabel": clarabel_walls, "ipx": ipx_walls}[engine]:
+            runs = {"ipm": set(walls), "clarabel": clarabel_walls, "ipx": ipx_walls}[engine]
+            if case != "panel" and case not in runs:
                 continue
             repeat = args.ipx_repeat if engine == "ipx" else args.repeat
             row = _spawn(["--worker", case, engine, "--repeat", str(repeat), "--backend", args.backend])

@@ -17,13 +17,13 @@ import argparse
 import csv
 import math
 import statistics
-import sys
 import time
 from collections import Counter
 from pathlib import Path
 
 import alma
 from alma.geometry.scene import Scene
+from alma.results.types import NonAssociativeResult
 
 FRICTION = 0.65
 _RUN = ([0.5, 1, 1, 1, 1, 0.5], [1] * 5)
@@ -64,8 +64,9 @@ def stack_with_cohesion() -> Scene:
 
 
 def scenes(args) -> list[tuple[str, Scene, float | None]]:
-    out = [(f"F&TL wall {k}", alma.coursed_wall(WALLS[k], 400.0, 175.0, friction=FRICTION, thickness=1000.0,
-                                                 unit_weight=10.0), WALL_REFERENCE[k]) for k in WALLS]
+    out: list[tuple[str, Scene, float | None]] = [
+        (f"F&TL wall {k}", alma.coursed_wall(WALLS[k], 400.0, 175.0, friction=FRICTION, thickness=1000.0,
+                                             unit_weight=10.0), WALL_REFERENCE[k]) for k in WALLS]
     out.append(("stack 3x4 cohesion", stack_with_cohesion(), None))
     if args.lact3:
         for name, phi in LACT3:
@@ -101,6 +102,7 @@ def measure(name: str, scene: Scene, reference: float | None, perturb: bool) -> 
     alma.solve(scene, model="associative")
     assoc_s = time.perf_counter() - t0
     result = alma.solve(scene, model="nonassociative")
+    assert isinstance(result, NonAssociativeResult)
     search_s = result.timings.get("nonassociative_s", math.nan)
     row = {"scene": name, "blocks": result.n_blocks, "assoc_s": assoc_s, "search_s": search_s,
            "ratio": search_s / assoc_s, "start": result.start or "", "status": str(result.status),
@@ -170,4 +172,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()

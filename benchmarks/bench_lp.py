@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
+from functools import partial
 from pathlib import Path
 
 import clarabel
@@ -54,10 +55,10 @@ def largest_panels(repeat: int) -> pd.DataFrame:
     rows = []
     for bond in BONDS:
         scene = alma.paper_panel(bond, "1:2", "1:1", 0.6)
-        t_joints, joints = median_time(lambda: find_joints(scene), repeat)
-        t_build, model = median_time(lambda: build_model(scene, joints), repeat)
-        t_alma, result = median_time(lambda: alma.solve(model), repeat)
-        t_plain, _ = median_time(lambda: plain_clarabel(model), repeat)
+        t_joints, joints = median_time(partial(find_joints, scene), repeat)
+        t_build, model = median_time(partial(build_model, scene, joints), repeat)
+        t_alma, result = median_time(partial(alma.solve, model), repeat)
+        t_plain, _ = median_time(partial(plain_clarabel, model), repeat)
         rows.append(dict(bond=bond, blocks=model.n_free, joints=model.n_joints, alpha=result.alpha,
                          gap=result.bounds.gap, status=result.status, joints_s=t_joints, build_s=t_build,
                          solve_s=result.timings["solve_s"], certify_s=result.timings["certify_s"],
@@ -88,9 +89,9 @@ def walls(repeat: int) -> pd.DataFrame:
     rows = []
     for courses, per_course in ((10, 10), (50, 40), (100, 100), (200, 100)):
         scene = wall("running", 240.0 * per_course, 60.0 * courses, 240.0)
-        t_joints, joints = median_time(lambda: find_joints(scene), repeat)
-        t_build, model = median_time(lambda: build_model(scene, joints), repeat)
-        t_solve, result = median_time(lambda: alma.solve(model), 1)
+        t_joints, joints = median_time(partial(find_joints, scene), repeat)
+        t_build, model = median_time(partial(build_model, scene, joints), repeat)
+        t_solve, result = median_time(partial(alma.solve, model), 1)
         rows.append(dict(blocks=model.n_free, joints=model.n_joints, joints_s=t_joints, build_s=t_build,
                          solve_and_certify_s=t_solve, status=result.status, alpha=result.alpha,
                          build_fraction=(t_joints + t_build) / t_solve))

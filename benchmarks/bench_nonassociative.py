@@ -25,6 +25,8 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -36,7 +38,7 @@ from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
 from alma.nonassociative.gilbert import gilbert
 from alma.nonassociative.search import solve_nonassociative
-from alma.nonassociative.states import exact_state
+from alma.nonassociative.states import CollapseState, exact_state
 from alma.settings import SearchSettings
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -56,19 +58,26 @@ def paper_geometries(max_blocks: int) -> list[tuple[int, str, str, str]]:
     return sorted(rows)
 
 
-def methods(model, points, lp) -> dict[str, callable]:
+def methods(model, points, lp) -> dict[str, Callable[[], CollapseState | None]]:
     n_lp = lp.multipliers.reshape(-1, 2).sum(axis=1)
-    out = {"lp": lambda: exact_state(model, points, lp.mechanism, "lp", dilatant=True)}
+    out: dict[str, Callable[[], CollapseState | None]] = {
+        "lp": lambda: exact_state(model, points, lp.mechanism, "lp", dilatant=True)}
     settings = SearchSettings()
     starts = dict.fromkeys(settings.gilbert_fast + settings.gilbert_thorough)
     for scale, relaxation, steps in starts:
-        out[f"gilbert({scale:g}, {relaxation:g}, {steps})"] = (
-            lambda s=scale, r=relaxation, k=steps: gilbert(model, points, s * n_lp, relaxation=r,
-                                                           slope_steps=k)[0])
+        out[f"gilbert({scale:g}, {relaxation:g}, {steps})"] = partial(_gilbert, model, points, scale * n_lp,
+                                                                       relaxation, steps)
     for effort in ("fast", "thorough"):
-        out[f"effort={effort}"] = (
-            lambda e=effort: solve_nonassociative(model, lp.mechanism, lp.multipliers, effort=e).best)
+        out[f"effort={effort}"] = partial(_search, model, lp, effort)
     return out
+
+
+def _gilbert(model, points, normal, relaxation: float, steps: int) -> CollapseState | None:
+    return gilbert(model, points, normal, relaxation=relaxation, slope_steps=steps)[0]
+
+
+def _search(model, lp, effort: str) -> CollapseState | None:
+    return solve_nonassociative(model, lp.mechanism, lp.multipliers, effort=effort).best
 
 
 def main() -> None:
@@ -93,7 +102,7 @@ def main() -> None:
                 ok = state is not None and state.verified
                 rows.append(dict(bond=bond, panel_ratio=panel_ratio, block_ratio=block_ratio, friction=friction,
                                  blocks=n, alpha_lp=lp.alpha, method=name,
-                                 alpha=state.alpha if ok else np.nan, verified=ok,
+                                 alpha=state.alpha if state is not None and ok else np.nan, verified=ok,
                                  time_s=statistics.median(times)))
             print(f"{bond:8s} {panel_ratio} {block_ratio} f={friction:<4g} {n:5d} blocks done", flush=True)
     table = pd.DataFrame(rows)
@@ -120,8 +129,9 @@ def main() -> None:
     for name, row in summary.iterrows():
         marker = "*" if name == "effort=fast" else ("s" if name == "effort=thorough" else "o")
         ax.scatter(row["median_time_s"], row["mean_error"] + 1e-6, marker=marker, s=80 if marker != "o" else 30)
-        ax.annotate(f"{name} ({int(row['verified'])}/{int(row['panels'])})", (row["median_time_s"], row["mean_error"] + 1e-6),
-                    fontsize=7, xytext=(3, 3), textcoords="offset points")
+        ax.annotate(f"{name} ({int(row['verified'])}/{int(row['panels'])})",
+                    (row["median_time_s"], row["mean_error"] + 1e-6), fontsize=7, xytext=(3, 3),
+                    textcoords="offset points")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("median time per panel [s]")

@@ -23,6 +23,7 @@ import resource
 import statistics
 import time
 from pathlib import Path
+from typing import Any
 
 from benchmarks.harness import run_worker
 
@@ -61,9 +62,10 @@ def worker(n: int, repeat: int, solve_runs: int) -> dict:
         times_j.append(t1 - t0)
         times_b.append(t2 - t1)
     built = maxrss_mb()
-    out = dict(target=n, blocks=model.n_free, joints=model.n_joints, courses=courses, per_course=per_course,
-               joints_s=statistics.median(times_j), build_s=statistics.median(times_b),
-               rss_base_mb=base, rss_build_mb=built, solve_runs=solve_runs)
+    out: dict[str, Any] = dict(target=n, blocks=model.n_free, joints=model.n_joints, courses=courses,
+                               per_course=per_course, joints_s=statistics.median(times_j),
+                               build_s=statistics.median(times_b), rss_base_mb=base, rss_build_mb=built,
+                               solve_runs=solve_runs)
     if solve_runs:
         solve, certify, total = [], [], []
         for _ in range(solve_runs):
@@ -164,8 +166,7 @@ def plot(df, exps, path: Path) -> None:
     for col, label in (("joints_s", "joint detection"), ("build_s", "model build"), ("solve_s", "solve (Clarabel)"),
                        ("certify_s", "certification")):
         d = df[df[col].notna()] if col in df else df.iloc[:0]
-        key = col if col in exps else col
-        ax.loglog(d.blocks, d[col], "o-", label=f"{label} (k = {exps.get(key, float('nan')):.2f})")
+        ax.loglog(d.blocks, d[col], "o-", label=f"{label} (k = {exps.get(col, float('nan')):.2f})")
     ax.set_xlabel("blocks")
     ax.set_ylabel("time [s]")
     ax.set_title("Running-bond walls: time per phase")

@@ -19,7 +19,7 @@ import sys
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass
-from functools import lru_cache
+from functools import cache, lru_cache
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -77,7 +77,7 @@ def table5() -> tuple[tuple[str, str, str, float, float], ...]:
                       float(r["alpha_c"])) for r in csv.DictReader(handle))
 
 
-@lru_cache(maxsize=None)
+@cache
 def panel_geometry(bond: str, panel_ratio: str, block_ratio: str) -> alma.Model:
     """The model of a paper panel at friction 0.6, built once per geometry (``.with_friction``)."""
     return alma.build_model(alma.paper_panel(bond, panel_ratio, block_ratio, 0.6))
@@ -93,8 +93,8 @@ def table(rows: Sequence[Mapping[str, Any]], columns: Sequence[str] | None = Non
 
     cells = [[cell(r.get(c, "")) for c in columns] for r in rows]
     widths = [max([len(c)] + [len(line[i]) for line in cells]) for i, c in enumerate(columns)]
-    lines = ["  ".join(c.rjust(w) for c, w in zip(columns, widths))]
-    lines += ["  ".join(v.rjust(w) for v, w in zip(line, widths)) for line in cells]
+    lines = ["  ".join(c.rjust(w) for c, w in zip(columns, widths, strict=True))]
+    lines += ["  ".join(v.rjust(w) for v, w in zip(line, widths, strict=True)) for line in cells]
     return "\n".join(lines)
 
 

@@ -97,7 +97,8 @@ def main() -> None:
                         metavar=("BOND", "PANEL", "BLOCKS", "F"))
     parser.add_argument("--thresholds", default="1e-7,3e-7,1e-6,1e-5")
     args = parser.parse_args()
-    model = alma.build_model(alma.paper_panel(*args.case[:3], float(args.case[3])))
+    bond, panel, blocks, friction = args.case
+    model = alma.build_model(alma.paper_panel(bond, panel, blocks, float(friction)))
     t0 = time.perf_counter()
     lp = solve_lp(model)
     solve = time.perf_counter() - t0
@@ -109,7 +110,8 @@ def main() -> None:
         null = held_null_vector(model, lp, t)
         print(f"2. μ ≥ {t:.0e} max: {null['held']} held, eigenvalues {null['eig'][0]:.1e} {null['eig'][1]:.1e} "
               f"({null['seconds']:.3f} s); null vector α {null['alpha']:.12f}, flow-rule violation "
-              f"{null['violation']:.1e}\n3.   diameter bound of the optimal face / ‖u‖∞: {uniqueness_bound(model, lp, null):.1e}")
+              f"{null['violation']:.1e}\n"
+              f"3.   diameter bound of the optimal face / ‖u‖∞: {uniqueness_bound(model, lp, null):.1e}")
     print(f"4. CLP values pass: {clp_values_pass(model, lp)}")
 
 

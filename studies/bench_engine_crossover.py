@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import itertools
 import time
 from pathlib import Path
 
@@ -50,7 +51,7 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     a = measure(args.repeat, args.cohesion)
     print(f"{'free blocks':>12} {'panels':>6} {'ipm s':>7} {'Clarabel s':>10} {'Clarabel/ipm':>12}")
-    for lo, hi in zip(EDGES[:-1], EDGES[1:]):
+    for lo, hi in itertools.pairwise(EDGES):
         sel = (a[:, 0] >= lo) & (a[:, 0] < hi)
         if sel.any():
             ipm, cl = a[sel, 1].sum(), a[sel, 2].sum()

@@ -60,7 +60,7 @@ def run_panel(bond: str, panel_ratio: str, block_ratio: str, friction: float,
     result = alma.solve(model, "nonassociative")
     alma_s = time.perf_counter() - t0
     alma_ok = result.status in ("feasible", "optimal")
-    alpha_ipopt = state.alpha if ipopt_ok else np.nan
+    alpha_ipopt = state.alpha if state is not None and ipopt_ok else np.nan
     alpha_alma = result.alpha if alma_ok else np.nan
     if alma_ok and (not ipopt_ok or alpha_alma < alpha_ipopt - TIE):
         verdict = "alma lower"
@@ -111,7 +111,7 @@ def main() -> None:
     done = pd.read_csv(csv) if csv.exists() else pd.DataFrame()
     key = ["bond", "panel_ratio", "block_ratio", "friction"]
     seen = set(map(tuple, done[key].astype(str).to_numpy())) if len(done) else set()
-    for blocks, panel_ratio, block_ratio, bond in paper_geometries(args.max_blocks):
+    for _blocks, panel_ratio, block_ratio, bond in paper_geometries(args.max_blocks):
         for friction in FRICTIONS:
             if (bond, panel_ratio, block_ratio, str(friction)) in seen:
                 continue
@@ -133,8 +133,8 @@ def main() -> None:
         drop = both.alpha_ipopt - both.alpha_alma
         print(f"  where both verified and alma lower: {len(both)} cases, by median {drop.median():.4f}, "
               f"at most {drop.max():.4f}")
-    print(f"  IPOPT verified {int(table.ipopt_verified.sum())}/{len(table)}; median time {table.ipopt_s.median():.1f} s, "
-          f"alma median {table.alma_s.median():.1f} s")
+    print(f"  IPOPT verified {int(table.ipopt_verified.sum())}/{len(table)}; "
+          f"median time {table.ipopt_s.median():.1f} s, alma median {table.alma_s.median():.1f} s")
     plot(table, out / "ipopt_lp_start.png")
 
 

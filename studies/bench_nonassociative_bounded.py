@@ -20,6 +20,7 @@ PANELS = (("running", "2:1", "4:1"), ("english", "2:1", "2:1"), ("running", "1:1
 
 def row(label: str, scene: alma.Scene) -> str:
     both = alma.solve(scene, model="both")
+    assert isinstance(both, alma.Comparison)
     nl, lp = both.nonassociative, both.associative
     verified = sum(1 for c in nl.candidates if c["verified"])
     lower = nl.search["radenkovic_lower_bound"]

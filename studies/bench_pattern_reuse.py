@@ -49,7 +49,7 @@ def main() -> None:
     for blocks in (int(x) for x in args.walls.split(",") if x):
         courses, per_course = wall_shape(blocks)
         geometry = alma.build_model(alma.wall("running", 240.0 * per_course, 60.0 * courses, 240.0))
-        seen = {}
+        seen: dict[bool, list[tuple[int, float]]] = {}
         for _ in range(args.repeat):
             for shared in (False, True):
                 pattern, total, answers = one_pass(geometry, shared)

@@ -3,13 +3,13 @@ study keys that follow every setting."""
 from __future__ import annotations
 
 import dataclasses
+import importlib
 import json
 
 import numpy as np
 import pytest
 
 import alma
-import importlib
 from alma.settings import SearchSettings, Settings
 from alma.status import Status
 from alma.study.doe import panel_key

@@ -7,8 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 
 import alma
 from alma.geometry.canonical import canonical_scene
@@ -68,7 +67,7 @@ def test_the_search_sees_the_same_model(angle, mirror, shift, length, force, see
     scene, _, model = _canonical(_rewrite(_panel(), angle, mirror, shift, length, force, seed))
     ref_scene, _, ref = REFERENCE
     assert [b.id for b in scene.blocks] == [b.id for b in ref_scene.blocks]
-    for a, b in zip(scene.blocks, ref_scene.blocks):  # the same polygons, to round-off
+    for a, b in zip(scene.blocks, ref_scene.blocks, strict=True):  # the same polygons, to round-off
         np.testing.assert_allclose(a.vertices, b.vertices, rtol=0, atol=1e-11)
     for name in ("normal_part", "tangent_part", "bounded"):
         x, y = getattr(model, name), getattr(ref, name)
@@ -92,7 +91,7 @@ def test_a_mechanism_comes_back_to_the_drawings_frame():
     """A rigid rotation of every free block, written in the canonical frame, read in the drawing's."""
     data = _rewrite(_panel(), 0.4, True, (100.0, -50.0), 1.0, 1.0, 3)
     drawing = build_model(alma.Scene.from_dict(data))
-    scene, frame, canonical = _canonical(data)
+    _scene, frame, canonical = _canonical(data)
     omega, pivot = 0.01, np.array([0.3, -0.2])  # canonical model units
     c = canonical.centroid
     u = np.column_stack([-omega * (c[:, 1] - pivot[1]), omega * (c[:, 0] - pivot[0]), np.full(len(c), omega)])

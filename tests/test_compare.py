@@ -10,22 +10,18 @@ from __future__ import annotations
 import csv
 import json
 import pathlib
-import math
-import sys
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
-
-from alma.study import compare as compare_mod
-from alma.study import compare_report, compare_stats
 from alma.cli.main import main
 from alma.stats.anova import anova, varying_factors
+from alma.study import compare as compare_mod, compare_report, compare_stats
 from alma.study.doe import COLUMNS, PAPER_DESIGN, Design, read_results, run_doe
 
+ROOT = Path(__file__).resolve().parents[1]
 TINY = 'panel_ratio = ["2:1"]\nblock_ratio = ["4:1"]\nbond = ["stack"]\nfriction = [0.27, 0.6, 1.0]\n'
 
 
@@ -198,8 +194,8 @@ def test_effort_is_part_of_the_nonassociative_key_only(tmp_path):
     fast = run_doe(tmp_path, model="both", design=design, workers=1, progress=False, effort="fast")
     auto = run_doe(tmp_path, model="both", design=design, workers=1, progress=False)
     assert set(fast["model"]) == {"associative", "nonassociative"}
-    key = dict(zip(fast["model"], fast["key"]))
-    key_auto = dict(zip(auto["model"], auto["key"]))
+    key = dict(zip(fast["model"], fast["key"], strict=True))
+    key_auto = dict(zip(auto["model"], auto["key"], strict=True))
     assert key["associative"] == key_auto["associative"]
     assert key["nonassociative"] != key_auto["nonassociative"]
     assert list(auto["effort"]) == ["", "auto"] and list(fast["effort"]) == ["", "fast"]
@@ -225,8 +221,8 @@ def test_time_limit_is_part_of_the_nonassociative_key_and_reaches_the_search(tmp
     # Each solved once with its own cap: both models in one solve first, then only the
     # non-associative row (the associative one is shared: its key does not hold the cap).
     assert limits == [("both", 7.5), ("nonassociative", None)]
-    key = dict(zip(limited["model"], limited["key"]))
-    key_default = dict(zip(default["model"], default["key"]))
+    key = dict(zip(limited["model"], limited["key"], strict=True))
+    key_default = dict(zip(default["model"], default["key"], strict=True))
     assert key["associative"] == key_default["associative"]
     assert key["nonassociative"] != key_default["nonassociative"]
     for bad in (0.0, -1.0, float("nan")):

@@ -42,7 +42,7 @@ def test_layers_name_the_supports_and_alpha_is_the_rocking_value(tmp_path):
 def test_lowest_supports_for_drawings_all_on_layer_0(tmp_path):
     path = tmp_path / "block.dxf"
     _drawing(path, [("0", GROUND), ("0", BLOCK)])
-    with pytest.raises(alma.SceneError, match="no support.*lowest"):
+    with pytest.raises(alma.SceneError, match=r"no support.*lowest"):
         alma.load_scene(path)
     scene = alma.load_scene(path, supports="lowest")
     assert [b.fixed for b in scene.blocks] == [True, False]
@@ -51,7 +51,7 @@ def test_lowest_supports_for_drawings_all_on_layer_0(tmp_path):
 def test_closing_duplicate_repeated_and_collinear_vertices_are_dropped(tmp_path):
     path = tmp_path / "messy.dxf"
     messy = [(0, 0), (50, 0), (50, 0), (100, 0), (100, 400), (0, 400), (0, 0)]  # open, ends on its start
-    _drawing(path, [("fixed", GROUND + [GROUND[0]]), ("0", messy)], closed=False)
+    _drawing(path, [("fixed", [*GROUND, GROUND[0]]), ("0", messy)], closed=False)
     scene = alma.load_scene(path)
     assert len(scene.blocks[1].vertices) == 4
 

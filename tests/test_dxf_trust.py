@@ -202,10 +202,10 @@ def test_an_open_polyline_is_refused_naming_its_handle(tmp_path):
 def test_a_drawing_without_blocks_says_what_it_holds(tmp_path):
     doc = _doc()
     msp = doc.modelspace()
-    for a, b in zip(BRICK, BRICK[1:] + BRICK[:1]):
+    for a, b in zip(BRICK, BRICK[1:] + BRICK[:1], strict=True):
         msp.add_line(a, b)
     msp.add_circle((0, 0), 50)
-    with pytest.raises(alma.SceneError, match="no block .* holds 1 CIRCLE, 4 LINE"):
+    with pytest.raises(alma.SceneError, match=r"no block .* holds 1 CIRCLE, 4 LINE"):
         alma.load_scene(_save(doc, tmp_path / "lines.dxf"))
 
 

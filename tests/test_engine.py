@@ -12,8 +12,7 @@ import scipy.sparse as sp
 
 import alma
 from alma.associative.lp import NORMALISATION, solve_lp  # NORMALISATION: the default's value
-from alma.engine import IPMSettings, available_backends, make_factoriser, normal_pattern, solve_eq10
-from alma.engine import select
+from alma.engine import IPMSettings, available_backends, make_factoriser, normal_pattern, select, solve_eq10
 
 ENGINE_DIR = Path(alma.__file__).parent / "engine"
 
@@ -54,7 +53,8 @@ def test_pattern_values_equal_h_d_ht(wall):
     expected = sp.triu(H @ sp.diags(d) @ H.T).toarray()
     got = pattern.matrix(d, shift=0.5).toarray()
     assert np.allclose(got, expected + 0.5 * np.eye(H.shape[0]), rtol=1e-13, atol=1e-12)
-    assert pattern.nnz == np.count_nonzero(np.triu(np.ones_like(expected)) * ((expected != 0) | np.eye(H.shape[0], dtype=bool)))
+    stored = (expected != 0) | np.eye(H.shape[0], dtype=bool)
+    assert pattern.nnz == np.count_nonzero(np.triu(np.ones_like(expected)) * stored)
 
 
 def test_pattern_depends_on_geometry_not_friction(wall):

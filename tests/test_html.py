@@ -81,7 +81,8 @@ def _check_page(path, scene: alma.Scene) -> _Page:
     page, text = _parse(path)
     assert page.svgs
     assert not re.search(r"""(src|href)\s*=\s*["']?\s*(https?:)?//""", text)  # no network
-    assert not [a for t, a in page.tags if t == "script" and "src" in a] and not [t for t, _ in page.tags if t == "link"]
+    assert not [a for t, a in page.tags if t == "script" and "src" in a]
+    assert not [t for t, _ in page.tags if t == "link"]
     visible = " ".join(page.text)
     assert not re.search(r"\b(nan|inf|infinity)\b", visible, re.IGNORECASE), visible
     xy = np.concatenate([b.vertices for b in scene.blocks])
@@ -110,12 +111,13 @@ def test_the_page_says_the_result_and_holds_the_scene(tmp_path):
     assert "α = 0.25 (proven)" in text and "rocking" in text and "1 of 1 block move" in text  # α = b / h
     assert "proven between" in text or "proven: 0.25" in text
     hinges = [a for _, a in marks if a["data-mark"] == "hinge"]
-    assert len(hinges) == 1 and float(hinges[0]["cx"]) == pytest.approx(100.0) and float(hinges[0]["cy"]) == pytest.approx(0)
+    assert len(hinges) == 1
+    assert float(hinges[0]["cx"]) == pytest.approx(100.0) and float(hinges[0]["cy"]) == pytest.approx(0)
     assert "live" in {a["data-mark"] for _, a in marks}  # the live load's arrow
     data = json.loads(page.data)
     assert data["m0"]["u"][1] == pytest.approx(list(result.blocks[0].u))
     assert "block b: u = " in Path(tmp_path / "r.html").read_text() and "N = " in Path(tmp_path / "r.html").read_text()
-    assert "hide-thrust" in [a for t, a in page.tags if t == "body"][0]["class"]  # thrust off by default
+    assert "hide-thrust" in next(a for t, a in page.tags if t == "body")["class"]  # thrust off by default
     assert any(t == "input" and a.get("id") == "thrust" and "checked" not in a for t, a in page.tags)
 
 
@@ -124,11 +126,11 @@ def test_the_carried_marks_are_drawn_displaced_as_the_png_draws_them(tmp_path):
     result = alma.solve(scene)
     page = _check_page(write_html(scene, result, tmp_path / "r.html"), scene)
     drawing = draw(scene, result)
-    block = [a for t, a in page.svgs[0]["marks"] if a["data-mark"] == "block-moving"][0]
-    one, b, c, one_, e, f = map(float, re.findall(r"[-\d.e]+", block["transform"]))
+    block = next(a for t, a in page.svgs[0]["marks"] if a["data-mark"] == "block-moving")
+    _one, b, c, _d, e, f = map(float, re.findall(r"[-\d.e]+", block["transform"]))
     points = np.array([[float(v) for v in p.split(",")] for p in block["points"].split()])
     moved = np.column_stack([points[:, 0] + c * points[:, 1] + e, b * points[:, 0] + points[:, 1] + f])
-    expected = drawing.placed([m for m in drawing.marks if m.cls == "block-moving"][0]) * [1, -1]
+    expected = drawing.placed(next(m for m in drawing.marks if m.cls == "block-moving")) * [1, -1]
     assert moved == pytest.approx(expected, abs=1e-6 * drawing.size)
 
 

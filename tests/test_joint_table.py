@@ -32,7 +32,7 @@ def test_a_table_equals_the_tuple_of_its_joints(result):
     joints = result.joints
     as_tuple = tuple(joints)
     assert joints == as_tuple
-    changed = as_tuple[:-1] + (JointResult(**{**as_tuple[-1].__dict__, "N": as_tuple[-1].N + 1.0}),)
+    changed = (*as_tuple[:-1], JointResult(**{**as_tuple[-1].__dict__, "N": as_tuple[-1].N + 1.0}))
     assert joints != changed
     assert joints != as_tuple[:-1]
 

@@ -5,23 +5,26 @@ from __future__ import annotations
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from hypothesis import given, settings, strategies as st  # noqa: E402
-from matplotlib.collections import PolyCollection  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from hypothesis import given, settings, strategies as st
+from matplotlib.collections import PolyCollection
 
-import alma  # noqa: E402
-from alma.report.drawing import draw  # noqa: E402
-from alma.report.marks import LEGEND, STATE_COLOURS, MACRO_COLOURS  # noqa: E402
-from alma.report.mpl import render_axes  # noqa: E402
-from alma.report.plot import MechanismPicture, plot_mechanism  # noqa: E402
+import alma
+from alma.report.drawing import draw
+from alma.report.marks import LEGEND, MACRO_COLOURS, STATE_COLOURS
+from alma.report.mpl import render_axes
+from alma.report.plot import MechanismPicture, plot_mechanism
 
 
 def _column(n: int = 3, shift: tuple[float, float] = (0.0, 0.0)) -> alma.Scene:
     """A column of ``n`` 100 × 300 mm blocks on the ground: it rocks as one macro-block about the
     ground's right corner (α = b / h of the whole column)."""
     dx, dy = shift
-    rect = lambda x0, y0, x1, y1: np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], float) + [dx, dy]  # noqa: E731
+
+    def rect(x0: float, y0: float, x1: float, y1: float) -> np.ndarray:
+        return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], float) + np.array([dx, dy])
+
     blocks = [alma.Block("ground", rect(-200, -50, 300, 0), fixed=True)]
     blocks += [alma.Block(f"b{k}", rect(0, 300 * k, 100, 300 * (k + 1))) for k in range(n)]
     return alma.Scene(blocks=tuple(blocks), friction=2.0)
@@ -106,9 +109,9 @@ def test_the_picture_moves_with_the_origin(dx, dy):
     here, there = draw(_column(2), alma.solve(_column(2))), draw(_column(2, (dx, dy)), alma.solve(_column(2, (dx, dy))))
     assert [m.cls for m in here.marks] == [m.cls for m in there.marks]
     size = here.size
-    for a, b in zip(here.marks, there.marks):
-        assert np.allclose(here.placed(a) + (dx, dy), there.placed(b), atol=1e-6 * size)
-    assert np.allclose(np.array(here.box) + (dx, dy, dx, dy), there.box, atol=1e-6 * size)
+    for a, b in zip(here.marks, there.marks, strict=True):
+        assert np.allclose(here.placed(a) + np.array([dx, dy]), there.placed(b), atol=1e-6 * size)
+    assert np.allclose(np.array(here.box) + np.array([dx, dy, dx, dy]), there.box, atol=1e-6 * size)
 
 
 def test_a_crushing_joint_is_marked_and_has_its_legend_entry(tmp_path):
@@ -161,5 +164,5 @@ def test_an_overburden_and_a_chain_are_drawn_with_their_legend_entries():
     total = sum(-ld.dead[1] for ld in scene.loads)
     assert len(labels) == 1 and f"total {total:.4g} kN" in labels[0]
     ties = [m for m in drawing.marks if m.cls == "tie"]
-    assert {m.kind for m in ties} == {"line", "text"} and "kN of 1" in [m for m in ties if m.kind == "text"][0].text
+    assert {m.kind for m in ties} == {"line", "text"} and "kN of 1" in next(m for m in ties if m.kind == "text").text
     assert {"dead", "tie", "live"} <= set(drawing.classes())

@@ -10,8 +10,6 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
-
 from alma.stats import anova as anova_mod
 from alma.stats.anova import (
     RESULT_COLUMNS,
@@ -21,6 +19,7 @@ from alma.stats.anova import (
 )
 from alma.stats.effects import equivalent_t, tukey_bond
 
+ROOT = Path(__file__).resolve().parents[1]
 TABLE5 = ROOT / "verification" / "data" / "table5_collapse_multipliers.csv"
 
 
@@ -67,7 +66,7 @@ def test_order4_is_saturated_and_refused(df):
 def test_terms_do_not_depend_on_row_order(df, result):
     shuffled = df.sample(frac=1.0, random_state=1).reset_index(drop=True)
     r = anova(shuffled)
-    for a, b in zip(result.rows, r.rows):
+    for a, b in zip(result.rows, r.rows, strict=True):
         assert a.source == b.source and math.isclose(a.adj_ss, b.adj_ss, rel_tol=1e-9)
 
 

@@ -21,12 +21,11 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
-
 import alma
 from alma.cli import study as study_cli
 from alma.study.doe import COLUMNS, PAPER_DESIGN, Design, load_design, panel_key, read_results, run_doe
 
+ROOT = Path(__file__).resolve().parents[1]
 TABLE5 = ROOT / "verification" / "data" / "table5_collapse_multipliers.csv"
 TABLE2 = ROOT / "verification" / "data" / "table2_anova.csv"
 

@@ -48,9 +48,12 @@ def test_design_file_takes_the_chain_and_checks_it(tmp_path):
     assert load_design(ROOT / "examples" / "design_chain.toml").chain == (0.0, 0.25, 1.0, 5.0)
     assert Design(chain=[0]) == PAPER_DESIGN and len(PAPER_DESIGN) == 108
     for text, match in [("chain = [-1]", "bad chain level -1"), ("chain = [1, 1]", "repeated chain level"),
-                        ('chain = ["strong"]', "bad chain level 'strong'"), ("chain = []", "chain needs at least one"),
-                        ("chain_height = 0", "bad chain_height 0"), ("chain_height = [1.0]", "chain_height takes one value"),
-                        ('chain_anchored = "yes"', "bad chain_anchored 'yes'"), ("chain_strength = [5]", "unknown key")]:
+                        ('chain = ["strong"]', "bad chain level 'strong'"),
+                        ("chain = []", "chain needs at least one"),
+                        ("chain_height = 0", "bad chain_height 0"),
+                        ("chain_height = [1.0]", "chain_height takes one value"),
+                        ('chain_anchored = "yes"', "bad chain_anchored 'yes'"),
+                        ("chain_strength = [5]", "unknown key")]:
         path.write_text(text + "\n")
         with pytest.raises(ValueError, match=match):
             load_design(path)

@@ -18,7 +18,6 @@ import signal
 import subprocess
 import sys
 import textwrap
-import time
 from pathlib import Path
 
 import pandas as pd
@@ -51,7 +50,7 @@ def _write(rows: list[list[str]], resign: bool) -> bytes:
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     for k, r in enumerate(rows):
-        writer.writerow(r[:-1] + [row_checksum(r[:-1])] if resign and k > 0 else r)
+        writer.writerow([*r[:-1], row_checksum(r[:-1])] if resign and k > 0 else r)
     return buf.getvalue().encode("utf-8")
 
 
@@ -173,11 +172,13 @@ def test_keys_hash_the_code_revision(tmp_path):
     shutil.copytree(ROOT / "alma", copy / "alma", ignore=shutil.ignore_patterns("__pycache__"))
     probe = "from alma.study.keys import code_revision; print(code_revision())"
     env = dict(os.environ, PYTHONPATH=str(copy))
-    same = subprocess.run([sys.executable, "-c", probe], env=env, cwd=tmp_path, capture_output=True, text=True, check=True)
+    same = subprocess.run([sys.executable, "-c", probe], env=env, cwd=tmp_path, capture_output=True, text=True,
+                          check=True)
     assert same.stdout.strip() == code_revision()
     with open(copy / "alma" / "settle.py", "a") as fh:
         fh.write("\n# a change\n")
-    changed = subprocess.run([sys.executable, "-c", probe], env=env, cwd=tmp_path, capture_output=True, text=True, check=True)
+    changed = subprocess.run([sys.executable, "-c", probe], env=env, cwd=tmp_path, capture_output=True, text=True,
+                             check=True)
     assert changed.stdout.strip() != code_revision()
 
 

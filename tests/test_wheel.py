@@ -46,7 +46,7 @@ def test_the_wheel_is_the_alma_that_runs(installed, tmp_path):
 
 
 def test_alma_paper_runs_from_the_wheel(installed, tmp_path):
-    site, env = installed
+    _site, env = installed
     assert _alma(env, tmp_path, "paper", "--help").returncode == 0
     missing = _alma(env, tmp_path, "paper", "--out", str(tmp_path / "p"))
     assert missing.returncode == 2 and "--published" in missing.stderr

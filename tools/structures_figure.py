@@ -12,10 +12,10 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-import alma  # noqa: E402
-from alma.report.plot import plot_mechanism  # noqa: E402
+import alma
+from alma.report.plot import plot_mechanism
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -31,7 +31,7 @@ def main(out: Path) -> int:
         "alma solve examples/facade.dxf": alma.load_scene(ROOT / "examples" / "facade.dxf"),
     }
     fig, axes = plt.subplots(1, 3, figsize=(18, 6))
-    for ax, (command, scene) in zip(axes, scenes.items()):
+    for ax, (command, scene) in zip(axes, scenes.items(), strict=True):
         plot_mechanism(scene, alma.solve(scene), out, title=command, ax=ax, line_of_thrust=False)
         ax.title.set_fontsize(8)
     fig.tight_layout()

@@ -10,19 +10,17 @@ from __future__ import annotations
 
 import csv
 import math
-from functools import lru_cache
+from functools import cache, lru_cache
 from pathlib import Path
 
 import numpy as np
-import pytest
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
 import alma
 
 try:  # hypothesis is a test dependency; the profile keeps property tests bounded in time
-    from hypothesis import HealthCheck, settings
-    from hypothesis import strategies as st
+    from hypothesis import HealthCheck, settings, strategies as st
 
     # Every property test here sets max_examples and deadline=None itself (the whole directory
     # runs in a few minutes on 2 cores).  The profile is registered, not loaded, so importing this
@@ -65,7 +63,7 @@ def single_block_dict(b: float, h: float, f: float) -> dict:
                        {"id": "b1", "vertices": rect(0.0, 0.0, b, h)}], friction=f)
 
 
-def single_block_scene(b: float, h: float, f: float) -> "alma.Scene":
+def single_block_scene(b: float, h: float, f: float) -> alma.Scene:
     return alma.Scene.from_dict(single_block_dict(b, h, f))
 
 
@@ -76,7 +74,7 @@ def column_dict(k: int, size: float = 100.0, f: float = 2.0) -> dict:
     return scene_dict(blocks, friction=f)
 
 
-def column_scene(k: int, size: float = 100.0, f: float = 2.0) -> "alma.Scene":
+def column_scene(k: int, size: float = 100.0, f: float = 2.0) -> alma.Scene:
     return alma.Scene.from_dict(column_dict(k, size, f))
 
 
@@ -181,14 +179,14 @@ def panel_id(bond: str, panel_ratio: str, block_ratio: str, friction: float) -> 
     return f"{bond}-{panel_ratio}-{block_ratio}-{friction:g}"
 
 
-@lru_cache(maxsize=None)
-def panel_geometry(bond: str, panel_ratio: str, block_ratio: str) -> "alma.Model":
+@cache
+def panel_geometry(bond: str, panel_ratio: str, block_ratio: str) -> alma.Model:
     """Model of a paper panel (friction 0.6), built once per geometry; use ``.with_friction``."""
     return alma.build_model(alma.paper_panel(bond, panel_ratio, block_ratio, 0.6))
 
 
-@lru_cache(maxsize=None)
-def solve_panel(bond: str, panel_ratio: str, block_ratio: str, friction: float) -> "alma.Result":
+@cache
+def solve_panel(bond: str, panel_ratio: str, block_ratio: str, friction: float) -> alma.Result:
     """alma's associative result for one paper panel (cached across test modules)."""
     model = panel_geometry(bond, panel_ratio, block_ratio).with_friction(friction)
     return alma.solve(model)

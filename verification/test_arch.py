@@ -10,6 +10,7 @@ springings and at the rupture joints ≈ 54.5° from the crown.
 """
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -104,7 +105,7 @@ def test_arch_status_away_from_limit(ratio, expected):
 def test_arch_alpha_increases_with_thickness():
     alphas = [solve_arch(60, r).alpha for r in (0.108, 0.11, 0.12, 0.15, 0.2)]
     assert all(a > 0 for a in alphas)
-    assert all(b > a for a, b in zip(alphas, alphas[1:])), alphas
+    assert all(b > a for a, b in itertools.pairwise(alphas)), alphas
 
 
 def test_arch_rupture_joints_at_limit():

@@ -263,7 +263,7 @@ def test_load_scene_names_block_of_nan_vertex(tmp_path, literal):
 def test_load_scene_refuses_nan_thickness(tmp_path):
     data = base()
     data["thickness"] = "@@"
-    with pytest.raises(alma.SceneError, match="(?i)nan"):
+    with pytest.raises(alma.SceneError, match=r"(?i)nan"):
         alma.load_scene(_write_with_literal(tmp_path, data, "NaN"))
 
 

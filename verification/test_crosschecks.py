@@ -15,9 +15,18 @@ from hypothesis import given, settings
 
 import alma
 
-from helpers import (AGREE, assemblies, check_against_independent, kinematic_cvxpy,
-                      panel_geometry, panel_id, rect, scene_dict, solve_panel, table5)
-
+from helpers import (
+    AGREE,
+    assemblies,
+    check_against_independent,
+    kinematic_cvxpy,
+    panel_geometry,
+    panel_id,
+    rect,
+    scene_dict,
+    solve_panel,
+    table5,
+)
 
 # ----------------------------------------------------------------------------- paper panels
 CROSS_ROWS = [r for r in table5() if r[1] == "2:1"] + [

@@ -11,8 +11,9 @@ from __future__ import annotations
 import math
 
 import pytest
-from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
+from hypothesis import HealthCheck, given, settings, strategies as st
+from test_cohesion_ties_loads import THICKNESS, _tied_block, _weight, block_scene, independent_static
+from test_engine_crosscheck import _directed, _overlap, engines_agree
 
 import alma
 from alma.associative.lp import solve_lp
@@ -20,8 +21,6 @@ from alma.geometry.chains import with_chain
 from alma.status import Status
 
 from helpers import assemblies
-from test_engine_crosscheck import _directed, _overlap, engines_agree
-from test_cohesion_ties_loads import THICKNESS, _tied_block, _weight, block_scene, independent_static
 
 
 def _ipm(model: alma.Model):

@@ -15,14 +15,13 @@ import math
 import sys
 
 import pytest
-from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
+import test_stress
+from hypothesis import HealthCheck, given, settings, strategies as st
 
 import alma
 from alma.associative.lp import solve_lp
 from alma.engine import available_backends
 
-import test_stress
 from helpers import CERTIFICATE, assemblies, panel_geometry, panel_id, table5
 
 ROWS = table5()
@@ -31,7 +30,7 @@ ROWS = table5()
 #: dependency where it has wheels), else QDLDL.
 BACKEND = next(b for b in ("pardiso", "feral", "qdldl") if b in available_backends())
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _both(bond: str, panel_ratio: str, block_ratio: str, friction: float):
     model = panel_geometry(bond, panel_ratio, block_ratio).with_friction(friction)
     return solve_lp(model, engine="ipm"), solve_lp(model, engine="clarabel")

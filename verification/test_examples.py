@@ -5,10 +5,11 @@ import json
 from pathlib import Path
 
 import pytest
+from test_cohesion_ties_loads import independent_static
 
 import alma
+
 from helpers import check_against_independent
-from test_cohesion_ties_loads import independent_static
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 NAMES = sorted(p.stem for p in EXAMPLES.glob("*.json"))
@@ -62,8 +63,9 @@ def test_the_dxf_example_is_the_generated_facade():
 def test_the_coursed_wall_example_is_ferris_and_tin_lois_wall_3(capsys):
     """``examples/ferris_tin_loi_wall3.txt`` through the command line is wall 3 of
     ``test_ferris_tin_loi.py`` (drawn top course first there, listed bottom first here)."""
-    from alma.cli import main
     from test_ferris_tin_loi import wall
+
+    from alma.cli import main
 
     assert main(["wall", "--courses", str(EXAMPLES / "ferris_tin_loi_wall3.txt"), "--block", "400x175",
                  "--thickness", "1000", "--friction", "0.65", "--json"]) == 0

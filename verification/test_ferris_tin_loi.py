@@ -4,9 +4,10 @@ Ferris M.C., Tin-Loi F. (2001), Limit analysis of frictional block assemblies as
 program with complementarity constraints, Int. J. Mech. Sci. 43, 209-224; re-analysed by Gilbert
 M., Casapulla C., Ahmed H.M. (2006), Comput. Struct. 84, 873-887.  Six walls of 400 × 175 mm
 blocks on a rigid base, friction coefficient 0.65, a horizontal load proportional to the
-self-weight (unit weight 10 kN/m³, 1 m thick, as in the pattern walls below).  The papers give the walls in figures only; the course patterns below are read from
-the pattern walls of HybriDFEM's examples (thlgrs/HybriDFEM-4, ``Ferris&Tin-Loi_Wall1..6``),
-written out here course by course (bottom first; negative = an opening).
+self-weight (unit weight 10 kN/m³, 1 m thick, as in the pattern walls below).  The papers give the
+walls in figures only; the course patterns below are read from the pattern walls of HybriDFEM's
+examples (thlgrs/HybriDFEM-4, ``Ferris&Tin-Loi_Wall1..6``), written out here course by course
+(bottom first; negative = an opening).
 
 Published values: neither paper's table is reachable from this project; the only figure found is
 secondary: "the collapse load multiplier of the initial configuration ... around 0.64" for wall 1
@@ -22,6 +23,7 @@ import pytest
 
 import alma
 from alma.tilt import tilted
+
 from helpers import check_against_independent
 
 FRICTION = 0.65

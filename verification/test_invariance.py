@@ -8,17 +8,16 @@ always slide as a whole on the ground).
 """
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 
 import alma
 
-from helpers import (CERTIFICATE, assemblies, panel_geometry, panel_id, rect, scene_dict, solve_panel,
-                      table5)
+from helpers import CERTIFICATE, assemblies, panel_geometry, panel_id, rect, scene_dict, solve_panel, table5
 
 REL = 1e-7
 
@@ -188,10 +187,10 @@ FRICTIONS = [0.001, 0.1, 0.2, 0.27, 0.4, 0.6, 0.8, 1.0, 1.5, 3.0]
 def test_panel_alpha_non_decreasing_in_friction(geometry):
     model = panel_geometry(*geometry)
     results = [alma.solve(model.with_friction(f)) for f in FRICTIONS]
-    for f, r in zip(FRICTIONS, results):
+    for f, r in zip(FRICTIONS, results, strict=True):
         assert r.status == "optimal", (f, r.status, r.message)
         assert r.bounds.lower <= f + 1e-9  # (α itself: test_panel_alpha_at_most_friction)
-    for (f0, r0), (f1, r1) in zip(zip(FRICTIONS, results), zip(FRICTIONS[1:], results[1:])):
+    for (f0, r0), (f1, r1) in itertools.pairwise(zip(FRICTIONS, results, strict=True)):
         # proven: α_c(f1) ≥ lower(f1) and α_c(f0) ≤ upper(f0); monotonicity needs upper(f1) ≥ lower(f0)
         assert r1.bounds.upper >= r0.bounds.lower - CERTIFICATE, (f0, r0.alpha, f1, r1.alpha)
         assert r1.alpha >= r0.alpha - 1e-7 * max(1.0, abs(r0.alpha)), (f0, r0.alpha, f1, r1.alpha)

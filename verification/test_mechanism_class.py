@@ -17,7 +17,6 @@ import alma
 from alma.associative.crisp import crisp_mechanism
 from alma.associative.lp import solve_lp
 from alma.geometry.panels import BONDS
-from alma.results.joints import describe
 
 ROCKING_REASON = (
     "measured: the associative (dilatant) mechanism of this panel moves {n} macro-blocks, most of "

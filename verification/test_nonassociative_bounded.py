@@ -11,14 +11,14 @@ import dataclasses
 import math
 
 import pytest
-from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
+from hypothesis import HealthCheck, given, settings, strategies as st
+from test_cohesion_ties_loads import THICKNESS, _tied_block, _weight, block_scene
 
 import alma
 from alma.nonassociative.states import KINEMATIC_TOLERANCE, YIELD_TOLERANCE
 from alma.status import Status
+
 from helpers import assemblies
-from test_cohesion_ties_loads import THICKNESS, _tied_block, _weight, block_scene
 
 VERIFIED = (Status.OPTIMAL, Status.FEASIBLE)
 

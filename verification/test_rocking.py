@@ -8,15 +8,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, given, settings
-from hypothesis import strategies as st
+from hypothesis import HealthCheck, assume, given, settings, strategies as st
 
 import alma
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
+from alma.nonassociative.rocking import rocking_candidates
 from alma.nonassociative.starts import rocking_start
 from alma.nonassociative.states import exact_state
-from alma.nonassociative.rocking import rocking_candidates
 
 from helpers import assemblies, single_block_scene
 

@@ -10,6 +10,7 @@ block over two supports turns about the fixed support's edge with the reaction o
 """
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -18,6 +19,7 @@ import pytest
 import alma
 from alma.settle import after_settlement
 from alma.status import Status
+
 from helpers import arch_dict, rect
 
 R = 1000.0
@@ -47,7 +49,7 @@ def thrust_line_minimum(n: int, t: float, radius: float = R, samples: int = 4001
     a = 0.5 * (ro**2 - ri**2) * np.diff(phi)
     rc = (2.0 / 3.0) * (ro**3 - ri**3) / (ro**2 - ri**2) * np.sin(np.diff(phi) / 2) / (np.diff(phi) / 2)
     mid = 0.5 * (phi[:-1] + phi[1:])
-    xc, yc = rc * np.sin(mid), rc * np.cos(mid)  # x from the crown line, y up from the springing line
+    xc = rc * np.sin(mid)  # x from the crown line
     w_cum = np.concatenate([[0.0], np.cumsum(a)])
     m_cum = np.concatenate([[0.0], np.cumsum(a * xc)])  # moment of the weights about x = 0
     best = math.inf
@@ -102,7 +104,7 @@ def _wall(parts: list[tuple[float, float, bool]], courses: int = 12) -> alma.Sce
               for i, (a, b, settles) in enumerate(parts)]
     for c in range(courses):
         edges = [0.0] + ([120.0 + 240 * k for k in range(6)] if c % 2 else [240.0 * k for k in range(1, 6)]) + [1440.0]
-        for a, b in zip(edges[:-1], edges[1:]):
+        for a, b in itertools.pairwise(edges):
             blocks.append({"id": f"c{c}x{int(a)}", "vertices": rect(a, 60 * c, b, 60 * (c + 1))})
     return alma.Scene.from_dict({"friction": 0.6, "blocks": blocks})
 
@@ -135,9 +137,9 @@ def test_settling_base_part_opens_a_region_over_it():
     assert all(x > 960 for xs in courses for x in xs)  # only over the settling part
     assert len(courses[0]) >= 2 and courses[-1] == []
     counts = [len(xs) for xs in courses]
-    assert all(a >= b for a, b in zip(counts, counts[1:]))  # narrowing upwards
+    assert all(a >= b for a, b in itertools.pairwise(counts))  # narrowing upwards
     lefts = [min(xs) for xs in courses if xs]
-    assert all(a < b for a, b in zip(lefts, lefts[1:]))  # the crack steps outwards, course by course
+    assert all(a < b for a, b in itertools.pairwise(lefts))  # the crack steps outwards, course by course
     cracked = [j for j in result.joints if j.state != "rest" and "ground" not in "".join(j.blocks)]
     assert cracked and all(j.state in ("separating", "sliding", "hinging") for j in cracked)
 

@@ -66,7 +66,7 @@ def test_reaction_of_the_settling_support_balances_the_block():
     result = alma.settle(alma.Scene.from_dict(scene(1.0, 0.1)))
     (reaction,) = result.reactions
     assert reaction["block"] == "S"
-    fx, fy = reaction["force"]
+    _fx, fy = reaction["force"]
     assert fy < 0 and abs(fy) < W  # S pushes down by less than B's weight: A and the tie carry a part
 
 

@@ -30,12 +30,12 @@ import warnings
 import numpy as np
 import pytest
 import scipy.sparse as sp
-from hypothesis import HealthCheck, example, given, reject, settings
-from hypothesis import strategies as st
+from hypothesis import HealthCheck, example, given, reject, settings, strategies as st
 from scipy.optimize import OptimizeWarning, linprog
 
 import alma
-from helpers import assembly_dict, assemblies, rect, scene_dict
+
+from helpers import assemblies, assembly_dict, rect, scene_dict
 
 TAU_DS = 1e-7
 TAU_IPM = 1e-6

@@ -9,15 +9,12 @@ Values are compared after rounding to the printed digits, never with a widened t
 from __future__ import annotations
 
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
 import scipy.stats
-
-ROOT = Path(__file__).resolve().parents[1]
 
 from alma.stats.anova import (
     anova,
@@ -28,6 +25,7 @@ from alma.stats.anova import (
 )
 from alma.stats.effects import equivalent_t, pareto_reference, standardized_effects
 
+ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "verification" / "data"
 TABLE5 = DATA / "table5_collapse_multipliers.csv"
 TABLE2 = DATA / "table2_anova.csv"
@@ -55,7 +53,7 @@ def test_sources_and_order_match_table2(result, table2):
 
 def test_every_printed_digit_of_table2(result, table2):
     mismatches = []
-    for (_, expected), row in zip(table2.iterrows(), result.rows):
+    for (_, expected), row in zip(table2.iterrows(), result.rows, strict=True):
         assert row.dof == int(expected["dof"]), row.source
         for col, dec in DECIMALS.items():
             want = expected[col]

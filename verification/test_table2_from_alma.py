@@ -15,17 +15,15 @@ values for those two panels, alma's printed Table 5 *is* the published Table 5.
 """
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import pandas as pd
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
-
 from alma.stats.anova import anova, load_results
 from alma.study.doe import run_doe
 
+ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "verification" / "data"
 TABLE5 = DATA / "table5_collapse_multipliers.csv"
 TABLE2 = DATA / "table2_anova.csv"
@@ -127,6 +125,6 @@ def test_r_squared_as_printed(result, alma_table5):
     assert f"{100 * result.r2:.2f}" == "96.75"
     assert f"{100 * result.r2_pred:.2f}" == "91.81"
     # The same from alma's unrounded multipliers.
-    exact = anova(alma_table5[FACTORS + ["alpha_c"]], order=2)
+    exact = anova(alma_table5[[*FACTORS, "alpha_c"]], order=2)
     assert f"{100 * exact.r2:.2f}" == "96.75"
     assert f"{100 * exact.r2_pred:.2f}" == "91.81"

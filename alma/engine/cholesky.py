@@ -17,6 +17,7 @@ from __future__ import annotations
 import functools
 import importlib.util
 from abc import ABC, abstractmethod
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -77,6 +78,7 @@ class Factoriser(ABC):
     def solve_bordered(self, g: np.ndarray, h: float) -> tuple[np.ndarray, float]:
         """(x, a) with K x + f a = g and fᵀ x = h (f: the border), by the Schur complement."""
         f = self.border
+        assert f is not None  # a bordered solve needs the border given at construction
         if self._w is None:
             both = self.solve(np.column_stack([f, g]))
             self._w, v = both[:, 0].copy(), both[:, 1].copy()
@@ -94,7 +96,7 @@ class Factoriser(ABC):
     def _solve(self, rhs: np.ndarray) -> np.ndarray:
         """The backend's solve with its last factorisation."""
 
-    def close(self) -> None:
+    def close(self) -> None:  # noqa: B027  (a no-op default: only a backend holding native memory overrides it)
         """Release native memory (a no-op unless the backend holds some)."""
 
 
@@ -121,7 +123,7 @@ class QdldlFactoriser(Factoriser):
 
     def __init__(self, pattern: NormalPattern, border: np.ndarray | None = None):
         super().__init__(pattern, border)
-        self._solver = None
+        self._solver: Any = None  # qdldl.Solver (untyped) after the first factorisation
 
     def _matrix(self, values: np.ndarray) -> sp.csc_matrix:
         p = self.pattern
@@ -164,7 +166,7 @@ class FeralFactoriser(Factoriser):
         self._bordered = factor_border and self.border is not None  # else the Schur complement
         indptr, indices, self._perm = _lower_permutation(pattern)
         size = pattern.n
-        if self._bordered:
+        if self._bordered and self.border is not None:
             indptr, indices, self._perm, self._extra = _bordered_lower(indptr, indices, self._perm, self.border)
             size += 1
         cols = np.repeat(np.arange(size, dtype=np.int64), np.diff(indptr))

@@ -86,7 +86,7 @@ class _Newton:
         self.solve_time += time.perf_counter() - t0
         return du, -neg_da
 
-    def direction(self, state: "_State", rc: np.ndarray, res: "_Residuals") -> tuple:
+    def direction(self, state: _State, rc: np.ndarray, res: _Residuals) -> tuple:
         """Newton direction (Δu, Δs, Δμ, Δα) for the complementarity target r_c = s∘μ − target,
         from one bordered solve (not refined)."""
         g = res.dual - self.H @ (rc / state.s + self.d * res.primal)
@@ -95,7 +95,7 @@ class _Newton:
         dmu = -rc / state.s - self.d * ds  # the same (clipped) D as in K
         return du, ds, dmu, da
 
-    def refine(self, res: "_Residuals", step: tuple) -> tuple:
+    def refine(self, res: _Residuals, step: tuple) -> tuple:
         """Iterative refinement of a Newton direction on the static equation.
 
         The reduced solve loses accuracy where D spans many orders of magnitude; the static
@@ -224,7 +224,7 @@ def solve_eq10(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value:
     aux = auxiliary_rows(H, n_primary) if n_primary is not None and n_primary < H.shape[0] else None
     primary = canonical(H if aux is None else aux.U)
     reuse = pattern is not None and pattern.fits(primary)
-    pattern = pattern.with_values(primary) if reuse else normal_pattern(primary)
+    pattern = pattern.with_values(primary) if pattern is not None and reuse else normal_pattern(primary)
     factoriser = make_factoriser(pattern, s_.backend, border=live[:primary.shape[0]])
     t_pattern = time.perf_counter() - t_start
     newton = _Newton(H, live, pattern, factoriser, s_, aux)
@@ -298,7 +298,7 @@ def _direction(newton: _Newton, state: _State, res: _Residuals, settings: IPMSet
     """Factorise at the current D and return the predictor–corrector(–centrality) direction."""
     newton.factor(state.mu / state.s)
     # predictor (affine scaling): target s∘μ = 0
-    du, ds, dmu, da = newton.direction(state, state.s * state.mu, res)
+    _du, ds, dmu, _da = newton.direction(state, state.s * state.mu, res)
     ap, ad = _max_step(state.s, ds), _max_step(state.mu, dmu)
     tau_aff = _dot(state.s + ap * ds, state.mu + ad * dmu) / state.s.size
     sigma = min(1.0, (tau_aff / max(res.tau, 1e-300)) ** settings.centring_exponent)

@@ -18,7 +18,6 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-
 #: A pattern is reused for an H holding at least this share of the entries it was built from.
 REUSE_FILL = 0.9
 
@@ -59,7 +58,7 @@ class NormalPattern:
         vanish: its own, smaller pattern factorises faster)."""
         return H.nnz >= REUSE_FILL * self.structure[1].size and self._positions(H) is not None
 
-    def with_values(self, H: sp.csc_matrix) -> "NormalPattern":
+    def with_values(self, H: sp.csc_matrix) -> NormalPattern:
         """This pattern (K's structure and the positions of M) with M's values rebuilt from
         ``H``, which must :meth:`fits` it: Eq. 3 at another friction coefficient."""
         positions = self._positions(H)

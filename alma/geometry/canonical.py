@@ -71,13 +71,14 @@ def canonical_scene(scene: Scene, settings: CanonicalSettings = CanonicalSetting
     turned = [b.vertices @ matrix.T for b in scene.blocks]
     corner = np.concatenate(turned).min(axis=0)
     # Areas about each polygon's own first vertex: far from the origin the shoelace sum cancels.
-    free = [polygon_area(v - v[0]) for v, b in zip(turned, scene.blocks) if not b.fixed] or [polygon_area(turned[0] - turned[0][0])]
+    free = ([polygon_area(v - v[0]) for v, b in zip(turned, scene.blocks, strict=True) if not b.fixed]
+            or [polygon_area(turned[0] - turned[0][0])])
     unit = float(np.sqrt(np.mean(np.abs(free))))
     step = 2.0 ** -settings.grid_bits
     frame = CanonicalFrame(matrix, -corner, unit, np.zeros(0, dtype=int))
     blocks = [dataclasses.replace(b, vertices=_clean((v - corner) / unit, step, settings),
                                   settlement=_settlement(b.settlement, frame))
-              for b, v in zip(scene.blocks, turned)]
+              for b, v in zip(scene.blocks, turned, strict=True)]
     frame = dataclasses.replace(frame, order=_block_order(blocks, step))
     canonical = dataclasses.replace(
         scene, blocks=tuple(blocks[i] for i in frame.order), gravity=(0.0, -1.0),
@@ -132,9 +133,7 @@ def _block_order(blocks: list, step: float) -> np.ndarray:
     return np.lexsort(np.round(keys / step).T[::-1])
 
 
-def _point(point: tuple[float, float] | None, frame: CanonicalFrame) -> tuple[float, float] | None:
-    if point is None:
-        return None
+def _point(point: tuple[float, float], frame: CanonicalFrame) -> tuple[float, float]:
     x = (frame.matrix @ np.asarray(point, dtype=float) + frame.offset) / frame.unit
     return float(x[0]), float(x[1])
 
@@ -145,7 +144,8 @@ def _vector(vector: tuple[float, float], frame: CanonicalFrame) -> tuple[float, 
 
 
 def _load(load: PointLoad, frame: CanonicalFrame) -> PointLoad:
-    return dataclasses.replace(load, point=_point(load.point, frame), dead=_vector(load.dead, frame),
+    point = None if load.point is None else _point(load.point, frame)  # None: the block's centroid
+    return dataclasses.replace(load, point=point, dead=_vector(load.dead, frame),
                                live=_vector(load.live, frame))
 
 

@@ -27,7 +27,7 @@ def with_chain(scene: Scene, height: float, strength: float, *, anchored: bool =
     free = [b for b in scene.blocks if not b.fixed]
     lo = np.array([b.vertices[:, 1].min() for b in free])
     hi = np.array([b.vertices[:, 1].max() for b in free])
-    crossed = [b for b, a, c in zip(free, lo, hi) if a < height < c]
+    crossed = [b for b, a, c in zip(free, lo, hi, strict=True) if a < height < c]
     if not crossed:
         raise SceneError(f"chain at {height:g} mm: no block of the wall spans that height "
                          f"(the wall's free blocks lie between {lo.min():g} and {hi.max():g} mm)")
@@ -36,8 +36,8 @@ def with_chain(scene: Scene, height: float, strength: float, *, anchored: bool =
     x0, x1 = float(left.vertices[:, 0].min()), float(right.vertices[:, 0].max())
     label = name or f"chain{len(scene.ties) + 1}"
     if not anchored:
-        ties = (Tie(label, left.id, (x0, height), right.id, (x1, height), float(strength)),)
-        return dataclasses.replace(scene, ties=scene.ties + ties, validated=False)
+        chain = (Tie(label, left.id, (x0, height), right.id, (x1, height), float(strength)),)
+        return dataclasses.replace(scene, ties=scene.ties + chain, validated=False)
     anchors = (_anchor(f"{label}-anchor-left", x0 - ANCHOR_GAP - ANCHOR_WIDTH, height),
                _anchor(f"{label}-anchor-right", x1 + ANCHOR_GAP, height))
     ties = (Tie(f"{label}-left", left.id, (x0, height), anchors[0].id, (x0 - ANCHOR_GAP - ANCHOR_WIDTH / 2, height),

@@ -139,7 +139,7 @@ def write_dxf(scene: Any, path: str | Path) -> None:
     document.appids.add(APPID)
     space = document.modelspace()
     data = scene.to_dict()
-    for block, entry in zip(scene.blocks, data["blocks"]):
+    for block, entry in zip(scene.blocks, data["blocks"], strict=True):
         polyline = space.add_lwpolyline([tuple(map(float, v)) for v in block.vertices], close=True,
                                         dxfattribs={"layer": "fixed" if block.fixed else "blocks"})
         polyline.set_xdata(APPID, [(1000, str(block.id))])

@@ -44,7 +44,7 @@ class Edges:
     end: np.ndarray  # (E, 2)
 
 
-def scene_edges(scene: "Scene", origin: np.ndarray | None = None) -> Edges:
+def scene_edges(scene: Scene, origin: np.ndarray | None = None) -> Edges:
     """The edges of all blocks, in mm, optionally about a local ``origin``."""
     counts = np.array([len(b.vertices) for b in scene.blocks])
     start = np.concatenate([b.vertices for b in scene.blocks])
@@ -57,7 +57,7 @@ def scene_edges(scene: "Scene", origin: np.ndarray | None = None) -> Edges:
     return Edges(block=np.repeat(np.arange(len(counts)), counts), start=start, end=start[nxt])
 
 
-def local_origin(scene: "Scene") -> np.ndarray:
+def local_origin(scene: Scene) -> np.ndarray:
     """Centre of the scene's bounding box: coordinates about it keep the detection translation invariant."""
     lo = np.min([b.vertices.min(axis=0) for b in scene.blocks], axis=0)
     hi = np.max([b.vertices.max(axis=0) for b in scene.blocks], axis=0)
@@ -84,7 +84,7 @@ def signed_areas(edges: Edges) -> np.ndarray:
     return 0.5 * np.add.reduceat(p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1], first)
 
 
-def contact_lengths(scene: "Scene", edges: Edges) -> tuple[float, float]:
+def contact_lengths(scene: Scene, edges: Edges) -> tuple[float, float]:
     """(snap, warn): the contact tolerance and the near-miss band of ``scene``, in mm.
 
     Both are relative to the median √area of the free blocks (all blocks if none is free), so

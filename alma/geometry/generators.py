@@ -14,8 +14,9 @@ Lengths in mm, overburden in kPa.  Geometry only: the scene is validated like an
 """
 from __future__ import annotations
 
+import itertools
 import math
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -52,7 +53,7 @@ def facade(bond: str, width: float, height: float, block_length: float, block_he
         spans = [(max(0.0, hx - bearing), min(width, hx + hw + bearing)) for hx, hy, hw, hh in holes
                  if abs(hy + hh - y0) <= 1e-9 and hy + hh < height - 1e-9]
         lintels += [(a, b, y0, y1) for a, b in spans]
-        for x0, x1 in zip(x[:-1], x[1:]):
+        for x0, x1 in itertools.pairwise(x):
             for a, b in _subtract((x0, x1), cuts + spans):
                 boxes.append((a, b, y0, y1))
     blocks = [Block(id="ground", vertices=_box(0.0, width, -block_height, 0.0), fixed=True)]
@@ -81,7 +82,8 @@ def coursed_wall(courses: Sequence[Sequence[float]], block_length: float, block_
     for c, course in enumerate(courses):
         pieces = np.asarray(course, dtype=float).ravel()
         if pieces.size == 0 or not np.all(np.isfinite(pieces)) or np.any(pieces == 0):
-            raise SceneError(f"coursed wall: course {c + 1} (from the bottom) needs non-zero finite lengths, got {list(course)}")
+            raise SceneError(f"coursed wall: course {c + 1} (from the bottom) needs non-zero finite lengths, "
+                             f"got {list(course)}")
         ends = np.concatenate([[0.0], np.cumsum(np.abs(pieces))]) * block_length
         solid = np.flatnonzero(pieces > 0)
         blocks += [Block(id=f"c{c + 1}b{k + 1}", vertices=_box(ends[i], ends[i + 1], c * block_height,
@@ -208,7 +210,8 @@ def _openings(openings, width: float, height: float, course: float) -> list[tupl
         holes.append((x, y, w, h))
     for i, a in enumerate(holes):
         for j, b in enumerate(holes[:i]):
-            if a[0] < b[0] + b[2] and b[0] < a[0] + a[2] and a[1] < b[1] + b[3] + course and b[1] < a[1] + a[3] + course:
+            if (a[0] < b[0] + b[2] and b[0] < a[0] + a[2]
+                    and a[1] < b[1] + b[3] + course and b[1] < a[1] + a[3] + course):
                 raise SceneError(f"openings #{j + 1} and #{i + 1} overlap or leave no course between them")
     return holes
 

@@ -6,8 +6,9 @@ its block, a settlement belongs to a fixed block, ...), with an error naming the
 """
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 

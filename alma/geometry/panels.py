@@ -69,7 +69,8 @@ def wall(bond: str, panel_length: float, panel_height: float, block_length: floa
     for k, (x0, x1, y0, y1) in enumerate(boxes):
         blocks.append(Block(id=f"b{k + 1}", vertices=np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])))
     return Scene(blocks=tuple(blocks), thickness=thickness, unit_weight=unit_weight, friction=friction,
-                 name=name or f"{bond} wall {panel_length:g}x{panel_height:g}, blocks {block_length:g}x{block_height:g}")
+                 name=name or (f"{bond} wall {panel_length:g}x{panel_height:g}, "
+                               f"blocks {block_length:g}x{block_height:g}"))
 
 
 def paper_panel(bond: str, panel_ratio: str, block_ratio: str, friction: float) -> Scene:

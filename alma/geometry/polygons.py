@@ -19,7 +19,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from alma.geometry.scene import Scene
 
 
-def check_polygons(scene: "Scene") -> None:
+def check_polygons(scene: Scene) -> None:
     """Refuse the first block (in scene order) whose outline breaks a rule, naming it and the rule."""
     edges = scene_edges(scene, local_origin(scene))
     snap, _ = contact_lengths(scene, edges)
@@ -53,7 +53,7 @@ def check_polygons(scene: "Scene") -> None:
     _check_simple(scene, edges)
 
 
-def _check_simple(scene: "Scene", edges: Edges) -> None:
+def _check_simple(scene: Scene, edges: Edges) -> None:
     import shapely
 
     rings = shapely.linearrings(edges.start, indices=edges.block)
@@ -63,7 +63,7 @@ def _check_simple(scene: "Scene", edges: Edges) -> None:
                          "polygon is self-intersecting (its outline crosses itself): neither convex nor simple")
 
 
-def find_overlaps(scene: "Scene") -> tuple[list[tuple[int, int, float]], float]:
+def find_overlaps(scene: Scene) -> tuple[list[tuple[int, int, float]], float]:
     """Pairs of blocks that interpenetrate deeper than the contact tolerance, each with its depth
     (mm), and that tolerance (mm).
 

@@ -8,18 +8,29 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
 from alma.geometry.contacts import find_joints
 from alma.geometry.dxf import read_dxf
-from alma.geometry.polygons import check_polygons, find_overlaps
-from alma.geometry.loads import (PointLoad, Settlement, Tie, check_items, load_from_dict, load_to_dict,
-                                 settlement_from_dict, settlement_to_dict, tie_from_dict, tie_to_dict)
+from alma.geometry.loads import (
+    PointLoad,
+    Settlement,
+    Tie,
+    check_items,
+    load_from_dict,
+    load_to_dict,
+    settlement_from_dict,
+    settlement_to_dict,
+    tie_from_dict,
+    tie_to_dict,
+)
 from alma.geometry.parsing import SceneError, direction as _direction, number as _number
+from alma.geometry.polygons import check_polygons, find_overlaps
 
 _SCENE_KEYS = {"name", "thickness", "unit_weight", "friction", "cohesion", "blocks",
                "live_load", "gravity", "joints", "loads", "ties", "contact_tolerance",
@@ -87,7 +98,7 @@ class Scene:
 
     # ------------------------------------------------------------------ I/O
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any], *, validate: bool = True) -> "Scene":
+    def from_dict(cls, data: Mapping[str, Any], *, validate: bool = True) -> Scene:
         """Build a scene from the JSON object of SPEC §2 and validate it."""
         if not isinstance(data, Mapping):
             raise SceneError("scene: the top level must be a JSON object")
@@ -167,7 +178,7 @@ class Scene:
             ]
         return out
 
-    def with_friction(self, friction: float) -> "Scene":
+    def with_friction(self, friction: float) -> Scene:
         """The same geometry with another friction coefficient (no re-validation needed)."""
         import dataclasses
 
@@ -222,11 +233,11 @@ class Scene:
             if not block.fixed and not touched[index]:
                 raise SceneError(f"block '{block.id}': touches nothing — a free block needs at least one joint")
         if self.joint_overrides:
-            index = {b.id: i for i, b in enumerate(self.blocks)}
+            position = {b.id: i for i, b in enumerate(self.blocks)}
             pairs = set(zip(np.minimum(joints.block_a, joints.block_b).tolist(),
-                            np.maximum(joints.block_a, joints.block_b).tolist()))
+                            np.maximum(joints.block_a, joints.block_b).tolist(), strict=True))
             for override in self.joint_overrides:
-                i, j = sorted(index[k] for k in override.blocks)
+                i, j = sorted(position[k] for k in override.blocks)
                 if (i, j) not in pairs:
                     raise SceneError(f"joint {list(override.blocks)}: these blocks do not touch")
         check_items(self.blocks, self.loads, self.ties)
@@ -238,13 +249,13 @@ class Scene:
         return [b.id for b in self.blocks]
 
     def transformed(self, matrix: np.ndarray, offset: Sequence[float] = (0.0, 0.0),
-                    rotate_loads: bool = True) -> "Scene":
+                    rotate_loads: bool = True) -> Scene:
         """Apply x -> matrix @ x + offset to every block (and to gravity/live load directions)."""
         import dataclasses
 
         matrix = np.asarray(matrix, dtype=float)
-        offset = np.asarray(offset, dtype=float)
-        blocks = tuple(dataclasses.replace(b, vertices=_ccw(b.vertices @ matrix.T + offset)) for b in self.blocks)
+        shift = np.asarray(offset, dtype=float)
+        blocks = tuple(dataclasses.replace(b, vertices=_ccw(b.vertices @ matrix.T + shift)) for b in self.blocks)
         gravity, live = self.gravity, self.live_load_direction
         if rotate_loads:
             gravity = _direction(matrix @ np.asarray(gravity), "transformed gravity")

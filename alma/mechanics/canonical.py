@@ -54,7 +54,8 @@ def mechanism_to_drawing(u: np.ndarray, canonical: Model, frame: CanonicalFrame,
     moves = np.asarray(u, dtype=float).reshape(-1, 3)
     target = model.free_index[frame.order[canonical.free_blocks]]  # drawing's free index of each canonical one
     to_mm = canonical.length_scale * frame.unit
-    centre_mm = ((canonical.centroid * canonical.length_scale + canonical.origin) * frame.unit - frame.offset) @ frame.matrix
+    centre_mm = (((canonical.centroid * canonical.length_scale + canonical.origin) * frame.unit - frame.offset)
+                 @ frame.matrix)
     centre = (centre_mm - model.origin) / model.length_scale  # canonical centroids, drawing model units
     omega = frame.handedness * moves[:, 2]
     velocity = (moves[:, :2] @ frame.matrix) * (to_mm / model.length_scale)

@@ -45,7 +45,7 @@ class ContactPoints:
         return A_eq, -model.dead, A_ub
 
     @classmethod
-    def from_model(cls, model: Model) -> "ContactPoints":
+    def from_model(cls, model: Model) -> ContactPoints:
         """The contact points of ``model``, built once per model (kept on the model instance)."""
         cached = model.__dict__.get("_contact_points")
         if cached is None:

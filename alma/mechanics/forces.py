@@ -77,8 +77,8 @@ def point_load_vectors(scene: Scene, frame: Frame, centroid_mm: np.ndarray) -> t
 
 
 def joint_values(scene: Scene, joints: Joints, name: str, default: float) -> np.ndarray:
-    """A joint property (``"friction"``, ``"cohesion"``, ``"compressive_strength"``) of every joint: ``default``, or a joint
-    override's value; an override between blocks that do not touch is an error."""
+    """A joint property (``"friction"``, ``"cohesion"``, ``"compressive_strength"``) of every joint: ``default``, or a
+    joint override's value; an override between blocks that do not touch is an error."""
     values = np.full(joints.count, float(default))
     if scene.joint_overrides:
         index = {b.id: i for i, b in enumerate(scene.blocks)}

@@ -90,7 +90,7 @@ class Model:
         scale = np.repeat(self.friction, 4)
         return (self.normal_part + self.tangent_part @ sp.diags(scale)).tocsc()
 
-    def with_friction(self, friction: float) -> "Model":
+    def with_friction(self, friction: float) -> Model:
         """The same geometry and joints with a uniform friction coefficient."""
         if not (np.isfinite(friction) and friction >= 0):
             raise SceneError(f"friction must be a finite number >= 0, got {friction}")
@@ -171,7 +171,10 @@ def _generator_matrices(joints: Joints, free_index: np.ndarray, centroid: np.nda
     normal = joints.normal[col_joint]
     tangent = joints.tangent[col_joint] * sign[:, None]
 
-    rows, cols, vals_n, vals_t = [], [], [], []
+    rows: list[np.ndarray] = []
+    cols: list[np.ndarray] = []
+    vals_n: list[np.ndarray] = []
+    vals_t: list[np.ndarray] = []
     columns = np.arange(4 * m)
     for side, block in ((1.0, joints.block_b), (-1.0, joints.block_a)):
         free = free_index[block[col_joint]]

@@ -9,6 +9,7 @@ import pandas as pd
 import alma
 from alma.paper.printed import TABLE5_DECIMALS, _distance_to_printed
 
+
 def _md_table(header: list[str], rows: list[list[Any]]) -> list[str]:
     out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     out += ["| " + " | ".join(str(x) for x in r) + " |" for r in rows]
@@ -165,7 +166,8 @@ def _mechanism_lines(mech: pd.DataFrame, mech_note: str) -> list[str]:
     for r in diffs.itertuples():
         what = []
         if r.match_printed is False:
-            what.append(f"printed {r.alpha_printed}, alma {float(r.alpha_alma_exact):.{len(r.alpha_printed.split('.')[-1])}f}")
+            digits = len(r.alpha_printed.split('.')[-1])
+            what.append(f"printed {r.alpha_printed}, alma {float(r.alpha_alma_exact):.{digits}f}")
         if not r.match_table5:
             what.append(f"Table 5 {r.alpha_table5}, alma {r.alpha_alma}")
         why = r.note or "not explained"

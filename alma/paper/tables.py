@@ -32,9 +32,9 @@ from typing import Any
 import pandas as pd
 
 import alma
-from alma.stats.anova import anova, load_results
 from alma.paper.printed import TABLE5_DECIMALS, _printed
 from alma.paper.report import write_report
+from alma.stats.anova import anova, load_results
 from alma.study.compare import run_compare
 from alma.study.doe import run_doe
 
@@ -156,9 +156,9 @@ def mechanism_figures(captions: pd.DataFrame, t5cmp: pd.DataFrame, titles: dict[
                       folder: Path) -> tuple[pd.DataFrame, str]:
     """Solve the panels of Figs. 11-15, plot them if alma.plot exists; rows for mechanisms.csv."""
     try:
-        from alma.report.plot import plot_mechanism  # type: ignore[attr-defined]
+        from alma.report.plot import plot_mechanism
     except ImportError as exc:
-        plot_mechanism = None
+        plot_mechanism = None  # type: ignore[assignment]  # the figures are optional: α is still compared
         note = (f"mechanism figures 11-15 skipped: alma.plot.plot_mechanism is not available "
                 f"({exc}); the α values are still compared")
     else:

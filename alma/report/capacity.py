@@ -12,6 +12,12 @@ from alma.push.motion import displaced
 from alma.seismic import SeismicResult
 
 
+def nonlinear_value(check: SeismicResult, key: str) -> float:
+    """A number of the nonlinear check (``du_star``, ``demand``: m), NaN where it has none."""
+    value = check.nonlinear.get(key)
+    return float(value) if isinstance(value, (int, float)) else float("nan")
+
+
 def plot_capacity(scene: Scene, result: PushResult, path: str | Path, *, check: SeismicResult | None = None,
                   title: str | None = None, snapshots: int = 3) -> Path:
     """Save a PNG: α(d) (mm), the configurations at ``snapshots`` steps from d = 0 to d₀, and with
@@ -84,14 +90,14 @@ def _spectral(ax, check: SeismicResult) -> None:
     ax.axhline(check.linear["demand"], color="tab:red", ls="--", lw=1,
                label=f"linear demand {check.linear['demand']:.3g} m/s²")
     ax.plot([0], [check.a0_star], "o", color="tab:blue", label=f"a₀* = {check.a0_star:.3g} m/s²")
-    nl = check.nonlinear
-    if nl and np.isfinite(nl.get("du_star", np.nan)):
-        ax.axvline(nl["du_star"] * 1e3, color="tab:green", lw=1, label=f"d_u* = {nl['du_star'] * 1e3:.3g} mm")
-        ax.axvline(nl["demand"] * 1e3, color="tab:red", lw=1, label=f"demand Δ = {nl['demand'] * 1e3:.3g} mm")
+    du, demand = nonlinear_value(check, "du_star"), nonlinear_value(check, "demand")
+    if check.nonlinear and np.isfinite(du):
+        ax.axvline(du * 1e3, color="tab:green", lw=1, label=f"d_u* = {du * 1e3:.3g} mm")
+        ax.axvline(demand * 1e3, color="tab:red", lw=1, label=f"demand Δ = {demand * 1e3:.3g} mm")
     ax.axhline(0, color="k", lw=0.5)
     ax.set_xlabel("d* [mm]")
     ax.set_ylabel("a* [m/s²]")
     si = check.linear["safety_index"]
-    si2 = nl.get("safety_index", np.nan) if nl else np.nan
+    si2 = nonlinear_value(check, "safety_index")
     ax.set_title(f"kinematic check: linear {si:.3g}, nonlinear {si2:.3g}", fontsize=10)
     ax.legend(fontsize=7)

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from alma.push import PushResult
+from alma.report.capacity import nonlinear_value
 from alma.seismic import SeismicResult
 
 _W, _H, _PAD = 520, 320, 48
@@ -25,10 +26,9 @@ def write_capacity_html(result: PushResult, path: str | Path, *, check: SeismicR
             ("α_c", f"{result.alpha_c:.6g}"), ("d₀ [mm]", f"{result.d0:.6g}"), ("LP solves", str(result.solves))]
     if check is not None and check.curve_star:
         ds, a = np.array(check.curve_star).T
-        nl = check.nonlinear
         figures.append(_svg(ds * 1e3, a, "d* [mm]", "a* [m/s²]",
-                            marks=[("d_u*", nl.get("du_star", np.nan) * 1e3, None),
-                                   ("demand", nl.get("demand", np.nan) * 1e3, None),
+                            marks=[("d_u*", nonlinear_value(check, "du_star") * 1e3, None),
+                                   ("demand", nonlinear_value(check, "demand") * 1e3, None),
                                    ("linear demand", None, check.linear["demand"])]))
         rows += [(k, json.dumps(v)) for k, v in check.to_dict().items()
                  if k not in ("curve_star", "push", "message", "status", "control")]
@@ -53,13 +53,14 @@ def _svg(x: np.ndarray, y: np.ndarray, xlabel: str, ylabel: str,
     y_lo = min(0.0, float(y.min(initial=0.0)))
     sx = lambda v: _PAD + (v / x_hi) * (_W - 2 * _PAD)  # noqa: E731
     sy = lambda v: _H - _PAD - (v - y_lo) / (y_hi - y_lo) * (_H - 2 * _PAD)  # noqa: E731
-    points = " ".join(f"{sx(a):.1f},{sy(b):.1f}" for a, b in zip(x, y))
+    points = " ".join(f"{sx(a):.1f},{sy(b):.1f}" for a, b in zip(x, y, strict=True))
     parts = [f"<svg xmlns='http://www.w3.org/2000/svg' width='{_W}' height='{_H}'>",
              f"<line x1='{_PAD}' y1='{sy(0):.1f}' x2='{_W - _PAD}' y2='{sy(0):.1f}' stroke='black'/>",
              f"<line x1='{_PAD}' y1='{_PAD}' x2='{_PAD}' y2='{_H - _PAD}' stroke='black'/>",
              f"<polyline fill='none' stroke='#1f77b4' stroke-width='2' points='{points}'/>",
              f"<text x='{_W / 2}' y='{_H - 10}' text-anchor='middle' font-size='12'>{html.escape(xlabel)}</text>",
-             f"<text x='12' y='{_H / 2}' font-size='12' transform='rotate(-90 12 {_H / 2})'>{html.escape(ylabel)}</text>",
+             f"<text x='12' y='{_H / 2}' font-size='12' transform='rotate(-90 12 {_H / 2})'>"
+             f"{html.escape(ylabel)}</text>",
              f"<text x='{_PAD - 4}' y='{sy(y_hi) + 4:.1f}' text-anchor='end' font-size='10'>{y_hi:.3g}</text>",
              f"<text x='{_W - _PAD}' y='{sy(0) + 14:.1f}' text-anchor='end' font-size='10'>{x_hi:.3g}</text>"]
     for label, vx, vy in marks:

@@ -26,7 +26,7 @@ def write_html(scene: Scene, result: Any, path: str | Path, *, title: str | None
     ``scene``; the line of thrust shown from the start with ``thrust`` (a switch on the page)."""
     results = parts(result)
     drawings = [draw(scene, r) for r in results]
-    frames = [Frame(caption(r, d), d) for r, d in zip(results, drawings)]
+    frames = [Frame(caption(r, d), d) for r, d in zip(results, drawings, strict=True)]
     page = build_page(title or scene.name or "alma", solve_header(result, drawings), frames, thrust=thrust)
     return _write(path, page)
 
@@ -36,7 +36,8 @@ def write_settlement_html(scene: Scene, result: Any, path: str | Path, *, title:
     the mechanism it drives, the crack pattern and the reactions."""
     drawing = draw(scene, StillPicture.of(result), settling=True)
     frame = Frame(f"settlement mechanism: {len(result.opened)} joints open", drawing)
-    return _write(path, build_page(title or scene.name or "alma settle", settle_header(scene, result, drawing), [frame]))
+    header = settle_header(scene, result, drawing)
+    return _write(path, build_page(title or scene.name or "alma settle", header, [frame]))
 
 
 def write_tilt_html(scene: Scene, result: Any, collapse: Any | None, path: str | Path, *,

@@ -54,8 +54,8 @@ def _side_arrow(scene: Scene, cls: str, direction: Any, length: float, font: flo
     tail = head - 1.5 * length * d
     colour = LIVE_COLOUR if cls == "live" else DEAD_COLOUR
     anchor = "end" if d[0] > 0.3 else "start" if d[0] < -0.3 else "middle"
-    return arrow(cls, tail, head, colour, 0.35 * length, width=2.5) + [
-        label(cls, tail + np.array([0.0, 0.5 * font]), text, font, colour=colour, anchor=anchor)]
+    return [*arrow(cls, tail, head, colour, 0.35 * length, width=2.5),
+            label(cls, tail + np.array([0.0, 0.5 * font]), text, font, colour=colour, anchor=anchor)]
 
 
 def _point_loads(scene: Scene, length: float, font: float) -> list[Mark]:
@@ -81,12 +81,12 @@ def _point_loads(scene: Scene, length: float, font: float) -> list[Mark]:
                            title=f"{cls} load on {ld.block}: [{f[0]:.4g}, {f[1]:.4g}] kN")
             tails.append(tail)
             carriers.append(i)
-        tails = np.array(tails)
+        at = np.array(tails)
         # the label rides above the highest tail (the one nearest the middle), with its block
-        top = int(np.lexsort((np.abs(tails[:, 0] - tails[:, 0].mean()), -np.round(tails[:, 1], 6)))[0])
+        top = int(np.lexsort((np.abs(at[:, 0] - at[:, 0].mean()), -np.round(at[:, 1], 6)))[0])
         total = np.sum([f for _, f in loads], axis=0)
         words = "α × " if cls == "live" else ""
-        marks.append(label(cls, np.array([tails[:, 0].mean(), tails[top, 1] + 0.5 * font]),
+        marks.append(label(cls, np.array([at[:, 0].mean(), at[top, 1] + 0.5 * font]),
                            f"{words}{len(loads)} point load{'s' if len(loads) > 1 else ''}, "
                            f"total {number(float(np.hypot(*total)))} kN", font, colour=colour,
                            carrier=(carriers[top],)))

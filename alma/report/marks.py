@@ -98,7 +98,8 @@ def arrow(cls: str, tail: np.ndarray, head: np.ndarray, colour: str, head_size: 
     size = min(head_size, 0.6 * length)
     base = head - size * d
     tip = np.array([head, base + 0.4 * size * n, base - 0.4 * size * n])
-    return [Mark("line", cls, np.array([tail, base + 0.1 * size * d]), carrier, stroke=colour, width=width, title=title),
+    shaft = np.array([tail, base + 0.1 * size * d])
+    return [Mark("line", cls, shaft, carrier, stroke=colour, width=width, title=title),
             Mark("polygon", cls, tip, carrier, stroke=colour, fill=colour, width=0.5, title=title)]
 
 

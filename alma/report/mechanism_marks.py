@@ -60,7 +60,7 @@ def _crack(scene: Scene, result: Any, motion: Motion, macro: tuple, slow: float)
     cracked, relative = cracked[wide], relative[wide]
     width = 0.6 + 2.4 * relative / max(float(relative.max()), 1e-300)
     marks = [Mark("line", "crack", np.array([j["start"][i], j["end"][i]]), (int(j["a"][i]), int(j["b"][i])),
-                  stroke="#000000", width=float(w)) for i, w in zip(cracked, width)]
+                  stroke="#000000", width=float(w)) for i, w in zip(cracked, width, strict=True)]
     return marks, cracked
 
 
@@ -106,7 +106,7 @@ def _parts(scene: Scene, macro: tuple, motion: Motion, share: np.ndarray, hinges
             marks += _outline([scene.blocks[i].vertices for i in members[k]], carrier, colour, size)
         centre = None if m.centre is None else np.asarray(m.centre, dtype=float)
         near = hinges.size and float(np.hypot(*(hinges - centre).T).min()) < 1e-2 * size if centre is not None else True
-        if m.motion == "rotation" and not near and np.all((low <= centre) & (centre <= high)):
+        if m.motion == "rotation" and centre is not None and not near and np.all((low <= centre) & (centre <= high)):
             marks.append(Mark("point", "centre", centre.reshape(1, 2), (), stroke=colour, width=2.0, size=0.011 * size,
                               text="x", title=f"rotation centre of a part of {len(members[k])} blocks"))
         elif m.motion == "translation" and m.direction is not None:
@@ -166,7 +166,7 @@ def thrust_marks(result: Any, motion: Motion, size: float, fixed: np.ndarray) ->
     j = joint_arrays(motion, [result.joints[i] for i in index])
     point = centres_of_pressure(result)
     marks = [Mark("point", "thrust", p.reshape(1, 2), (int(a), int(b)), stroke=THRUST_COLOUR, fill=THRUST_COLOUR,
-                  size=0.004 * size, text=".") for p, a, b in zip(point, j["a"], j["b"])]
+                  size=0.004 * size, text=".") for p, a, b in zip(point, j["a"], j["b"], strict=True)]
     sides = np.concatenate([j["a"], j["b"]])
     joint = np.concatenate([np.arange(index.size)] * 2)
     order = np.argsort(sides, kind="stable")
@@ -174,7 +174,7 @@ def thrust_marks(result: Any, motion: Motion, size: float, fixed: np.ndarray) ->
     blocks, first, counts = np.unique(sides, return_index=True, return_counts=True)
     pair = (counts == 2) & (blocks >= 0)
     pair[pair] = ~fixed[blocks[pair]]
-    for block, f in zip(blocks[pair], first[pair]):
+    for block, f in zip(blocks[pair], first[pair], strict=True):
         marks.append(Mark("line", "thrust", point[[joint[f], joint[f + 1]]], (int(block),), stroke=THRUST_COLOUR,
                           width=2.0))
     return marks

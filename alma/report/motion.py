@@ -21,14 +21,14 @@ class Motion:
     scale: float = 1.0
 
     @classmethod
-    def of(cls, scene: Scene, result: Any, *, settling: bool = False) -> "Motion":
+    def of(cls, scene: Scene, result: Any, *, settling: bool = False) -> Motion:
         """The motion of ``result``; with ``settling`` the settling supports move by their
         prescribed settlement (translation and rotation about its point), the others stand."""
         index = {b.id: i for i, b in enumerate(scene.blocks)}
         u = np.zeros((len(scene.blocks), 3))
         listed = [(index[m.id], m.u) for m in result.blocks if m.id in index]
         if listed:
-            rows, values = zip(*listed)
+            rows, values = zip(*listed, strict=True)
             u[list(rows)] = np.nan_to_num(np.asarray(values, dtype=float))
         centroid = np.array([b.centroid for b in scene.blocks]).reshape(-1, 2)
         u[[i for i, b in enumerate(scene.blocks) if b.fixed]] = 0.0
@@ -61,7 +61,7 @@ class Motion:
         xy = np.asarray(xy, dtype=float).reshape(-1, 2)
         return np.column_stack([xy[:, 0] - b * xy[:, 1] + e, xy[:, 1] + b * xy[:, 0] + f])
 
-    def scaled(self, scale: float) -> "Motion":
+    def scaled(self, scale: float) -> Motion:
         return replace(self, scale=float(scale))
 
     def blocks(self, ids) -> np.ndarray:

@@ -14,8 +14,8 @@ from alma.report.svg import star
 def render_axes(ax: Any, drawing: Drawing, *, thrust: bool = False) -> None:
     """Draw ``drawing`` on ``ax`` (its limits the drawing's box, equal aspect, no axes frame);
     the line of thrust only with ``thrust``."""
-    from matplotlib.collections import LineCollection, PolyCollection
     import matplotlib.patheffects as effects
+    from matplotlib.collections import LineCollection, PolyCollection
 
     x0, y0, x1, y1 = drawing.box
     ax.set_xlim(x0, x1)
@@ -35,13 +35,14 @@ def render_axes(ax: Any, drawing: Drawing, *, thrust: bool = False) -> None:
                 linewidths=[0.75 * m.width for m in run], hatch="////" if run[0].hatch else None, zorder=z,
                 joinstyle="round"))
         elif kind == "line":
-            ax.add_collection(LineCollection(placed, colors=[m.stroke for m in run], linewidths=[0.75 * m.width for m in run],
+            ax.add_collection(LineCollection(placed, colors=[m.stroke for m in run],
+                                             linewidths=[0.75 * m.width for m in run],
                                              linestyles="--" if run[0].dash else "-", capstyle="round", zorder=z))
         elif kind == "point":
-            for m, xy in zip(run, placed):
+            for m, xy in zip(run, placed, strict=True):
                 _point(ax, m, xy[0], z)
         else:
-            for m, xy in zip(run, placed):
+            for m, xy in zip(run, placed, strict=True):
                 ax.text(*xy[0], m.text, fontsize=m.size * points_per_mm, color=m.fill, zorder=z,
                         ha={"start": "left", "middle": "center", "end": "right"}[m.anchor], va="baseline",
                         path_effects=[effects.withStroke(linewidth=2.5, foreground="white")])
@@ -51,7 +52,8 @@ def _runs(marks: list[Mark]) -> list[list[Mark]]:
     """Consecutive marks of one kind, class and hatching: one collection each, in order."""
     runs: list[list[Mark]] = []
     for m in marks:
-        if runs and (runs[-1][0].kind, runs[-1][0].cls, runs[-1][0].hatch, runs[-1][0].dash) == (m.kind, m.cls, m.hatch, m.dash):
+        last = runs[-1][0] if runs else None
+        if last is not None and (last.kind, last.cls, last.hatch, last.dash) == (m.kind, m.cls, m.hatch, m.dash):
             runs[-1].append(m)
         else:
             runs.append([m])
@@ -63,13 +65,14 @@ def _point(ax: Any, m: Mark, xy: np.ndarray, z: int) -> None:
 
     if m.text == "x":
         r = m.size
-        ax.plot([xy[0] - r, xy[0] + r, np.nan, xy[0] - r, xy[0] + r], [xy[1] - r, xy[1] + r, np.nan, xy[1] + r, xy[1] - r],
+        ax.plot([xy[0] - r, xy[0] + r, np.nan, xy[0] - r, xy[0] + r],
+                [xy[1] - r, xy[1] + r, np.nan, xy[1] + r, xy[1] - r],
                 color=m.stroke, linewidth=0.75 * m.width, zorder=z)
     elif m.text == "*":
         ax.add_patch(Polygon(star(xy, m.size), closed=True, facecolor=m.fill, edgecolor=m.stroke, zorder=z))
     else:
-        ax.add_patch(Circle(xy, m.size, facecolor=m.fill or "none", edgecolor=m.stroke or "none",
-                            linewidth=0.75 * m.width, zorder=z))
+        ax.add_patch(Circle((float(xy[0]), float(xy[1])), m.size, facecolor=m.fill or "none",
+                            edgecolor=m.stroke or "none", linewidth=0.75 * m.width, zorder=z))
 
 
 def legend_handles(classes: list[str]) -> list[Any]:
@@ -77,11 +80,12 @@ def legend_handles(classes: list[str]) -> list[Any]:
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    handles = []
+    handles: list[Any] = []  # Patch and Line2D
     for c in classes:
         e = LEGEND[c]
         if e.swatch == "patch":
-            handles.append(Patch(facecolor=e.fill, edgecolor=e.colour, hatch="////" if e.hatch else None, label=e.label))
+            handles.append(Patch(facecolor=e.fill, edgecolor=e.colour, hatch="////" if e.hatch else None,
+                                 label=e.label))
         elif e.swatch in ("line", "arrow"):
             handles.append(Line2D([], [], color=e.colour, linewidth=2, linestyle="--" if e.dash else "-",
                                   marker=">" if e.swatch == "arrow" else None, label=e.label))

@@ -59,7 +59,8 @@ def interval(lower: Any, upper: Any, unit: str = "", digits: int | None = None) 
         return f"at least {number(lo, digits, unit)}; no upper bound proven (—)"
     if number(lo, digits, unit) == number(hi, digits, unit):
         return f"proven: {number(lo, digits, unit)} (both bounds round to it)"
-    a, b = number(_outward(lo, digits, ROUND_FLOOR), digits, unit), number(_outward(hi, digits, ROUND_CEILING), digits, unit)
+    a = number(_outward(lo, digits, ROUND_FLOOR), digits, unit)
+    b = number(_outward(hi, digits, ROUND_CEILING), digits, unit)
     return f"proven between {a} and {b}"
 
 

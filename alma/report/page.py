@@ -47,7 +47,8 @@ def build_page(title: str, header: Header, frames: list[Frame] | tuple[Frame, ..
         raise ValueError("a page needs at least one frame")
     box = np.array([f.drawing.box for f in frames])
     union = (*box[:, :2].min(axis=0), *box[:, 2:].max(axis=0))  # one box: one scale, frames aligned
-    frames = [replace(f, drawing=replace(f.drawing, box=tuple(float(v) for v in union))) for f in frames]
+    four = (float(union[0]), float(union[1]), float(union[2]), float(union[3]))
+    frames = [replace(f, drawing=replace(f.drawing, box=four)) for f in frames]
     figures = [f'<figure class="frame" id="f{k}"><figcaption>{html.escape(f.caption)}</figcaption>'
                f'{render_svg(f.drawing, f"m{k}")}<ul class="legend">{legend_html(f.drawing.classes())}</ul></figure>'
                for k, f in enumerate(frames)]

@@ -38,16 +38,17 @@ class MechanismPicture:
     joints: tuple[PictureJoint, ...]
 
     @classmethod
-    def from_result(cls, result: "Result | MechanismPicture") -> "MechanismPicture":
+    def from_result(cls, result: Result | MechanismPicture) -> MechanismPicture:
         if isinstance(result, MechanismPicture):
             return result
         table = result.joints
         if isinstance(table, JointTable):  # columns: no JointResult is built
             moving = np.flatnonzero(table.state != "rest")
-            joints = tuple(PictureJoint(str(s), tuple(a), tuple(b)) for s, a, b in zip(
-                table.state[moving].tolist(), table.start[moving].tolist(), table.end[moving].tolist()))
+            joints = tuple(PictureJoint(str(s), (a[0], a[1]), (b[0], b[1])) for s, a, b in zip(
+                table.state[moving].tolist(), table.start[moving].tolist(), table.end[moving].tolist(), strict=True))
         else:
-            joints = tuple(PictureJoint(j.state, tuple(map(float, j.start)), tuple(map(float, j.end)))
+            joints = tuple(PictureJoint(j.state, (float(j.start[0]), float(j.start[1])),
+                                        (float(j.end[0]), float(j.end[1])))
                            for j in table if j.state != "rest")
         return cls(str(result.model), str(result.status), float(result.alpha), str(result.mechanism_class or ""),
                    tuple(result.blocks), joints)
@@ -73,12 +74,12 @@ class MechanismPicture:
         return path
 
     @classmethod
-    def load(cls, path: str | Path) -> "MechanismPicture":
+    def load(cls, path: str | Path) -> MechanismPicture:
         with np.load(Path(path), allow_pickle=False) as data:
-            blocks = tuple(BlockMotion(str(i), tuple(float(x) for x in u))
-                           for i, u in zip(data["block_ids"], data["motions"]))
+            blocks = tuple(BlockMotion(str(i), (float(u[0]), float(u[1]), float(u[2])))
+                           for i, u in zip(data["block_ids"], data["motions"], strict=True))
             joints = tuple(PictureJoint(str(state), (float(s[0]), float(s[1])), (float(s[2]), float(s[3])))
-                           for state, s in zip(data["joint_states"], data["segments"]))
+                           for state, s in zip(data["joint_states"], data["segments"], strict=True))
             return cls(str(data["model"]), str(data["status"]), float(data["alpha"]),
                        str(data["mechanism_class"]), blocks, joints)
 
@@ -97,6 +98,6 @@ class StillPicture:
     macro_blocks: tuple = ()
 
     @classmethod
-    def of(cls, result: object, status: str | None = None) -> "StillPicture":
+    def of(cls, result: object, status: str | None = None) -> StillPicture:
         return cls(tuple(getattr(result, "blocks", ())), tuple(getattr(result, "joints", ())),
                    status or str(getattr(result, "status", "no_collapse")))

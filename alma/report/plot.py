@@ -16,7 +16,7 @@ from alma.report.picture import MechanismPicture, PictureJoint
 from alma.report.summary import caption, parts
 from alma.settings import PictureSettings
 
-__all__ = ["MechanismPicture", "PictureJoint", "plot_mechanism", "plot_side_by_side", "plot_drawings"]
+__all__ = ["MechanismPicture", "PictureJoint", "plot_drawings", "plot_mechanism", "plot_side_by_side"]
 
 
 def plot_mechanism(scene: Scene, result: Any, path: str | Path, *, title: str | None = None,
@@ -46,7 +46,7 @@ def plot_mechanism(scene: Scene, result: Any, path: str | Path, *, title: str | 
     return plot_drawings([drawing], [text], path, thrust=line_of_thrust)
 
 
-def plot_side_by_side(scene: Scene, results: Any, path: str | Path, *, titles: "list[str | None] | None" = None,
+def plot_side_by_side(scene: Scene, results: Any, path: str | Path, *, titles: list[str | None] | None = None,
                       suptitle: str | None = None, displacement: float | None = None,
                       line_of_thrust: bool = False) -> Path:
     """Draw the mechanisms of several results of the same scene side by side, at one scale, and
@@ -59,7 +59,7 @@ def plot_side_by_side(scene: Scene, results: Any, path: str | Path, *, titles: "
         raise ValueError(f"{len(titles)} titles for {len(results)} results")
     settings = PictureSettings() if displacement is None else replace(PictureSettings(), displacement=displacement)
     drawings = [draw(scene, r, thrust=line_of_thrust, settings=settings) for r in results]
-    texts = [(t + "\n" if t else "") + caption(r, d) for t, r, d in zip(titles, results, drawings)]
+    texts = [(t + "\n" if t else "") + caption(r, d) for t, r, d in zip(titles, results, drawings, strict=True)]
     return plot_drawings(drawings, texts, path, suptitle=suptitle, thrust=line_of_thrust)
 
 
@@ -74,7 +74,8 @@ def plot_drawings(drawings: list[Drawing], texts: list[str], path: str | Path, *
 
     box = np.array([d.box for d in drawings])
     union = (*box[:, :2].min(axis=0), *box[:, 2:].max(axis=0))
-    drawings = [replace(d, box=tuple(float(v) for v in union)) for d in drawings]
+    four = (float(union[0]), float(union[1]), float(union[2]), float(union[3]))
+    drawings = [replace(d, box=four) for d in drawings]
     aspect = (union[3] - union[1]) / (union[2] - union[0])
     n = len(drawings)
     classes = [c for c in dict.fromkeys(c for d in drawings for c in d.classes()) if thrust or c != "thrust"]
@@ -83,7 +84,7 @@ def plot_drawings(drawings: list[Drawing], texts: list[str], path: str | Path, *
     fig = plt.figure(figsize=(width * n, height))
     bottom = (0.2 * legend_rows + 0.15) / height
     top = 1.0 - (0.55 + (0.3 if suptitle else 0.0)) / height
-    for k, (d, text) in enumerate(zip(drawings, texts)):
+    for k, (d, text) in enumerate(zip(drawings, texts, strict=True)):
         ax = fig.add_axes((k / n + 0.01, bottom, 1.0 / n - 0.02, top - bottom))
         render_axes(ax, d, thrust=thrust)
         ax.set_title(text, fontsize=9)

@@ -53,7 +53,7 @@ def solve_header(result: Any, drawings: list[Drawing]) -> Header:
     headline = "; ".join((MODEL_WORDS[str(r.model)].split(" (")[0] + " " if len(rs) > 1 else "Collapse multiplier ")
                          + alpha_words(r) for r in rs)
     lines, details = [], []
-    for r, d in zip(rs, drawings):
+    for r, d in zip(rs, drawings, strict=True):
         who = f"{MODEL_WORDS[str(r.model)]}: " if len(rs) > 1 else ""
         moving = f", {d.moving} of {count(_free(r, d), 'block')} move" if d.moving else ""
         lines.append(f"{who}α {interval(r.bounds.lower, r.bounds.upper)}. {status_line(r.status)} "
@@ -66,7 +66,8 @@ def solve_header(result: Any, drawings: list[Drawing]) -> Header:
 def _details(r: Any, who: str) -> list[tuple[str, str]]:
     b = r.bounds
     rows = [(f"{who}status", str(r.status)), (f"{who}α", number(r.alpha, 9)),
-            (f"{who}bounds", f"lower {number(b.lower, 9)}, upper {number(b.upper, 9)}, relative gap {number(b.gap, 2)}"),
+            (f"{who}bounds",
+             f"lower {number(b.lower, 9)}, upper {number(b.upper, 9)}, relative gap {number(b.gap, 2)}"),
             (f"{who}message", r.message)]
     if str(r.model) == "nonassociative":
         rows.append((f"{who}associative α", number(r.alpha_associative, 9)))

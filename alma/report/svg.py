@@ -44,7 +44,8 @@ def _element(m: Mark, drawing: Drawing, key: str) -> str:
               if m.stroke else ' stroke="none"')
     if m.kind == "polygon":
         fill = f"url(#{key}-hatch)" if m.hatch else (m.fill or "none")
-        return f'<polygon{attrs} points="{_points(m.xy)}" fill="{fill}"{stroke} stroke-linejoin="round">{title}</polygon>'
+        return (f'<polygon{attrs} points="{_points(m.xy)}" fill="{fill}"{stroke} stroke-linejoin="round">'
+                f'{title}</polygon>')
     if m.kind == "line":
         dash = ' stroke-dasharray="7 4"' if m.dash else ""
         return (f'<polyline{attrs} points="{_points(m.xy)}" fill="none"{stroke}{dash} stroke-linecap="round">'

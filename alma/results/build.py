@@ -66,7 +66,8 @@ def nonassociative_result(model: Model, associative: AssociativeResult, solution
             timings=dict(timings),
             n_blocks=model.n_free, n_joints=model.n_joints, associative=associative, **record)
     status, message, lower = _verified(associative, solution, best, lower, radenkovic)
-    shear, ties = best.shear, ()
+    shear = best.shear
+    ties: tuple[dict[str, float | str], ...] = ()
     if model.n_bounded:  # the joints' shear with their cohesive part, and the ties' forces
         cohesive_shear, ties = bounded_forces(model, best.bounded, best.mechanism / model.n_free)
         shear = shear + cohesive_shear

@@ -8,9 +8,9 @@ pay for objects nobody reads.  Units as :class:`JointResult`: kN, kN·mm, mm.
 """
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
-from typing import Any, Iterator, overload
+from typing import Any, overload
 
 import numpy as np
 
@@ -73,6 +73,7 @@ class JointTable(Sequence):
         """Joint i's crushing capacity and stress block, when it has a finite strength."""
         if self.capacity is None or not np.isfinite(self.capacity[i]):
             return {}
+        assert self.stress_block is not None  # set together with capacity (alma.results.joints)
         block = self.stress_block[i]
         return {"capacity": float(self.capacity[i]),
                 "stress_block": (tuple(block[0].tolist()), tuple(block[1].tolist()))}
@@ -83,7 +84,7 @@ class JointTable(Sequence):
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Sequence) or isinstance(other, (str, bytes)) or len(other) != len(self):
             return False
-        return all(a == b for a, b in zip(self, other))
+        return all(a == b for a, b in zip(self, other, strict=True))
 
     __hash__ = None  # type: ignore[assignment]  # mutable arrays inside: not hashable, as a list
 
@@ -94,11 +95,12 @@ class JointTable(Sequence):
         """The joints as SPEC §3's JSON objects, built column-wise."""
         cols = zip(self.blocks.tolist(), self.N.tolist(), self.T.tolist(), self.M.tolist(),
                    self.state.tolist(), self.length.tolist(), self.slip.tolist(), self.opening.tolist(),
-                   self.points.tolist())
+                   self.points.tolist(), strict=True)
         out = [{"blocks": [str(a), str(b)], "N": n, "T": t, "M": mo, "state": str(s), "length": le, "slip": sl,
                 "opening": op, "points": [{"N": pn, "T": pt} for pn, pt in pts]}
                for (a, b), n, t, mo, s, le, sl, op, pts in cols]
         if self.capacity is not None:  # finite compressive strength only: other results stay as they were
+            assert self.stress_block is not None  # set together with capacity (alma.results.joints)
             extent = np.hypot(*(self.stress_block[:, 1] - self.stress_block[:, 0]).T)
             for i in np.flatnonzero(np.isfinite(self.capacity)).tolist():
                 out[i]["capacity"] = float(self.capacity[i])

@@ -116,7 +116,7 @@ def physical(model: Model, mechanism: np.ndarray, normal: np.ndarray, shear: np.
     motion = mechanism.reshape(-1, 3) * model.n_free
     motion[:, 2] /= model.length_scale
     blocks = tuple(BlockMotion(id=ids[i], u=tuple(row))
-                   for i, row in zip(model.free_blocks.tolist(), motion.tolist()))
+                   for i, row in zip(model.free_blocks.tolist(), motion.tolist(), strict=True))
     macros: tuple[MacroBlock, ...] = ()
     if moving and model.n_joints:
         states, rel = joint_states(model, mechanism, dilatant=dilatant)
@@ -161,7 +161,8 @@ def _joint_table(model: Model, normal: np.ndarray, shear: np.ndarray, states: np
         blocks=pairs.reshape(-1, 2), N=n_point.sum(axis=1), T=t_point.sum(axis=1), M=moment,
         state=states.astype(str), length=np.asarray(joints.length, dtype=float),
         slip=rel[:, :, 1].mean(axis=1) * model.n_free, opening=rel[:, :, 0] * model.n_free,
-        start=np.asarray(joints.start, dtype=float).reshape(-1, 2), end=np.asarray(joints.end, dtype=float).reshape(-1, 2),
+        start=np.asarray(joints.start, dtype=float).reshape(-1, 2),
+        end=np.asarray(joints.end, dtype=float).reshape(-1, 2),
         points=np.stack([n_point, t_point], axis=2), normal=np.asarray(joints.normal, dtype=float).reshape(-1, 2),
         capacity=capacity, stress_block=block)
 
@@ -206,7 +207,9 @@ def bounded_forces(model: Model, tau: np.ndarray, mechanism: np.ndarray
         net = np.zeros(model.n_joints)
         np.add.at(net, joint, sign * tau[cohesive])
         shear += np.repeat(0.5 * net, 2)
+    assert model.bounded is not None  # called for a model with bounded forces only
     power = model.bounded.T @ mechanism if mechanism.size else np.zeros(model.n_bounded)
-    ties = tuple({"id": str(x)[4:], "force": float(f * model.force_scale), "elongation": float(-p * model.n_free)}
-                 for x, f, p, c in zip(labels, tau, power, cohesive) if not c)
+    ties: tuple[dict[str, float | str], ...] = tuple(
+        {"id": str(x)[4:], "force": float(f * model.force_scale), "elongation": float(-p * model.n_free)}
+        for x, f, p, c in zip(labels, tau, power, cohesive, strict=True) if not c)
     return shear, ties

@@ -21,12 +21,20 @@ from alma.stats.anova import (
     r2_pred_balanced,
     varying_factors,
 )
-from alma.stats.effects import StandardizedEffect, TukeyComparison, TukeyResult, equivalent_t, pareto_reference, standardized_effects, tukey_bond
+from alma.stats.effects import (
+    StandardizedEffect,
+    TukeyComparison,
+    TukeyResult,
+    equivalent_t,
+    pareto_reference,
+    standardized_effects,
+    tukey_bond,
+)
 
 __all__ = [
     "CHAIN_FACTOR",
-    "FACTOR_LEVELS",
     "FACTORS",
+    "FACTOR_LEVELS",
     "RESULT_COLUMNS",
     "AnovaResult",
     "AnovaRow",

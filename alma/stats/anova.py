@@ -16,8 +16,9 @@ from __future__ import annotations
 import itertools
 import math
 import re
+from collections.abc import Iterable, Sequence
 from os import PathLike
-from typing import Any, Iterable, Sequence
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -30,15 +31,15 @@ from alma.geometry.panels import BLOCK_LENGTHS, FRICTIONS, PANEL_HEIGHTS, PANEL_
 from alma.stats.results import _GROUP_NAMES, AnovaResult, AnovaRow
 
 __all__ = [
-    "AnovaRow",
-    "AnovaResult",
+    "BLOCK_LENGTH_MM",
     "CHAIN_FACTOR",
     "FACTORS",
     "FACTOR_LEVELS",
-    "RESULT_COLUMNS",
-    "PANEL_LENGTH_MM",
     "PANEL_HEIGHT_MM",
-    "BLOCK_LENGTH_MM",
+    "PANEL_LENGTH_MM",
+    "RESULT_COLUMNS",
+    "AnovaResult",
+    "AnovaRow",
     "anova",
     "fit_model",
     "load_results",

@@ -121,7 +121,7 @@ def tukey_bond(df: pd.DataFrame, response: str = "alpha_c", alpha: float = 0.05)
             upper=float(hsd.confint[k, 1]),
             reject=bool(hsd.reject[k]),
         )
-        for k, (i, j) in enumerate(zip(g1, g2))
+        for k, (i, j) in enumerate(zip(g1, g2, strict=True))
     )
     means = tuple((g, float(y[groups == g].mean())) for g in names)
     return TukeyResult(factor="bond", alpha=alpha, means=means, comparisons=comparisons)

@@ -11,26 +11,40 @@ Each function writes one PNG (matplotlib, Agg backend) and returns its path:
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from os import PathLike
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 import matplotlib
 
 matplotlib.use("Agg")  # files only, never a display
 
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pandas as pd  # noqa: E402
-import scipy.stats  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+import scipy.stats
+from matplotlib.figure import Figure
 
-from alma.stats.anova import (BLOCK_LENGTH_MM, FACTOR_LEVELS, FACTORS, PANEL_HEIGHT_MM,  # noqa: E402
-                              PANEL_LENGTH_MM, AnovaResult, anova)
+from alma.stats.anova import (
+    BLOCK_LENGTH_MM,
+    FACTOR_LEVELS,
+    FACTORS,
+    PANEL_HEIGHT_MM,
+    PANEL_LENGTH_MM,
+    AnovaResult,
+    anova,
+)
 from alma.stats.effects import pareto_reference, standardized_effects
 
-__all__ = ["pareto_chart", "main_effects_plot", "main_effects_overlay", "interaction_plot_matrix", "residual_plots",
-           "scale_factor_plots"]
+__all__ = [
+    "interaction_plot_matrix",
+    "main_effects_overlay",
+    "main_effects_plot",
+    "pareto_chart",
+    "residual_plots",
+    "scale_factor_plots",
+]
 
 _LABELS = {
     "panel_ratio": "Panel ratio",
@@ -162,7 +176,7 @@ def main_effects_overlay(
         data = frames[response]
         grand = float(data[response].mean())
         colour = colours[k % len(colours)]
-        for ax, col in zip(axes, factors):
+        for ax, col in zip(axes, factors, strict=True):
             levels = _levels(data, col)
             means = _means(data, [col], response)
             ax.plot(range(len(levels)), [means[v] for v in levels], "o-", color=colour,
@@ -354,7 +368,7 @@ def scale_factor_plots(
     # Figure 9: alpha vs H/b per bond, lines by friction.
     fig, axes = plt.subplots(1, len(bond_list), figsize=(4.2 * len(bond_list), 3.8), sharey=True)
     axes = np.atleast_1d(axes)
-    for ax, bond in zip(axes, bond_list):
+    for ax, bond in zip(axes, bond_list, strict=True):
         sub = data[data["bond"] == bond]
         means = sub.groupby(["friction", "H_over_b"])[response].mean()
         xs = sorted(sub["H_over_b"].unique())
@@ -374,7 +388,7 @@ def scale_factor_plots(
     panels = _levels(data, "panel_ratio")
     fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 3.8), sharey=True)
     axes = np.atleast_1d(axes)
-    for ax, pr in zip(axes, panels):
+    for ax, pr in zip(axes, panels, strict=True):
         sub = data[data["panel_ratio"] == pr]
         means = sub.groupby(["friction", "B_over_b"])[response].mean()
         xs = sorted(sub["B_over_b"].unique())
