@@ -70,7 +70,7 @@ class SnappedEdges:
     warnings: tuple[str, ...] = ()
 
 
-def snap_edges(scene: "Scene", edges: Edges, snap: float,
+def snap_edges(scene: Scene, edges: Edges, snap: float,
                facing: Callable[[Edges], tuple[np.ndarray, np.ndarray]]) -> SnappedEdges:
     """Merge near-coincident vertices of different blocks, then move T-junction points onto the
     edges they lie on (module docstring); lengths in mm, ``snap`` the contact tolerance, the
@@ -116,7 +116,7 @@ def _unique_rows(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return ordered[new], inverse
 
 
-def _merge_vertices(scene: "Scene", edges: Edges, unique: np.ndarray, inverse: np.ndarray, radius: float,
+def _merge_vertices(scene: Scene, edges: Edges, unique: np.ndarray, inverse: np.ndarray, radius: float,
                     snap: float) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
     """Pass 1: the clusters (distinct points joined by chains of distances ≤ ``radius`` between
     vertices of different blocks), each vertex's cluster, each cluster's mean of its vertices,
@@ -145,7 +145,7 @@ def _merge_vertices(scene: "Scene", edges: Edges, unique: np.ndarray, inverse: n
     return cluster, centre, _wide_clusters(scene, edges, cluster, spread[inverse], radius, snap)
 
 
-def _refuse_one_block_twice(scene: "Scene", edges: Edges, cluster: np.ndarray, merged: np.ndarray) -> None:
+def _refuse_one_block_twice(scene: Scene, edges: Edges, cluster: np.ndarray, merged: np.ndarray) -> None:
     """Refuse a merged cluster holding two vertices of one block (they would become one point)."""
     rows = np.flatnonzero(merged)
     key = cluster[rows] * len(scene.blocks) + edges.block[rows]
@@ -165,7 +165,7 @@ def _refuse_one_block_twice(scene: "Scene", edges: Edges, cluster: np.ndarray, m
         "contact_tolerance, or redraw the block)")
 
 
-def _refuse_flattened(scene: "Scene", raw: Edges, snapped: Edges, snap: float) -> None:
+def _refuse_flattened(scene: Scene, raw: Edges, snapped: Edges, snap: float) -> None:
     """Refuse the first block whose snapped outline is flat by the outline check's rule (area at
     most ``snap`` × its extent, :func:`alma.geometry.polygons.check_polygons`): a block less than
     twice the tolerance thick whose far side was put on a neighbour's edge."""
@@ -180,7 +180,7 @@ def _refuse_flattened(scene: "Scene", raw: Edges, snapped: Edges, snap: float) -
             "tolerance (lower contact_tolerance, or redraw the block)")
 
 
-def _wide_clusters(scene: "Scene", edges: Edges, cluster: np.ndarray, spread: np.ndarray, radius: float,
+def _wide_clusters(scene: Scene, edges: Edges, cluster: np.ndarray, spread: np.ndarray, radius: float,
                    snap: float) -> tuple[str, ...]:
     """One warning for the merged points with a vertex farther than ``radius`` from them (a chain
     of merges: the drawing is noisier than the guarantee), naming the blocks of the widest."""
