@@ -67,7 +67,8 @@ def summary_table(df: pd.DataFrame) -> str:
             lines.append(f"| rigid | {certified} | — | — | — | {seconds:.0f} |")
         else:
             r = part["ratio"]
-            lines.append(f"| {s:g} MPa | {certified} | {r.min():.4f} | {r.mean():.4f} | {r.max():.4f} | {seconds:.0f} |")
+            cells = f"{r.min():.4f} | {r.mean():.4f} | {r.max():.4f}"
+            lines.append(f"| {s:g} MPa | {certified} | {cells} | {seconds:.0f} |")
     return "\n".join(lines) + "\n"
 
 
