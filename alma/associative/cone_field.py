@@ -122,7 +122,9 @@ def blend_theta(model: Model, mu: np.ndarray, anchor: np.ndarray) -> float | Non
     def g(theta: np.ndarray) -> np.ndarray:
         return 2.0 * c * (n1 + theta * (n0 - n1)) - (t1 + theta * (t0 - t1)) ** 2
 
-    start, end = g(np.zeros_like(n1)), g(np.ones_like(n1))
+    # the ends from the fields themselves: the interpolation's round-off must not move a point
+    # across its cone at θ = 0 or 1
+    start, end = 2.0 * c * n1 - t1**2, 2.0 * c * n0 - t0**2
     if np.any((start < 0.0) & (end < 0.0)):
         return None
     rising = start < 0.0  # outside at θ = 0: admissible from its root on
