@@ -19,6 +19,30 @@ from typing import Any
 
 
 @dataclass(frozen=True)
+class CrushingSettings:
+    """The cone program of finite compressive strength (``alma.associative.crushing``) and its
+    certificate.  Forces are in mean block weights; the cones read 2 c N_p ≥ N², c = σ_c l t."""
+
+    #: Absolute room (block weights) the solver's cones keep, 2 c ((1 − κ) N_p − margin) ≥ N²: the
+    #: equilibrium repair's corrections (~1e-9) stay inside, at a cost in α below 1e-9 relative.
+    cone_margin: float = 1e-8
+    #: Room κ in proportion to the point's force, for the joints at the base of the tall panels
+    #: (N ~ 150 block weights, where 1e-8 absolute is round-off).
+    cone_relative_margin: float = 5e-8
+    #: A crushing joint whose generator powers are all below this share of the largest is at rest
+    #: (the interior point's blend leaves ~1e-9 there; a moving joint's are ≥ 1e-4).
+    rest: float = 1e-7
+    #: Anchor solve (when the repaired field stays outside a cone): the joints it left are given
+    #: this many times their missing force as extra room, so the anchor is strictly inside there.
+    anchor_factor: float = 10.0
+    #: ... plus this absolute room (block weights): a violation of round-off size still gets room.
+    anchor_margin: float = 1e-8
+    #: ... plus this share of the joint's N: the solver's error on a loaded joint grows with N
+    #: (4.8e-8 N on the 5,005-block wall's ground joint).
+    anchor_load_margin: float = 1e-7
+
+
+@dataclass(frozen=True)
 class AssociativeSettings:
     """The associative LP (Eq. 10) and its certificate."""
 
@@ -58,6 +82,8 @@ class AssociativeSettings:
     #: with its stress field inside the cones (their margin, alma.associative.crushing); at
     #: 1e-10 and below it stops "AlmostSolved" with cone violations of 4e-8 (docs/compressive.md).
     cone_tolerance: float = 1e-9
+    #: The cone program's margins and its anchor solve (docs/compressive.md).
+    crushing: CrushingSettings = field(default_factory=CrushingSettings)
 
 
 @dataclass(frozen=True)

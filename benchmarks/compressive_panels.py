@@ -1,96 +1,95 @@
 """The paper's 108 panels with a finite compressive strength (issue 34): α against the rigid α.
 
-For every panel of Table 1 (4 bonds × 3 panel ratios × 3 block ratios × 3 frictions) the
-associative α with infinitely strong blocks and with σ_c = 2, 5, 10 MPa on every joint (the
-ground joint included), each certified (status, bounds).  Rows are appended to a CSV as they are
-computed, so an interrupted run resumes; ``--table`` writes the markdown table of docs/compressive.md.
+The rows come from the study itself (``alma doe``, resumable)::
 
-    python benchmarks/compressive_panels.py [--out benchmarks/results/compressive_panels.csv]
-                                            [--frictions 0.27,0.6,1.0] [--table docs/compressive_table.md]
+    alma doe --out compressive_study --compressive-strength 0,2,5,10 --workers 1
+    python -m benchmarks.compressive_panels compressive_study/results.csv --table docs/compressive_table.md
+
+Level 0 is the panel with infinitely strong blocks; every other level puts σ_c (MPa) on every
+joint, the ground joint included.  The markdown has one line per panel (α rigid, then α at each
+strength with α / α rigid, marked when not ``optimal``) and a summary per strength: panels
+certified, the least, mean and largest α / α rigid, and the solver's seconds.
 """
 from __future__ import annotations
 
 import argparse
-import csv
-import dataclasses
-import sys
-import time
 from pathlib import Path
 
-import alma
-from alma.geometry.contacts import find_joints
-from alma.geometry.panels import BLOCK_LENGTHS, BONDS, FRICTIONS, PANEL_HEIGHTS, paper_panel
+import pandas as pd
 
-STRENGTHS = (2.0, 5.0, 10.0)  # MPa
-FIELDS = ("bond", "panel_ratio", "block_ratio", "friction", "sigma_mpa", "status", "alpha", "lower", "upper",
-          "solve_s")
+from alma.study.doe import read_results
 
-
-def run(out: Path, frictions: tuple[float, ...]) -> None:
-    """Solve every panel missing from ``out`` and append its rows."""
-    done = set()
-    if out.exists():
-        with out.open() as f:
-            done = {(r["bond"], r["panel_ratio"], r["block_ratio"], float(r["friction"])) for r in csv.DictReader(f)}
-    out.parent.mkdir(parents=True, exist_ok=True)
-    new = not out.exists()
-    with out.open("a", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=FIELDS)
-        if new:
-            writer.writeheader()
-        for bond in BONDS:
-            for ratio in PANEL_HEIGHTS:
-                for block in BLOCK_LENGTHS:
-                    for friction in frictions:
-                        if (bond, ratio, block, friction) in done:
-                            continue
-                        scene = paper_panel(bond, ratio, block, friction)
-                        joints = find_joints(scene)
-                        for sigma in (None,) + STRENGTHS:
-                            s = scene if sigma is None else dataclasses.replace(scene, compressive_strength=sigma)
-                            t0 = time.perf_counter()
-                            r = alma.solve(s, joints=joints)
-                            writer.writerow({"bond": bond, "panel_ratio": ratio, "block_ratio": block,
-                                             "friction": friction, "sigma_mpa": "" if sigma is None else sigma,
-                                             "status": str(r.status), "alpha": r.alpha, "lower": r.bounds.lower,
-                                             "upper": r.bounds.upper, "solve_s": time.perf_counter() - t0})
-                        f.flush()
-                        print(f"{bond} {ratio} {block} {friction}", file=sys.stderr)
+FACTORS = ["bond", "panel_ratio", "block_ratio", "friction"]
+TITLE = "# The 108 paper panels with finite compressive strength\n"
 
 
-def table(rows: list[dict]) -> str:
-    """Markdown: one line per panel, α rigid and α(σ_c)/α rigid for each strength."""
-    by = {}
-    for r in rows:
-        by.setdefault((r["bond"], r["panel_ratio"], r["block_ratio"], float(r["friction"])), {})[r["sigma_mpa"]] = r
-    head = ["bond", "panel", "block", "f", "α rigid"] + [f"α, σ_c = {s:g} MPa (ratio)" for s in STRENGTHS]
+def _ratios(df: pd.DataFrame) -> tuple[pd.DataFrame, list[float]]:
+    """The associative rows with the rigid α of their panel beside them, and the strengths > 0."""
+    rows = df[df["model"] == "associative"].copy()
+    rigid = rows[rows["compressive_strength"] == 0].set_index(FACTORS)["alpha_c"].rename("rigid")
+    rows = rows.join(rigid, on=FACTORS)
+    rows["ratio"] = rows["alpha_c"] / rows["rigid"]
+    strengths = sorted(s for s in rows["compressive_strength"].unique() if s > 0)
+    return rows, strengths
+
+
+def panel_table(df: pd.DataFrame) -> str:
+    """Markdown: one line per panel, α rigid and α(σ_c) (α / α rigid) for each strength."""
+    rows, strengths = _ratios(df)
+    head = ["bond", "panel", "block", "f", "α rigid"] + [f"α, σ_c = {s:g} MPa (ratio)" for s in strengths]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    for key in sorted(by):
-        cells = by[key]
-        rigid = float(cells[""]["alpha"])
-        out = [key[0], key[1], key[2], f"{key[3]:g}", f"{rigid:.6f}"]
-        for s in STRENGTHS:
-            c = cells.get(str(s))
-            if c is None:
+    for key, panel in rows.groupby(FACTORS, sort=True):
+        by = panel.set_index("compressive_strength")
+        rigid = by.loc[0.0]
+        out = [key[0], key[1], key[2], f"{key[3]:g}", f"{rigid['alpha_c']:.6f}"
+               + ("" if rigid["status"] == "optimal" else f" ({rigid['status']})")]
+        for s in strengths:
+            if s not in by.index:
                 out.append("—")
                 continue
-            mark = "" if c["status"] == "optimal" else f" ({c['status']})"
-            out.append(f"{float(c['alpha']):.6f} ({float(c['alpha']) / rigid:.4f}){mark}")
+            cell = by.loc[s]
+            mark = "" if cell["status"] == "optimal" else f" ({cell['status']})"
+            out.append(f"{cell['alpha_c']:.6f} ({cell['ratio']:.4f}){mark}")
         lines.append("| " + " | ".join(out) + " |")
     return "\n".join(lines) + "\n"
 
 
+def summary_table(df: pd.DataFrame) -> str:
+    """Markdown: per strength, the panels certified, α / α rigid (min, mean, max), solver seconds."""
+    rows, strengths = _ratios(df)
+    lines = ["| σ_c | certified (`optimal`) | α / α rigid: min | mean | max | solve + certificate, total s |",
+             "|---|---|---|---|---|---|"]
+    for s in [0.0, *strengths]:
+        part = rows[rows["compressive_strength"] == s]
+        seconds = float((part["solve_s"] + part["certify_s"]).sum())
+        certified = f"{int((part['status'] == 'optimal').sum())} of {len(part)}"
+        if s == 0:
+            lines.append(f"| rigid | {certified} | — | — | — | {seconds:.0f} |")
+        else:
+            r = part["ratio"]
+            cells = f"{r.min():.4f} | {r.mean():.4f} | {r.max():.4f}"
+            lines.append(f"| {s:g} MPa | {certified} | {cells} | {seconds:.0f} |")
+    return "\n".join(lines) + "\n"
+
+
+def document(df: pd.DataFrame) -> str:
+    """The whole docs/compressive_table.md."""
+    return (TITLE + "\nα (associative, certified unless marked) with infinitely strong blocks and with σ_c on "
+            "every joint; in brackets α / α rigid.  Produced by `alma doe --compressive-strength 0,2,5,10` and "
+            "`python -m benchmarks.compressive_panels RESULTS.csv --table docs/compressive_table.md` "
+            "(docs/compressive.md).\n\n" + summary_table(df) + "\n" + panel_table(df))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--out", default="benchmarks/results/compressive_panels.csv")
-    parser.add_argument("--frictions", default=",".join(f"{f:g}" for f in FRICTIONS))
-    parser.add_argument("--table", default=None, metavar="OUT.md", help="write the markdown table of the CSV")
+    parser.add_argument("results", metavar="RESULTS.csv", help="results.csv of `alma doe --compressive-strength`")
+    parser.add_argument("--table", default=None, metavar="OUT.md", help="write the markdown here (default: stdout)")
     args = parser.parse_args()
-    out = Path(args.out)
-    run(out, tuple(float(x) for x in args.frictions.split(",")))
+    text = document(read_results(args.results))
     if args.table:
-        with out.open() as f:
-            Path(args.table).write_text(table(list(csv.DictReader(f))))
+        Path(args.table).write_text(text)
+    else:
+        print(text, end="")
 
 
 if __name__ == "__main__":

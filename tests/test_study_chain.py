@@ -42,7 +42,7 @@ def test_design_file_takes_the_chain_and_checks_it(tmp_path):
     path.write_text('bond = ["stack"]\nchains = [0, 0.5, 5]\nchain_height = 0.5\nchain_anchored = true\n')
     d = load_design(path)
     assert d.chain == (0.0, 0.5, 5.0) and d.chain_height == 0.5 and d.chain_anchored
-    assert len(d) == 27 * 3 and d.runs()[:27] == [(*p, 0.0) for p in d.panels()]
+    assert len(d) == 27 * 3 and d.runs()[:27] == [(*p, 0.0, 0.0) for p in d.panels()]
     # Mid-height of the course at chain_height x H: 0.5 x 720 mm = 360 mm is the foot of course 7.
     assert (d.chain_y("2:1"), Design().chain_y("2:1"), Design().chain_y("1:2")) == (390.0, 690.0, 2850.0)
     assert load_design(ROOT / "examples" / "design_chain.toml").chain == (0.0, 0.25, 1.0, 5.0)
@@ -107,7 +107,8 @@ def test_a_results_file_from_before_the_chain_factor_resumes(tmp_path):
     with open(path, newline="") as fh:
         rows = list(csv.reader(fh))
     with open(path, "w", newline="") as fh:  # the file as the study wrote it before the chain column
-        csv.writer(fh, lineterminator="\n").writerows(r[:-2] for r in rows)  # no chain, no checksum
+        # no chain, no compressive strength, no checksum
+        csv.writer(fh, lineterminator="\n").writerows(r[:-3] for r in rows)
     assert "chain" not in path.read_text().splitlines()[0]
     assert list(read_results(path)["chain"]) == [0.0, 0.0]
     again = run_doe(tmp_path, design=design, workers=1, progress=False)

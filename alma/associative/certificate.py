@@ -51,6 +51,15 @@ def certify_pair(H: sp.csc_matrix, model: Model, u: np.ndarray, mu: np.ndarray, 
     return u_final, mu, float(alpha), static_residual, kinematic_residual
 
 
+def repair_mechanism(H: sp.csc_matrix, model: Model, u: np.ndarray,
+                     residual_tolerance: float = 1e-9) -> tuple[np.ndarray, float]:
+    """The kinematic repair of :func:`certify_pair` alone, on the flow-rule columns of H: returns
+    (u with f_Lᵀu = 1, its relative flow-rule violation)."""
+    norm = float(model.n_free)
+    u, residual = _repair_mechanism(H, model.live, u * (norm / (model.live @ u)), norm, residual_tolerance)
+    return u / norm, residual
+
+
 def _repair_mechanism(H: sp.csc_matrix, live: np.ndarray, u: np.ndarray, norm: float,
                       residual_tolerance: float) -> tuple[np.ndarray, float]:
     """The kinematic repair (see :func:`certify_pair`); returns u and its relative violation."""
@@ -117,6 +126,14 @@ def _repair_field(A: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float, 
         if best_static is None or _better(trial, best_static, residual_tolerance):
             best_static = trial
     return best_static
+
+
+def repair_field(A: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float, bound: np.ndarray,
+                 upper_estimate: float, residual_tolerance: float,
+                 gap_tolerance: float) -> tuple[np.ndarray, float, float]:
+    """The static repair of :func:`certify_pair` alone (a field without its mechanism): returns
+    (μ, α, equilibrium residual)."""
+    return _repair_field(A, model, mu, alpha, bound, upper_estimate, residual_tolerance, gap_tolerance)
 
 
 def _better(trial: tuple, best: tuple, residual_tolerance: float) -> bool:

@@ -23,24 +23,32 @@ bound without a flow-rule repair on the crushing joints.  All quantities are dim
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import scipy.sparse as sp
 
-from alma.associative.certificate import static_correction
 from alma.backends.clarabel_backend import ConicSolution, solve_static_cone
 from alma.mechanics.model import Model
+from alma.settings import CrushingSettings
 
 
-#: The solver's cones are 2 c (N_p − margin) ≥ N² (margin in mean block weights): the stress field keeps this
-#: much room to the exact cone for the certificate's equilibrium repair (~1e-9), at a cost in α of
-#: ~margin × crushing points / total weight (< 1e-9 relative on the paper's panels).
-CONE_MARGIN = 1e-8
-#: ... and 2 c ((1 − κ) N_p − margin) ≥ N²: room in proportion to the force for the joints at the
-#: base of the tall panels (N ~ 150 mean block weights, where 1e-8 absolute is round-off).
-CONE_RELATIVE_MARGIN = 5e-8
-#: A crushing joint whose generator powers are all below this fraction of the largest is at rest
-#: (the interior point's blend leaves traces of ~1e-9 there; a moving joint's are ≥ 1e-4).
-REST = 1e-7
+@dataclass(frozen=True)
+class ConeMargins:
+    """Room the solver's cones keep at each contact point of the crushing joints (in the order of
+    :func:`crushing_joints`, two points each): 2 c ((1 − relative) N_p − load N − absolute) ≥ N²,
+    forces in mean block weights (:class:`alma.settings.CrushingSettings`)."""
+
+    absolute: np.ndarray
+    relative: np.ndarray
+    load: np.ndarray
+
+
+def uniform_margins(model: Model, settings: CrushingSettings) -> ConeMargins:
+    """The margins of the first solve: the same absolute and relative room at every point."""
+    points = 2 * crushing_joints(model).size
+    return ConeMargins(np.full(points, settings.cone_margin), np.full(points, settings.cone_relative_margin),
+                       np.zeros(points))
 
 
 def crushing_joints(model: Model) -> np.ndarray:
@@ -48,7 +56,8 @@ def crushing_joints(model: Model) -> np.ndarray:
     return np.flatnonzero(np.isfinite(model.crushing))
 
 
-def static_cone_form(model: Model, H: sp.csc_matrix, normalisation: float = 1.0
+def static_cone_form(model: Model, H: sp.csc_matrix, normalisation: float = 1.0,
+                     margins: ConeMargins | None = None
                      ) -> tuple[np.ndarray, sp.csc_matrix, np.ndarray, int, int, int]:
     """The static problem (module docstring) as ``min qᵀx s.t. A x + s = b`` for Clarabel.
 
@@ -59,8 +68,8 @@ def static_cone_form(model: Model, H: sp.csc_matrix, normalisation: float = 1.0
     with the scale, in 74 instead of 91 iterations).
 
     Rows: equilibrium (3 n_free, zero cone), μ ≥ 0 and 0 ≤ τ ≤ capacity (non-negative cone), then
-    three rows per contact point of each crushing joint (Q³).  Returns (q, A, b, n_zero, n_nonneg,
-    n_soc3).
+    three rows per contact point of each crushing joint (Q³), with ``margins`` (default
+    :func:`uniform_margins` of the default settings).  Returns (q, A, b, n_zero, n_nonneg, n_soc3).
     """
     n, k = H.shape
     q_count = model.n_bounded
@@ -70,7 +79,7 @@ def static_cone_form(model: Model, H: sp.csc_matrix, normalisation: float = 1.0
     eye_mu = sp.csc_matrix((-np.ones(k), (np.arange(k), 1 + np.arange(k))), shape=(k, n_x))
     tau_cols = 1 + k + np.arange(q_count)
     eye_tau = sp.csc_matrix((np.ones(q_count), (np.arange(q_count), tau_cols)), shape=(q_count, n_x))
-    cones, cone_b = _cone_rows(model, n_x)
+    cones, cone_b = _cone_rows(model, n_x, margins or uniform_margins(model, CrushingSettings()))
     A = sp.vstack([equilibrium, eye_mu, -eye_tau, eye_tau, cones]).tocsc()
     b = np.concatenate([-model.dead, np.zeros(k + q_count), model.capacity, cone_b])
     q = np.zeros(n_x)
@@ -78,39 +87,40 @@ def static_cone_form(model: Model, H: sp.csc_matrix, normalisation: float = 1.0
     return q, A, b, n, k + 2 * q_count, cone_b.size // 3
 
 
-def _cone_rows(model: Model, n_x: int) -> tuple[sp.csc_matrix, np.ndarray]:
-    """Rows −A x of (√c (N_p + 1), √c (N_p − 1), √2 N) for every point p of every crushing joint,
-    with their b = (√c, −√c, 0): s = b − A x is the scaled rotated cone 2 c N_p ≥ N²."""
+def _cone_rows(model: Model, n_x: int, margins: ConeMargins) -> tuple[sp.csc_matrix, np.ndarray]:
+    """Rows −A x of (√c (L_p + 1), √c (L_p − 1), √2 N) for every point p of every crushing joint,
+    L_p = (1 − relative) N_p − load N − absolute (:class:`ConeMargins`): s = b − A x is the scaled
+    rotated cone 2 c L_p ≥ N²."""
     joints = crushing_joints(model)
     root = np.sqrt(model.crushing[joints])
     point = np.repeat(2 * joints, 2) + np.tile([0, 1], joints.size)  # global point index 2k + p
     scale = np.repeat(root, 2)
     n_points = point.size
     base = 3 * np.arange(n_points)
+    own = -scale * (1.0 - margins.relative)
     rows, cols, vals = [], [], []
     for sign in (0, 1):  # the point's two generators: columns 1 + 2 (2k + p) + sign
         col = 1 + 2 * point + sign
         rows += [base, base + 1]
         cols += [col, col]
-        vals += [-scale, -scale]
-    for gen in range(4):  # N: the joint's four generators
+        vals += [own, own]
+    for gen in range(4):  # N: the joint's four generators, in the third row and in L_p's load term
         col = 1 + 4 * np.repeat(joints, 2) + gen
-        rows.append(base + 2)
-        cols.append(col)
-        vals.append(np.full(n_points, -np.sqrt(2.0)))
+        rows += [base + 2, base, base + 1]
+        cols += [col, col, col]
+        vals += [np.full(n_points, -np.sqrt(2.0)), scale * margins.load, scale * margins.load]
     A = sp.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(3 * n_points, n_x))
+    A.eliminate_zeros()  # the load terms are zero outside an anchor solve
     b = np.zeros(3 * n_points)
-    b[0::3], b[1::3] = scale * (1.0 - CONE_MARGIN), -scale * (1.0 + CONE_MARGIN)
-    keep = sp.diags(np.tile([1.0 - CONE_RELATIVE_MARGIN, 1.0 - CONE_RELATIVE_MARGIN, 1.0], n_points))
-    A = (keep @ A).tocsc()  # (1 − κ) N_p in the first two rows
+    b[0::3], b[1::3] = scale * (1.0 - margins.absolute), -scale * (1.0 + margins.absolute)
     return A, b
 
 
 def solve_static_crushing(model: Model, H: sp.csc_matrix, tolerance: float, max_iter: int,
                           time_limit: float | None = None, refine: bool = True,
-                          normalisation: float = 1.0) -> ConicSolution:
+                          normalisation: float = 1.0, margins: ConeMargins | None = None) -> ConicSolution:
     """Clarabel's primal–dual pair of the static cone program (:func:`static_cone_form`)."""
-    q, A, b, n_zero, n_nonneg, n_soc = static_cone_form(model, H, normalisation)
+    q, A, b, n_zero, n_nonneg, n_soc = static_cone_form(model, H, normalisation, margins)
     return solve_static_cone(q, A, b, n_zero, n_nonneg, n_soc, tolerance=tolerance, max_iter=max_iter,
                              time_limit=time_limit, refine=refine)
 
@@ -156,11 +166,12 @@ def crushing_dissipation(model: Model, power: np.ndarray, among: np.ndarray | No
     return float(value.sum())
 
 
-def rigid_columns(model: Model, power: np.ndarray | None = None) -> np.ndarray:
+def rigid_columns(model: Model, power: np.ndarray | None = None, rest: float = CrushingSettings().rest
+                  ) -> np.ndarray:
     """Generator columns (4 per joint) on which the mechanism is held to the flow rule Hᵀu ≥ 0:
     the joints without a crushing capacity, and -- given the solver's powers ``power`` = Hᵀu --
     the crushing joints that crush nowhere: at each point the smaller power of its two generators
-    (−a_p, :func:`crushing_dissipation`) below :data:`REST` of the largest power (at rest, sliding
+    (−a_p, :func:`crushing_dissipation`) below ``rest`` of the largest power (at rest, sliding
     with dilatancy, or separating).
 
     Such a joint dissipates c |noise| on the solver's round-off (c = σ_c l t is 10³-10⁹ mean
@@ -169,43 +180,42 @@ def rigid_columns(model: Model, power: np.ndarray | None = None) -> np.ndarray:
     if power is not None:
         size = max(float(np.abs(power).max(initial=0.0)), 1e-300)
         closing = np.abs(power.reshape(-1, 2, 2).min(axis=2)).max(axis=1)
-        rigid |= closing <= REST * size
+        rigid |= closing <= rest * size
     return np.flatnonzero(np.repeat(rigid, 4))
 
 
+def flow_violation(H: sp.csc_matrix, u: np.ndarray) -> float:
+    """Largest flow-rule violation (Eq. 6) of u on the columns of H, relative to the size of its
+    terms: max(0, −min Hᵀu) / max |Hᵀ| |u| (as the certificate's kinematic repair measures it)."""
+    if H.shape[1] == 0:
+        return 0.0
+    power = H.T @ u
+    size = float((abs(H).T @ np.abs(u)).max(initial=0.0))
+    return max(0.0, -float(power.min(initial=0.0))) / max(size, 1e-300)
 
-def repair_cone_field(model: Model, static: sp.csc_matrix, fields: np.ndarray, alpha: float,
-                      bound: np.ndarray) -> tuple[np.ndarray, float, float]:
-    """The static field (μ, τ) put in equilibrium (Eq. 3) at a corrected α, kept inside the cones.
 
-    An affine-scaled minimum-norm correction (as :func:`alma.associative.certificate.certify_pair`'s
-    second pass) in which every generator of a crushing point moves in proportion to its room: the
-    smallest of μ, the point's cone slack N_p − N²/(2c) and the other point's slack times c/N, so
-    that the hinge points, a solver's margin away from their cones, keep their place.  Returns
-    (fields, α, equilibrium residual).
+def crushing_work(model: Model, H: sp.csc_matrix, u: np.ndarray, mu: np.ndarray, held: np.ndarray,
+                  bounded_work: float, held_residual: float, tolerance: float) -> tuple[float, float]:
+    """The work −f₀ᵀu + D(u) of a mechanism u of Eq. 10 with finite compressive strength (its upper
+    bound is work / f_Lᵀu) and the flow-rule residual the bound rests on.
+
+    The joints in ``held`` (generator columns, :func:`rigid_columns`) are held to Hᵀu ≥ 0 and
+    their round-off violations are charged with the field's μ, as the LP's; the other crushing
+    joints dissipate exactly (:func:`crushing_dissipation`).  When the held joints break the flow
+    rule beyond ``tolerance`` (``held_residual``), the crushing ones among them are counted with
+    their exact dissipation too, which holds for any u: only the infinitely strong joints then
+    need the flow rule.  ``bounded_work`` is the bounded forces' dissipation (cohesion, ties).
     """
-    k = model.equilibrium.shape[1]
-    mu = np.clip(fields, 0.0, bound)
-    best = (mu, alpha, float(np.abs(static @ mu + model.dead + alpha * model.live).max(initial=0.0)))
-    for _ in range(3):  # each round takes the rooms of the last field: the residual falls ~1000x
-        room = np.minimum(best[0], bound - best[0])
-        joints = crushing_joints(model)
-        if joints.size:
-            normals = point_normals(best[0][:k])
-            slack = np.full(normals.shape, np.inf)
-            total = normals[joints].sum(axis=1)
-            need = total**2 / (2.0 * model.crushing[joints])
-            own = np.maximum(normals[joints] - need[:, None], 0.0)
-            # a point's force lowers its own slack when it falls and, through N, the other
-            # point's when it rises (need grows by N ΔN / c): both bound its room
-            other = own[:, ::-1] * model.crushing[joints][:, None] / np.maximum(total, 1e-300)[:, None]
-            slack[joints] = np.minimum(own, other)
-            room[:k] = np.minimum(room[:k], np.repeat(slack.ravel(), 2))
-        top = max(float(best[0].max(initial=0.0)), 1e-300)
-        support = np.flatnonzero(room > 1e-14 * top)
-        trial = static_correction(static, model, best[0].copy(), best[1], support, np.sqrt(room[support] / top),
-                                  bound)
-        if trial[2] >= best[2]:
-            break
-        best = trial
-    return best
+    power = H.T @ u
+    moving = np.ones(model.n_joints, dtype=bool)
+    moving[held[::4] // 4] = False
+    charged = float(np.maximum(-power[held], 0.0) @ mu[held])
+    work = float(-model.dead @ u) + crushing_dissipation(model, power, moving) + bounded_work + charged
+    if held_residual <= tolerance:
+        return work, held_residual
+    strong = np.flatnonzero(np.repeat(~np.isfinite(model.crushing), 4))
+    residual = flow_violation(H[:, strong], u)
+    if residual > tolerance:
+        return work, held_residual
+    charged = float(np.maximum(-power[strong], 0.0) @ mu[strong])
+    return float(-model.dead @ u) + crushing_dissipation(model, power) + bounded_work + charged, residual

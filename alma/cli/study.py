@@ -11,12 +11,14 @@ subparser's ``func`` is a handler ``handler(args) -> int`` returning the exit co
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import io
 import sys
 from pathlib import Path
 from typing import Any
 
 from alma.cli.json_output import dumps
+from alma.study.design import PAPER_DESIGN
 
 __all__ = ["register", "doe_handler", "anova_handler", "paper_handler", "compare_handler"]
 
@@ -42,6 +44,10 @@ def register(subparsers: Any) -> None:
                    help="TOML or JSON file of factor levels (panel_ratio, block_ratio, bond, "
                         "friction, and chain: strengths in kN of a chain across the top course, "
                         "with chain_height and chain_anchored); default: the paper's Table 1")
+    p.add_argument("--compressive-strength", default=None, metavar="MPA[,MPA...]",
+                   help="levels of the blocks' compressive strength σ_c in MPa on every joint, e.g. "
+                        "0,2,5,10 (0: infinitely strong blocks; associative model only); replaces "
+                        "the design's compressive_strength levels (default: 0)")
     p.add_argument("--retry-errors", action="store_true",
                    help="solve again the panels whose stored status is 'error'")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -156,6 +162,12 @@ def doe_handler(args: argparse.Namespace) -> int:
     design, failed = _design_argument(args)
     if failed:
         return 2
+    if getattr(args, "compressive_strength", None) is not None:
+        try:
+            design = _with_strengths(design, args.compressive_strength)
+        except ValueError as exc:
+            _error(str(exc))
+            return 2
     df, code = _guarded(lambda: run_doe(args.out, model=args.model, workers=args.workers,
                                         scheduler=args.scheduler, design=design,
                                         progress=not getattr(args, "quiet", False),
@@ -171,6 +183,21 @@ def doe_handler(args: argparse.Namespace) -> int:
         print(f"{failed} failed, e.g.: {first}", file=sys.stderr)
         return 1
     return 0
+
+
+def _with_strengths(design: Any, text: str) -> Any:
+    """``design`` (default the paper's) with the compressive-strength levels of ``--compressive-strength``."""
+    levels = [t.strip() for t in text.split(",")]
+    if not all(levels):
+        raise ValueError(f"--compressive-strength: expected MPa levels separated by commas, got {text!r}")
+    try:
+        values = tuple(float(t) for t in levels)
+    except ValueError:
+        raise ValueError(f"--compressive-strength: expected numbers (MPa), got {text!r}") from None
+    try:
+        return dataclasses.replace(design or PAPER_DESIGN, compressive_strength=values)
+    except ValueError as exc:
+        raise ValueError(f"--compressive-strength: {exc}") from None
 
 
 # ------------------------------------------------------------------------------------------

@@ -10,12 +10,17 @@ panel ratio fastest.  A TOML or JSON file can change the levels (:func:`load_des
     chain = [0, 0.25, 1, 5]     # kN: a retrofitting chain across the top course, one more factor
     chain_height = 1.0          # fraction of the panel's height: the course the chain runs in
     chain_anchored = false      # true: its ends tied to fixed anchors (stiff orthogonal walls)
+    compressive_strength = [0, 2, 5, 10]   # MPa, σ_c on every joint; 0: infinitely strong blocks
 
 The chain factor (default ``[0]``: no chain, today's study with today's keys) puts one
 horizontal chain of that strength across the panel, as ``alma panel --chain`` does
 (:func:`alma.geometry.chains.with_chain`): at mid-height of the course at ``chain_height`` × H
 (1.0: the top course, where a chain ties a wall at its floor or roof), its anchor plates on the
 outer faces of that course's two end blocks, so that it ties the panel's ends together.
+
+The compressive-strength factor (default ``[0]``: infinitely strong blocks, today's keys) gives
+every joint of the panel, the ground joint included, the crushing strength σ_c in MPa, as the
+scene key ``compressive_strength`` does (issue 34; associative model only).
 """
 from __future__ import annotations
 
@@ -40,7 +45,8 @@ class Design:
 
     Panels are enumerated in the order of Table 5: friction slowest, then bond, block ratio,
     and panel ratio fastest; every panel runs at each ``chain`` strength (kN; 0: no chain), the
-    chain levels slowest of all.  ``chain_height`` is the fraction of the panel's height whose
+    chain levels slower, and at each ``compressive_strength`` (MPa; 0: infinitely strong blocks),
+    slowest of all.  ``chain_height`` is the fraction of the panel's height whose
     course the chain runs in (at its mid-height; 1.0: the top course); ``chain_anchored`` ties
     its ends to fixed anchors instead of to each other.
     """
@@ -52,6 +58,7 @@ class Design:
     chain: tuple[float, ...] = (0.0,)
     chain_height: float = 1.0
     chain_anchored: bool = False
+    compressive_strength: tuple[float, ...] = (0.0,)
 
     def __post_init__(self) -> None:
         for name, allowed in (("panel_ratio", _PANEL_RATIOS), ("block_ratio", _BLOCK_RATIOS),
@@ -69,6 +76,7 @@ class Design:
             object.__setattr__(self, name, values)
         object.__setattr__(self, "friction", _levels("friction", self.friction))
         object.__setattr__(self, "chain", _levels("chain", self.chain))
+        object.__setattr__(self, "compressive_strength", _levels("compressive_strength", self.compressive_strength))
         h = self.chain_height
         if isinstance(h, bool) or not isinstance(h, (int, float)) or not (0.0 < float(h) <= 1.0):
             raise ValueError(f"design: bad chain_height {h!r}; expected a fraction of the panel's height in (0, 1]")
@@ -86,9 +94,10 @@ class Design:
         return [(p, b, bond, f) for f in self.friction for bond in self.bond
                 for b in self.block_ratio for p in self.panel_ratio]
 
-    def runs(self) -> list[tuple[str, str, str, float, float]]:
-        """(panel_ratio, block_ratio, bond, friction, chain) of every run, chain slowest."""
-        return [(*panel, c) for c in self.chain for panel in self.panels()]
+    def runs(self) -> list[tuple[str, str, str, float, float, float]]:
+        """(panel_ratio, block_ratio, bond, friction, chain, compressive_strength) of every run,
+        the compressive strength slowest, then the chain."""
+        return [(*panel, c, s) for s in self.compressive_strength for c in self.chain for panel in self.panels()]
 
     @property
     def has_chain(self) -> bool:
@@ -102,16 +111,17 @@ class Design:
         return (course + 0.5) * BLOCK_HEIGHT
 
     def __len__(self) -> int:
-        """Number of runs per contact model (panels × chain levels)."""
+        """Number of runs per contact model (panels × chain levels × compressive strengths)."""
         return (len(self.panel_ratio) * len(self.block_ratio) * len(self.bond) * len(self.friction)
-                * len(self.chain))
+                * len(self.chain) * len(self.compressive_strength))
 
     def to_dict(self) -> dict[str, Any]:
         return {k: list(v) if isinstance(v, tuple) else v for k, v in dataclasses.asdict(self).items()}
 
 
 def _levels(name: str, values: tuple[Any, ...]) -> tuple[float, ...]:
-    """Numeric levels (friction coefficient, chain strength in kN): finite, >= 0, distinct."""
+    """Numeric levels (friction coefficient, chain strength in kN, compressive strength in MPa):
+    finite, >= 0, distinct."""
     out: list[float] = []
     for v in values:
         if isinstance(v, bool):
@@ -139,6 +149,7 @@ _DESIGN_KEYS = {
     "friction": "friction", "frictions": "friction",
     "chain": "chain", "chains": "chain",
     "chain_height": "chain_height", "chain_anchored": "chain_anchored",
+    "compressive_strength": "compressive_strength", "compressive_strengths": "compressive_strength",
 }
 #: Options of the design that take one value, not a list of levels.
 _SCALARS = ("chain_height", "chain_anchored")
@@ -147,9 +158,9 @@ _SCALARS = ("chain_height", "chain_anchored")
 def load_design(path: str | os.PathLike[str]) -> Design:
     """Read factor levels from a TOML (``.toml``) or JSON file; missing factors keep the paper's.
 
-    Keys: ``panel_ratio``, ``block_ratio``, ``bond``, ``friction``, ``chain`` (plural forms
-    accepted), each a list of levels (a single value is a one-level list), and the single
-    values ``chain_height`` and ``chain_anchored``; they may also sit in a ``[design]`` table.
+    Keys: ``panel_ratio``, ``block_ratio``, ``bond``, ``friction``, ``chain``,
+    ``compressive_strength`` (plural forms accepted), each a list of levels (a single value is a
+    one-level list), and the single values ``chain_height`` and ``chain_anchored``; they may also sit in a ``[design]`` table.
     Unknown keys and bad levels raise ``ValueError``.
     """
     p = Path(path)
@@ -178,7 +189,7 @@ def load_design(path: str | os.PathLike[str]) -> Design:
         field = _DESIGN_KEYS.get(key)
         if field is None:
             raise ValueError(f"{p}: unknown key {key!r}; expected panel_ratio, block_ratio, bond, friction, "
-                             "chain, chain_height, chain_anchored")
+                             "chain, chain_height, chain_anchored, compressive_strength")
         if field in kwargs:
             raise ValueError(f"{p}: factor {field!r} given twice")
         if field in _SCALARS:

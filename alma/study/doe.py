@@ -2,10 +2,12 @@
 
 3 panel ratios x 3 block ratios x 4 bonds x 3 frictions = 108 panels, solved with the chosen
 contact model(s); a design may add a retrofitting chain across the top course as one more
-factor (``chain`` strengths in kN; level 0 is the panel as it is). The study is built for long, interruptible runs:
+factor (``chain`` strengths in kN; level 0 is the panel as it is), and a finite compressive
+strength of the blocks as another (``compressive_strength`` in MPa; level 0: infinitely strong).
+The study is built for long, interruptible runs:
 
-- **one task = one geometry** (panel ratio x block ratio x bond) and all its chains, frictions
-  and models: the joints and the model are built once, each friction re-uses them through
+- **one task = one geometry** (panel ratio x block ratio x bond) at one compressive strength
+  and all its chains, frictions and models: the joints and the model are built once, each friction re-uses them through
   :meth:`alma.Model.with_friction`;
 - **append-only results**: every finished panel is appended to ``OUT/results.csv`` at once
   (one line, flushed and fsync'ed), so a killed study loses only the panels being solved;
@@ -87,6 +89,9 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
     """
     models = _models(model)
     design, n_workers = _check(design, workers, effort, time_limit)
+    if any(s > 0 for s in design.compressive_strength) and "nonassociative" in models:
+        raise ValueError("the non-associative model (Eq. 9) takes no finite compressive strength: "
+                         "run the compressive_strength levels with --model associative")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     settings = Settings(search=SearchSettings(effort=effort or "auto"), time_limit=time_limit)
@@ -130,31 +135,32 @@ def _plan(design: Design, models: tuple[str, ...], settings: Settings, results: 
     largest first (better load balance)."""
     version = _alma_version()
     wanted: list[str] = []
-    todo: dict[tuple[str, str, str], list[tuple[float, float, str, str]]] = {}
-    runs = [(p, b, bond, friction, chain, m) for p, b, bond, friction, chain in design.runs() for m in models]
+    todo: dict[tuple[str, str, str, float], list[tuple[float, float, str, str]]] = {}
+    runs = [(*run, m) for run in design.runs() for m in models]
     keys = [panel_key(p, b, bond, friction, m, version=version, settings=settings, chain=chain,
-                      chain_y=design.chain_y(p), chain_anchored=design.chain_anchored)
-            for p, b, bond, friction, chain, m in runs]
+                      chain_y=design.chain_y(p), chain_anchored=design.chain_anchored, compressive_strength=sigma)
+            for p, b, bond, friction, chain, sigma, m in runs]
     results.set_aside({key: why for key, run in zip(keys, runs)
                        if key in results.rows and (why := _mismatch(results.rows[key], *run))})
-    for (p, b, bond, friction, chain, m), key in zip(runs, keys):
+    for (p, b, bond, friction, chain, sigma, m), key in zip(runs, keys):
         wanted.append(key)
         done = results.rows.get(key)
         if done is not None and not (retry_errors and done["status"] == "error"):
             continue
-        todo.setdefault((p, b, bond), []).append((chain, friction, m, key))
+        todo.setdefault((p, b, bond, sigma), []).append((chain, friction, m, key))
     tasks = [_Task(p, b, bond, tuple(items), version, settings, chain_y=design.chain_y(p),
-                   chain_anchored=design.chain_anchored) for (p, b, bond), items in todo.items()]
+                   chain_anchored=design.chain_anchored, compressive_strength=sigma)
+             for (p, b, bond, sigma), items in todo.items()]
     tasks.sort(key=lambda task: task.size, reverse=True)
     return wanted, tasks
 
 
 def _mismatch(row: dict[str, str], panel_ratio: str, block_ratio: str, bond: str, friction: float,
-              chain: float, model: str) -> str:
+              chain: float, compressive_strength: float, model: str) -> str:
     """Why a stored row is not the run its key names (factors swapped or edited), or ''."""
     expected = {"panel_ratio": panel_ratio, "block_ratio": block_ratio, "bond": bond, "model": model}
     wrong = [c for c, v in expected.items() if row.get(c) != v]
-    for column, value in (("friction", friction), ("chain", chain)):
+    for column, value in (("friction", friction), ("chain", chain), ("compressive_strength", compressive_strength)):
         try:
             if float(row.get(column) or "nan") != float(value):
                 wrong.append(column)

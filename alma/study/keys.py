@@ -43,14 +43,16 @@ def _friction_text(f: float) -> str:
 def panel_key(panel_ratio: str, block_ratio: str, bond: str, friction: float, model: str,
               *, version: str | None = None, revision: str | None = None,
               settings: Settings | dict[str, Any] | None = None,
-              chain: float = 0.0, chain_y: float | None = None, chain_anchored: bool = False) -> str:
+              chain: float = 0.0, chain_y: float | None = None, chain_anchored: bool = False,
+              compressive_strength: float = 0.0) -> str:
     """Stable key of one result row: hash of factors, model, alma version, the code revision
     (``revision``, default :func:`code_revision`) and every setting that changes the row
     (:func:`key_settings`; a dict is taken as it is).
 
     A chain (strength ``chain`` kN > 0 at height ``chain_y`` mm, ``chain_anchored`` or not)
     enters the hash; without one (``chain`` 0) the key is the one of a study without the chain
-    factor, so that such rows resume from earlier results files.
+    factor, so that such rows resume from earlier results files.  A ``compressive_strength``
+    (MPa, > 0) enters it likewise; 0 (infinitely strong blocks) leaves the key as it was.
     """
     if not isinstance(settings, dict):
         settings = key_settings(settings if settings is not None else Settings(), model)
@@ -66,5 +68,7 @@ def panel_key(panel_ratio: str, block_ratio: str, bond: str, friction: float, mo
             raise ValueError("panel_key: a chain needs its height chain_y (mm)")
         payload["chain"] = {"strength": _friction_text(chain), "y": _friction_text(chain_y),
                             "anchored": bool(chain_anchored)}
+    if compressive_strength > 0:
+        payload["compressive_strength"] = _friction_text(compressive_strength)
     text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:20]

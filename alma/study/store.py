@@ -31,18 +31,23 @@ COLUMNS: tuple[str, ...] = (
     "starts",
     # Strength (kN) of the chain across the panel; 0: none (a design's chain factor).
     "chain",
+    # Compressive strength σ_c (MPa) of every joint; 0: infinitely strong blocks (a design factor).
+    "compressive_strength",
     # row_checksum of the fields before it: a changed value or key shows.
     "checksum",
 )
 #: The columns of a results file written before the checksum, and before the chain factor:
 #: read, and given their checksum (and ``chain`` 0).
-_COLUMNS_BEFORE_CHECKSUM: tuple[str, ...] = COLUMNS[:-1]
-_COLUMNS_BEFORE_CHAIN: tuple[str, ...] = COLUMNS[:-2]
-_HEADERS = (COLUMNS, _COLUMNS_BEFORE_CHECKSUM, _COLUMNS_BEFORE_CHAIN)
+_COLUMNS_BEFORE_STRENGTH: tuple[str, ...] = COLUMNS[:-2] + COLUMNS[-1:]
+_COLUMNS_BEFORE_CHECKSUM: tuple[str, ...] = COLUMNS[:-2]
+_COLUMNS_BEFORE_CHAIN: tuple[str, ...] = COLUMNS[:-3]
+_HEADERS = (COLUMNS, _COLUMNS_BEFORE_STRENGTH, _COLUMNS_BEFORE_CHECKSUM, _COLUMNS_BEFORE_CHAIN)
+#: The value an earlier header's row gets in a column it lacks: none of the factor.
+_MISSING = {"chain": "0.0", "compressive_strength": "0.0"}
 #: Numeric columns of ``results.csv``.
 _NUMERIC = ("friction", "alpha_c", "alpha_lower", "alpha_upper", "gap", "joints_s", "build_s",
             "solve_s", "certify_s", "alpha_associative", "ratio", "alpha_lp_start",
-            "n_candidates", "n_verified", "nonassociative_s", "n_blocks", "chain")
+            "n_candidates", "n_verified", "nonassociative_s", "n_blocks", "chain", "compressive_strength")
 #: Where damaged lines go, beside ``results.csv``: each after a comment naming its line and fault.
 QUARANTINE_FILE = "quarantine.txt"
 RESULTS_FILE = "results.csv"
@@ -101,7 +106,7 @@ def scan(path: Path) -> tuple[tuple[str, ...], list[Line], list[Line]]:
     for number, raw in enumerate(pieces[1:], start=2):
         if not raw.strip():
             continue
-        line = read_line(number, raw.rstrip(b"\r"), header, checked=header == COLUMNS)
+        line = read_line(number, raw.rstrip(b"\r"), header, checked=header[-1] == "checksum")
         (good if not line.problem else bad).append(_upgrade(line, header) if not line.problem else line)
     if unfinished:
         bad.append(Line(len(pieces) + 1, unfinished, problem="unfinished last line (a run stopped while writing it)"))
@@ -109,10 +114,12 @@ def scan(path: Path) -> tuple[tuple[str, ...], list[Line], list[Line]]:
 
 
 def _upgrade(line: Line, header: tuple[str, ...]) -> Line:
-    """A sound line of an earlier header, with :data:`COLUMNS` (chain 0, its checksum)."""
+    """A sound line of an earlier header, with :data:`COLUMNS` (the factors it lacks at 0, its
+    checksum)."""
     if header == COLUMNS:
         return line
-    fields = list(line.fields) + (["0.0"] if header == _COLUMNS_BEFORE_CHAIN else [])
+    values = dict(zip(header, line.fields, strict=True))
+    fields = [values.get(c, _MISSING.get(c, "")) for c in COLUMNS[:-1]]
     fields.append(row_checksum(fields))
     return Line(line.number, _csv_line(fields).rstrip("\n").encode("utf-8"), fields=tuple(fields))
 

@@ -1,6 +1,7 @@
 """The worker side of a study: one task is one geometry with all its chains, frictions and models."""
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import signal
@@ -30,6 +31,7 @@ class _Task:
     settings: Settings = Settings()
     chain_y: float = 0.0  # mm, height of the chain (Design.chain_y)
     chain_anchored: bool = False
+    compressive_strength: float = 0.0  # MPa on every joint; 0: infinitely strong blocks
 
     @property
     def size(self) -> float:
@@ -52,7 +54,7 @@ def _row(task: _Task, item: tuple[float, float, str, str], *, result: Any = None
     row: dict[str, Any] = {
         "panel_ratio": task.panel_ratio, "block_ratio": task.block_ratio, "bond": task.bond,
         "friction": float(friction), "model": model, "alma_version": task.version, "key": key,
-        "chain": float(chain),
+        "chain": float(chain), "compressive_strength": float(task.compressive_strength),
     }
     t = dict(timings or {})
     row["effort"] = "" if model == "associative" else task.settings.search.effort
@@ -132,6 +134,8 @@ def _solve_task(task: _Task, emit: Callable[[dict[str, Any]], None] | None = Non
     try:
         t0 = time.perf_counter()
         scene = alma.paper_panel(task.bond, task.panel_ratio, task.block_ratio, task.items[0][1])
+        if task.compressive_strength > 0:
+            scene = dataclasses.replace(scene, compressive_strength=task.compressive_strength)
         joints = find_joints(scene)
         t1 = time.perf_counter()
         base = alma.build_model(scene, joints)
