@@ -8,8 +8,7 @@ import types
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 
 import alma.associative.cone_field as cone_field_module
 from alma.associative.cone_field import blend_theta
