@@ -28,8 +28,9 @@ import numpy as np
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
 from alma.geometry.scene import Scene
 from alma.mechanics.model import Model, build_model
-from alma.push.motion import (Bodies, Contacts, MotionError, Pose, advance, bodies_of, classify, corrected,
-                              displaced, joints_after, predictor, signature)
+from alma.push.corrector import corrected
+from alma.push.motion import (Bodies, Contacts, MotionError, Pose, advance, bodies_of, classify, displaced,
+                              joints_after, predictor, signature)
 from alma.results.types import Result, finite
 from alma.settings import PushSettings, Settings
 from alma.solve import solve
@@ -284,8 +285,7 @@ def _move(run: _Run, state: _State, d: float) -> _State:
         raise MotionError(f"the mechanism at d = {state.d:.6g} mm moves the control block backwards")
     target = (d - state.d) * run.sense
     z0 = predictor(bodies, (d - state.d) / rate)
-    args = (z0, (run.control, where), target, run.length, run.push.corrector_iterations,
-            run.push.corrector_tolerance)
+    args = (z0, (run.control, where), target, run.length, run.push)
     try:
         z = corrected(bodies, state.contacts, *args)
     except MotionError:
