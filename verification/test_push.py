@@ -12,6 +12,7 @@ References written here from virtual work on the displaced geometry (finite rota
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -202,3 +203,20 @@ def test_the_sparse_corrector_follows_the_same_curve_as_the_dense_one():
     assert len(sparse.curve) == len(dense.curve)
     assert np.allclose([p.alpha for p in sparse.curve], [p.alpha for p in dense.curve], atol=1e-9)
     assert np.allclose([p.pose.shift for p in sparse.curve], [p.pose.shift for p in dense.curve], atol=1e-7)
+
+
+def test_the_arch_curve_ends_in_a_loss_of_equilibrium_said_in_words():
+    # examples/arch.json: the four-hinge mechanism is followed to d = 28.209 mm, where its thrust
+    # leaves a joint next to an open hinge: no α carries the dead load beyond (a snap-through),
+    # not a zero of α. The falling mode is a simplex ray of Eq. 10: weights doing work, live none.
+    arch = alma.load_scene(Path(__file__).resolve().parents[1] / "examples" / "arch.json")
+    result = push(arch)
+    end = result.end
+    assert end["reason"] == "no_equilibrium" and result.to_dict()["d0"] is None
+    lo, hi = end["bracket"]
+    assert 28.0 < lo < hi < 28.5 and hi - lo < 1e-3
+    assert end["alpha"] == pytest.approx(result.curve[-1].alpha) and end["alpha"] > 0.03
+    assert {"v11", "v12"} <= set(end["falling_blocks"]) and "no multiplier" in result.message
+    alphas = [p.alpha for p in result.curve]
+    assert all(b < a for a, b in zip(alphas, alphas[1:]))
+    assert not any(p.mechanism_changed for p in result.curve)
