@@ -88,7 +88,8 @@ def _print_text(scene: Scene, result: PushResult | SeismicResult, picture: str |
     if curve.curve:
         print(f"  control    {curve.control}")
         print(f"  alpha_c    {curve.alpha_c:.6f}")
-        print(f"  d0         {curve.d0:.6g} mm  ({len(curve.curve)} points, {curve.solves} LP solves, "
+        stop = f"d0 {curve.d0:.6g} mm" if curve.d0 == curve.d0 else f"ends: {curve.end.get('reason', '?')}"
+        print(f"  {stop}  ({len(curve.curve)} points, {curve.solves} LP solves, "
               f"{sum(p.mechanism_changed for p in curve.curve)} mechanism changes)")
     if isinstance(result, SeismicResult) and curve.curve:
         lin, nl = result.linear, result.nonlinear
