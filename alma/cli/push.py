@@ -65,7 +65,7 @@ def _run(args: argparse.Namespace, invalid: Callable, site_path: str | None) -> 
                       title=scene.name or None)
     if args.html and curve.curve:
         write_capacity_html(curve, args.html, check=result if isinstance(result, SeismicResult) else None,
-                            title=scene.name or "capacity curve")
+                            title=scene.name or "capacity curve", scene=scene)
     if args.json:
         print(json.dumps(result.to_dict()))
     else:
