@@ -31,7 +31,7 @@ from alma.mechanics.model import Model, build_model
 from alma.push.corrector import corrected
 from alma.push.motion import (Bodies, Contacts, MotionError, Pose, advance, bodies_of, classify, displaced,
                               joints_after, predictor, signature)
-from alma.push.stop import describe, falling_mode, lost_joints
+from alma.push.stop import closing, describe, falling_mode, lost_joints
 from alma.results.types import Result, finite
 from alma.settings import PushSettings, Settings
 from alma.solve import solve
@@ -248,9 +248,11 @@ def _lost_equilibrium(lo: _State, hi: _State) -> dict[str, Any]:
     """The end of a curve at a configuration without equilibrium (:mod:`alma.push.stop`)."""
     mode = falling_mode(hi.model)
     lost = lost_joints(lo.model, hi.model, mode.blocks) if mode is not None else []
+    closed = closing(lo.model, hi.model, mode, lost) if mode is not None else []
     return {"reason": "no_equilibrium", "bracket": [lo.d, hi.d], "alpha": lo.alpha,
             "falling_blocks": list(mode.blocks) if mode is not None else None,
-            "lost_joints": [list(p) for p in lost], "text": describe((lo.d, hi.d), lo.alpha, mode, lost)}
+            "lost_joints": [list(p) for p in lost], "closes_lost_joints": [list(p) for p in closed],
+            "text": describe((lo.d, hi.d), lo.alpha, mode, lost, closed)}
 
 
 def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_State], tuple | None]:

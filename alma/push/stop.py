@@ -11,12 +11,15 @@ contacts that held it).  This module finds the *falling mode* that proves it, a 
 
 (the weights do positive work, the live load none, every contact point opens or slides on its
 cone, Eq. 6), by HiGHS's simplex through :mod:`alma.backends.highs_backend`, and names the blocks
-it moves most and the joints the last step lost between them and their neighbours.
+it moves most and the joints the last step lost between them and their neighbours.  When the
+falling mode moves into a joint the last step dropped (a relative normal velocity < 0 at one of
+its former contact points), the end comes from dropping that contact at the contact tolerance,
+not from the structure, and the text says so.
 Dimensionless as :mod:`alma.mechanics.model`; the blocks are named by their scene ids.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -40,6 +43,8 @@ class FallingMode:
 
     blocks: tuple[str, ...]
     dead_work: float
+    #: (3 n_free,) the mode's velocities (u, v, θ per free block, dimensionless).
+    u: np.ndarray = field(repr=False, compare=False, default_factory=lambda: np.zeros(0))
 
     def to_dict(self) -> dict[str, Any]:
         return {"blocks": list(self.blocks), "dead_work": self.dead_work}
@@ -61,7 +66,7 @@ def falling_mode(model: Model) -> FallingMode | None:
     ids = np.asarray(model.scene.block_ids, dtype=object)[model.free_blocks]
     moving = np.flatnonzero(u > MOVING * top)
     order = moving[np.lexsort((ids[moving].astype(str), -u[moving]))]
-    return FallingMode(tuple(str(i) for i in ids[order]), float(model.dead @ sol.x))
+    return FallingMode(tuple(str(i) for i in ids[order]), float(model.dead @ sol.x), sol.x)
 
 
 def lost_joints(before: Model, after: Model, blocks: tuple[str, ...]) -> list[tuple[str, str]]:
@@ -73,7 +78,35 @@ def lost_joints(before: Model, after: Model, blocks: tuple[str, ...]) -> list[tu
     return sorted(p for p in pairs(before) - pairs(after) if named & set(p))
 
 
-def describe(d: tuple[float, float], alpha: float, mode: FallingMode | None, lost: list[tuple[str, str]]) -> str:
+def closing(before: Model, after: Model, mode: FallingMode, lost: list[tuple[str, str]]) -> list[tuple[str, str]]:
+    """The ``lost`` joints (block pairs of ``before``) that ``mode`` (a falling mode of ``after``)
+    closes: b moves towards a along the joint's normal at one of its former contact points."""
+    ids = before.scene.block_ids
+    pairs = [tuple(sorted((ids[a], ids[b]))) for a, b in zip(before.joints.block_a, before.joints.block_b)]
+    rows = np.array([k for k, p in enumerate(pairs) if p in set(lost)], dtype=int)
+    if rows.size == 0:
+        return []
+    J = before.joints
+    a, b = J.block_a[rows], J.block_b[rows]
+    points = np.concatenate([J.start[rows], J.end[rows]])
+    normal = np.concatenate([J.normal[rows], J.normal[rows]])
+    rel = _velocity(after, mode.u, np.tile(b, 2), points) - _velocity(after, mode.u, np.tile(a, 2), points)
+    closes = ((rel * normal).sum(axis=1) < 0).reshape(2, -1).any(axis=0)
+    return sorted({pairs[k] for k in rows[closes]})
+
+
+def _velocity(model: Model, u: np.ndarray, blocks: np.ndarray, points_mm: np.ndarray) -> np.ndarray:
+    """The mode's velocity of ``blocks`` (scene indices) at ``points_mm`` (fixed blocks: 0)."""
+    free = model.free_index[blocks]
+    rows = np.maximum(free, 0)
+    v = u.reshape(-1, 3)[rows]
+    r = (points_mm - model.origin) / model.length_scale - model.centroid[rows]
+    out = v[:, :2] + v[:, 2:3] * np.column_stack([-r[:, 1], r[:, 0]])
+    return np.where((free >= 0)[:, None], out, 0.0)
+
+
+def describe(d: tuple[float, float], alpha: float, mode: FallingMode | None, lost: list[tuple[str, str]],
+             closed: list[tuple[str, str]] | None = None) -> str:
     """The stop in words."""
     text = (f"the curve ends at d in [{d[0]:.6g}, {d[1]:.6g}] mm with α = {alpha:.4g} > 0: beyond it the "
             "displaced structure carries its dead load at no multiplier (a loss of equilibrium, not a zero of α)")
@@ -83,4 +116,7 @@ def describe(d: tuple[float, float], alpha: float, mode: FallingMode | None, los
     text += f"; falling mode: {names} can move with their weight doing work and the live load none"
     if lost:
         text += "; the last step opened the joints " + ", ".join(f"{a}–{b}" for a, b in lost[:NAMED])
+    if closed:
+        text += (" and the falling mode moves back into " + ", ".join(f"{a}–{b}" for a, b in closed[:NAMED]) +
+                 ": this end comes from dropping those contacts at the contact tolerance, not from the structure")
     return text
