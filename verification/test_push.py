@@ -217,6 +217,21 @@ def test_the_arch_curve_ends_in_a_loss_of_equilibrium_said_in_words():
     assert 28.0 < lo < hi < 28.5 and hi - lo < 1e-3
     assert end["alpha"] == pytest.approx(result.curve[-1].alpha) and end["alpha"] > 0.03
     assert {"v11", "v12"} <= set(end["falling_blocks"]) and "no multiplier" in result.message
+    # no contact was dropped by the last step: the loss is the structure's, not the tolerance's
+    assert end["lost_joints"] == [] and end["closes_lost_joints"] == []
     alphas = [p.alpha for p in result.curve]
     assert all(b < a for a, b in zip(alphas, alphas[1:]))
     assert not any(p.mechanism_changed for p in result.curve)
+
+
+@pytest.mark.slow
+def test_the_paper_panel_curve_states_that_its_end_is_a_dropped_contact():
+    # english 1:1 2:1, f = 0.6 (444 blocks, 104 moving bodies): the curve stops at d = 0.371 mm with
+    # α = 0.4065 where the step drops two contacts opened just over the contact tolerance, and the
+    # falling mode moves back into them; the curve must say so rather than give a d0 (docs/seismic.md)
+    panel = alma.paper_panel(bond="english", panel_ratio="1:1", block_ratio="2:1", friction=0.6)
+    result = push(panel)
+    end = result.end
+    assert end["reason"] == "no_equilibrium" and math.isnan(result.d0)
+    assert end["closes_lost_joints"] and set(map(tuple, end["closes_lost_joints"])) <= set(map(tuple, end["lost_joints"]))
+    assert "not from the structure" in result.message and end["alpha"] > 0.4
