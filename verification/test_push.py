@@ -11,6 +11,7 @@ References written here from virtual work on the displaced geometry (finite rota
 """
 from __future__ import annotations
 
+import itertools
 import math
 from pathlib import Path
 
@@ -220,7 +221,7 @@ def test_the_arch_curve_ends_in_a_loss_of_equilibrium_said_in_words():
     # no contact was dropped by the last step: the loss is the structure's, not the tolerance's
     assert end["lost_joints"] == [] and end["closes_lost_joints"] == []
     alphas = [p.alpha for p in result.curve]
-    assert all(b < a for a, b in zip(alphas, alphas[1:]))
+    assert all(b < a for a, b in itertools.pairwise(alphas))
     assert not any(p.mechanism_changed for p in result.curve)
 
 
@@ -233,5 +234,6 @@ def test_the_paper_panel_curve_states_that_its_end_is_a_dropped_contact():
     result = push(panel)
     end = result.end
     assert end["reason"] == "no_equilibrium" and math.isnan(result.d0)
-    assert end["closes_lost_joints"] and set(map(tuple, end["closes_lost_joints"])) <= set(map(tuple, end["lost_joints"]))
+    closed, lost = set(map(tuple, end["closes_lost_joints"])), set(map(tuple, end["lost_joints"]))
+    assert closed and closed <= lost
     assert "not from the structure" in result.message and end["alpha"] > 0.4

@@ -29,8 +29,19 @@ from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joint
 from alma.geometry.scene import Scene
 from alma.mechanics.model import Model, build_model
 from alma.push.corrector import corrected
-from alma.push.motion import (Bodies, Contacts, MotionError, Pose, advance, bodies_of, classify, displaced,
-                              joints_after, predictor, signature)
+from alma.push.motion import (
+    Bodies,
+    Contacts,
+    MotionError,
+    Pose,
+    advance,
+    bodies_of,
+    classify,
+    displaced,
+    joints_after,
+    predictor,
+    signature,
+)
 from alma.push.stop import closing, describe, falling_mode, lost_joints
 from alma.results.types import Result, finite
 from alma.settings import PushSettings, Settings

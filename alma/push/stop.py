@@ -73,7 +73,7 @@ def lost_joints(before: Model, after: Model, blocks: tuple[str, ...]) -> list[tu
     """Block pairs in contact in ``before`` and not in ``after`` with one of ``blocks`` among them."""
     def pairs(m: Model) -> set[tuple[str, str]]:
         ids = m.scene.block_ids
-        return {tuple(sorted((ids[a], ids[b]))) for a, b in zip(m.joints.block_a, m.joints.block_b)}
+        return {tuple(sorted((ids[a], ids[b]))) for a, b in zip(m.joints.block_a, m.joints.block_b, strict=True)}
     named = set(blocks)
     return sorted(p for p in pairs(before) - pairs(after) if named & set(p))
 
@@ -82,7 +82,7 @@ def closing(before: Model, after: Model, mode: FallingMode, lost: list[tuple[str
     """The ``lost`` joints (block pairs of ``before``) that ``mode`` (a falling mode of ``after``)
     closes: b moves towards a along the joint's normal at one of its former contact points."""
     ids = before.scene.block_ids
-    pairs = [tuple(sorted((ids[a], ids[b]))) for a, b in zip(before.joints.block_a, before.joints.block_b)]
+    pairs = [tuple(sorted((ids[a], ids[b]))) for a, b in zip(before.joints.block_a, before.joints.block_b, strict=True)]
     rows = np.array([k for k, p in enumerate(pairs) if p in set(lost)], dtype=int)
     if rows.size == 0:
         return []
@@ -112,7 +112,8 @@ def describe(d: tuple[float, float], alpha: float, mode: FallingMode | None, los
             "displaced structure carries its dead load at no multiplier (a loss of equilibrium, not a zero of α)")
     if mode is None:
         return text
-    names = ", ".join(mode.blocks[:NAMED]) + (f" and {len(mode.blocks) - NAMED} more" if len(mode.blocks) > NAMED else "")
+    more = len(mode.blocks) - NAMED
+    names = ", ".join(mode.blocks[:NAMED]) + (f" and {more} more" if more > 0 else "")
     text += f"; falling mode: {names} can move with their weight doing work and the live load none"
     if lost:
         text += "; the last step opened the joints " + ", ".join(f"{a}–{b}" for a, b in lost[:NAMED])

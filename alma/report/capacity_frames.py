@@ -34,11 +34,11 @@ def frames_svg(scene: Scene, result: PushResult, *, pixels: float = 520.0) -> st
     k = pixels / max(w, h)
     fixed = np.array([b.fixed for b in scene.blocks])
     groups = []
-    for step, (point, polygons) in enumerate(zip(result.curve, outlines)):
+    for step, (point, polygons) in enumerate(zip(result.curve, outlines, strict=True)):
         moved = (np.abs(point.pose.angle) > 0) | (np.abs(point.pose.shift).max(axis=1) > 0)
         kind = np.where(fixed, "fixed", np.where(moved, "moved", "rest"))
         body = "".join(f'<polygon points="{_points(v)}" fill="{_FILL[c]}" stroke="#333" '
-                       f'stroke-width="{0.6 / k:.4g}"/>' for v, c in zip(polygons, kind))
+                       f'stroke-width="{0.6 / k:.4g}"/>' for v, c in zip(polygons, kind, strict=True))
         shown = "" if step == 0 else ' style="display:none"'
         groups.append(f'<g class="frame" data-step="{step}" data-d="{point.d:.6g}" '
                       f'data-alpha="{point.alpha:.6g}"{shown}>{body}</g>')
