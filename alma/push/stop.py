@@ -13,8 +13,8 @@ contacts that held it).  This module finds the *falling mode* that proves it, a 
 cone, Eq. 6), by HiGHS's simplex through :mod:`alma.backends.highs_backend`, and names the blocks
 it moves most and the joints the last step lost between them and their neighbours.  When the
 falling mode moves into a joint the last step dropped (a relative normal velocity < 0 at one of
-its former contact points), the end comes from dropping that contact at the contact tolerance,
-not from the structure, and the text says so.
+its former contact points), the text says so: the end may then depend on the contact tolerance
+(on the paper's panels, putting those contacts back leaves another falling mode: docs/seismic.md).
 Dimensionless as :mod:`alma.mechanics.model`; the blocks are named by their scene ids.
 """
 from __future__ import annotations
@@ -119,5 +119,5 @@ def describe(d: tuple[float, float], alpha: float, mode: FallingMode | None, los
         text += "; the last step opened the joints " + ", ".join(f"{a}–{b}" for a, b in lost[:NAMED])
     if closed:
         text += (" and the falling mode moves back into " + ", ".join(f"{a}–{b}" for a, b in closed[:NAMED]) +
-                 ": this end comes from dropping those contacts at the contact tolerance, not from the structure")
+                 " (contacts dropped at the contact tolerance: the end may depend on it)")
     return text
