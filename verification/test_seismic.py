@@ -11,6 +11,7 @@ project's library returned neither the Circolare's text nor a worked example wit
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 
@@ -108,8 +109,6 @@ def test_a_curve_that_loses_equilibrium_bounds_the_ultimate_displacement():
     # Circolare §C8.7.1.2: d_u* is the smaller of 0.4 d₀* and the displacement incompatible with
     # the stability of the elements; the arch's curve stops at a loss of equilibrium with α > 0,
     # d₀* is then the secant's zero through its last two points
-    from pathlib import Path
-
     arch = alma.load_scene(Path(__file__).resolve().parents[1] / "examples" / "arch.json")
     check = alma.seismic(arch, SITE1)
     nl, curve = check.nonlinear, check.push.curve

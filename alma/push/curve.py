@@ -5,7 +5,8 @@ mechanism (:mod:`alma.push.motion`: finite rotations about the instantaneous cen
 hinges kept closed) in steps of the control point's horizontal displacement d; on each
 displaced geometry the joints are found again and the limit analysis is solved again
 (Eq. 10, or Eq. 9 with ``model="nonassociative"``), which gives α(d) and the mechanism for the
-next step, until α ≤ 0.
+next step, until α ≤ 0, or until a configuration carries the dead load at no α (a loss of
+equilibrium: the curve then ends with α > 0, its ``end`` says why, :mod:`alma.push.stop`).
 
 Steps: a probe of ``PushSettings.probe`` × L (L = √(total area of the free blocks)) estimates
 d₀ by a secant through α_c; the curve then advances in steps of that estimate / ``steps`` (at most
