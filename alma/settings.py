@@ -216,6 +216,13 @@ class PushSettings:
     corrector_iterations: int = 30
     #: Residual of the corrector (relative to the length scale): the hinges meet to round-off.
     corrector_tolerance: float = 1e-12
+    #: A Newton step must shrink the corrector's residual by this factor, else it has stalled (the
+    #: contacts kept over-constrain the motion): Newton's own rate is quadratic, far below it.
+    corrector_contraction: float = 0.5
+    #: Unknowns (3 per moving body) up to which a corrector step is a dense SVD least squares
+    #: (a multithreaded LAPACK call slows 30x on a loaded machine: 2 s at 291 unknowns, the sparse
+    #: normal equations 0.02-0.06 s); above, the sparse normal equations.
+    dense_columns: int = 60
 
 
 @dataclass(frozen=True)

@@ -40,7 +40,8 @@ def main(argv: list[str] | None = None) -> int:
     out = {"panel": f"{args.bond} {args.panel_ratio} {args.block_ratio} f={args.friction}", "free_blocks": n,
            "single_solve_s": round(single, 3), "curve_s": round(total, 3), "ratio": round(total / single, 1),
            "target_ratio": args.steps, "solves": curve.solves, "points": len(curve.curve),
-           "status": str(curve.status), "d0_mm": curve.d0, "alpha_c": curve.alpha_c,
+           "status": str(curve.status), "d0_mm": curve.d0 if curve.d0 == curve.d0 else None,
+           "end": curve.end.get("reason"), "alpha_c": curve.alpha_c,
            "mechanism_changes": sum(p.mechanism_changed for p in curve.curve), "message": curve.message}
     print(json.dumps(out, indent=1))
     return 0

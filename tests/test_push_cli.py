@@ -43,7 +43,20 @@ def test_seismic_json(files):
         assert data[key] is not None, key
     assert data["nonlinear"]["safety_index"] > 0
     page = (files / "check.html").read_text()
-    assert page.count("<svg") == 2 and "a0_star" in page and "<script" not in page
+    # α(d), the frames of the mechanism under the slider, a*(d*); no network reference
+    assert page.count("<svg") == 3 and "a0_star" in page and "http://" not in page.replace("http://www.w3.org", "")
+
+
+def test_push_html_has_one_frame_per_step_under_a_slider(files):
+    out = _alma("push", "scene.json", "--steps", "8", "--json", "--html", "curve.html", cwd=files)
+    assert out.returncode == 0, out.stderr
+    steps = len(json.loads(out.stdout)["curve"])
+    page = (files / "curve.html").read_text()
+    assert page.count('class="frame"') == steps > 8
+    assert [f'data-step="{k}"' in page for k in range(steps)] == [True] * steps
+    assert f'type="range" min="0" max="{steps - 1}"' in page and page.count("data-x") == steps
+    # frame 0 shows, the others wait for the slider
+    assert page.count('style="display:none"') == steps - 1
 
 
 @pytest.mark.parametrize("args, word", [(("push", "scene.json", "--control", "nope"), "nope"),

@@ -11,6 +11,7 @@ project's library returned neither the Circolare's text nor a worked example wit
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 
@@ -102,3 +103,19 @@ def test_elevated_mechanism_takes_the_larger_demand():
 def test_bad_site_is_refused_by_name(bad, word):
     with pytest.raises(ValueError, match=word):
         Site.from_dict({**SITE1, **bad})
+
+
+def test_a_curve_that_loses_equilibrium_bounds_the_ultimate_displacement():
+    # Circolare §C8.7.1.2: d_u* is the smaller of 0.4 d₀* and the displacement incompatible with
+    # the stability of the elements; the arch's curve stops at a loss of equilibrium with α > 0,
+    # d₀* is then the secant's zero through its last two points
+    arch = alma.load_scene(Path(__file__).resolve().parents[1] / "examples" / "arch.json")
+    check = alma.seismic(arch, SITE1)
+    nl, curve = check.nonlinear, check.push.curve
+    assert check.push.end["reason"] == "no_equilibrium" and nl["d0_extrapolated"] is True
+    (d1, a1), (d2, a2) = [(p.d, p.alpha) for p in curve[-2:]]
+    factor = curve[-1].d and check.curve_star[-1][0] / (curve[-1].d * 1e-3)
+    assert nl["d0_star"] == pytest.approx((d2 + (d2 - d1) * a2 / (a1 - a2)) * factor * 1e-3, rel=1e-12)
+    assert nl["d_lost_star"] == pytest.approx(check.push.end["bracket"][0] * factor * 1e-3, rel=1e-12)
+    assert nl["du_star"] == pytest.approx(min(0.4 * nl["d0_star"], nl["d_lost_star"]), rel=1e-12)
+    assert math.isfinite(nl["safety_index"])

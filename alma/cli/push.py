@@ -65,7 +65,7 @@ def _run(args: argparse.Namespace, invalid: Callable, site_path: str | None) -> 
                       title=scene.name or None)
     if args.html and curve.curve:
         write_capacity_html(curve, args.html, check=result if isinstance(result, SeismicResult) else None,
-                            title=scene.name or "capacity curve")
+                            title=scene.name or "capacity curve", scene=scene)
     if args.json:
         print(json.dumps(result.to_dict()))
     else:
@@ -88,7 +88,8 @@ def _print_text(scene: Scene, result: PushResult | SeismicResult, picture: str |
     if curve.curve:
         print(f"  control    {curve.control}")
         print(f"  alpha_c    {curve.alpha_c:.6f}")
-        print(f"  d0         {curve.d0:.6g} mm  ({len(curve.curve)} points, {curve.solves} LP solves, "
+        stop = f"d0 {curve.d0:.6g} mm" if curve.d0 == curve.d0 else f"ends: {curve.end.get('reason', '?')}"
+        print(f"  {stop}  ({len(curve.curve)} points, {curve.solves} LP solves, "
               f"{sum(p.mechanism_changed for p in curve.curve)} mechanism changes)")
     if isinstance(result, SeismicResult) and curve.curve:
         lin, nl = result.linear, result.nonlinear

@@ -5,7 +5,8 @@ mechanism (:mod:`alma.push.motion`: finite rotations about the instantaneous cen
 hinges kept closed) in steps of the control point's horizontal displacement d; on each
 displaced geometry the joints are found again and the limit analysis is solved again
 (Eq. 10, or Eq. 9 with ``model="nonassociative"``), which gives α(d) and the mechanism for the
-next step, until α ≤ 0.
+next step, until α ≤ 0, or until a configuration carries the dead load at no α (a loss of
+equilibrium: the curve then ends with α > 0, its ``end`` says why, :mod:`alma.push.stop`).
 
 Steps: a probe of ``PushSettings.probe`` × L (L = √(total area of the free blocks)) estimates
 d₀ by a secant through α_c; the curve then advances in steps of that estimate / ``steps`` (at most
@@ -28,8 +29,21 @@ import numpy as np
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
 from alma.geometry.scene import Scene
 from alma.mechanics.model import Model, build_model
-from alma.push.motion import (Bodies, Contacts, MotionError, Pose, advance, bodies_of, classify, corrected,
-                              displaced, joints_after, predictor, signature)
+from alma.push.corrector import corrected
+from alma.push.motion import (
+    Bodies,
+    Contacts,
+    MotionError,
+    Pose,
+    advance,
+    bodies_of,
+    classify,
+    displaced,
+    joints_after,
+    predictor,
+    signature,
+)
+from alma.push.stop import closing, describe, falling_mode, lost_joints
 from alma.results.types import Result, finite
 from alma.settings import PushSettings, Settings
 from alma.solve import solve
@@ -72,6 +86,10 @@ class PushResult:
     first: Result = field(repr=False, compare=False)
     #: +1 when d grows with the control block's x, −1 when the mechanism moves it towards −x.
     sense: float = 1.0
+    #: Why the curve ends: ``reason`` ("alpha_zero": α reached 0 at d₀; "no_equilibrium": a
+    #: configuration beyond the last point carries the dead load at no α, with the ``bracket`` of
+    #: that loss, α there and the blocks of the falling mode; "step_budget", "motion", "solver").
+    end: dict[str, Any] = field(default_factory=dict)
 
     @property
     def alpha_c(self) -> float:
@@ -82,7 +100,7 @@ class PushResult:
         return {"status": str(self.status), "message": self.message, "model": self.model,
                 "control": self.control, "alpha_c": finite(self.alpha_c),
                 "curve": [p.to_dict() for p in self.curve], "d0": finite(self.d0),
-                "d0_bracket": [finite(x) for x in self.d0_bracket], "solves": self.solves}
+                "d0_bracket": [finite(x) for x in self.d0_bracket], "solves": self.solves, "end": self.end}
 
 
 @dataclass(frozen=True)
@@ -95,6 +113,7 @@ class _State:
     bodies: Bodies
     contacts: Contacts
     signature: tuple
+    model: Model = field(repr=False, compare=False)
 
     @property
     def alpha(self) -> float:
@@ -192,7 +211,7 @@ def _state(run: _Run, d: float, pose: Pose, solved: tuple[Result, Model]) -> _St
     current = built.scene
     bodies = bodies_of(current, result)
     contacts = classify(built.joints, bodies, built.friction)
-    return _State(d, pose, result, bodies, contacts, signature(current, result, contacts))
+    return _State(d, pose, result, bodies, contacts, signature(current, result, contacts), built)
 
 
 def _curve(run: _Run, start: _State) -> PushResult:
@@ -200,7 +219,7 @@ def _curve(run: _Run, start: _State) -> PushResult:
     states = [start]
     state, step = start, p.probe * run.length
     budget = p.steps * p.max_steps_factor + 1
-    solves, bracket, failure = 1, None, None
+    solves, bracket, failure, reason = 1, None, None, "step_budget"
     while bracket is None:
         if len(states) > budget:
             failure = (Status.LIMIT_REACHED, f"α is still {state.alpha:.6g} > 0 after {len(states) - 1} steps "
@@ -209,11 +228,11 @@ def _curve(run: _Run, start: _State) -> PushResult:
         try:
             nxt = _move(run, state, state.d + step)
         except MotionError as exc:
-            failure = (Status.NOT_CONVERGED, f"at d = {state.d:.6g} mm: {exc}")
+            failure, reason = (Status.NOT_CONVERGED, f"at d = {state.d:.6g} mm: {exc}"), "motion"
             break
         solves += 1
         if not _usable(nxt):
-            failure = (Status.NOT_CONVERGED, f"at d = {nxt.d:.6g} mm: {nxt.result.message}")
+            failure, reason = (Status.NOT_CONVERGED, f"at d = {nxt.d:.6g} mm: {nxt.result.message}"), "solver"
             break
         states.append(nxt)
         if nxt.alpha <= 0:
@@ -225,13 +244,27 @@ def _curve(run: _Run, start: _State) -> PushResult:
             step = min(max(step, p.probe * run.length), p.max_step * run.length)
         state = nxt
     if bracket is None:
-        return _result(run, states, failure, (math.nan, math.nan), math.nan, solves)
+        return _result(run, states, failure, (math.nan, math.nan), math.nan, solves,
+                       {"reason": reason, "text": failure[1]})
     lo, hi, extra, failure = _refine(run, *bracket)
     states += extra
+    if not math.isfinite(hi.alpha):
+        return _result(run, [s for s in states if s.d < hi.d], failure, (math.nan, math.nan), math.nan,
+                       solves + len(extra), _lost_equilibrium(lo, hi))
     root = _secant(lo, hi)
-    root = root if math.isfinite(root) else 0.5 * (lo.d + hi.d)
     return _result(run, [s for s in states if s.d <= hi.d], failure, (lo.d, hi.d), root,
-                   solves + len(extra))
+                   solves + len(extra), {"reason": "alpha_zero", "d": root})
+
+
+def _lost_equilibrium(lo: _State, hi: _State) -> dict[str, Any]:
+    """The end of a curve at a configuration without equilibrium (:mod:`alma.push.stop`)."""
+    mode = falling_mode(hi.model)
+    lost = lost_joints(lo.model, hi.model, mode.blocks) if mode is not None else []
+    closed = closing(lo.model, hi.model, mode, lost) if mode is not None else []
+    return {"reason": "no_equilibrium", "bracket": [lo.d, hi.d], "alpha": lo.alpha,
+            "falling_blocks": list(mode.blocks) if mode is not None else None,
+            "lost_joints": [list(p) for p in lost], "closes_lost_joints": [list(p) for p in closed],
+            "text": describe((lo.d, hi.d), lo.alpha, mode, lost, closed)}
 
 
 def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_State], tuple | None]:
@@ -284,8 +317,7 @@ def _move(run: _Run, state: _State, d: float) -> _State:
         raise MotionError(f"the mechanism at d = {state.d:.6g} mm moves the control block backwards")
     target = (d - state.d) * run.sense
     z0 = predictor(bodies, (d - state.d) / rate)
-    args = (z0, (run.control, where), target, run.length, run.push.corrector_iterations,
-            run.push.corrector_tolerance)
+    args = (z0, (run.control, where), target, run.length, run.push)
     try:
         z = corrected(bodies, state.contacts, *args)
     except MotionError:
@@ -307,19 +339,34 @@ def _usable(state: _State) -> bool:
 
 
 def _result(run: _Run, states: list[_State], failure: tuple | None, bracket: tuple[float, float],
-            d0: float, solves: int) -> PushResult:
+            d0: float, solves: int, end: dict[str, Any]) -> PushResult:
     ordered = sorted(states, key=lambda s: s.d)
     points = tuple(PushPoint(s.d, s.alpha, k > 0 and s.signature != ordered[k - 1].signature, s.result.status,
                              s.result.mechanism_class, s.pose) for k, s in enumerate(ordered))
     changes = sum(pt.mechanism_changed for pt in points)
     control = run.scene.blocks[run.control].id
-    if failure is not None:
+    if end["reason"] == "no_equilibrium":
+        status, message = _status_lost(run, ordered, failure, end, changes)
+    elif failure is not None:
         status, message = failure
     else:
         status, message = _status(run, ordered, bracket, d0, changes)
     if failure is not None and math.isfinite(d0):
         message = f"{message}; d0 = {d0:.6g} mm is known only to its bracket [{bracket[0]:.9g}, {bracket[1]:.9g}] mm"
-    return PushResult(status, message, run.model, control, points, d0, bracket, solves, ordered[0].result, run.sense)
+    return PushResult(status, message, run.model, control, points, d0, bracket, solves, ordered[0].result, run.sense,
+                      end)
+
+
+def _status_lost(run: _Run, states: list[_State], failure: tuple | None, end: dict[str, Any],
+                 changes: int) -> tuple[Status, str]:
+    """A curve that ends in a loss of equilibrium: d₀ is not defined, the stop is stated."""
+    text = f"{end['text']}; {len(states)} configurations, the mechanism changed {changes} time(s)"
+    if failure is not None:
+        return failure[0], f"{text}; the bracket of the loss is not closed ({failure[1]})"
+    if run.model == "nonassociative":
+        return Status.FEASIBLE, f"{text}; each α is a verified non-associative state"
+    every = all(s.result.status == Status.OPTIMAL for s in states)
+    return (Status.OPTIMAL, f"{text}; every α certified") if every else (Status.NOT_CONVERGED, text)
 
 
 def _status(run: _Run, states: list[_State], bracket: tuple[float, float], d0: float,
@@ -330,9 +377,6 @@ def _status(run: _Run, states: list[_State], bracket: tuple[float, float], d0: f
     every = all(s.result.status in (Status.OPTIMAL, Status.NO_EQUILIBRIUM) for s in states)
     text = (f"d0 = {d0:.6g} mm (bracket width {bracket[1] - bracket[0]:.2g} mm) after {len(states)} "
             f"configurations; the mechanism changed {changes} time(s)")
-    if not math.isfinite(hi.alpha):
-        text += (f"; α falls from {lo.alpha:.4g} to no equilibrium at any multiplier within the bracket "
-                 "(a jump, not a zero crossing: check the displaced geometry)")
     if run.model == "nonassociative":
         return Status.FEASIBLE, f"{text}; each α is a verified non-associative state"
     if proven and every:

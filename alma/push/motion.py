@@ -3,7 +3,7 @@
 A mechanism of the limit analysis is a velocity field: its moving macro-blocks (bodies) turn
 about instantaneous centres.  A finite step turns each body about its centre by the finite
 angle ω s (the *predictor*, not the linearised displacement u s), then a Newton *corrector*
-moves the bodies so that every contact point that the mechanism keeps closed stays closed to
+(:mod:`alma.push.corrector`) moves the bodies so that every contact point that the mechanism keeps closed stays closed to
 round-off: the hinges (no relative velocity: both bodies meet at the point) and the sliding
 points (the normal gap stays zero; the associative model's dilatancy is a property of its
 flow rule, not a motion of the masonry, so the finite step does not lift a sliding block).
@@ -25,7 +25,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import lsmr
 
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
 from alma.geometry.edges import contact_lengths, scene_edges
@@ -34,12 +33,9 @@ from alma.results.joints import MOTION_TOLERANCE
 from alma.results.types import Result
 
 
-#: Columns (3 per moving body) up to which the corrector's least squares are solved densely.
-DENSE_COLUMNS = 150
-
-
 class MotionError(RuntimeError):
-    """The corrector could not keep the mechanism's contacts closed over the step."""
+    """The corrector (:mod:`alma.push.corrector`) could not keep the mechanism's contacts closed
+    over the step."""
 
 
 @dataclass(frozen=True)
@@ -171,34 +167,6 @@ def predictor(bodies: Bodies, s: float) -> np.ndarray:
     return np.column_stack([theta, shift])
 
 
-def corrected(bodies: Bodies, contacts: Contacts, start: np.ndarray, control: tuple[int, np.ndarray],
-              target: float, length: float, iterations: int, tolerance: float) -> np.ndarray:
-    """Increments (g, 3) that close every hinge and sliding point of ``contacts`` and move the
-    control point (``control``: its block and its current position, mm) horizontally by
-    ``target`` mm, by Newton's method from ``start`` (least squares: a mechanism with spare
-    freedoms moves least)."""
-    z = start.copy()
-    scale = np.array([1.0, length, length])
-    for _ in range(iterations):
-        residual, jacobian = _equations(bodies, contacts, z, control, target)
-        if np.abs(residual).max(initial=0.0) <= tolerance * length:
-            return z
-        step = _least_squares(jacobian @ sp.diags(np.tile(scale, bodies.count)), residual)
-        z = z - (step * np.tile(scale, bodies.count)).reshape(-1, 3)
-    residual, _ = _equations(bodies, contacts, z, control, target)
-    if np.abs(residual).max(initial=0.0) <= tolerance * length * 1e3:
-        return z
-    raise MotionError(f"the mechanism's hinges cannot stay closed over this step (residual "
-                      f"{np.abs(residual).max():.3g} mm after {iterations} Newton iterations)")
-
-
-def _least_squares(jacobian: sp.csr_matrix, residual: np.ndarray) -> np.ndarray:
-    """The least-norm least-squares step: dense for a few bodies, LSMR (sparse) for many."""
-    if jacobian.shape[1] <= DENSE_COLUMNS:
-        return np.linalg.lstsq(jacobian.toarray(), residual, rcond=None)[0]
-    return lsmr(jacobian, residual, atol=1e-15, btol=1e-15, maxiter=20 * jacobian.shape[1])[0]
-
-
 def advance(pose: Pose, scene0: Scene, bodies: Bodies, z: np.ndarray) -> Pose:
     """The pose after moving each body by its increment ``z`` (angle, centre shift)."""
     g = bodies.of_block
@@ -285,61 +253,6 @@ def _moved(bodies: Bodies, z: np.ndarray, blocks: np.ndarray, points: np.ndarray
         return points.copy()
     out = _transform(points, z[gg, 0], bodies.centre[gg], z[gg, 1:])
     return np.where(moving[:, None], out, points)
-
-
-def _equations(bodies: Bodies, contacts: Contacts, z: np.ndarray, control: tuple[int, np.ndarray],
-               target: float) -> tuple[np.ndarray, np.ndarray]:
-    """Residual and Jacobian (columns: angle, shift x, shift y of each body) of the corrector."""
-    g_count = bodies.count
-    rows_r, cols, vals = [], [], []
-    residual = []
-    row = 0
-
-    def side(blocks: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        g = bodies.of_block[blocks]
-        gg = np.where(g >= 0, g, 0)
-        arm = _rotate(points - bodies.centre[gg], z[gg, 0])
-        moved = np.where((g >= 0)[:, None], arm + bodies.centre[gg] + z[gg, 1:], points)
-        return g, moved, _perp(arm)
-
-    h = np.flatnonzero(contacts.hinge)
-    if h.size:
-        ga, xa, da = side(contacts.a[h], contacts.point[h])
-        gb, xb, db = side(contacts.b[h], contacts.point[h])
-        residual.append((xa - xb).reshape(-1))
-        r = row + 2 * np.arange(h.size)
-        for g, d, sign in ((ga, da, 1.0), (gb, db, -1.0)):
-            m = g >= 0
-            for k in (0, 1):
-                rows_r += [r[m] + k, r[m] + k]
-                cols += [3 * g[m], 3 * g[m] + 1 + k]
-                vals += [sign * d[m, k], np.full(int(m.sum()), sign)]
-        row += 2 * h.size
-    s = np.flatnonzero(contacts.sliding)
-    if s.size:
-        ga, xa, da = side(contacts.a[s], contacts.point[s])
-        gb, xb, db = side(contacts.b[s], contacts.point[s])
-        na = np.where((ga >= 0)[:, None], _rotate(contacts.normal[s], z[np.where(ga >= 0, ga, 0), 0]),
-                      contacts.normal[s])
-        gap = xb - xa
-        residual.append((gap * na).sum(axis=1))
-        r = row + np.arange(s.size)
-        ma, mb = ga >= 0, gb >= 0
-        rows_r += [r[ma], r[ma], r[ma], r[mb], r[mb], r[mb]]
-        cols += [3 * ga[ma], 3 * ga[ma] + 1, 3 * ga[ma] + 2, 3 * gb[mb], 3 * gb[mb] + 1, 3 * gb[mb] + 2]
-        vals += [(-(da * na).sum(axis=1) + (gap * _perp(na)).sum(axis=1))[ma], -na[ma, 0], -na[ma, 1],
-                 (db * na).sum(axis=1)[mb], na[mb, 0], na[mb, 1]]
-        row += s.size
-    block, where = control
-    gc, moved, dc = side(np.array([block]), where[None, :])
-    residual.append(np.array([moved[0, 0] - where[0] - target]))
-    rows_r += [np.array([row]), np.array([row])]
-    cols += [np.array([3 * gc[0]]), np.array([3 * gc[0] + 1])]
-    vals += [np.array([dc[0, 0]]), np.array([1.0])]
-    row += 1
-    jac = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows_r).astype(int),
-                                                np.concatenate(cols).astype(int))), shape=(row, 3 * g_count))
-    return np.concatenate(residual), jac
 
 
 def _covered(found: Joints, a: np.ndarray, b: np.ndarray, points: np.ndarray, snap: float) -> np.ndarray:

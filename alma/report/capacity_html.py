@@ -1,5 +1,7 @@
-"""A standalone page (no network, no script) of a capacity curve: α(d) and, with the seismic
-check, a*(d*) with its demand, as inline SVG, and the numbers of the check in a table."""
+"""A standalone page (no network) of a capacity curve: α(d) and, with the seismic check, a*(d*)
+with its demand, as inline SVG, the numbers of the check in a table, and with the scene the
+mechanism at every step under a slider (:mod:`alma.report.capacity_frames`, a few lines of
+inline script)."""
 from __future__ import annotations
 
 import html
@@ -8,22 +10,29 @@ from pathlib import Path
 
 import numpy as np
 
+from alma.geometry.scene import Scene
 from alma.push import PushResult
 from alma.report.capacity import nonlinear_value
+from alma.report.capacity_frames import frames_svg, slider_html
 from alma.seismic import SeismicResult
 
 _W, _H, _PAD = 520, 320, 48
 
 
 def write_capacity_html(result: PushResult, path: str | Path, *, check: SeismicResult | None = None,
-                        title: str = "") -> Path:
-    """Write the page for ``result`` (and ``check``) to ``path``."""
+                        title: str = "", scene: Scene | None = None) -> Path:
+    """Write the page for ``result`` (and ``check``) to ``path``; with ``scene`` (the one pushed)
+    the displaced structure at every step beside the curve, under a slider."""
     d = np.array([p.d for p in result.curve])
     alpha = np.array([p.alpha for p in result.curve])
     figures = [_svg(d, alpha, f"d: horizontal displacement of {result.control} [mm]", "α",
-                    marks=[("d₀", result.d0, None)])]
+                    marks=[("d₀", result.d0, None)], marker=scene is not None)]
+    if scene is not None:
+        figures = [f"<div style='display:flex;flex-wrap:wrap;align-items:flex-start'>{figures[0]}"
+                   f"{frames_svg(scene, result)}</div>{slider_html(result)}"]
     rows = [("status", str(result.status)), ("message", result.message), ("control block", str(result.control)),
-            ("α_c", f"{result.alpha_c:.6g}"), ("d₀ [mm]", f"{result.d0:.6g}"), ("LP solves", str(result.solves))]
+            ("α_c", f"{result.alpha_c:.6g}"), ("d₀ [mm]", f"{result.d0:.6g}"), ("LP solves", str(result.solves)),
+            ("end", str(result.end.get("text", result.end.get("reason", ""))))]
     if check is not None and check.curve_star:
         ds, a = np.array(check.curve_star).T
         figures.append(_svg(ds * 1e3, a, "d* [mm]", "a* [m/s²]",
@@ -44,9 +53,11 @@ def write_capacity_html(result: PushResult, path: str | Path, *, check: SeismicR
 
 
 def _svg(x: np.ndarray, y: np.ndarray, xlabel: str, ylabel: str,
-         marks: list[tuple[str, float | None, float | None]]) -> str:
-    """A line chart with axes through 0; ``marks``: (label, vertical line at x, horizontal at y)."""
+         marks: list[tuple[str, float | None, float | None]], marker: bool = False) -> str:
+    """A line chart with axes through 0; ``marks``: (label, vertical line at x, horizontal at y);
+    ``marker``: a dot with the chart position of every point (data-x0, data-y0, …) for the slider."""
     ok = np.isfinite(x) & np.isfinite(y)
+    every = np.flatnonzero(ok)
     x, y = x[ok], y[ok]
     x_hi = max([float(x.max(initial=0.0))] + [v for _, v, _ in marks if v is not None and np.isfinite(v)] + [1e-12])
     y_hi = max([float(y.max(initial=0.0))] + [v for _, _, v in marks if v is not None and np.isfinite(v)] + [1e-12])
@@ -72,5 +83,10 @@ def _svg(x: np.ndarray, y: np.ndarray, xlabel: str, ylabel: str,
             parts.append(f"<line x1='{_PAD}' y1='{sy(vy):.1f}' x2='{_W - _PAD}' y2='{sy(vy):.1f}' stroke='#d62728' "
                          f"stroke-dasharray='4 3'/><text x='{_W - _PAD}' y='{sy(vy) - 3:.1f}' text-anchor='end' "
                          f"font-size='10'>{html.escape(label)} {vy:.3g}</text>")
+    if marker and x.size:
+        at = np.maximum.accumulate(np.where(ok, np.arange(ok.size), 0))  # a point without α: the last with one
+        pos = {k: (sx(x[np.searchsorted(every, at[k])]), sy(y[np.searchsorted(every, at[k])])) for k in range(ok.size)}
+        data = "".join(f" data-x{k}='{px:.1f}' data-y{k}='{py:.1f}'" for k, (px, py) in pos.items())
+        parts.append(f"<circle id='curvemark' r='5' fill='#d62728' cx='{pos[0][0]:.1f}' cy='{pos[0][1]:.1f}'{data}/>")
     parts.append("</svg>")
     return "".join(parts)

@@ -16,9 +16,11 @@ are its blocks' centroids' horizontal velocities, and the capacity curve is ``al
 - nonlinear check: the capacity curve in spectral coordinates d* = d_k Σ P_i δx,i² /
   (δx,k Σ P_i δx,i) (d_k the control point's displacement) and a* = α g / (e* FC) (FC divides the
   accelerations as it does a₀*; the displacements are not divided); d₀* where a* = 0;
-  d_u* = 0.4 d₀*; d_s* = 0.4 d_u*, a_s* = a*(d_s*), T_s = 2π √(d_s*/a_s*); demand Δ = S_De(T_s) at
-  Z = 0, and for Z > 0 also S_De(T₁) ψ(Z) γ (T_s/T₁)² / √((1 − T_s/T₁)² + 0.02 T_s/T₁); the
-  safety index d_u* / demand.
+  d_u* = 0.4 d₀*, or the displacement where the curve loses equilibrium when that is smaller
+  (the code's "situations incompatible with the stability of the elements"; d₀* is then
+  extrapolated on the secant of the curve's last two points); d_s* = 0.4 d_u*,
+  a_s* = a*(d_s*), T_s = 2π √(d_s*/a_s*); demand Δ = S_De(T_s) at Z = 0, and for Z > 0 also
+  S_De(T₁) ψ(Z) γ (T_s/T₁)² / √((1 − T_s/T₁)² + 0.02 T_s/T₁); the safety index d_u* / demand.
 
 Units: masses in kg, accelerations in m/s², displacements in m (the scene's mm converted),
 periods in s.
@@ -216,11 +218,19 @@ def _building(site: Site) -> tuple[float, float, float]:
 def _nonlinear(site: Site, spec: Spectrum, pushed: PushResult, d_star: np.ndarray, a_star: np.ndarray,
                factor: float) -> dict[str, float | bool | None]:
     """d₀*, d_u*, d_s*, a_s*, T_s and the displacement check (module docstring)."""
-    if not math.isfinite(pushed.d0):
+    d0, lost = pushed.d0, math.nan
+    if not math.isfinite(d0) and pushed.end.get("reason") == "no_equilibrium" and len(pushed.curve) >= 2:
+        # the curve stops at a loss of equilibrium with α > 0: d₀ is extrapolated on the secant of
+        # its last two points, and the stop itself bounds d_u* (the Circolare's "displacement
+        # incompatible with the stability of the elements")
+        (d1, a1), (d2, a2) = [(p.d, p.alpha) for p in pushed.curve[-2:]]
+        d0 = d2 + (d2 - d1) * a2 / (a1 - a2) if a1 > a2 > 0 else math.nan
+        lost = pushed.end["bracket"][0] * factor * 1e-3
+    if not math.isfinite(d0):
         return {"d0_star": math.nan, "du_star": math.nan, "ds_star": math.nan, "as_star": math.nan,
                 "Ts": math.nan, "demand": math.nan, "safety_index": math.nan, "verified": None}
-    d0_star = pushed.d0 * factor * 1e-3
-    du_star = ULTIMATE_FRACTION * d0_star
+    d0_star = d0 * factor * 1e-3
+    du_star = min(ULTIMATE_FRACTION * d0_star, lost) if math.isfinite(lost) else ULTIMATE_FRACTION * d0_star
     ds_star = SECANT_FRACTION * du_star
     as_star = float(np.interp(ds_star, d_star, a_star))
     Ts = 2 * math.pi * math.sqrt(ds_star / as_star)
@@ -230,4 +240,5 @@ def _nonlinear(site: Site, spec: Spectrum, pushed: PushResult, d_star: np.ndarra
         r = Ts / T1
         demand = max(demand, spec.SDe(T1) * psi * gamma * r ** 2 / math.sqrt((1 - r) ** 2 + 0.02 * r))
     return {"d0_star": d0_star, "du_star": du_star, "ds_star": ds_star, "as_star": as_star, "Ts": Ts,
-            "demand": demand, "safety_index": du_star / demand, "verified": bool(du_star >= demand)}
+            "demand": demand, "safety_index": du_star / demand, "verified": bool(du_star >= demand),
+            "d0_extrapolated": bool(math.isfinite(lost)), "d_lost_star": lost}
