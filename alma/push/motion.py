@@ -3,8 +3,8 @@
 A mechanism of the limit analysis is a velocity field: its moving macro-blocks (bodies) turn
 about instantaneous centres.  A finite step turns each body about its centre by the finite
 angle ω s (the *predictor*, not the linearised displacement u s), then a Newton *corrector*
-(:mod:`alma.push.corrector`) moves the bodies so that every contact point that the mechanism keeps closed stays closed to
-round-off: the hinges (no relative velocity: both bodies meet at the point) and the sliding
+(:mod:`alma.push.corrector`) moves the bodies so that every contact point that the mechanism
+keeps closed stays closed to round-off: the hinges (no relative velocity: both bodies meet at the point) and the sliding
 points (the normal gap stays zero; the associative model's dilatancy is a property of its
 flow rule, not a motion of the masonry, so the finite step does not lift a sliding block).
 One more equation fixes the control block's horizontal displacement.  For a linkage (a portal
@@ -24,7 +24,6 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sp
 
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
 from alma.geometry.edges import contact_lengths, scene_edges
