@@ -17,10 +17,9 @@ from pathlib import Path
 import alma
 import alma.associative.lp as lp_module
 from alma.backends import gram_backend
-from alma.backends.clarabel_backend import ConicSolution
+from alma.backends.termination import SolverResult, Termination
 from alma.engine.select import solve_with_engine
 from alma.settings import AssociativeSettings
-from alma.status import Status
 from benchmarks.bench_scaling import wall_shape
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -33,7 +32,7 @@ def measure(blocks: int, repeat: int) -> list[dict]:
     model = alma.build_model(alma.wall("running", 240.0 * per_course, 60.0 * courses, 240.0))
     s = AssociativeSettings()
     ans = solve_with_engine(model.equilibrium, model.dead, model.live, s.normalisation * model.n_free)
-    pair = ConicSolution(Status.OPTIMAL, ans.raw_status, ans.x, ans.z, ans.iterations, 0.0)
+    pair = SolverResult(Termination.OPTIMAL, ans.status, ans.x, ans.duals, ans.iterations, 0.0, ans.label)
     times: dict[str, list[float]] = {name: [] for name in BACKENDS}
     last = {}
     default = gram_backend.FERAL_MIN_ROWS

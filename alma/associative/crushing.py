@@ -27,7 +27,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from alma.associative.certificate import static_correction
-from alma.backends.clarabel_backend import ConicSolution, solve_static_cone
+from alma.backends.clarabel_backend import solve_static_cone
+from alma.backends.termination import SolverResult
 from alma.mechanics.model import Model
 
 
@@ -108,7 +109,7 @@ def _cone_rows(model: Model, n_x: int) -> tuple[sp.csc_matrix, np.ndarray]:
 
 def solve_static_crushing(model: Model, H: sp.csc_matrix, tolerance: float, max_iter: int,
                           time_limit: float | None = None, refine: bool = True,
-                          normalisation: float = 1.0) -> ConicSolution:
+                          normalisation: float = 1.0) -> SolverResult:
     """Clarabel's primal–dual pair of the static cone program (:func:`static_cone_form`)."""
     q, A, b, n_zero, n_nonneg, n_soc = static_cone_form(model, H, normalisation)
     return solve_static_cone(q, A, b, n_zero, n_nonneg, n_soc, tolerance=tolerance, max_iter=max_iter,

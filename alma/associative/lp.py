@@ -26,8 +26,9 @@ import scipy.sparse as sp
 from alma.associative.certificate import certify_pair, cone_residual
 from alma.associative.crushing import (cone_violation, crushing_dissipation, repair_cone_field, rigid_columns,
                                        solve_static_crushing)
-from alma.backends.clarabel_backend import ConicSolution, solve_conic_lp
+from alma.backends.clarabel_backend import solve_conic_lp
 from alma.backends.highs_backend import solve_conic_form
+from alma.backends.termination import SolverResult, Termination, termination
 from alma.engine.select import choose, solve_with_engine
 from alma.engine.types import IPMSettings
 from alma.mechanics.model import Model
@@ -117,7 +118,7 @@ def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, toler
     return result
 
 
-def _certified(model: Model, H: sp.csc_matrix, s: AssociativeSettings, sol: ConicSolution, label: str,
+def _certified(model: Model, H: sp.csc_matrix, s: AssociativeSettings, sol: SolverResult, label: str,
                note: str, record: dict[str, float]) -> LPSolution:
     """The certificate of a primal–dual pair of Eq. 10 (``certify_pair``) and the status it proves."""
     n, k = H.shape
@@ -126,7 +127,7 @@ def _certified(model: Model, H: sp.csc_matrix, s: AssociativeSettings, sol: Coni
     static = sp.hstack([H, model.bounded]).tocsc() if q_count else None
     bound = np.concatenate([np.full(k, np.inf), model.capacity]) if q_count else None
     u, fields, lower, static_residual, kinematic_residual = certify_pair(
-        H, model, sol.x[:n], sol.z[1:1 + k + q_count].copy(), -sol.z[0], s.residual_tolerance,
+        H, model, sol.x[:n], sol.duals[1:1 + k + q_count].copy(), -sol.duals[0], s.residual_tolerance,
         s.gap_tolerance, static=static, upper=bound)
     mu, tau = fields[:k], fields[k:]
     kinematic_residual = max(kinematic_residual, cone_residual(model, u))
@@ -189,9 +190,9 @@ def _crushing_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, iters
     q_count = model.n_bounded
     static = sp.hstack([H, model.bounded]).tocsc() if q_count else H
     bound = np.concatenate([np.full(k, np.inf), model.capacity])
-    rigid = rigid_columns(model, H.T @ sol.z[:n])
+    rigid = rigid_columns(model, H.T @ sol.duals[:n])
     u, fields, lower, equilibrium_residual, kinematic_residual = certify_pair(
-        H[:, rigid], model, sol.z[:n], sol.x[1:1 + k + q_count].copy(), sol.x[0], s.residual_tolerance,
+        H[:, rigid], model, sol.duals[:n], sol.x[1:1 + k + q_count].copy(), sol.x[0], s.residual_tolerance,
         s.gap_tolerance, static=static, upper=bound)
     static_residual = max(equilibrium_residual, cone_violation(model, fields[:k]))
     # Not admissible: the cone-aware repair, from the plain repair's field and from the solver's.
@@ -223,7 +224,7 @@ def _crushing_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, iters
 
 def _solve_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: float, iters: int,
                 time_limit: float | None, ipm_settings: IPMSettings | None
-                ) -> tuple[ConicSolution, str, str, dict[str, float]]:
+                ) -> tuple[SolverResult, str, str, dict[str, float]]:
     """The primal–dual pair of Eq. 10 from the chosen engine: (solution, solver label, note, the
     interior point's record).
 
@@ -237,10 +238,11 @@ def _solve_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: flo
         ans = solve_with_engine(H_aug, dead, live, s.normalisation * float(model.n_free), ipm_settings,
                                 n_primary=H.shape[0], pattern=model.derived.get(NORMAL_PATTERN))
         model.derived[NORMAL_PATTERN] = ans.result.pattern
-        if ans.raw_status == "Solved":
-            return (ConicSolution(Status.OPTIMAL, ans.raw_status, ans.x, ans.z, ans.iterations,
-                                  time.perf_counter() - start), ans.label, "", dict(ans.result.timings))
-        note = f"; {ans.label}: {ans.raw_status} after {ans.iterations} iterations, Clarabel used"
+        term = termination("engine", ans.status)
+        if term is Termination.OPTIMAL:
+            return (SolverResult(term, ans.status, ans.x, ans.duals, ans.iterations, time.perf_counter() - start,
+                                 ans.label), ans.label, "", dict(ans.result.timings))
+        note = f"; {ans.label}: {ans.status} after {ans.iterations} iterations, Clarabel used"
     else:
         note = ""
     q, A, b = _kinematic_form(model, H, s.normalisation)

@@ -43,9 +43,9 @@ _warned = False
 class EngineAnswer:
     """The interior point's pair as alma's Clarabel path would pass it to the certificate."""
 
-    raw_status: str  # "Solved" when the interior point met its tolerances
+    status: str  # the interior point's own word (IPMResult.status): "optimal" when it met its tolerances
     x: np.ndarray  # mechanism u
-    z: np.ndarray  # (−α, μ): the dual of (f_Lᵀu = N, Hᵀu ≥ 0) as Clarabel orders it
+    duals: np.ndarray  # (−α, μ): the dual of (f_Lᵀu = N, Hᵀu ≥ 0) as Clarabel orders it
     iterations: int
     label: str  # e.g. "alma-ipm/pardiso", for messages
     result: IPMResult
@@ -77,14 +77,13 @@ def _warn_once(message: str) -> None:
 def solve_with_engine(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value: float,
                       settings: IPMSettings | None = None, n_primary: int | None = None,
                       pattern: NormalPattern | None = None) -> EngineAnswer:
-    """Run the interior point on Eq. 10; ``raw_status`` is "Solved" only when it converged.
+    """Run the interior point on Eq. 10; ``status`` is "optimal" only when it converged.
 
     ``n_primary``: rows of u in H, the rest being bounded forces' dissipation variables;
     ``pattern``: the normal-equations pattern of this geometry from an earlier solve, if any
     (``result.pattern`` is the one used).
     """
     result = solve_eq10(H, dead, live, norm_value, settings, n_primary=n_primary, pattern=pattern)
-    raw = "Solved" if result.status == "optimal" else result.status
-    z = np.concatenate([[-result.alpha], result.mu])
-    return EngineAnswer(raw_status=raw, x=result.u, z=z, iterations=result.iterations,
+    duals = np.concatenate([[-result.alpha], result.mu])
+    return EngineAnswer(status=result.status, x=result.u, duals=duals, iterations=result.iterations,
                         label=f"alma-ipm/{result.backend}", result=result)

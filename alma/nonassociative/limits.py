@@ -9,6 +9,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
+from alma.backends.linprog_backend import LPMethod
 from alma.nonassociative.states import ExactLimits, Tally
 
 
@@ -26,8 +27,8 @@ class Work:
     floor_pivots: int = 2_000
     #: Clarabel iterations of one interior-point solve.
     interior_iterations: int = 200
-    #: HiGHS method (``scipy.optimize.linprog``) of the static LP of the exact states taken.
-    exact_method: str = "highs"
+    #: How the static LP of the exact states taken is solved (a HiGHS vertex).
+    exact_method: LPMethod = LPMethod.SIMPLEX
 
     def spent(self, tally: Tally) -> bool:
         """Whether the total is used up."""

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from alma.backends.linprog_backend import LPMethod
 from alma.nonassociative.limits import Work
 from alma.nonassociative.starts import (Context, GilbertStart, IpoptStart, LpStart, MilpStart, ProjectedStart,
                                         RockingStart, Start)
@@ -40,7 +41,7 @@ def resolve_effort(effort: str, settings: SearchSettings, n_free: int) -> str:
 
 
 def _work(settings: SearchSettings, iterations: int, pivots: int | None, points: int) -> Work:
-    method = "highs-ipm" if points > settings.exact_ipm_points else "highs"
+    method = LPMethod.IPM if points > settings.exact_ipm_points else LPMethod.SIMPLEX
     return Work(iterations=iterations, pivots=pivots, lp_pivots=settings.lp_pivots,
                 floor_pivots=settings.last_state_pivots, interior_iterations=settings.interior_iterations,
                 exact_method=method)

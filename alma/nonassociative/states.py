@@ -22,6 +22,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from alma.backends.linprog_backend import LPMethod
+from alma.backends.termination import Termination
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative import bounded as bf
@@ -195,7 +197,7 @@ def lower(state: CollapseState | None, other: CollapseState | None) -> CollapseS
 
 
 def _fixed_set_field(model: Model, points: ContactPoints, open_points: np.ndarray, slip_sign: np.ndarray,
-                     signs: np.ndarray, method: str, limits: ExactLimits, tally: Tally) -> StaticLP:
+                     signs: np.ndarray, method: LPMethod, limits: ExactLimits, tally: Tally) -> StaticLP:
     """The smallest α with the active set fixed: a HiGHS vertex, or Clarabel's interior field.
 
     Clarabel's field is written on the cone generators only; with bounded forces (``signs``, the
@@ -204,16 +206,16 @@ def _fixed_set_field(model: Model, points: ContactPoints, open_points: np.ndarra
                    open_points=open_points, slip_sign=slip_sign)
     if model.n_bounded:
         coulomb["bounded_signs"] = signs
-        method = "highs-ipm" if method == "clarabel" else method
-    if method != "clarabel":
+        method = LPMethod.IPM if method == LPMethod.CLARABEL else method
+    if method != LPMethod.CLARABEL:
         lp = static_lp(model, points, **coulomb, max_pivots=limits.lp_pivots, method=method)
         tally.add(lp.pivots)
         return lp
     lp = fixed_set_static_interior(model, points, open_points, slip_sign, max_iter=limits.interior_iterations)
     tally.add(lp.pivots)
-    if lp.status == "error":  # Clarabel did not converge: HiGHS decides, within the vertex's iterations
+    if lp.status == Termination.ERROR:  # Clarabel did not converge: HiGHS decides, within the vertex's iterations
         lp = static_lp(model, points, **coulomb, max_pivots=min(limits.lp_pivots, limits.vertex_pivots),
-                       method="highs-ipm")
+                       method=LPMethod.IPM)
         tally.add(lp.pivots)
     return lp
 
@@ -224,13 +226,13 @@ def _vertex(model: Model, points: ContactPoints, open_points: np.ndarray, slip_s
     extra = {"bounded_signs": signs} if model.n_bounded else {}
     lp = static_lp(model, points, slope=points.friction, cap=np.zeros(points.count), maximise=False,
                    open_points=open_points, slip_sign=slip_sign,
-                   max_pivots=min(limits.lp_pivots, limits.vertex_pivots), method="highs", **extra)
+                   max_pivots=min(limits.lp_pivots, limits.vertex_pivots), method=LPMethod.SIMPLEX, **extra)
     tally.add(lp.pivots)
     return lp
 
 
 def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, start: str, *,
-                dilatant: bool = False, method: str = LP_METHOD, limits: ExactLimits = ExactLimits(),
+                dilatant: bool = False, method: LPMethod = LP_METHOD, limits: ExactLimits = ExactLimits(),
                 tally: Tally | None = None) -> CollapseState | None:
     """Turn a candidate mechanism into an exact collapse state and verify it.
 
@@ -240,8 +242,8 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
     set.  The pair satisfies Eq. 9 by construction; :func:`verify` checks it.  When no
     mechanism has exactly that set, the kinematic LP is asked for one within the widest set
     the static field allows (:func:`force_active_set`); failing that, the candidate's own
-    mechanism is verified.  ``method``: a HiGHS method of ``scipy.optimize.linprog`` for the
-    static LP (a vertex), or ``"clarabel"`` (:func:`fixed_set_static_interior`; then, when no
+    mechanism is verified.  ``method``: HiGHS's simplex or interior point for the static LP (a
+    vertex), or Clarabel (:func:`fixed_set_static_interior`; then, when no
     mechanism has exactly the set, a HiGHS simplex vertex gives the widest set).  With bounded
     forces their columns' signs (:func:`bounded_active_set`) are part of the set, in both LPs.
     """
@@ -253,16 +255,16 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
     open_points, slip_sign = active_set(model, points, mechanism, dilatant=dilatant)
     signs = bounded_active_set(model, points, mechanism)
     lp = _fixed_set_field(model, points, open_points, slip_sign, signs, method, limits, tally)
-    if lp.status != "optimal":
+    if lp.status != Termination.OPTIMAL:
         return None
     clean, pivots = kinematic_lp(model, points, open_points, slip_sign, max_pivots=limits.lp_pivots,
                                  bounded_allowed=_allowed(signs))
     tally.add(pivots)
-    if clean is None and method == "clarabel" and not model.n_bounded:
+    if clean is None and method == LPMethod.CLARABEL and not model.n_bounded:
         # Clarabel's field lies inside the optimal face, where fewest points are unloaded or at
         # the friction limit; the widest set is read from a simplex vertex instead.
         vertex = _vertex(model, points, open_points, slip_sign, signs, limits, tally)
-        if vertex.status == "optimal":
+        if vertex.status == Termination.OPTIMAL:
             lp = vertex
     if clean is None:
         # No mechanism has exactly the candidate's set: take the widest set the static field
@@ -305,13 +307,13 @@ def fast_exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray,
     With bounded forces the static LP is HiGHS's interior point with crossover (a vertex) at once.
     """
     if model.n_bounded:
-        return exact_state(model, points, mechanism, start, dilatant=dilatant, method="highs-ipm", limits=limits,
+        return exact_state(model, points, mechanism, start, dilatant=dilatant, method=LPMethod.IPM, limits=limits,
                            tally=tally)
-    state = exact_state(model, points, mechanism, start, dilatant=dilatant, method="clarabel", limits=limits,
+    state = exact_state(model, points, mechanism, start, dilatant=dilatant, method=LPMethod.CLARABEL, limits=limits,
                         tally=tally)
     if state is not None and not state.verified:
         vertex_limits = ExactLimits(min(limits.lp_pivots, limits.vertex_pivots), limits.vertex_pivots,
                                     limits.interior_iterations)
-        state = exact_state(model, points, mechanism, start, dilatant=dilatant, method="highs-ipm",
+        state = exact_state(model, points, mechanism, start, dilatant=dilatant, method=LPMethod.IPM,
                             limits=vertex_limits, tally=tally)
     return state
