@@ -10,7 +10,8 @@ from alma.geometry.panels import paper_panel
 from alma.geometry.scene import Block, Scene, SceneError, load_scene
 from alma.mechanics.model import Model, build_model
 from alma.results.types import (AssociativeResult, Bounds, Comparison, NonAssociativeResult, Result)
-from alma.settings import AssociativeSettings, CertifySettings, PushSettings, SearchSettings, Settings
+from alma.settings import (AssociativeSettings, CertifySettings, IPMSettings, PushSettings, SearchSettings, Settings,
+                           StateTolerances)
 from alma.push import PushResult, push
 from alma.seismic import SeismicResult, Site, load_site, seismic
 from alma.settle import SettlementResult, settle
@@ -19,8 +20,8 @@ from alma.status import Status
 from alma.tilt import TiltResult, TiltSettings, tilt
 
 __all__ = ["AssociativeResult", "arch", "coursed_wall", "facade", "AssociativeSettings", "Block", "Bounds", "CertifySettings", "Comparison",
-           "Joints", "Model", "NonAssociativeResult", "Result", "Scene", "SceneError", "SearchSettings",
-           "Settings", "SettlementResult", "Status", "TiltResult", "TiltSettings", "build_model", "find_joints",
+           "IPMSettings", "Joints", "Model", "NonAssociativeResult", "Result", "Scene", "SceneError", "SearchSettings",
+           "Settings", "SettlementResult", "StateTolerances", "Status", "TiltResult", "TiltSettings", "build_model", "find_joints",
            "load_scene", "paper_panel", "settle", "solve", "tilt", "wall", "PushResult", "PushSettings", "push",
            "SeismicResult", "Site", "load_site", "seismic"]
 from alma._version import __version__ as __version__  # from git (setuptools-scm)

@@ -112,7 +112,7 @@ def settle(scene: Scene, settings: AssociativeSettings | None = None) -> Settlem
     field = types.SimpleNamespace(dead=model.dead, live=np.zeros(n))
     fields, _, static_residual = _repair_field(sp.hstack([H, G]).tocsc(), field, fields, 0.0,
                                                np.concatenate([np.full(k, np.inf), capacity]), 0.0,
-                                               s.residual_tolerance, s.gap_tolerance)
+                                               s.residual_tolerance, s.gap_tolerance, s.feral_min_rows)
     mu, tau = fields[:k], fields[k:]
     power = H.T @ u + h
     size = float((abs(H.T) @ np.abs(u)).max(initial=0.0)) + float(np.abs(h).max(initial=0.0))

@@ -30,6 +30,7 @@ from alma.associative.certificate import static_correction
 from alma.backends.clarabel_backend import solve_static_cone
 from alma.backends.termination import SolverResult
 from alma.mechanics.model import Model
+from alma.settings import AssociativeSettings
 
 
 #: The solver's cones are 2 c (N_p − margin) ≥ N² (margin in mean block weights): the stress field keeps this
@@ -176,7 +177,8 @@ def rigid_columns(model: Model, power: np.ndarray | None = None) -> np.ndarray:
 
 
 def repair_cone_field(model: Model, static: sp.csc_matrix, fields: np.ndarray, alpha: float,
-                      bound: np.ndarray) -> tuple[np.ndarray, float, float]:
+                      bound: np.ndarray, feral_min_rows: int = AssociativeSettings().feral_min_rows
+                      ) -> tuple[np.ndarray, float, float]:
     """The static field (μ, τ) put in equilibrium (Eq. 3) at a corrected α, kept inside the cones.
 
     An affine-scaled minimum-norm correction (as :func:`alma.associative.certificate.certify_pair`'s
@@ -205,7 +207,7 @@ def repair_cone_field(model: Model, static: sp.csc_matrix, fields: np.ndarray, a
         top = max(float(best[0].max(initial=0.0)), 1e-300)
         support = np.flatnonzero(room > 1e-14 * top)
         trial = static_correction(static, model, best[0].copy(), best[1], support, np.sqrt(room[support] / top),
-                                  bound)
+                                  bound, feral_min_rows)
         if trial[2] >= best[2]:
             break
         best = trial

@@ -80,13 +80,15 @@ def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, toler
              ipm_settings: IPMSettings | None = None) -> LPSolution:
     """Solve Eq. 10 (Clarabel, or alma's interior point) and certify the value from both sides.
 
-    ``tolerance``, ``max_iter`` and ``engine`` override the fields of ``settings``;
-    ``ipm_settings`` the interior point's (e.g. its factorisation backend); ``time_limit`` (s)
+    ``tolerance``, ``max_iter`` and ``engine`` override the fields of ``settings``, and
+    ``ipm_settings`` its interior point's (``settings.ipm``: e.g. its factorisation backend); ``time_limit`` (s)
     is a user's cap (its cut gives ``limit_reached``).  ``equilibrium`` replaces the model's H.
     """
     s = settings or AssociativeSettings()
     if engine is not None:
         s = dataclasses.replace(s, engine=engine)
+    if ipm_settings is not None:
+        s = dataclasses.replace(s, ipm=ipm_settings)
     tol = s.tolerance if tolerance is None else tolerance
     iters = s.max_iter if max_iter is None else max_iter
     H = model.equilibrium if equilibrium is None else equilibrium
@@ -95,7 +97,7 @@ def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, toler
         return _trivial(model, Status.NO_EQUILIBRIUM, "no joint carries the free blocks")
     if model.crushes:
         return _solve_crushing(model, H, s, iters, time_limit)
-    sol, label, note, record = _solve_pair(model, H, s, tol, iters, time_limit, ipm_settings)
+    sol, label, note, record = _solve_pair(model, H, s, tol, iters, time_limit)
     if sol.status in (Status.NO_COLLAPSE, Status.NO_EQUILIBRIUM):
         message = ("no kinematically admissible mechanism with positive live-load work"
                    if sol.status == Status.NO_COLLAPSE else
@@ -128,7 +130,7 @@ def _certified(model: Model, H: sp.csc_matrix, s: AssociativeSettings, sol: Solv
     bound = np.concatenate([np.full(k, np.inf), model.capacity]) if q_count else None
     u, fields, lower, static_residual, kinematic_residual = certify_pair(
         H, model, sol.x[:n], sol.duals[1:1 + k + q_count].copy(), -sol.duals[0], s.residual_tolerance,
-        s.gap_tolerance, static=static, upper=bound)
+        s.gap_tolerance, static=static, upper=bound, feral_min_rows=s.feral_min_rows)
     mu, tau = fields[:k], fields[k:]
     kinematic_residual = max(kinematic_residual, cone_residual(model, u))
     # A mechanism that breaks the flow rule by v_j only proves α ≤ (−f_0ᵀu + D(u) + Σ v_j μ*_j) / f_Lᵀu:
@@ -193,13 +195,13 @@ def _crushing_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, iters
     rigid = rigid_columns(model, H.T @ sol.duals[:n])
     u, fields, lower, equilibrium_residual, kinematic_residual = certify_pair(
         H[:, rigid], model, sol.duals[:n], sol.x[1:1 + k + q_count].copy(), sol.x[0], s.residual_tolerance,
-        s.gap_tolerance, static=static, upper=bound)
+        s.gap_tolerance, static=static, upper=bound, feral_min_rows=s.feral_min_rows)
     static_residual = max(equilibrium_residual, cone_violation(model, fields[:k]))
     # Not admissible: the cone-aware repair, from the plain repair's field and from the solver's.
     for start, alpha0 in ((fields, lower), (np.clip(sol.x[1:1 + k + q_count], 0.0, bound), sol.x[0])):
         if static_residual <= s.residual_tolerance:
             break
-        again, alpha_again, residual_again = repair_cone_field(model, static, start, alpha0, bound)
+        again, alpha_again, residual_again = repair_cone_field(model, static, start, alpha0, bound, s.feral_min_rows)
         residual_again = max(residual_again, cone_violation(model, again[:k]))
         if residual_again < static_residual:
             fields, lower, static_residual = again, alpha_again, residual_again
@@ -223,7 +225,7 @@ def _crushing_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, iters
 
 
 def _solve_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: float, iters: int,
-                time_limit: float | None, ipm_settings: IPMSettings | None
+                time_limit: float | None
                 ) -> tuple[SolverResult, str, str, dict[str, float]]:
     """The primal–dual pair of Eq. 10 from the chosen engine: (solution, solver label, note, the
     interior point's record).
@@ -232,10 +234,11 @@ def _solve_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: flo
     variables as auxiliary rows (:func:`_engine_form`); when it does not converge Clarabel solves
     the problem and the note says so.
     """
-    if choose(s.engine, model.n_free, bool(model.n_bounded)) == "ipm":
+    if choose(s.engine, model.n_free, bool(model.n_bounded), min_blocks=s.auto_min_blocks,
+              min_blocks_bounded=s.auto_min_blocks_bounded) == "ipm":
         start = time.perf_counter()
         H_aug, dead, live = _engine_form(model, H)
-        ans = solve_with_engine(H_aug, dead, live, s.normalisation * float(model.n_free), ipm_settings,
+        ans = solve_with_engine(H_aug, dead, live, s.normalisation * float(model.n_free), s.ipm,
                                 n_primary=H.shape[0], pattern=model.derived.get(NORMAL_PATTERN))
         model.derived[NORMAL_PATTERN] = ans.result.pattern
         term = termination("engine", ans.status)

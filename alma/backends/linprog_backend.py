@@ -1,8 +1,9 @@
 """scipy's ``linprog`` adapter: the HiGHS LPs of the non-associative search (Eqs. 2, 3, 5).
 
 These LPs go through the HiGHS that scipy bundles, not highspy: the friction search branches on
-the vertices they return, and the vertex of a degenerate LP depends on the HiGHS release
-(docs/decisions.md), so they stay here until a switch to highspy is shown to keep α_NL.  Every
+the vertices they return, the vertex of a degenerate LP depends on the HiGHS release
+(docs/decisions.md), and the releases differ (scipy 1.17.1 bundles HiGHS 1.12.0, highspy is
+1.15.1 here), so they stay here until a switch to highspy is shown to keep α_NL.  Every
 call is bounded by an iteration count, never by the clock; the status is read through
 :data:`alma.backends.termination.LINPROG`.
 """

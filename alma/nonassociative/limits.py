@@ -7,10 +7,11 @@ between units of work; when it cuts the work, the search says so.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from alma.backends.linprog_backend import LPMethod
 from alma.nonassociative.states import ExactLimits, Tally
+from alma.settings import StateTolerances
 
 
 @dataclass(frozen=True)
@@ -29,6 +30,8 @@ class Work:
     interior_iterations: int = 200
     #: How the static LP of the exact states taken is solved (a HiGHS vertex).
     exact_method: LPMethod = LPMethod.SIMPLEX
+    #: When a state is verified, and how active sets are read (:attr:`alma.settings.SearchSettings.states`).
+    tolerances: StateTolerances = field(default_factory=StateTolerances)
 
     def spent(self, tally: Tally) -> bool:
         """Whether the total is used up."""
@@ -43,7 +46,8 @@ class Work:
     def exact_limits(self, tally: Tally) -> ExactLimits:
         """Caps of the LPs of an exact state taken now."""
         limit = self.lp_limit(tally)
-        return ExactLimits(lp_pivots=limit, vertex_pivots=limit, interior_iterations=self.interior_iterations)
+        return ExactLimits(lp_pivots=limit, vertex_pivots=limit, interior_iterations=self.interior_iterations,
+                           tolerances=self.tolerances)
 
 
 class Cap:

@@ -22,18 +22,18 @@ from alma.backends.ipopt_backend import ComplementarityData, solve_relaxations
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.limits import Cap, no_cap
-from alma.nonassociative.states import CollapseState, exact_state
+from alma.nonassociative.states import CollapseState, ExactLimits, exact_state
 
 
 def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, seed: CollapseState | None = None,
                  relaxations: tuple[float, ...] = (1e-2, 1e-4, 1e-6, 1e-8), max_iter: int = 300,
-                 cap: Cap | None = None) -> CollapseState | None:
+                 cap: Cap | None = None, limits: ExactLimits | None = None) -> CollapseState | None:
     """A candidate collapse state from IPOPT started at ``mechanism`` (and the seed's forces).
 
     The relaxations ε of the complementarity (Eq. 7) are solved in turn, each warm from the
     last and within ``max_iter`` IPOPT iterations (:func:`alma.backends.ipopt_backend.solve_relaxations`);
     a run that does not converge ends the sequence, and the last relaxation that converged is the
-    answer.  No relaxed solve begins once the user's ``cap`` has passed.
+    answer, made exact within ``limits``.  No relaxed solve begins once the user's ``cap`` has passed.
     """
     cap = cap or no_cap()
     P, n = points.count, model.dead.shape[0]
@@ -43,7 +43,7 @@ def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, see
                             max_iter, cap.expired)
     if not sol.x.size:
         return None
-    return exact_state(model, points, sol.x[1 + 2 * P:1 + 2 * P + n], "ipopt")
+    return exact_state(model, points, sol.x[1 + 2 * P:1 + 2 * P + n], "ipopt", limits=limits or ExactLimits())
 
 
 def _bounds(model: Model, P: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

@@ -18,6 +18,7 @@ signs, fixed in the static LP (τ at capacity, at 0, or free) and in the kinemat
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -29,14 +30,10 @@ from alma.mechanics.model import Model
 from alma.nonassociative import bounded as bf
 from alma.nonassociative.static_lps import (LP_METHOD, StaticLP, fixed_set_static_interior, kinematic_lp,
                                             static_lp)
+from alma.settings import StateTolerances
 
-#: Verification tolerances (forces in mean block weights, velocities with f_Lᵀu = n_free).
-EQUILIBRIUM_TOLERANCE = 1e-7
-YIELD_TOLERANCE = 1e-7
-KINEMATIC_TOLERANCE = 1e-7
-ENERGY_TOLERANCE = 1e-6
-#: Relative velocity below this fraction of the largest counts as zero when reading an active set.
-ACTIVE_TOLERANCE = 1e-6
+#: The default tolerances (:class:`alma.settings.StateTolerances`; a search passes its settings').
+TOLERANCES = StateTolerances()
 
 
 @dataclass(frozen=True)
@@ -77,20 +74,23 @@ class ExactLimits:
     vertex_pivots: int = 200_000
     #: Clarabel iterations of the fixed-active-set LP.
     interior_iterations: int = 200
+    #: When the state is verified, and how its active sets are read.
+    tolerances: StateTolerances = field(default_factory=StateTolerances)
 
 
 def active_set(model: Model, points: ContactPoints, mechanism: np.ndarray, *,
-               dilatant: bool = False) -> tuple[np.ndarray, np.ndarray]:
+               dilatant: bool = False, tolerance: float = TOLERANCES.active) -> tuple[np.ndarray, np.ndarray]:
     """Open points and slip signs of a mechanism (relative velocities below a threshold are zero).
 
     ``dilatant``: the mechanism obeys the associative flow rule (Eq. 6), where a
     sliding point opens by f |γ|; such a point is read as closed and slipping, and
-    only an opening beyond f |γ| as a separation.
+    only an opening beyond f |γ| as a separation.  ``tolerance``: the share of the largest
+    relative velocity below which one counts as zero (:attr:`alma.settings.StateTolerances.active`).
     """
     opening = points.normal.T @ mechanism
     slip = points.tangent.T @ mechanism
     scale = max(float(np.abs(opening).max(initial=0.0)), float(np.abs(slip).max(initial=0.0)), 1e-300)
-    tol = ACTIVE_TOLERANCE * scale
+    tol = tolerance * scale
     if dilatant:
         opening = opening - points.friction * np.abs(slip)
     open_points = opening > tol
@@ -98,7 +98,8 @@ def active_set(model: Model, points: ContactPoints, mechanism: np.ndarray, *,
     return open_points, slip_sign
 
 
-def bounded_active_set(model: Model, points: ContactPoints, mechanism: np.ndarray) -> np.ndarray:
+def bounded_active_set(model: Model, points: ContactPoints, mechanism: np.ndarray,
+                       tolerance: float = TOLERANCES.active) -> np.ndarray:
     """Signs of the bounded columns' rates d = −Gᵀu (:mod:`alma.nonassociative.bounded`), read
     to the threshold of :func:`active_set` (relative to the largest opening, slip or rate)."""
     if not model.n_bounded:
@@ -106,7 +107,7 @@ def bounded_active_set(model: Model, points: ContactPoints, mechanism: np.ndarra
     d = bf.rates(model, mechanism)
     scale = max(float(np.abs(points.normal.T @ mechanism).max(initial=0.0)),
                 float(np.abs(points.tangent.T @ mechanism).max(initial=0.0)), float(np.abs(d).max(initial=0.0)), 1e-300)
-    return bf.rate_signs(d, ACTIVE_TOLERANCE * scale)
+    return bf.rate_signs(d, tolerance * scale)
 
 
 def _allowed(signs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -115,7 +116,7 @@ def _allowed(signs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def force_active_set(points: ContactPoints, normal: np.ndarray, shear: np.ndarray,
-                     tolerance: float = 1e-9) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                     tolerance: float = TOLERANCES.force) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The most permissive mechanism set a force field allows (complementarity of Eq. 7).
 
     Returns (may_open, may_slip_sign, free_slip): a point with N = 0 may open and slip either way;
@@ -133,12 +134,14 @@ def force_active_set(points: ContactPoints, normal: np.ndarray, shear: np.ndarra
 
 
 def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray, shear: np.ndarray,
-           mechanism: np.ndarray, bounded: np.ndarray | None = None) -> tuple[dict[str, float], bool]:
+           mechanism: np.ndarray, bounded: np.ndarray | None = None,
+           tolerances: StateTolerances = TOLERANCES) -> tuple[dict[str, float], bool]:
     """Residuals of a collapse state (Eqs. 2, 3, 5, 7 and the energy balance) and whether all pass.
 
     ``bounded``: τ of the model's bounded forces (required when it has them); their equilibrium,
     bounds, flow rule and dissipation are checked with the rest (module docstring), and the
-    residuals gain ``bounded_not_mobilised``.
+    residuals gain ``bounded_not_mobilised``.  ``tolerances``: what passes
+    (:class:`alma.settings.StateTolerances`).
     """
     q = model.n_bounded
     tau = np.zeros(0) if bounded is None else np.asarray(bounded, dtype=float)
@@ -174,10 +177,10 @@ def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray
                  "energy_balance": float(energy), "live_load_work": work}
     if q:
         residuals["bounded_not_mobilised"] = bounded_gap
-    ok = (work > 0 and residuals["equilibrium"] <= EQUILIBRIUM_TOLERANCE
-          and residuals["yield"] <= YIELD_TOLERANCE
-          and penetration <= KINEMATIC_TOLERANCE and open_force <= KINEMATIC_TOLERANCE
-          and slip_gap <= KINEMATIC_TOLERANCE and bounded_gap <= KINEMATIC_TOLERANCE and energy <= ENERGY_TOLERANCE)
+    t = tolerances
+    ok = (work > 0 and residuals["equilibrium"] <= t.equilibrium and residuals["yield"] <= t.yield_violation
+          and penetration <= t.kinematic and open_force <= t.kinematic
+          and slip_gap <= t.kinematic and bounded_gap <= t.kinematic and energy <= t.energy)
     return residuals, bool(ok)
 
 
@@ -252,8 +255,9 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
     if not work > 0:
         return None
     mechanism = mechanism * (model.n_free / work)
-    open_points, slip_sign = active_set(model, points, mechanism, dilatant=dilatant)
-    signs = bounded_active_set(model, points, mechanism)
+    tol = limits.tolerances
+    open_points, slip_sign = active_set(model, points, mechanism, dilatant=dilatant, tolerance=tol.active)
+    signs = bounded_active_set(model, points, mechanism, tol.active)
     lp = _fixed_set_field(model, points, open_points, slip_sign, signs, method, limits, tally)
     if lp.status != Termination.OPTIMAL:
         return None
@@ -270,22 +274,23 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
         # No mechanism has exactly the candidate's set: take the widest set the static field
         # allows (open and free slip where N = 0, slip where friction is at its limit, bounded
         # rates of either sign where their force is at a bound).
-        may_open, may_slip, free = force_active_set(points, lp.normal, lp.shear)
-        allowed = bf.force_signs(model, lp.bounded, 1e-9 * max(1.0, float(np.abs(lp.normal).max(initial=0.0))))
+        may_open, may_slip, free = force_active_set(points, lp.normal, lp.shear, tol.force)
+        allowed = bf.force_signs(model, lp.bounded, tol.force * max(1.0, float(np.abs(lp.normal).max(initial=0.0))))
         clean, pivots = kinematic_lp(model, points, may_open, may_slip, free_slip=free, max_pivots=limits.lp_pivots,
                                      bounded_allowed=allowed)
         tally.add(pivots)
-    return _verified_pair(model, points, lp, clean, mechanism, start, dilatant)
+    return _verified_pair(model, points, lp, clean, mechanism, start, dilatant, tol)
 
 
 def _verified_pair(model: Model, points: ContactPoints, lp: StaticLP, clean: np.ndarray | None,
-                   mechanism: np.ndarray, start: str, dilatant: bool) -> CollapseState | None:
+                   mechanism: np.ndarray, start: str, dilatant: bool,
+                   tolerances: StateTolerances) -> CollapseState | None:
     """The field with the kinematic LP's mechanism, else with the candidate's own (first verified)."""
     best = None
     for u in ((clean, mechanism) if clean is not None else (mechanism,)):
         if dilatant and u is mechanism:
             continue  # an associative mechanism opens where it slips: never a non-associative state
-        residuals, ok = verify(model, points, lp.alpha, lp.normal, lp.shear, u, lp.bounded)
+        residuals, ok = verify(model, points, lp.alpha, lp.normal, lp.shear, u, lp.bounded, tolerances)
         state = CollapseState(alpha=lp.alpha, normal=lp.normal, shear=lp.shear, mechanism=u, start=start,
                               residuals=residuals, verified=ok, bounded=lp.bounded)
         if best is None or (ok and not best.verified):
@@ -312,8 +317,7 @@ def fast_exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray,
     state = exact_state(model, points, mechanism, start, dilatant=dilatant, method=LPMethod.CLARABEL, limits=limits,
                         tally=tally)
     if state is not None and not state.verified:
-        vertex_limits = ExactLimits(min(limits.lp_pivots, limits.vertex_pivots), limits.vertex_pivots,
-                                    limits.interior_iterations)
+        vertex_limits = dataclasses.replace(limits, lp_pivots=min(limits.lp_pivots, limits.vertex_pivots))
         state = exact_state(model, points, mechanism, start, dilatant=dilatant, method=LPMethod.IPM,
                             limits=vertex_limits, tally=tally)
     return state
