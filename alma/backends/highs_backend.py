@@ -83,7 +83,7 @@ def new_highs() -> highspy.Highs:
     return h
 
 
-def quiet_highs(**options: object) -> highspy.Highs:
+def quiet_highs(**options: bool | int | float | str) -> highspy.Highs:
     """A ``highspy.Highs`` that prints nothing, with ``options`` set (HiGHS option names)."""
     h = new_highs()
     h.setOptionValue("output_flag", False)
@@ -168,11 +168,11 @@ class WarmLP:
     bounded by iteration counts, never by the clock.
     """
 
-    def __init__(self, lp: highspy.HighsLp, **options: object) -> None:
+    def __init__(self, lp: highspy.HighsLp, **options: bool | int | float | str) -> None:
         self._h = quiet_highs(**options)
         self._h.passModel(lp)
 
-    def set_option(self, name: str, value: object) -> None:
+    def set_option(self, name: str, value: bool | int | float | str) -> None:
         """Set one HiGHS option (kept for the later runs)."""
         self._h.setOptionValue(name, value)
 
@@ -182,9 +182,9 @@ class WarmLP:
 
     def change_row_bounds(self, rows: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:
         """New bounds of the rows ``rows``."""
-        self._h.changeRowsBounds(len(rows), rows, lower, upper)
+        self._h.changeRowsBounds(len(rows), rows, lower, upper)  # type: ignore[attr-defined]  # not in highspy's stubs
 
-    def change_coeff(self, row: int, col: int, value: float) -> None:
+    def change_coeff(self, row: int | np.integer, col: int | np.integer, value: float | np.floating) -> None:
         """A new coefficient of the constraint matrix."""
         self._h.changeCoeff(int(row), int(col), float(value))
 

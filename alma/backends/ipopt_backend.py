@@ -17,6 +17,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -93,7 +94,8 @@ def solve_relaxations(data: ComplementarityData, x0: np.ndarray, bounds: tuple[n
 
     start = time.perf_counter()
     lbg, ubg, lbx, ubx = bounds
-    options = {"ipopt.print_level": 0, "print_time": False, "ipopt.max_iter": max_iter, "ipopt.sb": "yes"}
+    options: dict[str, Any] = {"ipopt.print_level": 0, "print_time": False, "ipopt.max_iter": max_iter,
+                               "ipopt.sb": "yes"}
     solver = ca.nlpsol("alma_nlncp", "ipopt", _problem(ca, data), options)
     best, raw, term, iterations = np.zeros(0), "not run", Termination.INTERRUPTED, 0
     for epsilon in relaxations:
