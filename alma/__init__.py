@@ -12,15 +12,16 @@ from alma.mechanics.model import Model, build_model
 from alma.push import PushResult, push
 from alma.results.types import AssociativeResult, Bounds, Comparison, NonAssociativeResult, Result
 from alma.seismic import SeismicResult, Site, load_site, seismic
-from alma.settings import AssociativeSettings, CertifySettings, PushSettings, SearchSettings, Settings
+from alma.settings import (AssociativeSettings, CertifySettings, IPMSettings, PushSettings, SearchSettings, Settings,
+                           StateTolerances)
 from alma.settle import SettlementResult, settle
 from alma.solve import solve
 from alma.status import Status
 from alma.tilt import TiltResult, TiltSettings, tilt
 
-__all__ = ["AssociativeResult", "AssociativeSettings", "Block", "Bounds", "CertifySettings", "Comparison", "Joints",
-           "Model", "NonAssociativeResult", "PushResult", "PushSettings", "Result", "Scene", "SceneError",
-           "SearchSettings", "SeismicResult", "Settings", "SettlementResult", "Site", "Status", "TiltResult",
-           "TiltSettings", "arch", "build_model", "coursed_wall", "facade", "find_joints", "load_scene", "load_site",
-           "paper_panel", "push", "seismic", "settle", "solve", "tilt", "wall"]
+__all__ = ["AssociativeResult", "AssociativeSettings", "Block", "Bounds", "CertifySettings", "Comparison",
+           "IPMSettings", "Joints", "Model", "NonAssociativeResult", "PushResult", "PushSettings", "Result", "Scene",
+           "SceneError", "SearchSettings", "SeismicResult", "Settings", "SettlementResult", "Site", "StateTolerances",
+           "Status", "TiltResult", "TiltSettings", "arch", "build_model", "coursed_wall", "facade", "find_joints",
+           "load_scene", "load_site", "paper_panel", "push", "seismic", "settle", "solve", "tilt", "wall"]
 from alma._version import __version__ as __version__  # from git (setuptools-scm)

@@ -2,7 +2,9 @@
 
 ``alma.solve(scene, settings=Settings(...))`` takes them; the study keys hash them together
 with the package version, so a change of any of them is never served from an old results file.
-The evidence behind each default is in ``docs/decisions.md``.
+The evidence behind each default is in ``docs/decisions.md``.  The interior point's
+:class:`~alma.engine.types.IPMSettings` are defined with the engine (plain data: the engine
+imports nothing of alma) and reached here as :attr:`AssociativeSettings.ipm`.
 
 No setting is a share of the wall clock: the searches spend work budgets (iterations, LP
 solves, branch-and-bound nodes), so the same input gives the same answer on any machine.  The
@@ -15,7 +17,29 @@ import dataclasses
 import hashlib
 import json
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal, get_args
+
+# The interior point's settings are plain data of alma.engine, which imports nothing of alma.
+from alma.engine.types import FACTORISATIONS as FACTORISATIONS
+from alma.engine.types import IPMSettings
+
+#: The associative LP's engines: Clarabel, alma's interior point (alma.engine), or by size.
+Engine = Literal["clarabel", "ipm", "auto"]
+ENGINES: tuple[str, ...] = get_args(Engine)
+#: The non-associative search's efforts ("auto": thorough on small scenes, fast on large ones).
+Effort = Literal["auto", "fast", "thorough"]
+EFFORTS: tuple[str, ...] = get_args(Effort)
+#: The MIP solvers of the certification.
+CertifyBackend = Literal["highs", "scip"]
+CERTIFY_BACKENDS: tuple[str, ...] = get_args(CertifyBackend)
+
+
+def _check_choice(owner: object, name: str, allowed: tuple[str, ...]) -> None:
+    """A clear error when the field ``name`` of ``owner`` is not one of ``allowed``."""
+    value = getattr(owner, name)
+    if value not in allowed:
+        raise ValueError(f"{type(owner).__name__}.{name} must be one of {', '.join(map(repr, allowed))}, "
+                         f"got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -61,9 +85,27 @@ class AssociativeSettings:
     #: 2e4 mean block weights, where the repaired residual is 580 ε × that (docs/decisions.md).
     residual_roundoff: float = 1e4
     #: "clarabel", "ipm" (alma.engine; Clarabel if it does not converge) or "auto" (the interior
-    #: point from alma.engine.select.AUTO_MIN_BLOCKS free blocks, AUTO_MIN_BLOCKS_BOUNDED with
+    #: point from :attr:`auto_min_blocks` free blocks, :attr:`auto_min_blocks_bounded` with
     #: cohesion or ties, when a fast factorisation is installed).
-    engine: str = "auto"
+    engine: Engine = "auto"
+    #: "auto" takes the interior point from this many free blocks: measured end to end on this
+    #: project's 2-core machine, Clarabel is faster on the paper panels (≤ 1,752 blocks: 0.59 s
+    #: against 0.80 s) and the interior point from the 5,005-block wall on (5.6 s against 12.3 s);
+    #: the panels' crossover is near 700 blocks, and the threshold stays above it because the
+    #: crisp mechanism needs Clarabel's sharper final partition on two of those panels
+    #: (docs/engine.md, docs/decisions.md).
+    auto_min_blocks: int = 3000
+    #: ... and from this many with bounded forces (cohesion, ties), which take no crisp mechanism:
+    #: with 5 kPa on every joint of the 108 panels Clarabel/ipm is 0.95 below 700 free blocks and
+    #: 1.08-1.26 from 700 on (studies/bench_engine_crossover.py --cohesion 5; docs/engine.md).
+    auto_min_blocks_bounded: int = 700
+    #: The interior point's own numbers (used when the engine is "ipm", or "auto" on large scenes).
+    ipm: IPMSettings = field(default_factory=IPMSettings)
+    #: The certificate's Gram matrices of at least this order go to feral when it is installed:
+    #: 3 rows per free block, i.e. walls of 5,000 blocks and more, where feral's certificate is
+    #: 1.1× faster (0.76× at 1,000 blocks, 2.4× at 20,000; studies/bench_certificate.py); every
+    #: paper panel (≤ 5,256 rows) stays on QDLDL.
+    feral_min_rows: int = 15_000
     #: Re-solve by HiGHS's dual simplex when the interior point's pair does not certify: a vertex
     #: is exact on the degenerate faces (noisy drawings of walls sliding at α = f) where it is not.
     simplex_fallback: bool = True
@@ -85,6 +127,9 @@ class AssociativeSettings:
     #: The cone program's margins and its anchor solve (docs/compressive.md).
     crushing: CrushingSettings = field(default_factory=CrushingSettings)
 
+    def __post_init__(self) -> None:
+        _check_choice(self, "engine", ENGINES)
+
 
 @dataclass(frozen=True)
 class CertifySettings:
@@ -99,7 +144,7 @@ class CertifySettings:
     #: Above this many contact points, one global normal-force bound replaces the per-point LPs.
     per_point_bounds: int = 400
     #: "highs" (big-M binaries, always installed) or "scip" (SOS1 pairs, the extra alma[scip]).
-    backend: str = "highs"
+    backend: CertifyBackend = "highs"
     #: Absolute MIP gap of the SCIP path: the proven bound is within this of the best state found.
     absolute_gap: float = 1e-7
     #: SCIP's feasibility tolerance: its default 1e-6 lets equilibrium drift by 1e-6 block weights
@@ -107,6 +152,31 @@ class CertifySettings:
     scip_feasibility: float = 1e-8
     #: SCIP: add the exact energy balance (bilinear in N and the slips) as a quadratic equality.
     scip_energy: bool = True
+
+    def __post_init__(self) -> None:
+        _check_choice(self, "backend", CERTIFY_BACKENDS)
+
+
+@dataclass(frozen=True)
+class StateTolerances:
+    """When a candidate is a collapse state of Eq. 9 (``alma.nonassociative.states.verify``) and
+    how an active set is read; dimensionless: residuals relative to the largest force or velocity."""
+
+    #: Equilibrium residual per largest force: the definition of a verified state (docs/accuracy.md).
+    equilibrium: float = 1e-7
+    #: Yield violation (N < 0, |T| > f N) per largest force: the same definition.
+    yield_violation: float = 1e-7
+    #: Interpenetration, force on an opening point, friction or bounded force not mobilised on a
+    #: slip, relative to the largest velocity and force: the same definition.
+    kinematic: float = 1e-7
+    #: Energy balance α f_Lᵀu + f₀ᵀu = dissipation, relative to its largest term: the same definition.
+    energy: float = 1e-6
+    #: A relative velocity below this share of the largest counts as zero when an active set is
+    #: read from a mechanism: well above the LPs' round-off, below any motion a state keeps.
+    active: float = 1e-6
+    #: A force below this share of the largest normal force counts as zero (or at its limit) when
+    #: the widest set a static field allows is read: a vertex's forces are exact to round-off.
+    force: float = 1e-9
 
 
 @dataclass(frozen=True)
@@ -118,7 +188,7 @@ class SearchSettings:
     """
 
     #: "fast", "thorough", or "auto" (thorough up to :attr:`thorough_blocks` free blocks).
-    effort: str = "auto"
+    effort: Effort = "auto"
     #: Free blocks up to which "auto" means "thorough".
     thorough_blocks: int = 200
     #: The search runs on the canonical drawing (:mod:`alma.geometry.canonical`), its model's data
@@ -188,6 +258,11 @@ class SearchSettings:
     #: more on a larger scene): 200 nodes on 12 dry blocks, 33 on 12 cohesive ones, where 20,000
     #: nodes found nothing in 18 minutes.
     milp_start_work: int = 2_400
+    #: When a candidate is a verified collapse state, and how active sets are read.
+    states: StateTolerances = field(default_factory=StateTolerances)
+
+    def __post_init__(self) -> None:
+        _check_choice(self, "effort", EFFORTS)
 
 
 @dataclass(frozen=True)

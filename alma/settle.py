@@ -108,12 +108,12 @@ def settle(scene: Scene, settings: AssociativeSettings | None = None) -> Settlem
     # With no settlement at all u = 0 is the mechanism (nothing moves); the LP still gives the field.
     moves = h.any() or g.any()
     u = sol.x[:n] if moves else np.zeros(n)
-    fields = np.clip(sol.z[:k + q], 0.0, np.concatenate([np.full(k, np.inf), capacity]))
+    fields = np.clip(sol.duals[:k + q], 0.0, np.concatenate([np.full(k, np.inf), capacity]))
     field = types.SimpleNamespace(dead=model.dead, live=np.zeros(n))
     # _repair_field reads only .dead and .live of its model: the settlement's field carries no live load.
     fields, _, static_residual = _repair_field(sp.hstack([H, G]).tocsc(), field, fields, 0.0,  # type: ignore[arg-type]
                                                np.concatenate([np.full(k, np.inf), capacity]), 0.0,
-                                               s.residual_tolerance, s.gap_tolerance)
+                                               s.residual_tolerance, s.gap_tolerance, s.feral_min_rows)
     mu, tau = fields[:k], fields[k:]
     power = H.T @ u + h
     size = float((abs(H.T) @ np.abs(u)).max(initial=0.0)) + float(np.abs(h).max(initial=0.0))

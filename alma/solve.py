@@ -19,7 +19,6 @@ from alma.results.types import AssociativeResult, Comparison, NonAssociativeResu
 from alma.settings import Settings
 
 MODELS = ("associative", "nonassociative", "both")
-EFFORTS = ("auto", "fast", "thorough")
 
 
 def solve(scene: Scene | Model, model: str = "associative", *, settings: Settings | None = None,
@@ -82,14 +81,12 @@ def _settings(settings: Settings | None, tolerance: float | None, effort: str | 
         raise TypeError(f"settings must be an alma.settings.Settings, got {type(s).__name__}")
     if tolerance is not None:
         s = dataclasses.replace(s, associative=dataclasses.replace(s.associative, tolerance=float(tolerance)))
-    if effort is not None:
+    if effort is not None:  # SearchSettings checks it against alma.settings.EFFORTS
         s = dataclasses.replace(s, search=dataclasses.replace(s.search, effort=effort))
     if time_limit is not None:
         if not time_limit > 0:
             raise ValueError(f"time_limit must be a positive number of seconds, got {time_limit!r}")
         s = dataclasses.replace(s, time_limit=float(time_limit))
-    if s.search.effort not in EFFORTS:
-        raise ValueError(f"effort must be one of {EFFORTS}, got {s.search.effort!r}")
     return s
 
 
@@ -135,7 +132,7 @@ def _search(built: Model, settings: Settings) -> NonAssociativeSolution:
     solution = solve_nonassociative(canonical, lp.mechanism if lp.solved else None,
                                     lp.multipliers if lp.solved else None, effort=settings.search.effort,
                                     settings=settings.search, time_limit=settings.time_limit,
-                                    associative_alpha=lp.alpha if lp.solved else None)
+                                    associative_alpha=lp.alpha if lp.solved else None, certify=settings.certify)
     return carried_back(solution, canonical, frame, built, settings.search)
 
 

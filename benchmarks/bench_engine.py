@@ -77,7 +77,8 @@ def _one(scene, engine: str, backend: str) -> dict:
 def _one_ipx(scene) -> dict:
     """HiGHS IPX (interior point, crossover off) on the same kinematic LP, its pair passed to
     alma's certificate: a reference, not one of alma's engines."""
-    from alma.associative.lp import ConicSolution, Status, _certified, _kinematic_form
+    from alma.associative.lp import _certified, _kinematic_form
+    from alma.backends.termination import SolverResult, termination
     from alma.backends.highs_backend import conic_lp, quiet_highs
     from alma.geometry.contacts import find_joints
     from alma.mechanics.model import build_model
@@ -95,9 +96,8 @@ def _one_ipx(scene) -> dict:
     t2 = time.perf_counter()
     raw = str(h.getModelStatus()).rsplit(".", 1)[-1]
     sol = h.getSolution()
-    pair = ConicSolution(Status.OPTIMAL if raw == "kOptimal" else Status.NOT_CONVERGED, f"HiGHS IPX {raw}",
-                         np.asarray(sol.col_value, float), -np.asarray(sol.row_dual, float),
-                         int(h.getInfo().ipm_iteration_count), t2 - t1)
+    pair = SolverResult(termination("highs", raw), raw, np.asarray(sol.col_value, float),
+                        -np.asarray(sol.row_dual, float), int(h.getInfo().ipm_iteration_count), t2 - t1, "HiGHS IPX")
     lp_sol = _certified(model, model.equilibrium, s, pair, "HiGHS IPX", "", {})
     return dict(blocks=model.n_free, build_s=t1 - t0, total_s=time.perf_counter() - t0, solve_s=t2 - t1,
                 certify_s=lp_sol.certify_time, status=lp_sol.status, alpha=lp_sol.alpha, lower=lp_sol.lower,

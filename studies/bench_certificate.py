@@ -10,22 +10,21 @@ process.  Medians, the ratio, and the bounds of each (they must agree to round-o
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import statistics
 import time
 from pathlib import Path
 
 import alma
 import alma.associative.lp as lp_module
-from alma.backends import gram_backend
-from alma.backends.clarabel_backend import ConicSolution
+from alma.backends.termination import SolverResult, Termination
 from alma.engine.select import solve_with_engine
 from alma.settings import AssociativeSettings
-from alma.status import Status
 from benchmarks.bench_scaling import wall_shape
 
 ROOT = Path(__file__).resolve().parents[1]
 
-BACKENDS = {"qdldl": 10**12, "feral": 1}  # FERAL_MIN_ROWS forcing each
+BACKENDS = {"qdldl": 10**12, "feral": 1}  # AssociativeSettings.feral_min_rows forcing each
 
 
 def measure(blocks: int, repeat: int) -> list[dict]:
@@ -33,19 +32,15 @@ def measure(blocks: int, repeat: int) -> list[dict]:
     model = alma.build_model(alma.wall("running", 240.0 * per_course, 60.0 * courses, 240.0))
     s = AssociativeSettings()
     ans = solve_with_engine(model.equilibrium, model.dead, model.live, s.normalisation * model.n_free)
-    pair = ConicSolution(Status.OPTIMAL, ans.raw_status, ans.x, ans.z, ans.iterations, 0.0)
+    pair = SolverResult(Termination.OPTIMAL, ans.status, ans.x, ans.duals, ans.iterations, 0.0, ans.label)
     times: dict[str, list[float]] = {name: [] for name in BACKENDS}
     last = {}
-    default = gram_backend.FERAL_MIN_ROWS
-    try:
-        for _ in range(repeat):
-            for name, rows in BACKENDS.items():  # alternated: machine load falls on both alike
-                gram_backend.FERAL_MIN_ROWS = rows
-                t0 = time.perf_counter()
-                last[name] = lp_module._certified(model, model.equilibrium, s, pair, "ipm", "", {})
-                times[name].append(time.perf_counter() - t0)
-    finally:
-        gram_backend.FERAL_MIN_ROWS = default
+    for _ in range(repeat):
+        for name, rows in BACKENDS.items():  # alternated: machine load falls on both alike
+            forced = dataclasses.replace(s, feral_min_rows=rows)
+            t0 = time.perf_counter()
+            last[name] = lp_module._certified(model, model.equilibrium, forced, pair, "ipm", "", {})
+            times[name].append(time.perf_counter() - t0)
     return [dict(blocks=model.n_free, gram=name, certify_s=statistics.median(times[name]),
                  status=str(last[name].status), lower=last[name].lower, upper=last[name].upper)
             for name in BACKENDS]

@@ -13,8 +13,9 @@ import time
 
 import numpy as np
 
-from alma.associative.lp import ConicSolution, Status, _certified, _kinematic_form
+from alma.associative.lp import _certified, _kinematic_form
 from alma.backends.highs_backend import conic_lp, quiet_highs
+from alma.backends.termination import SolverResult, termination
 from alma.geometry.contacts import find_joints
 from alma.mechanics.model import build_model
 from alma.settings import AssociativeSettings
@@ -39,8 +40,8 @@ def main() -> None:
     seconds = time.perf_counter() - t0
     raw = str(h.getModelStatus()).rsplit(".", 1)[-1]
     sol, iterations = h.getSolution(), int(h.getInfo().pdlp_iteration_count)
-    pair = ConicSolution(Status.OPTIMAL if raw == "kOptimal" else Status.NOT_CONVERGED, f"HiGHS PDLP {raw}",
-                         np.asarray(sol.col_value, float), -np.asarray(sol.row_dual, float), iterations, seconds)
+    pair = SolverResult(termination("highs", raw), raw, np.asarray(sol.col_value, float),
+                        -np.asarray(sol.row_dual, float), iterations, seconds, "HiGHS PDLP")
     lp = _certified(model, model.equilibrium, s, pair, "HiGHS PDLP", "", {})
     print(f"{args.case}: {model.n_free} free blocks; PDLP {raw} after {iterations} iterations, {seconds:.1f} s; "
           f"certificate: {lp.status}, α ∈ [{lp.lower:.10g}, {lp.upper:.10g}]")

@@ -13,6 +13,11 @@ import scipy.sparse as sp
 import alma
 from alma.associative.lp import NORMALISATION, solve_lp  # NORMALISATION: the default's value
 from alma.engine import IPMSettings, available_backends, make_factoriser, normal_pattern, select, solve_eq10
+from alma.settings import AssociativeSettings
+
+#: The default thresholds of engine="auto".
+AUTO = AssociativeSettings()
+THRESHOLDS = {"min_blocks": AUTO.auto_min_blocks, "min_blocks_bounded": AUTO.auto_min_blocks_bounded}
 
 ENGINE_DIR = Path(alma.__file__).parent / "engine"
 
@@ -140,7 +145,7 @@ def test_unknown_backend_and_engine_are_refused(wall):
     with pytest.raises(ValueError):
         make_factoriser(normal_pattern(wall.equilibrium), "nonesuch")
     with pytest.raises(ValueError):
-        select.choose("nonesuch", 10)
+        select.choose("nonesuch", 10, **THRESHOLDS)
 
 
 @pytest.mark.parametrize("backend", available_backends())
@@ -185,24 +190,25 @@ def test_no_equilibrium_falls_back_to_clarabel_and_says_so():
 
 def test_auto_without_fast_backend_warns_once_and_uses_clarabel(monkeypatch, wall):
     monkeypatch.setattr(select, "available_backends", lambda: ("qdldl",))
-    monkeypatch.setattr(select, "_warned", False)
-    assert select.choose("auto", select.AUTO_MIN_BLOCKS - 1) == "clarabel"  # small: no warning needed
+    assert select.choose("auto", AUTO.auto_min_blocks - 1, **THRESHOLDS) == "clarabel"  # small: no warning
+    assert select.choose("auto", AUTO.auto_min_blocks - 1, **THRESHOLDS) == "clarabel"  # small: no warning needed
     with pytest.warns(RuntimeWarning, match="Clarabel"):
-        assert select.choose("auto", 10_000) == "clarabel"
+        assert select.choose("auto", 10_000, **THRESHOLDS) == "clarabel"
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        assert select.choose("auto", 10_000) == "clarabel"  # said once only
+        assert select.choose("auto", 10_000, **THRESHOLDS) == "clarabel"  # said once only
     result = solve_lp(wall, engine="auto")
     assert result.status == "optimal" and "Clarabel" in result.message and "alma-ipm" not in result.message
 
 
 def test_auto_chooses_by_size(monkeypatch):
     monkeypatch.setattr(select, "available_backends", lambda: ("feral", "qdldl"))
-    assert select.choose("auto", select.AUTO_MIN_BLOCKS - 1) == "clarabel"
-    assert select.choose("auto", select.AUTO_MIN_BLOCKS) == "ipm"
-    assert select.choose("clarabel", 10**6) == "clarabel" and select.choose("ipm", 1) == "ipm"
-    assert select.choose("auto", select.AUTO_MIN_BLOCKS_BOUNDED - 1, bounded=True) == "clarabel"
-    assert select.choose("auto", select.AUTO_MIN_BLOCKS_BOUNDED, bounded=True) == "ipm"
+    assert select.choose("auto", AUTO.auto_min_blocks - 1, **THRESHOLDS) == "clarabel"
+    assert select.choose("auto", AUTO.auto_min_blocks, **THRESHOLDS) == "ipm"
+    assert select.choose("clarabel", 10**6, **THRESHOLDS) == "clarabel"
+    assert select.choose("ipm", 1, **THRESHOLDS) == "ipm"
+    assert select.choose("auto", AUTO.auto_min_blocks_bounded - 1, bounded=True, **THRESHOLDS) == "clarabel"
+    assert select.choose("auto", AUTO.auto_min_blocks_bounded, bounded=True, **THRESHOLDS) == "ipm"
 
 
 def test_crossed_bounds_are_not_certified():
@@ -285,26 +291,24 @@ def test_certificate_gram_solves_agree_between_qdldl_and_feral(monkeypatch, wall
     gram = (H @ H.T).tocsc()
     b = np.random.default_rng(1).standard_normal(gram.shape[0])
     reference = solve_lp(wall, engine="ipm")
-    monkeypatch.setattr(gram_backend, "FERAL_MIN_ROWS", 1)
-    x = gram_backend.regularised_solver(gram)(b)
+    x = gram_backend.regularised_solver(gram, feral_min_rows=1)(b)
     assert np.abs(x - qdldl_solver(gram)(b)).max() <= 1e-9 * np.abs(x).max()
-    forced = solve_lp(wall, engine="ipm")
+    forced = solve_lp(wall, AssociativeSettings(feral_min_rows=1), engine="ipm")
     assert forced.status == reference.status == alma.Status.OPTIMAL
     assert forced.lower == pytest.approx(reference.lower, abs=1e-11)
     assert forced.upper == pytest.approx(reference.upper, abs=1e-11)
 
 
 def test_auto_backend_takes_qdldl_below_its_size(monkeypatch, wall):
-    """``auto``: QDLDL for K below ``QDLDL_MAX_ROWS`` rows (faster there), feral above."""
+    """``auto``: QDLDL for K below ``IPMSettings.qdldl_max_rows`` rows (faster there), feral above."""
     from alma.engine import cholesky
 
     monkeypatch.setattr(cholesky, "available_backends", lambda: ("feral", "qdldl"))
     pattern = normal_pattern(wall.equilibrium)
-    assert pattern.n < cholesky.QDLDL_MAX_ROWS
+    assert pattern.n < IPMSettings().qdldl_max_rows
     if "feral" in available_backends():
         assert make_factoriser(pattern, "auto").name == "qdldl"
-        monkeypatch.setattr(cholesky, "QDLDL_MAX_ROWS", pattern.n)
-        assert make_factoriser(pattern, "auto").name == "feral"
+        assert make_factoriser(pattern, "auto", qdldl_max_rows=pattern.n).name == "feral"
     monkeypatch.setattr(cholesky, "available_backends", lambda: ("pardiso", "feral", "qdldl"))
     monkeypatch.setattr(cholesky, "PardisoFactoriser", lambda p, b=None: type("P", (), {"name": "pardiso"})())
     monkeypatch.setitem(cholesky._BACKENDS, "pardiso", ("pypardiso", cholesky.PardisoFactoriser))

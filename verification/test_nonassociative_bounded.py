@@ -15,10 +15,13 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 from test_cohesion_ties_loads import THICKNESS, _tied_block, _weight, block_scene
 
 import alma
-from alma.nonassociative.states import KINEMATIC_TOLERANCE, YIELD_TOLERANCE
+from alma.settings import StateTolerances
 from alma.status import Status
 
 from helpers import assemblies
+
+KINEMATIC_TOLERANCE = StateTolerances().kinematic
+YIELD_TOLERANCE = StateTolerances().yield_violation
 
 VERIFIED = (Status.OPTIMAL, Status.FEASIBLE)
 

@@ -13,12 +13,16 @@ import scipy.sparse as sp
 
 from alma.backends.gram_backend import regularised_solver
 from alma.mechanics.model import Model
+from alma.settings import AssociativeSettings
+
+#: The default of :attr:`alma.settings.AssociativeSettings.feral_min_rows`.
+_FERAL_MIN_ROWS = AssociativeSettings().feral_min_rows
 
 
 def certify_pair(H: sp.csc_matrix, model: Model, u: np.ndarray, mu: np.ndarray, alpha: float,
                  residual_tolerance: float = 1e-9, gap_tolerance: float = 1e-7, *,
-                 static: sp.csc_matrix | None = None, upper: np.ndarray | None = None
-                 ) -> tuple[np.ndarray, np.ndarray, float, float, float]:
+                 static: sp.csc_matrix | None = None, upper: np.ndarray | None = None,
+                 feral_min_rows: int = _FERAL_MIN_ROWS) -> tuple[np.ndarray, np.ndarray, float, float, float]:
     """Repair the interior-point pair into admissible fields (the two bounds).
 
     Both repairs are minimum-norm corrections solved with a sparse factorisation:
@@ -35,33 +39,36 @@ def certify_pair(H: sp.csc_matrix, model: Model, u: np.ndarray, mu: np.ndarray, 
 
     ``static`` replaces H in the equilibrium (e.g. [H G] with the bounded columns of cohesion
     and ties, :mod:`alma.mechanics.forces`) and ``upper`` bounds its multipliers above (∞ for
-    the cone generators); the flow rule stays Hᵀu ≥ 0.
+    the cone generators); the flow rule stays Hᵀu ≥ 0.  ``feral_min_rows``: the Gram solves'
+    choice of factorisation (:attr:`alma.settings.AssociativeSettings.feral_min_rows`).
 
     Returns (u, μ, α_lower, static residual, kinematic residual).
     """
     norm = float(model.n_free)
     u, kinematic_residual = _repair_mechanism(H, model.live, u * (norm / (model.live @ u)), norm,
-                                              residual_tolerance)
+                                              residual_tolerance, feral_min_rows)
     A = H if static is None else static
     bound = np.full(A.shape[1], np.inf) if upper is None else np.asarray(upper, dtype=float)
     u_final = u / norm
     upper_estimate = float(-model.dead @ u_final / (model.live @ u_final))
     mu, alpha, static_residual = _repair_field(A, model, np.clip(mu, 0.0, bound), alpha, bound,
-                                               upper_estimate, residual_tolerance, gap_tolerance)
+                                               upper_estimate, residual_tolerance, gap_tolerance, feral_min_rows)
     return u_final, mu, float(alpha), static_residual, kinematic_residual
 
 
-def repair_mechanism(H: sp.csc_matrix, model: Model, u: np.ndarray,
-                     residual_tolerance: float = 1e-9) -> tuple[np.ndarray, float]:
+def repair_mechanism(H: sp.csc_matrix, model: Model, u: np.ndarray, residual_tolerance: float = 1e-9,
+                     feral_min_rows: int = _FERAL_MIN_ROWS) -> tuple[np.ndarray, float]:
     """The kinematic repair of :func:`certify_pair` alone, on the flow-rule columns of H: returns
     (u with f_Lᵀu = 1, its relative flow-rule violation)."""
     norm = float(model.n_free)
-    u, residual = _repair_mechanism(H, model.live, u * (norm / (model.live @ u)), norm, residual_tolerance)
+    u, residual = _repair_mechanism(H, model.live, u * (norm / (model.live @ u)), norm, residual_tolerance,
+                                    feral_min_rows)
     return u / norm, residual
 
 
 def _repair_mechanism(H: sp.csc_matrix, live: np.ndarray, u: np.ndarray, norm: float,
-                      residual_tolerance: float) -> tuple[np.ndarray, float]:
+                      residual_tolerance: float, feral_min_rows: int = _FERAL_MIN_ROWS
+                      ) -> tuple[np.ndarray, float]:
     """The kinematic repair (see :func:`certify_pair`); returns u and its relative violation."""
     HT = H.T.tocsr()
     abs_HT = abs(HT)
@@ -85,7 +92,7 @@ def _repair_mechanism(H: sp.csc_matrix, live: np.ndarray, u: np.ndarray, norm: f
         # (H_V H_Vᵀ + ε I)⁻¹ H_V t (the same vector): that Gram matrix has the size of u (3 per
         # block) instead of one row per held generator, which is 3x larger and much denser.
         eps = 1e-12 * max(float(np.max(np.asarray(HV.multiply(HV).sum(axis=1)), initial=1.0)), 1.0)
-        solve_u = regularised_solver(HV.T @ HV, eps)
+        solve_u = regularised_solver(HV.T @ HV, eps, feral_min_rows=feral_min_rows)
         candidate = u.copy()
         for _ in range(3):
             candidate = candidate + solve_u(HV.T @ np.maximum(-(HV @ candidate), 0.0))
@@ -99,8 +106,8 @@ def _repair_mechanism(H: sp.csc_matrix, live: np.ndarray, u: np.ndarray, norm: f
 
 
 def _repair_field(A: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float, bound: np.ndarray,
-                  upper_estimate: float, residual_tolerance: float,
-                  gap_tolerance: float) -> tuple[np.ndarray, float, float]:
+                  upper_estimate: float, residual_tolerance: float, gap_tolerance: float,
+                  feral_min_rows: int = _FERAL_MIN_ROWS) -> tuple[np.ndarray, float, float]:
     """The static repair (see :func:`certify_pair`).
 
     Two correction spaces: the plain support of μ (multipliers strictly inside their bounds),
@@ -122,18 +129,19 @@ def _repair_field(A: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float, 
         else:
             support = np.flatnonzero(room > 1e-9 * top)
             weight = np.ones(support.size)
-        trial = static_correction(A, model, mu.copy(), alpha, support, weight, bound)
+        trial = static_correction(A, model, mu.copy(), alpha, support, weight, bound, feral_min_rows)
         if best_static is None or _better(trial, best_static, residual_tolerance):
             best_static = trial
     return best_static
 
 
 def repair_field(A: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float, bound: np.ndarray,
-                 upper_estimate: float, residual_tolerance: float,
-                 gap_tolerance: float) -> tuple[np.ndarray, float, float]:
+                 upper_estimate: float, residual_tolerance: float, gap_tolerance: float,
+                 feral_min_rows: int = _FERAL_MIN_ROWS) -> tuple[np.ndarray, float, float]:
     """The static repair of :func:`certify_pair` alone (a field without its mechanism): returns
     (μ, α, equilibrium residual)."""
-    return _repair_field(A, model, mu, alpha, bound, upper_estimate, residual_tolerance, gap_tolerance)
+    return _repair_field(A, model, mu, alpha, bound, upper_estimate, residual_tolerance, gap_tolerance,
+                         feral_min_rows)
 
 
 def _better(trial: tuple, best: tuple, residual_tolerance: float) -> bool:
@@ -146,11 +154,11 @@ def _better(trial: tuple, best: tuple, residual_tolerance: float) -> bool:
 
 def static_correction(H: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float,
                        support: np.ndarray, weight: np.ndarray,
-                       bound: np.ndarray) -> tuple[np.ndarray, float, float]:
+                       bound: np.ndarray, feral_min_rows: int = _FERAL_MIN_ROWS) -> tuple[np.ndarray, float, float]:
     """Minimum-norm correction of (μ_S, α) removing the equilibrium residual (Eq. 3)."""
     live = model.live
     HS = H[:, support] @ sp.diags(weight)
-    solve_g = regularised_solver(HS @ HS.T)
+    solve_g = regularised_solver(HS @ HS.T, feral_min_rows=feral_min_rows)
     g_live = solve_g(live)
     # α takes part with a small weight first: the correction goes to the stresses, and α only
     # absorbs what they cannot (the "matching reduction" of the multiplier) when the weight grows.

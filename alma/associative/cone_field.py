@@ -51,7 +51,8 @@ class ConeField:
 
 
 def repair_cone_field(model: Model, static: sp.csc_matrix, fields: np.ndarray, alpha: float,
-                      bound: np.ndarray) -> tuple[np.ndarray, float, float]:
+                      bound: np.ndarray, feral_min_rows: int = AssociativeSettings().feral_min_rows
+                      ) -> tuple[np.ndarray, float, float]:
     """The static field (μ, τ) put in equilibrium (Eq. 3) at a corrected α, kept inside the cones.
 
     An affine-scaled minimum-norm correction (as :func:`alma.associative.certificate.certify_pair`'s
@@ -80,7 +81,7 @@ def repair_cone_field(model: Model, static: sp.csc_matrix, fields: np.ndarray, a
         top = max(float(best[0].max(initial=0.0)), 1e-300)
         support = np.flatnonzero(room > 1e-14 * top)
         trial = static_correction(static, model, best[0].copy(), best[1], support, np.sqrt(room[support] / top),
-                                  bound)
+                                  bound, feral_min_rows)
         if trial[2] >= best[2]:
             break
         best = trial
@@ -152,7 +153,8 @@ def anchored_field(model: Model, H: sp.csc_matrix, static: sp.csc_matrix, bound:
     if anchor.raw_status not in ("Solved", "AlmostSolved"):
         return dataclasses.replace(kept, note=f"; anchor solve: {anchor.raw_status}")
     fields0, alpha0, _ = repair_field(static, model, np.clip(anchor.x[1:1 + static.shape[1]], 0.0, bound),
-                                      anchor.x[0], bound, best.alpha, s.residual_tolerance, s.gap_tolerance)
+                                      anchor.x[0], bound, best.alpha, s.residual_tolerance, s.gap_tolerance,
+                                      s.feral_min_rows)
     theta = blend_theta(model, best.fields[:k], fields0[:k])
     if theta is None:
         return dataclasses.replace(kept, note="; anchor solve: no blend inside the cones")
@@ -178,7 +180,8 @@ def admissible_field(model: Model, H: sp.csc_matrix, static: sp.csc_matrix, boun
     for start, alpha0 in ((first.fields, first.alpha), (np.clip(solver_fields, 0.0, bound), solver_alpha)):
         if best.residual <= s.residual_tolerance:
             return best
-        again, alpha_again, residual_again = repair_cone_field(model, static, start, alpha0, bound)
+        again, alpha_again, residual_again = repair_cone_field(model, static, start, alpha0, bound,
+                                                               s.feral_min_rows)
         residual_again = max(residual_again, cone_violation(model, again[:k]))
         if residual_again < best.residual:
             best = ConeField(again, alpha_again, residual_again)

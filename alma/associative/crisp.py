@@ -68,7 +68,7 @@ def _solve(model: Model, alpha: float, slack: float, tight: np.ndarray,
     sol = solve_conic_form(cost, A, b, 1 + k, time_limit=time_limit, solver="ipm")
     form = "complementary" if k else "capped"
     if sol.status != Status.OPTIMAL:
-        return None, f"crisp mechanism ({form}): {sol.raw_status}"
+        return None, f"crisp mechanism ({form}): {sol.solver} {sol.raw_status}"
     u = sol.x[:H.shape[0]] / scale
     size = float((abs(H.T) @ np.abs(u)).max(initial=0.0))
     if -float((H.T @ u).min(initial=0.0)) > 1e-9 * max(size, 1e-300):

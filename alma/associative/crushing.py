@@ -28,7 +28,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from alma.backends.clarabel_backend import ConicSolution, solve_static_cone
+from alma.backends.clarabel_backend import solve_static_cone
+from alma.backends.termination import SolverResult
 from alma.mechanics.model import Model
 from alma.settings import CrushingSettings
 
@@ -118,7 +119,7 @@ def _cone_rows(model: Model, n_x: int, margins: ConeMargins) -> tuple[sp.csc_mat
 
 def solve_static_crushing(model: Model, H: sp.csc_matrix, tolerance: float, max_iter: int,
                           time_limit: float | None = None, refine: bool = True,
-                          normalisation: float = 1.0, margins: ConeMargins | None = None) -> ConicSolution:
+                          normalisation: float = 1.0, margins: ConeMargins | None = None) -> SolverResult:
     """Clarabel's primal–dual pair of the static cone program (:func:`static_cone_form`)."""
     q, A, b, n_zero, n_nonneg, n_soc = static_cone_form(model, H, normalisation, margins)
     return solve_static_cone(q, A, b, n_zero, n_nonneg, n_soc, tolerance=tolerance, max_iter=max_iter,

@@ -26,8 +26,9 @@ import scipy.sparse as sp
 from alma.associative.certificate import certify_pair, cone_residual, repair_mechanism
 from alma.associative.cone_field import ConeField, admissible_field
 from alma.associative.crushing import crushing_work, rigid_columns, solve_static_crushing, uniform_margins
-from alma.backends.clarabel_backend import ConicSolution, solve_conic_lp
+from alma.backends.clarabel_backend import solve_conic_lp
 from alma.backends.highs_backend import solve_conic_form
+from alma.backends.termination import SolverResult, Termination, termination
 from alma.engine.select import choose, solve_with_engine
 from alma.engine.types import IPMSettings
 from alma.mechanics.model import Model
@@ -79,13 +80,15 @@ def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, toler
              ipm_settings: IPMSettings | None = None) -> LPSolution:
     """Solve Eq. 10 (Clarabel, or alma's interior point) and certify the value from both sides.
 
-    ``tolerance``, ``max_iter`` and ``engine`` override the fields of ``settings``;
-    ``ipm_settings`` the interior point's (e.g. its factorisation backend); ``time_limit`` (s)
+    ``tolerance``, ``max_iter`` and ``engine`` override the fields of ``settings``, and
+    ``ipm_settings`` its interior point's (``settings.ipm``: e.g. its factorisation backend); ``time_limit`` (s)
     is a user's cap (its cut gives ``limit_reached``).  ``equilibrium`` replaces the model's H.
     """
     s = settings or AssociativeSettings()
     if engine is not None:
         s = dataclasses.replace(s, engine=engine)
+    if ipm_settings is not None:
+        s = dataclasses.replace(s, ipm=ipm_settings)
     tol = s.tolerance if tolerance is None else tolerance
     iters = s.max_iter if max_iter is None else max_iter
     H = model.equilibrium if equilibrium is None else equilibrium
@@ -94,7 +97,7 @@ def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, toler
         return _trivial(model, Status.NO_EQUILIBRIUM, "no joint carries the free blocks")
     if model.crushes:
         return _solve_crushing(model, H, s, iters, time_limit)
-    sol, label, note, record = _solve_pair(model, H, s, tol, iters, time_limit, ipm_settings)
+    sol, label, note, record = _solve_pair(model, H, s, tol, iters, time_limit)
     if sol.status in (Status.NO_COLLAPSE, Status.NO_EQUILIBRIUM):
         message = ("no kinematically admissible mechanism with positive live-load work"
                    if sol.status == Status.NO_COLLAPSE else
@@ -117,7 +120,7 @@ def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, toler
     return result
 
 
-def _certified(model: Model, H: sp.csc_matrix, s: AssociativeSettings, sol: ConicSolution, label: str,
+def _certified(model: Model, H: sp.csc_matrix, s: AssociativeSettings, sol: SolverResult, label: str,
                note: str, record: dict[str, float]) -> LPSolution:
     """The certificate of a primal–dual pair of Eq. 10 (``certify_pair``) and the status it proves."""
     n, k = H.shape
@@ -126,8 +129,8 @@ def _certified(model: Model, H: sp.csc_matrix, s: AssociativeSettings, sol: Coni
     static = sp.hstack([H, model.bounded]).tocsc() if q_count else None
     bound = np.concatenate([np.full(k, np.inf), model.capacity]) if q_count else None
     u, fields, lower, static_residual, kinematic_residual = certify_pair(
-        H, model, sol.x[:n], sol.z[1:1 + k + q_count].copy(), -sol.z[0], s.residual_tolerance,
-        s.gap_tolerance, static=static, upper=bound)
+        H, model, sol.x[:n], sol.duals[1:1 + k + q_count].copy(), -sol.duals[0], s.residual_tolerance,
+        s.gap_tolerance, static=static, upper=bound, feral_min_rows=s.feral_min_rows)
     mu, tau = fields[:k], fields[k:]
     kinematic_residual = max(kinematic_residual, cone_residual(model, u))
     # A mechanism that breaks the flow rule by v_j only proves α ≤ (−f_0ᵀu + D(u) + Σ v_j μ*_j) / f_Lᵀu:
@@ -189,15 +192,16 @@ def _crushing_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, iters
     q_count = model.n_bounded
     static = sp.hstack([H, model.bounded]).tocsc() if q_count else H
     bound = np.concatenate([np.full(k, np.inf), model.capacity])
-    rigid = rigid_columns(model, H.T @ sol.z[:n], s.crushing.rest)
+    rigid = rigid_columns(model, H.T @ sol.duals[:n], s.crushing.rest)
     u, fields, lower, equilibrium_residual, held_residual = certify_pair(
-        H[:, rigid], model, sol.z[:n], sol.x[1:1 + k + q_count].copy(), sol.x[0], s.residual_tolerance,
-        s.gap_tolerance, static=static, upper=bound)
+        H[:, rigid], model, sol.duals[:n], sol.x[1:1 + k + q_count].copy(), sol.x[0], s.residual_tolerance,
+        s.gap_tolerance, static=static, upper=bound, feral_min_rows=s.feral_min_rows)
     # A second mechanism: the solver's, held to the flow rule on the infinitely strong joints only,
     # every crushing joint counted with its exact dissipation (holding the joints at rest moved
     # the upper bound by 1.2e-7 on english 1:2 2:1 f = 1 at 2 MPa).
     strong = np.flatnonzero(np.repeat(~np.isfinite(model.crushing), 4))
-    strong_u, strong_residual = repair_mechanism(H[:, strong], model, sol.z[:n], s.residual_tolerance)
+    strong_u, strong_residual = repair_mechanism(H[:, strong], model, sol.duals[:n], s.residual_tolerance,
+                                                  s.feral_min_rows)
     mechanisms = ((u, rigid, held_residual), (strong_u, strong, strong_residual))
     # The anchor solve (cone_field) only pays when a mechanism can prove the upper bound.
     _, _, kinematic_residual = _crushing_mechanism(model, H, mechanisms, fields[:k], s)
@@ -234,8 +238,8 @@ def _crushing_mechanism(model: Model, H: sp.csc_matrix, mechanisms: tuple, mu: n
 
 
 def _solve_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: float, iters: int,
-                time_limit: float | None, ipm_settings: IPMSettings | None
-                ) -> tuple[ConicSolution, str, str, dict[str, float]]:
+                time_limit: float | None
+                ) -> tuple[SolverResult, str, str, dict[str, float]]:
     """The primal–dual pair of Eq. 10 from the chosen engine: (solution, solver label, note, the
     interior point's record).
 
@@ -243,16 +247,18 @@ def _solve_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: flo
     variables as auxiliary rows (:func:`_engine_form`); when it does not converge Clarabel solves
     the problem and the note says so.
     """
-    if choose(s.engine, model.n_free, bool(model.n_bounded)) == "ipm":
+    if choose(s.engine, model.n_free, bool(model.n_bounded), min_blocks=s.auto_min_blocks,
+              min_blocks_bounded=s.auto_min_blocks_bounded) == "ipm":
         start = time.perf_counter()
         H_aug, dead, live = _engine_form(model, H)
-        ans = solve_with_engine(H_aug, dead, live, s.normalisation * float(model.n_free), ipm_settings,
+        ans = solve_with_engine(H_aug, dead, live, s.normalisation * float(model.n_free), s.ipm,
                                 n_primary=H.shape[0], pattern=model.derived.get(NORMAL_PATTERN))
         model.derived[NORMAL_PATTERN] = ans.result.pattern
-        if ans.raw_status == "Solved":
-            return (ConicSolution(Status.OPTIMAL, ans.raw_status, ans.x, ans.z, ans.iterations,
-                                  time.perf_counter() - start), ans.label, "", dict(ans.result.timings))
-        note = f"; {ans.label}: {ans.raw_status} after {ans.iterations} iterations, Clarabel used"
+        term = termination("engine", ans.status)
+        if term is Termination.OPTIMAL:
+            return (SolverResult(term, ans.status, ans.x, ans.duals, ans.iterations, time.perf_counter() - start,
+                                 ans.label), ans.label, "", dict(ans.result.timings))
+        note = f"; {ans.label}: {ans.status} after {ans.iterations} iterations, Clarabel used"
     else:
         note = ""
     q, A, b = _kinematic_form(model, H, s.normalisation)

@@ -2,9 +2,10 @@
 
 Both factorise G + ε I (symmetric positive definite) after a fill-reducing ordering.  QDLDL
 (Clarabel's factorisation, Apache-2.0) is the faster on the paper panels; feral-solver (MIT,
-supernodal multifrontal, the fast backend of :mod:`alma.engine`) from :data:`FERAL_MIN_ROWS`
-rows on, where QDLDL's factorisation grows much faster with the size (the certificate of a
-20,000-block wall: 1.26 s against 0.52 s; docs/engine.md).  The choice depends on the matrix's
+supernodal multifrontal, the fast backend of :mod:`alma.engine`) from
+:attr:`alma.settings.AssociativeSettings.feral_min_rows` rows on, where QDLDL's factorisation
+grows much faster with the size (the certificate of a 20,000-block wall: 1.26 s against 0.52 s;
+docs/engine.md).  The choice depends on the matrix's
 size and the installed libraries only.
 """
 from __future__ import annotations
@@ -17,19 +18,18 @@ import scipy.sparse as sp
 
 from alma.backends.qdldl_backend import regularised, regularised_solver as qdldl_solver
 from alma.engine.cholesky import FERAL_ORDERING, feral_factored
+from alma.settings import AssociativeSettings
 
-#: Gram matrices of at least this order go to feral when it is installed: 3 rows per free
-#: block, i.e. walls of 5,000 blocks and more, where feral's certificate is 1.1× faster (0.76×
-#: at 1,000 blocks, 2.4× at 20,000; benchmarks/bench_certificate.py).  Every paper panel
-#: (≤ 5,256 rows) stays on QDLDL.
-FERAL_MIN_ROWS = 15_000
+#: The default of :attr:`alma.settings.AssociativeSettings.feral_min_rows`.
+_FERAL_MIN_ROWS = AssociativeSettings().feral_min_rows
 
 
-def regularised_solver(gram: sp.spmatrix, eps: float | None = None) -> Callable[[np.ndarray], np.ndarray]:
+def regularised_solver(gram: sp.spmatrix, eps: float | None = None, *,
+                       feral_min_rows: int = _FERAL_MIN_ROWS) -> Callable[[np.ndarray], np.ndarray]:
     """A solver for (G + ε I) x = b, G a Gram matrix; ε as in
     :func:`alma.backends.qdldl_backend.regularised_solver` (1e-12 max(1, max diag G) by default,
-    1 on a zero diagonal entry)."""
-    if gram.shape[0] < FERAL_MIN_ROWS or importlib.util.find_spec("feral") is None:
+    1 on a zero diagonal entry); feral from ``feral_min_rows`` rows on, when it is installed."""
+    if gram.shape[0] < feral_min_rows or importlib.util.find_spec("feral") is None:
         return qdldl_solver(gram, eps)
     return _feral_solver(sp.csc_matrix(gram), eps)
 

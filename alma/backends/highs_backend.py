@@ -13,27 +13,17 @@ import ctypes
 import os
 import sys
 import threading
-from typing import Iterator
+import time
+from collections.abc import Iterator
 
 import highspy
+import numpy as np
+import scipy.sparse as sp
 
-from alma.status import Status
+from alma.backends.termination import SolverResult, Termination, termination
 
-#: HiGHS model statuses as alma's vocabulary, for a problem in static form (maximise α): an
-#: unbounded static problem carries any load (no collapse), an infeasible one has no field.
-STATIC_STATUS: dict[str, Status] = {
-    "kOptimal": Status.OPTIMAL,
-    "kUnbounded": Status.NO_COLLAPSE,
-    "kInfeasible": Status.NO_EQUILIBRIUM,
-    "kUnboundedOrInfeasible": Status.NO_EQUILIBRIUM,
-    "kIterationLimit": Status.NOT_CONVERGED,
-    "kSolutionLimit": Status.NOT_CONVERGED,
-    "kObjectiveBound": Status.NOT_CONVERGED,
-    "kObjectiveTarget": Status.NOT_CONVERGED,
-    "kTimeLimit": Status.LIMIT_REACHED,
-    "kInterrupt": Status.LIMIT_REACHED,
-}
-
+#: HiGHS's infinite bound.
+INF = highspy.kHighsInf
 
 #: One redirect at a time: file descriptor 1 belongs to the whole process.
 _STDOUT_LOCK = threading.Lock()
@@ -93,7 +83,7 @@ def new_highs() -> highspy.Highs:
     return h
 
 
-def quiet_highs(**options: object) -> highspy.Highs:
+def quiet_highs(**options: bool | int | float | str) -> highspy.Highs:
     """A ``highspy.Highs`` that prints nothing, with ``options`` set (HiGHS option names)."""
     h = new_highs()
     h.setOptionValue("output_flag", False)
@@ -103,50 +93,53 @@ def quiet_highs(**options: object) -> highspy.Highs:
     return h
 
 
-def static_status(h: highspy.Highs) -> Status:
-    """The model status of ``h`` in alma's words (:data:`STATIC_STATUS`)."""
-    name = str(h.getModelStatus()).rsplit(".", 1)[-1]
-    return STATIC_STATUS.get(name, Status.NOT_CONVERGED)
+def _status_name(h: highspy.Highs) -> str:
+    """HiGHS's model status name, e.g. ``kOptimal``."""
+    return str(h.getModelStatus()).rsplit(".", 1)[-1]
 
 
-def conic_lp(q, A, b, n_eq: int) -> highspy.HighsLp:
-    """``min qᵀx s.t. A x + s = b`` (s = 0 on the first ``n_eq`` rows, s ≥ 0 on the rest, x free)
-    as a ``highspy.HighsLp``: rows ``b[:n_eq] ≤ A x ≤ b`` and ``A x ≤ b``, A stored column-wise."""
-    import numpy as np
-    import scipy.sparse as sp
-
+def lp_model(cost: np.ndarray, col_lower: np.ndarray, col_upper: np.ndarray, A: sp.spmatrix,
+             row_lower: np.ndarray, row_upper: np.ndarray) -> highspy.HighsLp:
+    """``min costᵀx s.t. row_lower ≤ A x ≤ row_upper, col_lower ≤ x ≤ col_upper`` as a
+    ``highspy.HighsLp`` (A stored column-wise; ±:data:`INF` for no bound)."""
     A = sp.csc_matrix(A)
     A.sort_indices()
     m, n = A.shape
-    inf = highspy.kHighsInf
     lp = highspy.HighsLp()
     lp.num_col_, lp.num_row_ = n, m
-    lp.col_cost_ = np.asarray(q, dtype=float)
-    lp.col_lower_, lp.col_upper_ = np.full(n, -inf), np.full(n, inf)
-    lp.row_lower_ = np.concatenate([b[:n_eq], np.full(m - n_eq, -inf)])
-    lp.row_upper_ = np.asarray(b, dtype=float)
+    lp.col_cost_ = np.asarray(cost, dtype=float)
+    lp.col_lower_, lp.col_upper_ = col_lower, col_upper
+    lp.row_lower_, lp.row_upper_ = row_lower, row_upper
     lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
     lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = A.indptr, A.indices, A.data
     lp.a_matrix_.num_col_, lp.a_matrix_.num_row_ = n, m
     return lp
 
 
+def conic_lp(q, A, b, n_eq: int) -> highspy.HighsLp:
+    """``min qᵀx s.t. A x + s = b`` (s = 0 on the first ``n_eq`` rows, s ≥ 0 on the rest, x free)
+    as a ``highspy.HighsLp``: rows ``b[:n_eq] ≤ A x ≤ b`` and ``A x ≤ b``."""
+    m, n = A.shape
+    return lp_model(q, np.full(n, -INF), np.full(n, INF), A, np.concatenate([b[:n_eq], np.full(m - n_eq, -INF)]),
+                    np.asarray(b, dtype=float))
+
+
+def _iterations(h: highspy.Highs) -> int:
+    """Simplex, interior-point and crossover iterations of the last run."""
+    info = h.getInfo()
+    return int(info.simplex_iteration_count) + int(info.ipm_iteration_count) + int(info.crossover_iteration_count)
+
+
 def solve_conic_form(q, A, b, n_eq: int, *, tolerance: float = 1e-10, iteration_limit: int = 1_000_000,
-                     time_limit: float | None = None, solver: str = "simplex"):
+                     time_limit: float | None = None, solver: str = "simplex") -> SolverResult:
     """``min qᵀx s.t. A x + s = b``, s = 0 on the first ``n_eq`` rows and s ≥ 0 on the rest (the
-    form of :func:`alma.backends.clarabel_backend.solve_conic_lp`), by HiGHS's dual simplex.
+    form of :func:`alma.backends.clarabel_backend.solve_conic_lp`, kinematic), by HiGHS's dual
+    simplex (``solver="ipm"``: its interior point with crossover).
 
     A vertex solution: exact where an interior point ends ill-conditioned on a degenerate face.
-    Returns a :class:`~alma.backends.clarabel_backend.ConicSolution` with Clarabel's sign
-    convention for the duals (q + Aᵀz = 0, z ≥ 0 on the inequality rows).
+    The duals follow Clarabel's sign convention (q + Aᵀz = 0, z ≥ 0 on the inequality rows);
+    ``iterations`` counts the simplex iterations.
     """
-    import time
-
-    import numpy as np
-    import scipy.sparse as sp
-
-    from alma.backends.clarabel_backend import ConicSolution
-
     start = time.perf_counter()
     lp = conic_lp(q, A, b, n_eq)
     h = quiet_highs(solver=solver, primal_feasibility_tolerance=tolerance,
@@ -160,20 +153,63 @@ def solve_conic_form(q, A, b, n_eq: int, *, tolerance: float = 1e-10, iteration_
         h.setOptionValue("time_limit", float(time_limit))
     h.passModel(lp)
     h.run()
-    name = str(h.getModelStatus()).rsplit(".", 1)[-1]
-    status = KINEMATIC_STATUS.get(name, Status.NOT_CONVERGED)
+    name = _status_name(h)
     sol = h.getSolution()
-    x = np.asarray(sol.col_value, dtype=float)
-    z = -np.asarray(sol.row_dual, dtype=float)
-    iterations = int(h.getInfo().simplex_iteration_count)
-    return ConicSolution(status, f"HiGHS {name}", x, z, iterations, time.perf_counter() - start)
+    return SolverResult(termination("highs", name), name, np.asarray(sol.col_value, dtype=float),
+                        -np.asarray(sol.row_dual, dtype=float), int(h.getInfo().simplex_iteration_count),
+                        time.perf_counter() - start, f"HiGHS {solver}", "kinematic")
 
 
-#: HiGHS model statuses for a problem in kinematic form (minimise the dead load's work): an
-#: infeasible one has no mechanism (no collapse), an unbounded one no static field.
-KINEMATIC_STATUS: dict[str, Status] = {
-    **STATIC_STATUS,
-    "kUnbounded": Status.NO_EQUILIBRIUM,
-    "kInfeasible": Status.NO_COLLAPSE,
-    "kUnboundedOrInfeasible": Status.NOT_CONVERGED,
-}
+class WarmLP:
+    """A HiGHS model kept between solves, whose bounds and coefficients change and whose basis
+    carries over: each re-solve is a short dual-simplex run from the last vertex.
+
+    Built silent (:func:`quiet_highs`) with ``options`` (HiGHS option names); every run is
+    bounded by iteration counts, never by the clock.
+    """
+
+    def __init__(self, lp: highspy.HighsLp, **options: bool | int | float | str) -> None:
+        self._h = quiet_highs(**options)
+        self._h.passModel(lp)
+
+    def set_option(self, name: str, value: bool | int | float | str) -> None:
+        """Set one HiGHS option (kept for the later runs)."""
+        self._h.setOptionValue(name, value)
+
+    def change_col_bounds(self, cols: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:
+        """New bounds of the columns ``cols``."""
+        self._h.changeColsBounds(len(cols), cols, lower, upper)
+
+    def change_row_bounds(self, rows: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:
+        """New bounds of the rows ``rows``."""
+        self._h.changeRowsBounds(len(rows), rows, lower, upper)  # type: ignore[attr-defined]  # not in highspy's stubs
+
+    def change_coeff(self, row: int | np.integer, col: int | np.integer, value: float | np.floating) -> None:
+        """A new coefficient of the constraint matrix."""
+        self._h.changeCoeff(int(row), int(col), float(value))
+
+    def clear_solver(self) -> None:
+        """Forget the basis and factorisation (the next run starts cold)."""
+        self._h.clearSolver()
+
+    def run(self, iteration_limit: int, *, then: str | None = None) -> SolverResult:
+        """One solve within ``iteration_limit`` simplex (and interior-point) iterations, by the
+        solver option in force; ``then``: the solver option for the runs after this one.
+
+        ``iterations`` counts simplex, interior-point and crossover iterations; ``duals`` are the
+        rows' (q + Aᵀz = 0).  On any termination but an optimal one, x and duals are empty.
+        """
+        start = time.perf_counter()
+        self._h.setOptionValue("simplex_iteration_limit", int(iteration_limit))
+        self._h.setOptionValue("ipm_iteration_limit", int(iteration_limit))
+        self._h.run()
+        if then is not None:
+            self._h.setOptionValue("solver", then)
+        name = _status_name(self._h)
+        term = termination("highs", name)
+        x = duals = np.zeros(0)
+        if term is Termination.OPTIMAL:
+            sol = self._h.getSolution()
+            x, duals = np.asarray(sol.col_value), -np.asarray(sol.row_dual)
+        return SolverResult(term, name, x, duals, _iterations(self._h), time.perf_counter() - start, "HiGHS",
+                            "static")

@@ -9,7 +9,6 @@ import sys
 from pathlib import Path
 
 from alma.backends import scip_backend
-from alma.certify.milp import BACKENDS
 from alma.cli import push as push_cli
 from alma.cli.json_output import dumps
 from alma.cli.outputs import OutputPathError, check_outputs
@@ -21,7 +20,7 @@ from alma.report.html import write_html, write_settlement_html, write_tilt_html
 from alma.report.picture import StillPicture
 from alma.report.plot import plot_mechanism
 from alma.settle import SettleError, after_settlement, settle
-from alma.settings import AssociativeSettings, CertifySettings, Settings
+from alma.settings import CERTIFY_BACKENDS, EFFORTS, AssociativeSettings, CertifySettings, Settings
 from alma.solve import MODELS, solve
 from alma.tilt import tilt, tilted
 
@@ -122,13 +121,13 @@ def _add_common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--model", default="associative", choices=MODELS)
     p.add_argument("--certify", action="store_true",
                    help="prove a lower bound of the non-associative α by mixed-integer LP")
-    p.add_argument("--certify-backend", default="highs", choices=BACKENDS,
+    p.add_argument("--certify-backend", default="highs", choices=CERTIFY_BACKENDS,
                    help="the MIP solver of --certify: highs (big-M binaries, the default) or scip (SOS1 "
                         "pairs, no big-M; needs the extra alma[scip])")
     p.add_argument("--certify-nodes", type=int, default=None, metavar="N",
                    help=f"branch-and-bound node budget of --certify (default {CertifySettings().node_limit:,}); "
                         "when it stops the proof, the bound reached is reported")
-    p.add_argument("--effort", default="auto", choices=("auto", "fast", "thorough"),
+    p.add_argument("--effort", default="auto", choices=EFFORTS,
                    help="non-associative search effort (auto: thorough up to 200 blocks)")
     p.add_argument("--time-limit", type=positive_float, default=None,
                    help="a hard wall-clock cap in seconds (default: none); the searches spend work budgets, "

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from alma.cli.json_output import dumps
+from alma.settings import EFFORTS
 from alma.study.design import PAPER_DESIGN
 
 __all__ = ["register", "doe_handler", "anova_handler", "paper_handler", "compare_handler"]
@@ -78,7 +79,7 @@ def register(subparsers: Any) -> None:
     p.add_argument("--nonassociative", action="store_true",
                    help="also run the non-associative model on the same panels and write the "
                         "comparison report of `alma compare` into DIR/nonassociative/")
-    p.add_argument("--effort", default=None, choices=("auto", "fast", "thorough"),
+    p.add_argument("--effort", default=None, choices=EFFORTS,
                    help="non-associative search effort with --nonassociative (default: auto)")
     p.set_defaults(func=paper_handler)
 
@@ -94,7 +95,7 @@ def register(subparsers: Any) -> None:
                    help="TOML or JSON file of factor levels (default: the paper's 108 panels)")
     p.add_argument("--workers", type=_positive_int, default=None, metavar="N",
                    help="local worker processes (default: all cores)")
-    p.add_argument("--effort", default=None, choices=("auto", "fast", "thorough"),
+    p.add_argument("--effort", default=None, choices=EFFORTS,
                    help="non-associative search effort (default: auto = thorough up to 200 blocks)")
     p.add_argument("--time-limit", type=float, default=None, metavar="S",
                    help="time limit of each non-associative search, s (default: none; part of the "

@@ -23,14 +23,11 @@ import numpy as np
 import scipy.sparse as sp
 
 from .normal import NormalPattern, entry_order
+from .types import IPMSettings
 
 #: Fastest first, as measured on the walls and the largest paper panel (docs/engine.md).
 PREFERENCE = ("pardiso", "feral", "qdldl")
 
-#: ``auto`` takes QDLDL instead of feral for K of fewer rows than this (3,000 free blocks): the
-#: interior point with QDLDL is 20-30 % faster on the largest paper panel, plain or with cohesion
-#: and ties, equal at 3,000 blocks and 1.4x slower at 5,000 (docs/engine.md, third pass).
-QDLDL_MAX_ROWS = 9_000
 
 
 #: feral's fill-reducing ordering (its own default): measured smallest factor on the walls.
@@ -329,16 +326,17 @@ def _pardiso_function():
 
 
 def make_factoriser(pattern: NormalPattern, backend: str = "auto",
-                    border: np.ndarray | None = None) -> Factoriser:
+                    border: np.ndarray | None = None, qdldl_max_rows: int = IPMSettings().qdldl_max_rows
+                    ) -> Factoriser:
     """The named backend, or with ``auto`` the first available in :data:`PREFERENCE` (QDLDL
-    before feral below :data:`QDLDL_MAX_ROWS`); ``border`` (f_L) enables
-    :meth:`Factoriser.solve_bordered`."""
+    before feral below ``qdldl_max_rows``, :attr:`alma.settings.IPMSettings.qdldl_max_rows`);
+    ``border`` (f_L) enables :meth:`Factoriser.solve_bordered`."""
     if backend == "auto":
         names = available_backends()
         if not names:
             raise FactorisationError("no sparse factorisation backend is importable")
         backend = names[0]
-        if backend == "feral" and pattern.n < QDLDL_MAX_ROWS and "qdldl" in names:
+        if backend == "feral" and pattern.n < qdldl_max_rows and "qdldl" in names:
             backend = "qdldl"
     if backend not in _BACKENDS:
         raise ValueError(f"unknown factorisation backend {backend!r}; known: {sorted(_BACKENDS)}")

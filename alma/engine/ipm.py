@@ -225,7 +225,8 @@ def solve_eq10(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value:
     primary = canonical(H if aux is None else aux.U)
     reuse = pattern is not None and pattern.fits(primary)
     pattern = pattern.with_values(primary) if pattern is not None and reuse else normal_pattern(primary)
-    factoriser = make_factoriser(pattern, s_.backend, border=live[:primary.shape[0]])
+    factoriser = make_factoriser(pattern, s_.backend, border=live[:primary.shape[0]],
+                                 qdldl_max_rows=s_.qdldl_max_rows)
     t_pattern = time.perf_counter() - t_start
     newton = _Newton(H, live, pattern, factoriser, s_, aux)
     dead = np.asarray(dead, float)

@@ -1,7 +1,8 @@
 """Which engine solves Eq. 10, and the engine's answer in the form alma's certificate takes.
 
 ``engine="clarabel"`` is alma's Clarabel path; ``"ipm"`` this package's interior point;
-``"auto"`` the interior point from :data:`AUTO_MIN_BLOCKS` free blocks on when a fast
+``"auto"`` the interior point from :attr:`alma.settings.AssociativeSettings.auto_min_blocks`
+free blocks on when a fast
 factorisation backend (see :mod:`alma.engine.cholesky`) is importable, Clarabel otherwise.
 The choice depends on the problem's size and the installed libraries only, never on the clock.
 """
@@ -18,23 +19,12 @@ from .ipm import solve_eq10
 from .normal import NormalPattern
 from .types import IPMResult, IPMSettings
 
+#: The engines of Eq. 10 (as :data:`alma.settings.ENGINES`).
 ENGINES = ("clarabel", "ipm", "auto")
 
 #: Backends for which ``auto`` prefers the interior point (qdldl alone is not faster than
 #: Clarabel's own QDLDL path by enough to switch: docs/engine.md).
 FAST_BACKENDS = ("pardiso", "feral")
-
-#: ``auto`` uses the interior point from this many free blocks on: measured end to end on this
-#: project's 2-core machine, Clarabel is faster on the paper panels (≤ 1,752 blocks: 0.59 s
-#: against 0.80 s) and the interior point from the 5,005-block wall on (5.6 s against 12.3 s);
-#: docs/engine.md.  The panels' crossover is near 700 blocks (benchmarks/bench_engine_crossover.py);
-#: the threshold stays above it because the crisp mechanism needs Clarabel's sharper final
-#: partition on two of those panels (docs/decisions.md).
-AUTO_MIN_BLOCKS = 3000
-#: ... and from this many with bounded forces (cohesion, ties), which take no crisp mechanism:
-#: with 5 kPa on every joint of the 108 panels Clarabel/ipm is 0.95 below 700 free blocks and
-#: 1.08-1.26 from 700 on (benchmarks/bench_engine_crossover.py --cohesion 5; docs/engine.md).
-AUTO_MIN_BLOCKS_BOUNDED = 700
 
 _warned = False
 
@@ -43,22 +33,23 @@ _warned = False
 class EngineAnswer:
     """The interior point's pair as alma's Clarabel path would pass it to the certificate."""
 
-    raw_status: str  # "Solved" when the interior point met its tolerances
+    status: str  # the interior point's own word (IPMResult.status): "optimal" when it met its tolerances
     x: np.ndarray  # mechanism u
-    z: np.ndarray  # (−α, μ): the dual of (f_Lᵀu = N, Hᵀu ≥ 0) as Clarabel orders it
+    duals: np.ndarray  # (−α, μ): the dual of (f_Lᵀu = N, Hᵀu ≥ 0) as Clarabel orders it
     iterations: int
     label: str  # e.g. "alma-ipm/pardiso", for messages
     result: IPMResult
 
 
-def choose(engine: str, n_free: int, bounded: bool = False) -> str:
+def choose(engine: str, n_free: int, bounded: bool = False, *, min_blocks: int, min_blocks_bounded: int) -> str:
     """``clarabel`` or ``ipm`` for a problem with ``n_free`` free blocks (``bounded``: with
-    cohesion or ties)."""
+    cohesion or ties); ``auto`` takes the interior point from ``min_blocks`` free blocks on
+    (``min_blocks_bounded`` when bounded): :attr:`alma.settings.AssociativeSettings.auto_min_blocks`."""
     if engine not in ENGINES:
         raise ValueError(f"engine must be one of {ENGINES}, got {engine!r}")
     if engine != "auto":
         return engine
-    if n_free < (AUTO_MIN_BLOCKS_BOUNDED if bounded else AUTO_MIN_BLOCKS):
+    if n_free < (min_blocks_bounded if bounded else min_blocks):
         return "clarabel"
     if not any(b in FAST_BACKENDS for b in available_backends()):
         _warn_once("alma: no fast sparse factorisation (pypardiso with MKL, or feral-solver) is installed; "
@@ -77,14 +68,13 @@ def _warn_once(message: str) -> None:
 def solve_with_engine(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value: float,
                       settings: IPMSettings | None = None, n_primary: int | None = None,
                       pattern: NormalPattern | None = None) -> EngineAnswer:
-    """Run the interior point on Eq. 10; ``raw_status`` is "Solved" only when it converged.
+    """Run the interior point on Eq. 10; ``status`` is "optimal" only when it converged.
 
     ``n_primary``: rows of u in H, the rest being bounded forces' dissipation variables;
     ``pattern``: the normal-equations pattern of this geometry from an earlier solve, if any
     (``result.pattern`` is the one used).
     """
     result = solve_eq10(H, dead, live, norm_value, settings, n_primary=n_primary, pattern=pattern)
-    raw = "Solved" if result.status == "optimal" else result.status
-    z = np.concatenate([[-result.alpha], result.mu])
-    return EngineAnswer(raw_status=raw, x=result.u, z=z, iterations=result.iterations,
+    duals = np.concatenate([[-result.alpha], result.mu])
+    return EngineAnswer(status=result.status, x=result.u, duals=duals, iterations=result.iterations,
                         label=f"alma-ipm/{result.backend}", result=result)

@@ -15,14 +15,14 @@ against 1–2 s cold.  The mechanism u is read from the equilibrium rows' duals.
 """
 from __future__ import annotations
 
-import clarabel
-import highspy
 import numpy as np
 import scipy.sparse as sp
 
+from alma.backends.clarabel_backend import UpdatableQP
+from alma.backends.highs_backend import INF, WarmLP, lp_model
+from alma.backends.termination import SolverResult, Termination
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
-from alma.nonassociative.solvers import clarabel_settings, quiet_highs
 from alma.nonassociative.static_lps import StaticLP, failed, with_bounded_columns
 
 #: Feasibility tolerances of the warm-started HiGHS model (absolute, dimensionless units).
@@ -44,113 +44,90 @@ class CapLP:
         self._n = model.dead.shape[0]
         self._max_pivots = int(max_pivots)
         self._slope = np.zeros(points.count)
-        self._rows: highspy.Highs | None = None
-        self._bounded: highspy.Highs | None = None
+        self._rows: WarmLP | None = None
+        self._bounded: WarmLP | None = None
         P = points.count
         self._cap_rows = np.arange(self._n, self._n + 2 * P, dtype=np.int32)
         self._shear_cols = np.arange(1 + P, 1 + 2 * P, dtype=np.int32)
         # Slopes enter the yield rows as −s in the N columns (x = (α, N, T)): rows n+p and n+P+p, column 1+p.
         self._slope_rows = (self._n + np.arange(P), self._n + P + np.arange(P))
 
-    def _new_highs(self, with_yield_rows: bool) -> highspy.Highs:
+    def _new_highs(self, with_yield_rows: bool) -> WarmLP:
         P, q = self.points.count, self.model.n_bounded
-        inf = highspy.kHighsInf
         A_eq, b_eq, A_ub = self.points.static_constraints(self.model, self._slope)
         if q:
             A_eq, A_ub = with_bounded_columns(self.model, A_eq, A_ub)
         width = 1 + 2 * P + q
-        lp = highspy.HighsLp()
-        lp.num_col_ = width
         cost = np.zeros(width)
         cost[0] = -1.0
-        lp.col_cost_ = cost
-        lp.col_lower_ = np.concatenate([[-inf], np.zeros(P), np.full(P, -inf), np.zeros(q)])
-        lp.col_upper_ = np.concatenate([np.full(1 + 2 * P, inf), self.model.capacity])
+        col_lower = np.concatenate([[-INF], np.zeros(P), np.full(P, -INF), np.zeros(q)])
+        col_upper = np.concatenate([np.full(1 + 2 * P, INF), self.model.capacity])
         if with_yield_rows:
-            A = sp.vstack([A_eq, A_ub]).tocsc()
-            lp.row_lower_ = np.concatenate([b_eq, np.full(2 * P, -inf)])
-            lp.row_upper_ = np.concatenate([b_eq, np.zeros(2 * P)])
+            lp = lp_model(cost, col_lower, col_upper, sp.vstack([A_eq, A_ub]),
+                          np.concatenate([b_eq, np.full(2 * P, -INF)]), np.concatenate([b_eq, np.zeros(2 * P)]))
         else:
-            A = A_eq.tocsc()
-            lp.row_lower_ = b_eq
-            lp.row_upper_ = b_eq
-        A.sort_indices()
-        lp.num_row_ = A.shape[0]
-        lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-        lp.a_matrix_.start_ = A.indptr
-        lp.a_matrix_.index_ = A.indices
-        lp.a_matrix_.value_ = A.data
-        lp.a_matrix_.num_col_ = width
-        lp.a_matrix_.num_row_ = A.shape[0]
-        h = quiet_highs()
+            lp = lp_model(cost, col_lower, col_upper, A_eq, b_eq, b_eq)
         # The mechanism is read from the duals: HiGHS's default dual feasibility (1e-7, absolute)
         # leaves interpenetrations of ~1e-5 of the largest velocity on large panels, more than
         # the verification accepts.
-        h.setOptionValue("dual_feasibility_tolerance", DUAL_TOLERANCE)
-        h.setOptionValue("primal_feasibility_tolerance", DUAL_TOLERANCE)
-        h.passModel(lp)
+        h = WarmLP(lp, dual_feasibility_tolerance=DUAL_TOLERANCE, primal_feasibility_tolerance=DUAL_TOLERANCE)
         # The cold first solve: interior point with crossover (a basis for the warm re-solves) is
         # about twice as fast as simplex here; every later solve is dual simplex from that basis.
-        h.setOptionValue("solver", "ipm")
+        h.set_option("solver", "ipm")
         return h
 
-    def _model_for(self, slope: np.ndarray, cap: np.ndarray) -> highspy.Highs:
+    def _model_for(self, slope: np.ndarray, cap: np.ndarray) -> WarmLP:
         """The persistent model for this slope (built on first use), with the new caps set."""
         P = self.points.count
         if not np.any(slope):
             if self._bounded is None:
                 self._bounded = self._new_highs(with_yield_rows=False)
-            self._bounded.changeColsBounds(P, self._shear_cols, -cap, cap)
+            self._bounded.change_col_bounds(self._shear_cols, -cap, cap)
             return self._bounded
         if self._rows is None:
             self._rows = self._new_highs(with_yield_rows=True)
         h = self._rows
         for p in np.flatnonzero(slope != self._slope):  # only during the first (slope > 0) steps
-            h.changeCoeff(int(self._slope_rows[0][p]), int(1 + p), float(-slope[p]))
-            h.changeCoeff(int(self._slope_rows[1][p]), int(1 + p), float(-slope[p]))
+            h.change_coeff(self._slope_rows[0][p], 1 + p, -slope[p])
+            h.change_coeff(self._slope_rows[1][p], 1 + p, -slope[p])
         self._slope = np.array(slope, dtype=float, copy=True)
-        h.changeRowsBounds(2 * P, self._cap_rows, np.full(2 * P, -highspy.kHighsInf), np.concatenate([cap, cap]))
+        h.change_row_bounds(self._cap_rows, np.full(2 * P, -INF), np.concatenate([cap, cap]))
         return h
 
     @staticmethod
-    def _run(h: highspy.Highs, max_pivots: int) -> int:
-        """One solve within ``max_pivots`` simplex (and interior-point) iterations; returns those spent."""
-        h.setOptionValue("simplex_iteration_limit", int(max_pivots))
-        h.setOptionValue("ipm_iteration_limit", int(max_pivots))
-        h.run()
-        h.setOptionValue("solver", "simplex")
-        info = h.getInfo()
-        return int(info.simplex_iteration_count) + int(info.ipm_iteration_count) + int(info.crossover_iteration_count)
+    def _run(h: WarmLP, max_pivots: int) -> SolverResult:
+        """One solve within ``max_pivots`` simplex (and interior-point) iterations; every later
+        solve is dual simplex, warm."""
+        return h.run(max_pivots, then="simplex")
 
     def solve(self, slope: np.ndarray, cap: np.ndarray, max_pivots: int | None = None) -> StaticLP:
         """Re-solve with new slopes and caps within ``max_pivots`` iterations (default: the model's)."""
         P = self.points.count
         limit = self._max_pivots if max_pivots is None else max(1, int(max_pivots))
         h = self._model_for(slope, np.asarray(cap, dtype=float))
-        pivots = self._run(h, limit)
-        status = h.getModelStatus()
-        if status == highspy.HighsModelStatus.kUnknown:
+        sol = self._run(h, limit)
+        pivots = sol.iterations
+        if sol.termination is Termination.NUMERICAL:
             # The warm simplex can stop without a verdict (numerical trouble at the 1e-10
             # tolerances); a cold interior-point solve with crossover usually settles it.
-            h.clearSolver()
-            h.setOptionValue("solver", "ipm")
-            pivots += self._run(h, limit)
-            status = h.getModelStatus()
-        if status == highspy.HighsModelStatus.kUnbounded:
-            return failed("unbounded", P, pivots, np.inf)
-        if status in (highspy.HighsModelStatus.kInfeasible, highspy.HighsModelStatus.kUnboundedOrInfeasible):
-            return failed("infeasible", P, pivots)
-        if status != highspy.HighsModelStatus.kOptimal:
-            return failed("error", P, pivots)
-        solution = h.getSolution()
-        x = np.asarray(solution.col_value)
-        y = -np.asarray(solution.row_dual)[:self._n]  # ∂(−α)/∂b of the equilibrium rows: u with f_Lᵀu = 1
+            h.clear_solver()
+            h.set_option("solver", "ipm")
+            sol = self._run(h, limit)
+            pivots += sol.iterations
+        if sol.termination is Termination.UNBOUNDED:
+            return failed(Termination.UNBOUNDED, P, pivots, np.inf)
+        if sol.termination in (Termination.INFEASIBLE, Termination.INFEASIBLE_OR_UNBOUNDED):
+            return failed(Termination.INFEASIBLE, P, pivots)
+        if sol.termination is not Termination.OPTIMAL:
+            return failed(Termination.ERROR, P, pivots)
+        x = sol.x
+        y = sol.duals[:self._n]  # ∂(−α)/∂b of the equilibrium rows: u with f_Lᵀu = 1
         work = float(self.model.live @ y)
         mechanism = y * (self.model.n_free / work) if work > 0 else None
         if self.model.n_bounded:
-            return StaticLP("optimal", float(x[0]), x[1:1 + P].copy(), x[1 + P:1 + 2 * P].copy(), mechanism, pivots,
-                            np.clip(x[1 + 2 * P:], 0.0, self.model.capacity))
-        return StaticLP("optimal", float(x[0]), x[1:1 + P].copy(), x[1 + P:].copy(), mechanism, pivots)
+            return StaticLP(Termination.OPTIMAL, float(x[0]), x[1:1 + P].copy(), x[1 + P:1 + 2 * P].copy(),
+                            mechanism, pivots, np.clip(x[1 + 2 * P:], 0.0, self.model.capacity))
+        return StaticLP(Termination.OPTIMAL, float(x[0]), x[1:1 + P].copy(), x[1 + P:].copy(), mechanism, pivots)
 
 
 class ClosestField:
@@ -181,11 +158,9 @@ class ClosestField:
         A = sp.vstack(rows).tocsc()
         quadratic = sp.block_diag([sp.identity(P), sp.csc_matrix((P + k, P + k))], format="csc")
         self._n_eq = equilibrium.shape[0]
-        # presolve off: data updates need the problem as given.
-        settings = clarabel_settings(tolerance, max_iter, presolve=False)
-        self._solver = clarabel.DefaultSolver(quadratic, np.zeros(2 * P + k), A, self._rhs(0.0, np.zeros(P)),
-                                              [clarabel.ZeroConeT(self._n_eq),
-                                               clarabel.NonnegativeConeT(3 * P + 2 * k)], settings)
+        # Clarabel's default iterative refinement; presolve off (the data are updated).
+        self._solver = UpdatableQP(quadratic, np.zeros(2 * P + k), A, self._rhs(0.0, np.zeros(P)), self._n_eq,
+                                   3 * P + 2 * k, tolerance=tolerance, max_iter=max_iter, refine=True)
 
     def _rhs(self, alpha: float, cap: np.ndarray) -> np.ndarray:
         k = self.model.n_bounded
@@ -197,11 +172,10 @@ class ClosestField:
         """(N, T, τ) of the closest field (τ empty without bounded forces), or None when the QP
         does not solve."""
         k = self.model.n_bounded
-        self._solver.update(q=np.concatenate([-target, np.zeros(self._P + k)]), b=self._rhs(alpha, cap))
-        solution = self._solver.solve()
-        if str(solution.status) not in ("Solved", "AlmostSolved"):
+        solution = self._solver.solve(np.concatenate([-target, np.zeros(self._P + k)]), self._rhs(alpha, cap))
+        if not solution.termination.solved:
             return None
-        x = np.asarray(solution.x)
+        x = solution.x
         if k:
             return (np.maximum(x[:self._P], 0.0), x[self._P:2 * self._P].copy(),
                     np.clip(x[2 * self._P:], 0.0, self.model.capacity))

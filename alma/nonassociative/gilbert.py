@@ -16,9 +16,9 @@ from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.cap_lp import CapLP, ClosestField
 from alma.nonassociative.limits import Cap, Work, no_cap
-from alma.nonassociative.states import (CollapseState, Tally, active_set, bounded_active_set, exact_state, lower,
-                                        verify)
+from alma.nonassociative.states import CollapseState, Tally, active_set, bounded_active_set, exact_state, lower, verify
 from alma.nonassociative.static_lps import StaticLP, static_lp_clarabel
+from alma.settings import StateTolerances
 
 
 def _settled(lp: StaticLP, n_bar: np.ndarray, tolerance: float) -> bool:
@@ -28,9 +28,10 @@ def _settled(lp: StaticLP, n_bar: np.ndarray, tolerance: float) -> bool:
 
 
 def _as_state(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray, shear: np.ndarray,
-              mechanism: np.ndarray, start: str, bounded: np.ndarray) -> CollapseState | None:
+              mechanism: np.ndarray, start: str, bounded: np.ndarray, tolerances: StateTolerances
+              ) -> CollapseState | None:
     """The iterate itself (``bounded``: its τ) as a verified collapse state, or None if it fails."""
-    residuals, ok = verify(model, points, alpha, normal, shear, mechanism, bounded)
+    residuals, ok = verify(model, points, alpha, normal, shear, mechanism, bounded, tolerances)
     if not ok:
         return None
     return CollapseState(alpha=alpha, normal=normal, shear=shear, mechanism=mechanism, start=start,
@@ -75,7 +76,8 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
             break
         last = lp
         if ratio == 0.0:
-            state = _as_state(model, points, lp.alpha, lp.normal, lp.shear, lp.mechanism, start, lp.bounded)
+            state = _as_state(model, points, lp.alpha, lp.normal, lp.shear, lp.mechanism, start, lp.bounded,
+                              work.tolerances)
             if state is not None and (best is None or state.alpha < best.alpha):
                 best = state
             if _settled(lp, n_bar, tolerance):
@@ -83,7 +85,9 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
         if ratio == 0.0 and not interior:
             # Once an active set comes back (the iterates settle or cycle), its exact state usually
             # verifies: try each such set once, and stop at the first verified state.
-            sets = (*active_set(model, points, lp.mechanism), bounded_active_set(model, points, lp.mechanism))
+            active = work.tolerances.active
+            sets = (*active_set(model, points, lp.mechanism, tolerance=active),
+                    bounded_active_set(model, points, lp.mechanism, active))
             current = tuple(part.tobytes() for part in sets)
             if current in seen and current not in tried:
                 tried.add(current)
@@ -165,7 +169,7 @@ def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.nd
             if nearest is None:
                 break
             normal, shear, tau = nearest
-        best = _as_state(model, points, lp.alpha, normal, shear, lp.mechanism, start, tau)
+        best = _as_state(model, points, lp.alpha, normal, shear, lp.mechanism, start, tau, work.tolerances)
         if best is not None:
             break
         step = normal - n_bar

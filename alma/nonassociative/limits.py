@@ -7,9 +7,11 @@ between units of work; when it cuts the work, the search says so.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
+from alma.backends.linprog_backend import LPMethod
 from alma.nonassociative.states import ExactLimits, Tally
+from alma.settings import StateTolerances
 
 
 @dataclass(frozen=True)
@@ -26,8 +28,10 @@ class Work:
     floor_pivots: int = 2_000
     #: Clarabel iterations of one interior-point solve.
     interior_iterations: int = 200
-    #: HiGHS method (``scipy.optimize.linprog``) of the static LP of the exact states taken.
-    exact_method: str = "highs"
+    #: How the static LP of the exact states taken is solved (a HiGHS vertex).
+    exact_method: LPMethod = LPMethod.SIMPLEX
+    #: When a state is verified, and how active sets are read (:attr:`alma.settings.SearchSettings.states`).
+    tolerances: StateTolerances = field(default_factory=StateTolerances)
 
     def spent(self, tally: Tally) -> bool:
         """Whether the total is used up."""
@@ -42,7 +46,8 @@ class Work:
     def exact_limits(self, tally: Tally) -> ExactLimits:
         """Caps of the LPs of an exact state taken now."""
         limit = self.lp_limit(tally)
-        return ExactLimits(lp_pivots=limit, vertex_pivots=limit, interior_iterations=self.interior_iterations)
+        return ExactLimits(lp_pivots=limit, vertex_pivots=limit, interior_iterations=self.interior_iterations,
+                           tolerances=self.tolerances)
 
 
 class Cap:

@@ -4,7 +4,8 @@ Unknowns: α, contact forces (N, T) at every contact point, the mechanism u and
 the slip split γ = γ⁺ − γ⁻ (γ± ≥ 0).  Constraints: equilibrium (Eq. 3), yield
 |T| ≤ f N (Eq. 5), no interpenetration ξ = normalᵀu ≥ 0, f_Lᵀu = n_free
 (Eq. 8), and the complementarity of Eq. 7 with a Scholtes relaxation driven to
-zero: N ξ ≤ ε, (f N + T) γ⁺ ≤ ε, (f N − T) γ⁻ ≤ ε.  Bounded forces (cohesion, ties:
+zero: N ξ ≤ ε, (f N + T) γ⁺ ≤ ε, (f N − T) γ⁻ ≤ ε (the CasADi problem and IPOPT's runs are in
+:mod:`alma.backends.ipopt_backend`).  Bounded forces (cohesion, ties:
 0 ≤ τ ≤ capacity on the columns G) add G τ to the equilibrium and their flow rule on
 d = −Gᵀu = d⁺ − d⁻ (d± ≥ 0): (capacity − τ) d⁺ ≤ ε (a column that dissipates is at its
 capacity), τ d⁻ ≤ ε (one that moves against itself carries nothing).  A tiny regularisation of
@@ -16,86 +17,33 @@ Each relaxed solve is bounded by IPOPT's iteration count, never by its clock.
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
 
+from alma.backends.ipopt_backend import ComplementarityData, solve_relaxations
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.limits import Cap, no_cap
-from alma.nonassociative.states import CollapseState, exact_state
-
-
-def _dm(matrix: sp.spmatrix):
-    import casadi as ca
-
-    m = sp.csc_matrix(matrix)
-    m.sort_indices()
-    return ca.DM(ca.Sparsity(m.shape[0], m.shape[1], m.indptr.tolist(), m.indices.tolist()), m.data.tolist())
+from alma.nonassociative.states import CollapseState, ExactLimits, exact_state
 
 
 def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, seed: CollapseState | None = None,
                  relaxations: tuple[float, ...] = (1e-2, 1e-4, 1e-6, 1e-8), max_iter: int = 300,
-                 cap: Cap | None = None) -> CollapseState | None:
+                 cap: Cap | None = None, limits: ExactLimits | None = None) -> CollapseState | None:
     """A candidate collapse state from IPOPT started at ``mechanism`` (and the seed's forces).
 
     The relaxations ε of the complementarity (Eq. 7) are solved in turn, each warm from the
-    last and within ``max_iter`` IPOPT iterations; a run that does not converge ends the
-    sequence, and the last relaxation that converged is the answer.  No relaxed solve begins
-    once the user's ``cap`` has passed.
+    last and within ``max_iter`` IPOPT iterations (:func:`alma.backends.ipopt_backend.solve_relaxations`);
+    a run that does not converge ends the sequence, and the last relaxation that converged is the
+    answer, made exact within ``limits``.  No relaxed solve begins once the user's ``cap`` has passed.
     """
-    import casadi as ca
-
     cap = cap or no_cap()
     P, n = points.count, model.dead.shape[0]
-    alpha = ca.SX.sym("alpha")
-    N = ca.SX.sym("N", P)
-    T = ca.SX.sym("T", P)
-    u = ca.SX.sym("u", n)
-    gp = ca.SX.sym("gp", P)
-    gm = ca.SX.sym("gm", P)
-    eps = ca.SX.sym("eps")
-    An, At = _dm(points.normal), _dm(points.tangent)
-    f = ca.DM(points.friction)
-    q = model.n_bounded
-    tau, dp, dm = ca.SX.sym("tau", q), ca.SX.sym("dp", q), ca.SX.sym("dm", q)
-    opening = ca.mtimes(An.T, u)
-    equilibrium = ca.mtimes(An, N) + ca.mtimes(At, T) + ca.DM(model.dead) + alpha * ca.DM(model.live)
-    capacity = ca.DM(model.capacity) if q else ca.DM.zeros(0)
-    if q:
-        G = _dm(model.bounded)
-        equilibrium = equilibrium + ca.mtimes(G, tau)
-    g = ca.vertcat(
-        equilibrium,                                                                          # = 0
-        ca.mtimes(At.T, u) - gp + gm,                                                        # = 0
-        ca.dot(ca.DM(model.live), u) - model.n_free,                                          # = 0
-        *([-ca.mtimes(G.T, u) - dp + dm] if q else []),                                     # = 0
-        f * N - T,                                                                            # ≥ 0
-        f * N + T,                                                                            # ≥ 0
-        opening,                                                                              # ≥ 0
-        N * opening - eps,                                                                    # ≤ 0
-        (f * N + T) * gp - eps,                                                               # ≤ 0
-        (f * N - T) * gm - eps,                                                               # ≤ 0
-        (capacity - tau) * dp - eps,                                                          # ≤ 0
-        tau * dm - eps,                                                                       # ≤ 0
-    )
-    x = ca.vertcat(alpha, N, T, u, gp, gm, tau, dp, dm)
-    objective = alpha + 1e-8 * (ca.sumsqr(gp) + ca.sumsqr(gm) + ca.sumsqr(dp) + ca.sumsqr(dm))
-    problem = {"x": x, "p": eps, "f": objective, "g": g}
-    options = {"ipopt.print_level": 0, "print_time": False, "ipopt.max_iter": max_iter, "ipopt.sb": "yes"}
-    lbg, ubg, lbx, ubx = _bounds(model, P)
-    x0 = _initial(model, points, mechanism, seed)
-    best_u = None
-    solver = ca.nlpsol("alma_nlncp", "ipopt", problem, options)
-    for epsilon in relaxations:
-        if cap.expired():
-            break
-        sol = solver(x0=x0, p=epsilon, lbg=lbg, ubg=ubg, lbx=lbx, ubx=ubx)
-        if not solver.stats().get("success", False):
-            break
-        x0 = np.asarray(sol["x"]).ravel()
-        best_u = x0[1 + 2 * P:1 + 2 * P + n]
-    if best_u is None:
+    data = ComplementarityData(points.normal, points.tangent, points.friction, model.dead, model.live, model.n_free,
+                               model.bounded if model.n_bounded else None, model.capacity)
+    sol = solve_relaxations(data, _initial(model, points, mechanism, seed), _bounds(model, P), relaxations,
+                            max_iter, cap.expired)
+    if not sol.x.size:
         return None
-    return exact_state(model, points, best_u, "ipopt")
+    return exact_state(model, points, sol.x[1 + 2 * P:1 + 2 * P + n], "ipopt", limits=limits or ExactLimits())
 
 
 def _bounds(model: Model, P: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

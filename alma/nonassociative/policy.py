@@ -21,29 +21,28 @@ from __future__ import annotations
 
 import numpy as np
 
+from alma.backends.linprog_backend import LPMethod
 from alma.nonassociative.limits import Work
 from alma.nonassociative.starts import (Context, GilbertStart, IpoptStart, LpStart, MilpStart, ProjectedStart,
                                         RockingStart, Start)
 from alma.nonassociative.tilted import TiltStart
-from alma.settings import SearchSettings
-
-EFFORTS = ("fast", "thorough")
+from alma.settings import EFFORTS, SearchSettings
 
 
 def resolve_effort(effort: str, settings: SearchSettings, n_free: int) -> str:
     """"fast" or "thorough"; "auto" is thorough up to ``settings.thorough_blocks`` free blocks."""
     if effort == "auto":
         return "thorough" if n_free <= settings.thorough_blocks else "fast"
-    if effort not in EFFORTS:
+    if effort not in EFFORTS:  # "auto" is resolved above
         raise ValueError(f"effort must be 'auto', 'fast' or 'thorough', got {effort!r}")
     return effort
 
 
 def _work(settings: SearchSettings, iterations: int, pivots: int | None, points: int) -> Work:
-    method = "highs-ipm" if points > settings.exact_ipm_points else "highs"
+    method = LPMethod.IPM if points > settings.exact_ipm_points else LPMethod.SIMPLEX
     return Work(iterations=iterations, pivots=pivots, lp_pivots=settings.lp_pivots,
                 floor_pivots=settings.last_state_pivots, interior_iterations=settings.interior_iterations,
-                exact_method=method)
+                exact_method=method, tolerances=settings.states)
 
 
 def gilbert_work(settings: SearchSettings, effort: str, verified: bool, points: int) -> Work:
@@ -72,6 +71,12 @@ def plan(settings: SearchSettings, effort: str) -> list[str]:
             + [f"tilt:{k}" for k in range(len(_turns(settings, effort)))] + ["projected", "ipopt", "milp"])
 
 
+def parse_kind(kind: str) -> tuple[str, int | None]:
+    """A kind of :func:`plan` as (family, index): "gilbert:3" → ("gilbert", 3), "lp" → ("lp", None)."""
+    family, colon, index = kind.partition(":")
+    return family, (int(index) if colon else None)
+
+
 def _turns(settings: SearchSettings, effort: str) -> tuple[float, ...]:
     """The turned-table starts' angles (degrees) of an effort."""
     return settings.tilt_degrees_fast if effort == "fast" else settings.tilt_degrees
@@ -95,17 +100,18 @@ def wanted(kind: str, ctx: Context, polish: bool | None = None) -> bool:
 def make_start(kind: str, ctx: Context) -> Start:
     """The start of this kind, with the work the policy gives it now."""
     s = ctx.settings
+    family, index = parse_kind(kind)
     if kind == "lp":
         return LpStart()
     if kind == "rocking":
         return RockingStart()
-    if kind.startswith("gilbert:"):
+    if family == "gilbert" and index is not None:
         starts = s.gilbert_fast if ctx.effort == "fast" else s.gilbert_thorough
-        scale, relaxation, steps = starts[int(kind.split(":")[1])]
+        scale, relaxation, steps = starts[index]
         return GilbertStart(scale, relaxation, steps,
                             gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count))
-    if kind.startswith("tilt:"):
-        return TiltStart(_turns(s, ctx.effort)[int(kind.split(":")[1])],
+    if family == "tilt" and index is not None:
+        return TiltStart(_turns(s, ctx.effort)[index],
                          gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count),
                          ipm_above=s.interior_points)
     if kind == "projected":
@@ -119,11 +125,12 @@ def make_start(kind: str, ctx: Context) -> Start:
 
 def start_name(kind: str, settings: SearchSettings, effort: str) -> str:
     """The name a start of this kind reports (for the list of skipped starts)."""
-    if kind.startswith("gilbert:"):
+    family, index = parse_kind(kind)
+    if family == "gilbert" and index is not None:
         starts = settings.gilbert_fast if effort == "fast" else settings.gilbert_thorough
-        scale, relaxation, steps = starts[int(kind.split(":")[1])]
+        scale, relaxation, steps = starts[index]
         return GilbertStart(scale, relaxation, steps, Work()).name
-    if kind.startswith("tilt:"):
-        return TiltStart(_turns(settings, effort)[int(kind.split(":")[1])], Work()).name
+    if family == "tilt" and index is not None:
+        return TiltStart(_turns(settings, effort)[index], Work()).name
     return {"lp": "lp", "rocking": "rocking", "projected": "gilbert-projected", "ipopt": "ipopt",
             "milp": "milp"}[kind]

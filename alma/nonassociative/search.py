@@ -39,10 +39,10 @@ from alma.mechanics.canonical import mechanism_to_drawing
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.limits import Cap
-from alma.nonassociative.policy import make_start, plan, resolve_effort, start_name, wanted
+from alma.nonassociative.policy import make_start, parse_kind, plan, resolve_effort, start_name, wanted
 from alma.nonassociative.starts import Context
 from alma.nonassociative.states import CollapseState, ExactLimits, Tally, fast_exact_state, lowest
-from alma.settings import SearchSettings
+from alma.settings import CertifySettings, SearchSettings
 from alma.status import Status
 
 #: Timing keys of the starts' kinds (seconds), summed over starts of a kind.
@@ -114,9 +114,9 @@ def _run_starts(ctx: Context, polish: bool | None
                                    state is not None and state.verified, tally.pivots, tally.solves))
         if ctx.cap.hit:
             skipped.append(f"{start.name} (cut short)")
-        key = _TIMING_KEYS[kind.split(":")[0]]
+        key = _TIMING_KEYS[parse_kind(kind)[0]]
         timings[key] = timings.get(key, 0.0) + elapsed
-        if kind.startswith("gilbert") or kind == "projected":
+        if parse_kind(kind)[0] in ("gilbert", "projected"):
             timings["gilbert_iterations"] = timings.get("gilbert_iterations", 0.0) + iterations
     return records, skipped, timings
 
@@ -125,19 +125,21 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
                          associative_multipliers: np.ndarray | None, *, effort: str = "fast",
                          settings: SearchSettings = SearchSettings(), polish: bool | None = None,
                          time_limit: float | None = None,
-                         associative_alpha: float | None = None) -> NonAssociativeSolution:
+                         associative_alpha: float | None = None,
+                         certify: CertifySettings | None = None) -> NonAssociativeSolution:
     """Lowest verified collapse state of Eq. 9 over several starts (see module docstring).
 
     ``associative_mechanism`` / ``associative_multipliers`` / ``associative_alpha``: the
     solution of Eq. 10 (None when it failed).  ``effort``: "fast", "thorough" or "auto".
     ``polish``: force the IPOPT start on or off (None: the policy decides).  ``time_limit`` (s):
     the user's hard cap, checked between units of work; when it cuts the work,
-    ``stopped_by_limit`` is set and ``skipped`` says what did not run.
+    ``stopped_by_limit`` is set and ``skipped`` says what did not run.  ``certify``: the user's
+    certification settings, for the ``milp`` start (default: the defaults).
     """
     points = ContactPoints.from_model(model)
     ctx = Context(model, points, settings, resolve_effort(effort, settings, model.n_free), Cap(time_limit),
                   associative_mechanism, _associative_normal(associative_multipliers, points.count),
-                  associative_alpha)
+                  associative_alpha, certify=certify if certify is not None else CertifySettings())
     records, skipped, timings = _run_starts(ctx, polish)
     common = dict(candidates=tuple(ctx.candidates), timings=timings, starts=tuple(records),
                   stopped_by_limit=ctx.cap.hit, skipped=tuple(skipped))
@@ -165,7 +167,7 @@ def carried_back(solution: NonAssociativeSolution, canonical: Model, frame: Cano
     moved = tuple(dataclasses.replace(c, mechanism=mechanism_to_drawing(c.mechanism, canonical, frame, model))
                   for c in solution.candidates)
     points = ContactPoints.from_model(model)
-    limits = ExactLimits(settings.lp_pivots, settings.vertex_pivots, settings.interior_iterations)
+    limits = ExactLimits(settings.lp_pivots, settings.vertex_pivots, settings.interior_iterations, settings.states)
     best = None
     verified = [k for k, c in enumerate(moved) if c.verified]
     first = lowest([moved[k] for k in verified], settings.same_alpha)

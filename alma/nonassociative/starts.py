@@ -35,6 +35,8 @@ class Context:
     associative_normal: np.ndarray  # N of the associative static field at each contact point
     associative_alpha: float | None
     candidates: list[CollapseState] = field(default_factory=list)
+    #: The user's certification settings, for the ``milp`` start (its nodes are the search's work).
+    certify: CertifySettings = field(default_factory=CertifySettings)
 
     def verified(self) -> list[CollapseState]:
         """The verified candidates so far."""
@@ -48,7 +50,7 @@ class Context:
     def exact_limits(self, vertex: bool = False) -> ExactLimits:
         """Iteration caps of an exact state (``vertex``: HiGHS's vertex within ``vertex_pivots``)."""
         s = self.settings
-        return ExactLimits(s.lp_pivots, s.vertex_pivots if vertex else s.lp_pivots, s.interior_iterations)
+        return ExactLimits(s.lp_pivots, s.vertex_pivots if vertex else s.lp_pivots, s.interior_iterations, s.states)
 
 
 class Start(Protocol):
@@ -159,7 +161,7 @@ class IpoptStart:
         if mechanism is None:
             return None, 0
         return ipopt_polish(ctx.model, ctx.points, mechanism, seed, max_iter=ctx.settings.ipopt_iterations,
-                            cap=ctx.cap), 0
+                            cap=ctx.cap, limits=ctx.exact_limits()), 0
 
 
 @dataclass(frozen=True)
@@ -178,7 +180,7 @@ class MilpStart:
         if ctx.associative_mechanism is not None:
             mechanisms.append(ctx.associative_mechanism)
         nodes = max(1, ctx.settings.milp_start_work // max(ctx.model.n_free + ctx.model.n_bounded, 1))
-        settings = replace(CertifySettings(), node_limit=nodes)
+        settings = replace(ctx.certify, node_limit=min(nodes, ctx.certify.node_limit))
         certificate = certify(ctx.model, float(ctx.associative_alpha), mechanisms, settings=settings,
                               alpha_best=best.alpha if best is not None else None,
                               time_limit=ctx.cap.remaining() if ctx.cap.seconds is not None else None)

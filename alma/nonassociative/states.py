@@ -18,23 +18,22 @@ signs, fixed in the static LP (τ at capacity, at 0, or free) and in the kinemat
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from alma.backends.linprog_backend import LPMethod
+from alma.backends.termination import Termination
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative import bounded as bf
 from alma.nonassociative.static_lps import (LP_METHOD, StaticLP, fixed_set_static_interior, kinematic_lp,
                                             static_lp)
+from alma.settings import StateTolerances
 
-#: Verification tolerances (forces in mean block weights, velocities with f_Lᵀu = n_free).
-EQUILIBRIUM_TOLERANCE = 1e-7
-YIELD_TOLERANCE = 1e-7
-KINEMATIC_TOLERANCE = 1e-7
-ENERGY_TOLERANCE = 1e-6
-#: Relative velocity below this fraction of the largest counts as zero when reading an active set.
-ACTIVE_TOLERANCE = 1e-6
+#: The default tolerances (:class:`alma.settings.StateTolerances`; a search passes its settings').
+TOLERANCES = StateTolerances()
 
 
 @dataclass(frozen=True)
@@ -75,20 +74,23 @@ class ExactLimits:
     vertex_pivots: int = 200_000
     #: Clarabel iterations of the fixed-active-set LP.
     interior_iterations: int = 200
+    #: When the state is verified, and how its active sets are read.
+    tolerances: StateTolerances = field(default_factory=StateTolerances)
 
 
 def active_set(model: Model, points: ContactPoints, mechanism: np.ndarray, *,
-               dilatant: bool = False) -> tuple[np.ndarray, np.ndarray]:
+               dilatant: bool = False, tolerance: float = TOLERANCES.active) -> tuple[np.ndarray, np.ndarray]:
     """Open points and slip signs of a mechanism (relative velocities below a threshold are zero).
 
     ``dilatant``: the mechanism obeys the associative flow rule (Eq. 6), where a
     sliding point opens by f |γ|; such a point is read as closed and slipping, and
-    only an opening beyond f |γ| as a separation.
+    only an opening beyond f |γ| as a separation.  ``tolerance``: the share of the largest
+    relative velocity below which one counts as zero (:attr:`alma.settings.StateTolerances.active`).
     """
     opening = points.normal.T @ mechanism
     slip = points.tangent.T @ mechanism
     scale = max(float(np.abs(opening).max(initial=0.0)), float(np.abs(slip).max(initial=0.0)), 1e-300)
-    tol = ACTIVE_TOLERANCE * scale
+    tol = tolerance * scale
     if dilatant:
         opening = opening - points.friction * np.abs(slip)
     open_points = opening > tol
@@ -96,7 +98,8 @@ def active_set(model: Model, points: ContactPoints, mechanism: np.ndarray, *,
     return open_points, slip_sign
 
 
-def bounded_active_set(model: Model, points: ContactPoints, mechanism: np.ndarray) -> np.ndarray:
+def bounded_active_set(model: Model, points: ContactPoints, mechanism: np.ndarray,
+                       tolerance: float = TOLERANCES.active) -> np.ndarray:
     """Signs of the bounded columns' rates d = −Gᵀu (:mod:`alma.nonassociative.bounded`), read
     to the threshold of :func:`active_set` (relative to the largest opening, slip or rate)."""
     if not model.n_bounded:
@@ -104,7 +107,7 @@ def bounded_active_set(model: Model, points: ContactPoints, mechanism: np.ndarra
     d = bf.rates(model, mechanism)
     scale = max(float(np.abs(points.normal.T @ mechanism).max(initial=0.0)),
                 float(np.abs(points.tangent.T @ mechanism).max(initial=0.0)), float(np.abs(d).max(initial=0.0)), 1e-300)
-    return bf.rate_signs(d, ACTIVE_TOLERANCE * scale)
+    return bf.rate_signs(d, tolerance * scale)
 
 
 def _allowed(signs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -113,7 +116,7 @@ def _allowed(signs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def force_active_set(points: ContactPoints, normal: np.ndarray, shear: np.ndarray,
-                     tolerance: float = 1e-9) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                     tolerance: float = TOLERANCES.force) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The most permissive mechanism set a force field allows (complementarity of Eq. 7).
 
     Returns (may_open, may_slip_sign, free_slip): a point with N = 0 may open and slip either way;
@@ -131,12 +134,14 @@ def force_active_set(points: ContactPoints, normal: np.ndarray, shear: np.ndarra
 
 
 def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray, shear: np.ndarray,
-           mechanism: np.ndarray, bounded: np.ndarray | None = None) -> tuple[dict[str, float], bool]:
+           mechanism: np.ndarray, bounded: np.ndarray | None = None,
+           tolerances: StateTolerances = TOLERANCES) -> tuple[dict[str, float], bool]:
     """Residuals of a collapse state (Eqs. 2, 3, 5, 7 and the energy balance) and whether all pass.
 
     ``bounded``: τ of the model's bounded forces (required when it has them); their equilibrium,
     bounds, flow rule and dissipation are checked with the rest (module docstring), and the
-    residuals gain ``bounded_not_mobilised``.
+    residuals gain ``bounded_not_mobilised``.  ``tolerances``: what passes
+    (:class:`alma.settings.StateTolerances`).
     """
     q = model.n_bounded
     tau = np.zeros(0) if bounded is None else np.asarray(bounded, dtype=float)
@@ -172,10 +177,10 @@ def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray
                  "energy_balance": float(energy), "live_load_work": work}
     if q:
         residuals["bounded_not_mobilised"] = bounded_gap
-    ok = (work > 0 and residuals["equilibrium"] <= EQUILIBRIUM_TOLERANCE
-          and residuals["yield"] <= YIELD_TOLERANCE
-          and penetration <= KINEMATIC_TOLERANCE and open_force <= KINEMATIC_TOLERANCE
-          and slip_gap <= KINEMATIC_TOLERANCE and bounded_gap <= KINEMATIC_TOLERANCE and energy <= ENERGY_TOLERANCE)
+    t = tolerances
+    ok = (work > 0 and residuals["equilibrium"] <= t.equilibrium and residuals["yield"] <= t.yield_violation
+          and penetration <= t.kinematic and open_force <= t.kinematic
+          and slip_gap <= t.kinematic and bounded_gap <= t.kinematic and energy <= t.energy)
     return residuals, bool(ok)
 
 
@@ -195,7 +200,7 @@ def lower(state: CollapseState | None, other: CollapseState | None) -> CollapseS
 
 
 def _fixed_set_field(model: Model, points: ContactPoints, open_points: np.ndarray, slip_sign: np.ndarray,
-                     signs: np.ndarray, method: str, limits: ExactLimits, tally: Tally) -> StaticLP:
+                     signs: np.ndarray, method: LPMethod, limits: ExactLimits, tally: Tally) -> StaticLP:
     """The smallest α with the active set fixed: a HiGHS vertex, or Clarabel's interior field.
 
     Clarabel's field is written on the cone generators only; with bounded forces (``signs``, the
@@ -204,16 +209,16 @@ def _fixed_set_field(model: Model, points: ContactPoints, open_points: np.ndarra
                    open_points=open_points, slip_sign=slip_sign)
     if model.n_bounded:
         coulomb["bounded_signs"] = signs
-        method = "highs-ipm" if method == "clarabel" else method
-    if method != "clarabel":
+        method = LPMethod.IPM if method == LPMethod.CLARABEL else method
+    if method != LPMethod.CLARABEL:
         lp = static_lp(model, points, **coulomb, max_pivots=limits.lp_pivots, method=method)
         tally.add(lp.pivots)
         return lp
     lp = fixed_set_static_interior(model, points, open_points, slip_sign, max_iter=limits.interior_iterations)
     tally.add(lp.pivots)
-    if lp.status == "error":  # Clarabel did not converge: HiGHS decides, within the vertex's iterations
+    if lp.status == Termination.ERROR:  # Clarabel did not converge: HiGHS decides, within the vertex's iterations
         lp = static_lp(model, points, **coulomb, max_pivots=min(limits.lp_pivots, limits.vertex_pivots),
-                       method="highs-ipm")
+                       method=LPMethod.IPM)
         tally.add(lp.pivots)
     return lp
 
@@ -224,13 +229,13 @@ def _vertex(model: Model, points: ContactPoints, open_points: np.ndarray, slip_s
     extra = {"bounded_signs": signs} if model.n_bounded else {}
     lp = static_lp(model, points, slope=points.friction, cap=np.zeros(points.count), maximise=False,
                    open_points=open_points, slip_sign=slip_sign,
-                   max_pivots=min(limits.lp_pivots, limits.vertex_pivots), method="highs", **extra)
+                   max_pivots=min(limits.lp_pivots, limits.vertex_pivots), method=LPMethod.SIMPLEX, **extra)
     tally.add(lp.pivots)
     return lp
 
 
 def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, start: str, *,
-                dilatant: bool = False, method: str = LP_METHOD, limits: ExactLimits = ExactLimits(),
+                dilatant: bool = False, method: LPMethod = LP_METHOD, limits: ExactLimits = ExactLimits(),
                 tally: Tally | None = None) -> CollapseState | None:
     """Turn a candidate mechanism into an exact collapse state and verify it.
 
@@ -240,8 +245,8 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
     set.  The pair satisfies Eq. 9 by construction; :func:`verify` checks it.  When no
     mechanism has exactly that set, the kinematic LP is asked for one within the widest set
     the static field allows (:func:`force_active_set`); failing that, the candidate's own
-    mechanism is verified.  ``method``: a HiGHS method of ``scipy.optimize.linprog`` for the
-    static LP (a vertex), or ``"clarabel"`` (:func:`fixed_set_static_interior`; then, when no
+    mechanism is verified.  ``method``: HiGHS's simplex or interior point for the static LP (a
+    vertex), or Clarabel (:func:`fixed_set_static_interior`; then, when no
     mechanism has exactly the set, a HiGHS simplex vertex gives the widest set).  With bounded
     forces their columns' signs (:func:`bounded_active_set`) are part of the set, in both LPs.
     """
@@ -250,40 +255,42 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
     if not work > 0:
         return None
     mechanism = mechanism * (model.n_free / work)
-    open_points, slip_sign = active_set(model, points, mechanism, dilatant=dilatant)
-    signs = bounded_active_set(model, points, mechanism)
+    tol = limits.tolerances
+    open_points, slip_sign = active_set(model, points, mechanism, dilatant=dilatant, tolerance=tol.active)
+    signs = bounded_active_set(model, points, mechanism, tol.active)
     lp = _fixed_set_field(model, points, open_points, slip_sign, signs, method, limits, tally)
-    if lp.status != "optimal":
+    if lp.status != Termination.OPTIMAL:
         return None
     clean, pivots = kinematic_lp(model, points, open_points, slip_sign, max_pivots=limits.lp_pivots,
                                  bounded_allowed=_allowed(signs))
     tally.add(pivots)
-    if clean is None and method == "clarabel" and not model.n_bounded:
+    if clean is None and method == LPMethod.CLARABEL and not model.n_bounded:
         # Clarabel's field lies inside the optimal face, where fewest points are unloaded or at
         # the friction limit; the widest set is read from a simplex vertex instead.
         vertex = _vertex(model, points, open_points, slip_sign, signs, limits, tally)
-        if vertex.status == "optimal":
+        if vertex.status == Termination.OPTIMAL:
             lp = vertex
     if clean is None:
         # No mechanism has exactly the candidate's set: take the widest set the static field
         # allows (open and free slip where N = 0, slip where friction is at its limit, bounded
         # rates of either sign where their force is at a bound).
-        may_open, may_slip, free = force_active_set(points, lp.normal, lp.shear)
-        allowed = bf.force_signs(model, lp.bounded, 1e-9 * max(1.0, float(np.abs(lp.normal).max(initial=0.0))))
+        may_open, may_slip, free = force_active_set(points, lp.normal, lp.shear, tol.force)
+        allowed = bf.force_signs(model, lp.bounded, tol.force * max(1.0, float(np.abs(lp.normal).max(initial=0.0))))
         clean, pivots = kinematic_lp(model, points, may_open, may_slip, free_slip=free, max_pivots=limits.lp_pivots,
                                      bounded_allowed=allowed)
         tally.add(pivots)
-    return _verified_pair(model, points, lp, clean, mechanism, start, dilatant)
+    return _verified_pair(model, points, lp, clean, mechanism, start, dilatant, tol)
 
 
 def _verified_pair(model: Model, points: ContactPoints, lp: StaticLP, clean: np.ndarray | None,
-                   mechanism: np.ndarray, start: str, dilatant: bool) -> CollapseState | None:
+                   mechanism: np.ndarray, start: str, dilatant: bool,
+                   tolerances: StateTolerances) -> CollapseState | None:
     """The field with the kinematic LP's mechanism, else with the candidate's own (first verified)."""
     best = None
     for u in ((clean, mechanism) if clean is not None else (mechanism,)):
         if dilatant and u is mechanism:
             continue  # an associative mechanism opens where it slips: never a non-associative state
-        residuals, ok = verify(model, points, lp.alpha, lp.normal, lp.shear, u, lp.bounded)
+        residuals, ok = verify(model, points, lp.alpha, lp.normal, lp.shear, u, lp.bounded, tolerances)
         state = CollapseState(alpha=lp.alpha, normal=lp.normal, shear=lp.shear, mechanism=u, start=start,
                               residuals=residuals, verified=ok, bounded=lp.bounded)
         if best is None or (ok and not best.verified):
@@ -305,13 +312,12 @@ def fast_exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray,
     With bounded forces the static LP is HiGHS's interior point with crossover (a vertex) at once.
     """
     if model.n_bounded:
-        return exact_state(model, points, mechanism, start, dilatant=dilatant, method="highs-ipm", limits=limits,
+        return exact_state(model, points, mechanism, start, dilatant=dilatant, method=LPMethod.IPM, limits=limits,
                            tally=tally)
-    state = exact_state(model, points, mechanism, start, dilatant=dilatant, method="clarabel", limits=limits,
+    state = exact_state(model, points, mechanism, start, dilatant=dilatant, method=LPMethod.CLARABEL, limits=limits,
                         tally=tally)
     if state is not None and not state.verified:
-        vertex_limits = ExactLimits(min(limits.lp_pivots, limits.vertex_pivots), limits.vertex_pivots,
-                                    limits.interior_iterations)
-        state = exact_state(model, points, mechanism, start, dilatant=dilatant, method="highs-ipm",
+        vertex_limits = dataclasses.replace(limits, lp_pivots=min(limits.lp_pivots, limits.vertex_pivots))
+        state = exact_state(model, points, mechanism, start, dilatant=dilatant, method=LPMethod.IPM,
                             limits=vertex_limits, tally=tally)
     return state

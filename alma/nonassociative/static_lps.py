@@ -1,8 +1,8 @@
 """The static and kinematic LPs of the non-associative search (Eqs. 2, 3, 5).
 
 Every LP here is bounded by an iteration count (HiGHS's simplex iterations through
-``scipy.optimize.linprog``'s ``maxiter``, Clarabel's ``max_iter``): a stalled LP counts as
-a failed attempt after the same work on every machine.
+:mod:`alma.backends.linprog_backend`, Clarabel's through :mod:`alma.backends.clarabel_backend`):
+a stalled LP counts as a failed attempt after the same work on every machine.
 
 With bounded forces (cohesion, ties: :mod:`alma.nonassociative.bounded`) the static LPs gain
 their columns G and forces 0 ≤ τ ≤ capacity (within an active set's bounds), and the kinematic
@@ -12,26 +12,26 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import clarabel
 import numpy as np
 import scipy.sparse as sp
-from scipy.optimize import linprog
 
+from alma.backends.clarabel_backend import solve_conic_lp
+from alma.backends.linprog_backend import LPMethod, solve_lp
+from alma.backends.termination import Termination
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative import bounded as bf
-from alma.nonassociative.solvers import clarabel_settings
 from alma.settings import AssociativeSettings
 
-#: HiGHS method for the static LPs (vertex solutions: simplex, or IPM with crossover).
-LP_METHOD = "highs"
+#: The static LPs' default method: a vertex by HiGHS's simplex.
+LP_METHOD = LPMethod.SIMPLEX
 
 
 @dataclass(frozen=True)
 class StaticLP:
     """Solution of a static LP over (α, N, T) at the contact points, with its mechanism."""
 
-    status: str  # optimal | unbounded | infeasible | error
+    status: Termination  # OPTIMAL, or why there is no field: UNBOUNDED, INFEASIBLE, ERROR
     alpha: float
     normal: np.ndarray
     shear: np.ndarray
@@ -41,7 +41,7 @@ class StaticLP:
     bounded: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
-def failed(status: str, count: int, pivots: int = 0, alpha: float = np.nan) -> StaticLP:
+def failed(status: Termination, count: int, pivots: int = 0, alpha: float = np.nan) -> StaticLP:
     """A StaticLP without a field (unbounded, infeasible or error)."""
     return StaticLP(status, alpha, np.zeros(count), np.zeros(count), None, pivots)
 
@@ -67,14 +67,14 @@ def _fixed_set_rows(points: ContactPoints, width: int, slip_sign: np.ndarray) ->
 def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np.ndarray,
               maximise: bool = True, open_points: np.ndarray | None = None,
               slip_sign: np.ndarray | None = None, max_pivots: int = 200_000,
-              method: str = LP_METHOD, bounded_signs: np.ndarray | None = None) -> StaticLP:
+              method: LPMethod = LP_METHOD, bounded_signs: np.ndarray | None = None) -> StaticLP:
     """The static problem on contact points (Eqs. 3 and 5), solved with HiGHS.
 
     Yield: |T_p| ≤ slope_p N_p + cap_p (Coulomb: slope = f, cap = 0; Gilbert: slope
     → 0, cap = (f − slope) N̄).  With an active set: N_p = 0 at ``open_points`` and
     T_p = −slip_sign_p f_p N_p where ``slip_sign`` ≠ 0.  Variables (α, N, T), forces in
     mean block weights; the mechanism is read from the equality duals (f_Lᵀu = n_free).
-    ``method``: the ``scipy.optimize.linprog`` HiGHS method; ``max_pivots``: its iteration cap.
+    ``method``: HiGHS's simplex or interior point (both give a vertex); ``max_pivots``: its iteration cap.
     Bounded forces τ (if the model has them) lie in 0 ≤ τ ≤ capacity, or in the bounds of the
     active set ``bounded_signs`` (:func:`alma.nonassociative.bounded.force_bounds`).
     """
@@ -98,26 +98,26 @@ def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np
         b_eq = np.concatenate([b_eq, np.zeros(extra.shape[0])])
     c = np.zeros(1 + 2 * P + q)
     c[0] = -1.0 if maximise else 1.0
-    res = linprog(c, A_ub=A_ub, b_ub=np.concatenate([cap, cap]), A_eq=A_eq, b_eq=b_eq, bounds=bounds,
-                  method=method, options={"maxiter": int(max_pivots)})
-    pivots = int(getattr(res, "nit", 0) or 0)
-    if res.status == 3:
-        return failed("unbounded", P, pivots, np.inf if maximise else -np.inf)
-    if res.status == 2:
-        return failed("infeasible", P, pivots)
-    if res.status != 0:
-        return failed("error", P, pivots)
+    sol = solve_lp(c, A_ub=A_ub, b_ub=np.concatenate([cap, cap]), A_eq=A_eq, b_eq=b_eq, bounds=bounds,
+                   method=method, max_iterations=max_pivots)
+    pivots = sol.iterations
+    if sol.termination is Termination.UNBOUNDED:
+        return failed(Termination.UNBOUNDED, P, pivots, np.inf if maximise else -np.inf)
+    if sol.termination is Termination.INFEASIBLE:
+        return failed(Termination.INFEASIBLE, P, pivots)
+    if sol.termination is not Termination.OPTIMAL:
+        return failed(Termination.ERROR, P, pivots)
     mechanism = None
-    if maximise and res.eqlin is not None:
-        y = -np.asarray(res.eqlin.marginals)[:n]  # ∂(−α)/∂b: f_Lᵀu = 1 at the optimum
+    if maximise and sol.duals.size:
+        y = sol.duals[:n]  # ∂(−α)/∂b: f_Lᵀu = 1 at the optimum
         work = model.live @ y
         if work > 0:
             mechanism = y * (model.n_free / work)
-    x = res.x
+    x = sol.x
     if q:
-        return StaticLP("optimal", float(x[0]), x[1:1 + P], x[1 + P:1 + 2 * P], mechanism, pivots,
+        return StaticLP(Termination.OPTIMAL, float(x[0]), x[1:1 + P], x[1 + P:1 + 2 * P], mechanism, pivots,
                         np.clip(x[1 + 2 * P:], bounds[1 + 2 * P:, 0], bounds[1 + 2 * P:, 1]))
-    return StaticLP("optimal", float(x[0]), x[1:1 + P], x[1 + P:], mechanism, pivots)
+    return StaticLP(Termination.OPTIMAL, float(x[0]), x[1:1 + P], x[1 + P:], mechanism, pivots)
 
 
 def fixed_set_static_interior(model: Model, points: ContactPoints, open_points: np.ndarray,
@@ -142,27 +142,22 @@ def fixed_set_static_interior(model: Model, points: ContactPoints, open_points: 
     kept[0::2], kept[1::2] = plus_kept, minus_kept
     columns = np.flatnonzero(kept)
     H = model.equilibrium[:, columns]
-    n = H.shape[0]
     A = sp.vstack([sp.csr_matrix(model.live[None, :]), H.T]).tocsc()
     b = np.zeros(1 + columns.size)
     b[0] = AssociativeSettings().normalisation * float(model.n_free)
-    settings = clarabel_settings(tolerance, max_iter)
-    settings.iterative_refinement_enable = False
-    solver = clarabel.DefaultSolver(sp.csc_matrix((n, n)), model.dead.copy(), A, b,
-                                    [clarabel.ZeroConeT(1), clarabel.NonnegativeConeT(columns.size)], settings)
-    sol = solver.solve()
-    status, used = str(sol.status), int(sol.iterations)
-    if status == "DualInfeasible":  # the kinematic side unbounded: no static field has this set
-        return failed("infeasible", P, used)
-    if status == "PrimalInfeasible":  # no mechanism: α unbounded below
-        return failed("unbounded", P, used, -np.inf)
-    if status not in ("Solved", "AlmostSolved"):
-        return failed("error", P, used)
-    z = np.asarray(sol.z)
+    sol = solve_conic_lp(model.dead, A, b, 1, columns.size, tolerance=tolerance, max_iter=max_iter, refine=False)
+    used = sol.iterations
+    if sol.termination is Termination.UNBOUNDED:  # the kinematic side unbounded: no static field has this set
+        return failed(Termination.INFEASIBLE, P, used)
+    if sol.termination is Termination.INFEASIBLE:  # no mechanism: α unbounded below
+        return failed(Termination.UNBOUNDED, P, used, -np.inf)
+    if not sol.termination.solved:
+        return failed(Termination.ERROR, P, used)
+    z = sol.duals
     mu = np.zeros(2 * P)
     mu[columns] = np.maximum(z[1:], 0.0)
     plus, minus = mu[0::2], mu[1::2]
-    return StaticLP("optimal", float(z[0]), plus + minus, points.friction * (plus - minus), None, used)
+    return StaticLP(Termination.OPTIMAL, float(z[0]), plus + minus, points.friction * (plus - minus), None, used)
 
 
 def static_lp_clarabel(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np.ndarray,
@@ -186,27 +181,26 @@ def static_lp_clarabel(model: Model, points: ContactPoints, *, slope: np.ndarray
         rhs += [np.zeros(k), model.capacity]
     A = sp.vstack(rows).tocsc()
     b = np.concatenate(rhs)
-    width = 1 + 2 * P + k
-    q = np.zeros(width)
+    q = np.zeros(1 + 2 * P + k)
     q[0] = -1.0
-    settings = clarabel_settings(tolerance, max_iter, qdldl=False)
-    sol = clarabel.DefaultSolver(sp.csc_matrix((width, width)), q, A, b,
-                                 [clarabel.ZeroConeT(n), clarabel.NonnegativeConeT(3 * P + 2 * k)], settings).solve()
-    status, used = str(sol.status), int(sol.iterations)
-    if status == "DualInfeasible":
-        return failed("unbounded", P, used, np.inf)
-    if status == "PrimalInfeasible":
-        return failed("infeasible", P, used)
-    if status not in ("Solved", "AlmostSolved"):
-        return failed("error", P, used)
-    x = np.asarray(sol.x)
-    y = np.asarray(sol.z)[:n]  # equality duals: the mechanism, up to sign and scale
+    # Clarabel's own choice of factorisation here, and its default iterative refinement.
+    sol = solve_conic_lp(q, A, b, n, 3 * P + 2 * k, tolerance=tolerance, max_iter=max_iter, refine=True,
+                         direct=None, form="static")
+    used = sol.iterations
+    if sol.termination is Termination.UNBOUNDED:
+        return failed(Termination.UNBOUNDED, P, used, np.inf)
+    if sol.termination is Termination.INFEASIBLE:
+        return failed(Termination.INFEASIBLE, P, used)
+    if not sol.termination.solved:
+        return failed(Termination.ERROR, P, used)
+    x = sol.x
+    y = sol.duals[:n]  # equality duals: the mechanism, up to sign and scale
     work = model.live @ y
     mechanism = y * (model.n_free / work) if work > 0 else None
     if k:
-        return StaticLP("optimal", float(x[0]), np.maximum(x[1:1 + P], 0.0), x[1 + P:1 + 2 * P], mechanism, used,
-                        np.clip(x[1 + 2 * P:], 0.0, model.capacity))
-    return StaticLP("optimal", float(x[0]), np.maximum(x[1:1 + P], 0.0), x[1 + P:], mechanism, used)
+        return StaticLP(Termination.OPTIMAL, float(x[0]), np.maximum(x[1:1 + P], 0.0), x[1 + P:1 + 2 * P],
+                        mechanism, used, np.clip(x[1 + 2 * P:], 0.0, model.capacity))
+    return StaticLP(Termination.OPTIMAL, float(x[0]), np.maximum(x[1:1 + P], 0.0), x[1 + P:], mechanism, used)
 
 
 def kinematic_lp(model: Model, points: ContactPoints, open_points: np.ndarray, slip_sign: np.ndarray,
@@ -238,7 +232,7 @@ def kinematic_lp(model: Model, points: ContactPoints, open_points: np.ndarray, s
         A_eq, A_ub = sp.vstack([A_eq, equal]).tocsr(), sp.vstack([A_ub, below]).tocsr()
         b_eq = np.concatenate([b_eq, np.zeros(equal.shape[0])])
     rows = A_ub.shape[0]
-    res = linprog(np.zeros(model.dead.shape[0]), A_ub=A_ub if rows else None, b_ub=np.zeros(rows) if rows else None,
-                  A_eq=A_eq, b_eq=b_eq, bounds=(None, None), method=LP_METHOD, options={"maxiter": int(max_pivots)})
-    pivots = int(getattr(res, "nit", 0) or 0)
-    return (np.asarray(res.x) if res.status == 0 else None), pivots
+    sol = solve_lp(np.zeros(model.dead.shape[0]), A_ub=A_ub if rows else None, b_ub=np.zeros(rows) if rows else None,
+                   A_eq=A_eq, b_eq=b_eq, bounds=(None, None), method=LP_METHOD, max_iterations=max_pivots,
+                   form="kinematic")
+    return (sol.x if sol.termination is Termination.OPTIMAL else None), sol.iterations

@@ -26,6 +26,7 @@ from alma.mechanics.model import Model
 from alma.nonassociative.gilbert import gilbert
 from alma.nonassociative.limits import Work
 from alma.nonassociative.states import CollapseState, Tally, exact_state, verify
+from alma.settings import StateTolerances
 from alma.status import Status
 
 
@@ -37,7 +38,7 @@ def turned(model: Model, degrees: float) -> Model:
 
 
 def mapped_back(model: Model, points: ContactPoints, state: CollapseState, degrees: float,
-                name: str) -> CollapseState | None:
+                name: str, tolerances: StateTolerances | None = None) -> CollapseState | None:
     """A state of the turned problem as a state of the original (see the module docstring),
     verified there; None when the turned α' is beyond the table's turn (c − s α' ≤ 0)."""
     t = math.radians(degrees)
@@ -48,7 +49,8 @@ def mapped_back(model: Model, points: ContactPoints, state: CollapseState, degre
     alpha = (s + c * state.alpha) / scale
     normal, shear = state.normal / scale, state.shear / scale
     mechanism = state.mechanism * (model.n_free / max(float(model.live @ state.mechanism), 1e-300))
-    residuals, ok = verify(model, points, alpha, normal, shear, mechanism)
+    residuals, ok = verify(model, points, alpha, normal, shear, mechanism,
+                           tolerances=tolerances if tolerances is not None else StateTolerances())
     return CollapseState(alpha=alpha, normal=normal, shear=shear, mechanism=mechanism, start=name,
                          residuals=residuals, verified=ok)
 
@@ -85,4 +87,4 @@ class TiltStart:
         if ctx.model.n_bounded:
             return exact_state(ctx.model, ctx.points, state.mechanism, self.name, limits=self.work.exact_limits(tally),
                                method=self.work.exact_method, tally=tally), solves + 1
-        return mapped_back(ctx.model, ctx.points, state, self.degrees, self.name), solves + 1
+        return mapped_back(ctx.model, ctx.points, state, self.degrees, self.name, self.work.tolerances), solves + 1

@@ -41,7 +41,7 @@ from typing import Any
 
 import pandas as pd
 
-from alma.settings import SearchSettings, Settings
+from alma.settings import EFFORTS, SearchSettings, Settings
 from alma.study.design import PAPER_DESIGN, Design, load_design
 from alma.study.keys import _alma_version, key_settings, panel_key
 from alma.study.progress import _Progress
@@ -116,7 +116,7 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
 def _check(design: Design | str | os.PathLike[str] | None, workers: int | None, effort: str | None,
            time_limit: float | None) -> tuple[Design, int]:
     """The design and the number of local workers, every option checked before any work."""
-    if effort is not None and effort not in ("auto", "fast", "thorough"):
+    if effort is not None and effort not in EFFORTS:
         raise ValueError(f"effort must be auto, fast or thorough, got {effort!r}")
     if time_limit is not None and not (math.isfinite(time_limit) and time_limit > 0):
         raise ValueError(f"time_limit must be a number of seconds > 0, got {time_limit!r}")
