@@ -12,8 +12,15 @@ from alma.mechanics.model import Model, build_model
 from alma.push import PushResult, push
 from alma.results.types import AssociativeResult, Bounds, Comparison, NonAssociativeResult, Result
 from alma.seismic import SeismicResult, Site, load_site, seismic
-from alma.settings import (AssociativeSettings, CertifySettings, IPMSettings, PushSettings, SearchSettings, Settings,
-                           StateTolerances)
+from alma.settings import (
+                           AssociativeSettings,
+                           CertifySettings,
+                           IPMSettings,
+                           PushSettings,
+                           SearchSettings,
+                           Settings,
+                           StateTolerances,
+)
 from alma.settle import SettlementResult, settle
 from alma.solve import solve
 from alma.status import Status

@@ -20,8 +20,7 @@ from dataclasses import dataclass, field
 from typing import Any, Literal, get_args
 
 # The interior point's settings are plain data of alma.engine, which imports nothing of alma.
-from alma.engine.types import FACTORISATIONS as FACTORISATIONS
-from alma.engine.types import IPMSettings
+from alma.engine.types import FACTORISATIONS as FACTORISATIONS, IPMSettings
 
 #: The associative LP's engines: Clarabel, alma's interior point (alma.engine), or by size.
 Engine = Literal["clarabel", "ipm", "auto"]

@@ -14,10 +14,12 @@ on 2 idle cores; run it from the top of a clone, before and after the change:
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import sys
 import time
 from collections.abc import Callable, Iterator
+from typing import cast
 
 import alma
 from alma.geometry.scene import Scene
@@ -28,17 +30,28 @@ PANELS = (("running", "1:1", "2:1", 0.6), ("stack", "1:2", "1:1", 0.27), ("engli
           ("flemish", "1:1", "1:1", 1.0))
 
 
+def _from_dict(make: Callable[[], dict]) -> Scene:
+    return Scene.from_dict(make())
+
+
+def _wall(k: int) -> Scene:
+    return alma.coursed_wall(WALLS[k], 400.0, 175.0, friction=FRICTION, thickness=1000.0, unit_weight=10.0)
+
+
+def _panel(panel: tuple[str, str, str, float]) -> Scene:
+    return alma.paper_panel(*panel)
+
+
 def scenes() -> Iterator[tuple[str, Callable[[], Scene]]]:
     for name, make in QUICK.items():
-        yield "Q " + name, lambda make=make: Scene.from_dict(make())
+        yield "Q " + name, functools.partial(_from_dict, make)
     for name, make in SLOW.items():
-        yield "S " + name, lambda make=make: Scene.from_dict(make())
+        yield "S " + name, functools.partial(_from_dict, make)
     for k in WALLS:
-        yield f"FTL {k}", lambda k=k: alma.coursed_wall(WALLS[k], 400.0, 175.0, friction=FRICTION, thickness=1000.0,
-                                                        unit_weight=10.0)
+        yield f"FTL {k}", functools.partial(_wall, k)
     yield "stack cohesion", stack_with_cohesion
     for panel in PANELS:
-        yield "panel " + " ".join(map(str, panel)), lambda panel=panel: alma.paper_panel(*panel)
+        yield "panel " + " ".join(map(str, panel)), functools.partial(_panel, panel)
 
 
 def record(path: str, only: str | None) -> None:
@@ -47,8 +60,9 @@ def record(path: str, only: str | None) -> None:
         if only and only not in name:
             continue
         t0 = time.perf_counter()
-        both = alma.solve(make(), model="both")
+        both = cast(alma.Comparison, alma.solve(make(), model="both"))
         a, n = both.associative, both.nonassociative
+        assert a is not None and n is not None
         out[name] = {"assoc_alpha": repr(a.alpha), "assoc_status": str(a.status),
                      "assoc_bounds": repr((a.bounds.lower, a.bounds.upper)),
                      "nl_alpha": repr(n.alpha), "nl_status": str(n.status), "nl_start": n.start,

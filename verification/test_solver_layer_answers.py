@@ -14,10 +14,10 @@ from __future__ import annotations
 import importlib.metadata
 
 import pytest
+from test_friction_invariance import stack_with_cohesion, tied_pier
 
 import alma
 from alma.geometry.scene import Scene
-from test_friction_invariance import stack_with_cohesion, tied_pier
 
 RELEASES = {"highspy": "1.15.1", "scipy": "1.17.1", "clarabel": "0.11.1"}
 REL = 1e-12
