@@ -238,6 +238,10 @@ class SearchSettings:
     exact_ipm_points: int = 1000
     #: Scenes up to this many contact points take the ``lp`` start's static LP from HiGHS's simplex.
     lp_vertex_points: int = 1000
+    #: Above this many contact points the ``lp`` start takes the associative active set only, not
+    #: the widest set of a simplex vertex: on the 108 panels that vertex took 11 % of the search
+    #: and its state was never the lowest alone.
+    lp_widest_points: int = 1000
     #: Above this many contact points the Gilbert LPs are solved by Clarabel, not warm HiGHS.
     interior_points: int = 6000
     #: LP solves of a fixed Gilbert start on Clarabel's path (above :attr:`interior_points`).

@@ -15,6 +15,7 @@ from alma.certify.milp import certify
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.gilbert import gilbert, projected_gilbert
+from alma.backends.linprog_backend import LPMethod
 from alma.nonassociative.limits import Cap, Work, no_cap
 from alma.nonassociative.nlp import ipopt_polish
 from alma.nonassociative.rocking import rocking_candidates
@@ -75,6 +76,10 @@ class LpStart:
         if ctx.points.count <= ctx.settings.lp_vertex_points:  # HiGHS's vertex: exact to the last digit
             return exact_state(ctx.model, ctx.points, ctx.associative_mechanism, self.name, dilatant=True,
                                limits=ctx.exact_limits(), tally=tally), 0
+        if ctx.points.count > ctx.settings.lp_widest_points:  # the associative set itself, by Clarabel
+            return exact_state(ctx.model, ctx.points, ctx.associative_mechanism, self.name, dilatant=True,
+                               method=LPMethod.CLARABEL, limits=ctx.exact_limits(vertex=True), tally=tally,
+                               widest=False), 0
         return fast_exact_state(ctx.model, ctx.points, ctx.associative_mechanism, self.name, dilatant=True,
                                 limits=ctx.exact_limits(vertex=True), tally=tally), 0
 

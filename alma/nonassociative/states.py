@@ -236,7 +236,7 @@ def _vertex(model: Model, points: ContactPoints, open_points: np.ndarray, slip_s
 
 def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, start: str, *,
                 dilatant: bool = False, method: LPMethod = LP_METHOD, limits: ExactLimits = ExactLimits(),
-                tally: Tally | None = None) -> CollapseState | None:
+                tally: Tally | None = None, widest: bool = True) -> CollapseState | None:
     """Turn a candidate mechanism into an exact collapse state and verify it.
 
     Its active set is fixed (:func:`active_set`); one static LP takes the smallest
@@ -249,6 +249,7 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
     vertex), or Clarabel (:func:`fixed_set_static_interior`; then, when no
     mechanism has exactly the set, a HiGHS simplex vertex gives the widest set).  With bounded
     forces their columns' signs (:func:`bounded_active_set`) are part of the set, in both LPs.
+    ``widest=False``: the candidate's own set only (no vertex, no widest set).
     """
     tally = Tally() if tally is None else tally
     work = float(model.live @ mechanism)
@@ -264,6 +265,8 @@ def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, star
     clean, pivots = kinematic_lp(model, points, open_points, slip_sign, max_pivots=limits.lp_pivots,
                                  bounded_allowed=_allowed(signs))
     tally.add(pivots)
+    if clean is None and not widest:
+        return _verified_pair(model, points, lp, clean, mechanism, start, dilatant, tol)
     if clean is None and method == LPMethod.CLARABEL and not model.n_bounded:
         # Clarabel's field lies inside the optimal face, where fewest points are unloaded or at
         # the friction limit; the widest set is read from a simplex vertex instead.
