@@ -81,6 +81,9 @@ class CertifySettings:
     scip_feasibility: float = 1e-8
     #: SCIP: add the exact energy balance (bilinear in N and the slips) as a quadratic equality.
     scip_energy: bool = True
+    #: Further SCIP parameters (name, value), set last: none by default (docs/decisions.md has the
+    #: ones measured on the 14- to 20-block scenes).
+    scip_parameters: tuple[tuple[str, object], ...] = ()
 
 
 @dataclass(frozen=True)
