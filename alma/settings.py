@@ -72,9 +72,6 @@ class CertifySettings:
     velocity_factor: float = 10.0
     #: Above this many contact points, one global normal-force bound replaces the per-point LPs.
     per_point_bounds: int = 400
-    #: HiGHS: add the course-segment energy cuts ("a segment slides on its support"; rows per run of
-    #: blocks on a support line, alma/certify/courses.py).
-    segment_cuts: bool = False
     #: "highs" (big-M binaries, always installed) or "scip" (SOS1 pairs, the extra alma[scip]).
     backend: str = "highs"
     #: Absolute MIP gap of the SCIP path: the proven bound is within this of the best state found.

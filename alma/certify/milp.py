@@ -144,7 +144,7 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
             return fail(written)
         return scip_certificate(*written, alpha_cap, alpha_hi, alpha_best, U, settings, cap, t0,
                                 time.perf_counter() - t0)
-    data = milp_data(model, points, big_m, first, alpha_hi, U, segment_cuts=settings.segment_cuts)
+    data = milp_data(model, points, big_m, first, alpha_hi, U)
     if isinstance(data, str):
         return fail(data)
     bounds_s = time.perf_counter() - t0

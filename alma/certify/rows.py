@@ -12,7 +12,6 @@ import numpy as np
 import scipy.sparse as sp
 
 from alma.certify.bigm import BigM
-from alma.certify.courses import Segment, course_segments
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 
@@ -147,33 +146,6 @@ def _complementarity_rows(rows: _Rows, L: _Layout, points: ContactPoints, big_m:
     rows.add({L.i_sp: sp.identity(mj), L.i_sm: sp.identity(mj)}, mj, 0.0, 1.0)
 
 
-def _segment_rows(rows: _Rows, L: _Layout, model: Model, points: ContactPoints, first: np.ndarray, ell: np.ndarray,
-                  segments: list[Segment], m_gp_j: np.ndarray, m_gm_j: np.ndarray) -> None:
-    """The course-segment energy cuts (:mod:`alma.certify.courses`), one row per segment:
-
-    α n_free + f₀ᵀu − Σ_{j∉bed} f ℓ_j (γ⁺_j + γ⁻_j) − f_S W_S mean_{j∈bed}(γ⁺_j + γ⁻_j)
-        + M_E (Σ_closed o_p + Σ_open (1 − o_p)) ≥ 0."""
-    if not segments:
-        return
-    diss = points.friction[first] * ell
-    k = len(segments)
-    slip = np.tile(diss, (k, 1))
-    o_coef = np.zeros((k, L.B.size))
-    low = np.zeros(k)
-    for r, seg in enumerate(segments):  # a few hundred segments at most (k (k + 1) / 2 per course)
-        bed = seg.bed_joints
-        slip[r, bed] = seg.friction * seg.weight / bed.size
-        m_e = seg.friction * seg.weight * float((m_gp_j[bed] + m_gm_j[bed]).max())
-        o_coef[r, np.searchsorted(L.B, seg.closed_points)] = m_e
-        o_coef[r, np.searchsorted(L.B, seg.open_points)] = -m_e
-        low[r] = -m_e * seg.open_points.size
-    parts = {0: np.full((k, 1), float(model.n_free)), L.i_u: np.tile(model.dead, (k, 1)),
-             L.i_gp: -slip, L.i_gm: -slip}
-    if L.B.size:
-        parts[L.i_o] = o_coef
-    rows.add({key: sp.csr_matrix(v) for key, v in parts.items()}, k, low, np.inf)
-
-
 def _columns(L: _Layout, big_m: BigM, model: Model, points: ContactPoints, alpha_hi: float, U: float,
              m_gp_j: np.ndarray, m_gm_j: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Column bounds: α ∈ [0, α_hi], 0 ≤ N ≤ M_N, |T| ≤ f M_N, |u| ≤ U, slips, 0 ≤ τ ≤ cap, rates
@@ -201,9 +173,8 @@ def _columns(L: _Layout, big_m: BigM, model: Model, points: ContactPoints, alpha
 
 
 def milp_data(model: Model, points: ContactPoints, big_m: BigM, first: np.ndarray, alpha_hi: float,
-              U: float, segment_cuts: bool = False) -> MilpData | str:
-    """The certification MILP of a scene, or a message saying why it cannot be written; with
-    ``segment_cuts`` also the course-segment energy cuts (:mod:`alma.certify.courses`)."""
+              U: float) -> MilpData | str:
+    """The certification MILP of a scene, or a message saying why it cannot be written."""
     P, n, m = points.count, model.dead.shape[0], first.size
     joint_of = np.searchsorted(first, np.arange(P), side="right") - 1  # joint (row of `first`) of each point
     tangent_j = points.tangent[:, first]
@@ -220,9 +191,6 @@ def milp_data(model: Model, points: ContactPoints, big_m: BigM, first: np.ndarra
         _complementarity_rows(rows, L, points, big_m, joint_of, m_gp_j, m_gm_j)
     if L.q:
         _bounded_rows(rows, L, model, big_m)
-    if segment_cuts and B.size:
-        _segment_rows(rows, L, model, points, first, big_m.joint_minimum, course_segments(model, B), m_gp_j,
-                      m_gm_j)
     col_lo, col_hi = _columns(L, big_m, model, points, alpha_hi, U, m_gp_j, m_gm_j)
     integrality = np.zeros(L.nvar, dtype=bool)
     integrality[L.i_o:L.i_tau] = True
