@@ -41,10 +41,10 @@ from alma.mechanics.model import build_model
 from alma.nonassociative.search import solve_nonassociative
 from alma.settings import CertifySettings
 
-#: The certificates compared: HiGHS on the big-M MILP (with the course-segment energy cuts:
-#: ``highs-segments``), SCIP on the SOS1 form with and without the bilinear energy balance
-#: (CertifySettings.scip_energy), and SCIP with bipartite SOS1 branching (``scip-bipartite``).
-BACKENDS = {"highs": CertifySettings(), "highs-segments": CertifySettings(segment_cuts=True),
+#: The certificates compared: HiGHS on the big-M MILP, SCIP on the SOS1 form with and without
+#: the bilinear energy balance (CertifySettings.scip_energy), and SCIP with bipartite SOS1
+#: branching (``scip-bipartite``).
+BACKENDS = {"highs": CertifySettings(),
             "scip": CertifySettings(backend="scip"),
             "scip-noenergy": CertifySettings(backend="scip", scip_energy=False),
             "scip-bipartite": CertifySettings(backend="scip",
