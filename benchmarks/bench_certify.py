@@ -41,14 +41,14 @@ from alma.mechanics.model import build_model
 from alma.nonassociative.search import solve_nonassociative
 from alma.settings import CertifySettings
 
-#: The certificates compared: HiGHS on the big-M MILP, SCIP on the SOS1 form with and without
-#: the bilinear energy balance (CertifySettings.scip_energy), and SCIP with bipartite SOS1
-#: branching (``scip-bipartite``).
+#: The certificates compared: HiGHS on the big-M MILP, SCIP on the SOS1 form (bipartite SOS1
+#: branching, the default) with and without the bilinear energy balance
+#: (CertifySettings.scip_energy), and SCIP with its own neighbourhood branching (``scip-neighbourhood``,
+#: the default before issue 31's second pass).
 BACKENDS = {"highs": CertifySettings(),
             "scip": CertifySettings(backend="scip"),
             "scip-noenergy": CertifySettings(backend="scip", scip_energy=False),
-            "scip-bipartite": CertifySettings(backend="scip",
-                                              scip_parameters=(("constraints/SOS1/branchingrule", "b"),))}
+            "scip-neighbourhood": CertifySettings(backend="scip", scip_parameters=())}
 
 
 def with_overrides(scene: alma.Scene, friction: float = 0.4) -> alma.Scene:
