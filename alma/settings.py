@@ -82,7 +82,7 @@ class CertifySettings:
     #: SCIP: add the exact energy balance (bilinear in N and the slips) as a quadratic equality.
     scip_energy: bool = True
     #: Further SCIP parameters (name, value), set last.  Bipartite SOS1 branching: at 2,000 nodes its
-    #: bound was higher on 2 of 4 scenes of 14-20 blocks (x1.2, x1.9) and equal on 2 (decisions.md).
+    #: bound was higher on 3 of 7 scenes of 14-20 blocks (x1.16-x1.9), equal on 3, 1 % lower on 1.
     scip_parameters: tuple[tuple[str, object], ...] = (("constraints/SOS1/branchingrule", "b"),)
 
 
