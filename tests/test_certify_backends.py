@@ -3,8 +3,10 @@
 - No module of ``alma/certify/`` imports a solver package (highspy, pyscipopt, scipy.optimize)
   or another package's solver helpers (``alma.nonassociative.solvers``).
 - The MILP functions of the HiGHS adapter (``new_model``, ``warm_maximum``, ``solve_milp``) on
-  tiny problems whose answers are known by hand: an optimum, a problem pruned by the objective
-  bound, an LP that ends unbounded, a node budget that stops the tree before it closes.
+  tiny problems whose answers are known (by enumeration or scipy's ``linprog``): an optimum, a
+  problem with no solution below a bound (``pruned``), HiGHS's ``objective_bound`` option (which
+  does not prune these problems in HiGHS 1.15), an LP that ends unbounded, a node budget that
+  stops the tree before it closes.
 """
 from __future__ import annotations
 
