@@ -15,12 +15,14 @@ carries 0.93 C): the MILP with bounded forces (τ, its rates and two binaries pe
 
     python -m benchmarks.bench_certify [--time-limit 60] [--families side1.0,side0.6,stack,running]
                                        [--backends highs,scip] [--only NAME,...] [--overrides]
-                                       [--cohesion 0] [--out benchmarks/results]
+                                       [--cohesion 0] [--nodes N] [--out benchmarks/results]
 
 Prints a table and the largest scene proven within the time limit per family and formulation;
 writes ``certify[_cC][_overrides]_<backends>.csv`` (one row per scene and certificate).
 ``--backends highs,scip`` compares HiGHS's big-M MILP with SCIP's SOS1 form (``alma[scip]``);
-``--overrides`` puts a joint override (friction 0.4, no cohesion) on every joint on the ground.
+``--overrides`` puts a joint override (friction 0.4, no cohesion) on every joint on the ground;
+``--nodes N`` gives every certificate a budget of N nodes (with a generous ``--time-limit``, a
+comparison that does not depend on the machine's load).
 """
 from __future__ import annotations
 
@@ -39,10 +41,14 @@ from alma.mechanics.model import build_model
 from alma.nonassociative.search import solve_nonassociative
 from alma.settings import CertifySettings
 
-#: The certificates compared: HiGHS on the big-M MILP, SCIP on the SOS1 form with and without
-#: the bilinear energy balance (CertifySettings.scip_energy).
-BACKENDS = {"highs": CertifySettings(), "scip": CertifySettings(backend="scip"),
-            "scip-noenergy": CertifySettings(backend="scip", scip_energy=False)}
+#: The certificates compared: HiGHS on the big-M MILP, SCIP on the SOS1 form (bipartite SOS1
+#: branching, the default) with and without the bilinear energy balance
+#: (CertifySettings.scip_energy), and SCIP with its own neighbourhood branching (``scip-neighbourhood``,
+#: the default before issue 31's second pass).
+BACKENDS = {"highs": CertifySettings(),
+            "scip": CertifySettings(backend="scip"),
+            "scip-noenergy": CertifySettings(backend="scip", scip_energy=False),
+            "scip-neighbourhood": CertifySettings(backend="scip", scip_parameters=())}
 
 
 def with_overrides(scene: alma.Scene, friction: float = 0.4) -> alma.Scene:
@@ -100,6 +106,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--overrides", action="store_true",
                         help="override the joints on the ground: friction 0.4, no cohesion")
     parser.add_argument("--cohesion", type=float, default=0.0, help="cohesion on every joint, kPa")
+    parser.add_argument("--nodes", type=int, default=0,
+                        help="branch-and-bound node budget of every certificate (default: CertifySettings's); "
+                             "a budget in nodes compares backends whatever the machine's load")
     parser.add_argument("--stop-after", type=int, default=2, help="unproven sizes in a row before a family stops")
     parser.add_argument("--out", default=str(Path(__file__).resolve().parent / "results"))
     args = parser.parse_args(argv)
@@ -124,8 +133,11 @@ def main(argv: list[str] | None = None) -> None:
                 if misses[formulation] >= args.stop_after:
                     row.update(status="skipped", lower=np.nan, upper=best, gap=np.nan, seconds=np.nan)
                 else:
+                    chosen_settings = BACKENDS[formulation]
+                    if args.nodes:
+                        chosen_settings = dataclasses.replace(chosen_settings, node_limit=args.nodes)
                     cert = certify(model, alpha_lp, mechanisms, time_limit=args.time_limit, alpha_best=best,
-                                   settings=BACKENDS[formulation])
+                                   settings=chosen_settings)
                     upper = min(best, cert.upper) if best is not None else cert.upper
                     proven = cert.status == "proven"
                     misses[formulation] = 0 if proven else misses[formulation] + 1

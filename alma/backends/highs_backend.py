@@ -15,6 +15,7 @@ import sys
 import threading
 import time
 from collections.abc import Iterator
+from dataclasses import dataclass
 
 import highspy
 import numpy as np
@@ -213,3 +214,97 @@ class WarmLP:
             x, duals = np.asarray(sol.col_value), -np.asarray(sol.row_dual)
         return SolverResult(term, name, x, duals, _iterations(self._h), time.perf_counter() - start, "HiGHS",
                             "static")
+
+
+# Column-wise models, warm-started objectives and the mixed-integer solve of ``alma.certify``.
+
+#: The solver object's type, for annotations outside this module.
+HighsModel = highspy.Highs
+
+#: HiGHS model statuses of a MIP in the certificate's vocabulary: ``optimal`` (the tree closed on
+#: a solution), ``pruned`` (closed without a solution below the objective bound), ``limit_reached``
+#: (the user's wall-clock cap), ``node_limit`` (the work budget) and ``failed`` (anything else).
+MILP_STATUS: dict[str, str] = {
+    "kOptimal": "optimal",
+    "kInfeasible": "pruned",
+    "kObjectiveBound": "pruned",
+    "kTimeLimit": "limit_reached",
+    "kInterrupt": "node_limit",
+    "kSolutionLimit": "node_limit",
+    "kIterationLimit": "node_limit",
+}
+
+
+def new_model(cost, col_lo, col_hi, A, row_lo, row_hi, integrality=None, **options: object) -> highspy.Highs:
+    """A quiet HiGHS (:func:`quiet_highs` with ``options``) holding min costᵀx over
+    row_lo ≤ A x ≤ row_hi, col_lo ≤ x ≤ col_hi (A passed column-wise), with x_k integer where
+    ``integrality`` is true (``None``: an LP)."""
+    A = sp.csc_matrix(A)
+    A.sort_indices()
+    lp = highspy.HighsLp()
+    lp.num_col_, lp.num_row_ = int(A.shape[1]), int(A.shape[0])
+    lp.col_cost_ = np.asarray(cost, dtype=float)
+    lp.col_lower_ = np.asarray(col_lo, dtype=float)
+    lp.col_upper_ = np.asarray(col_hi, dtype=float)
+    lp.row_lower_ = np.asarray(row_lo, dtype=float)
+    lp.row_upper_ = np.asarray(row_hi, dtype=float)
+    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+    lp.a_matrix_.start_ = A.indptr.astype(np.int32)
+    lp.a_matrix_.index_ = A.indices.astype(np.int32)
+    lp.a_matrix_.value_ = A.data.astype(float)
+    if integrality is not None:
+        lp.integrality_ = [highspy.HighsVarType.kInteger if v else highspy.HighsVarType.kContinuous
+                           for v in integrality]
+    h = quiet_highs(**options)
+    h.passModel(lp)
+    return h
+
+
+def warm_maximum(h: highspy.Highs, objective, max_pivots: int) -> float | str:
+    """max objectiveᵀx of the LP held by ``h`` (from :func:`new_model`), warm-started from its last
+    basis and bounded by ``max_pivots`` simplex iterations; a message ("ended <HiGHS's model
+    status>") when it does not end optimal (unbounded, infeasible, the iteration bound)."""
+    c = np.asarray(objective, dtype=float)
+    h.setOptionValue("simplex_iteration_limit", int(max_pivots))
+    h.changeColsCost(c.size, np.arange(c.size, dtype=np.int32), -c)
+    h.run()
+    if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
+        return f"ended {h.modelStatusToString(h.getModelStatus())}"
+    return -float(h.getInfo().objective_function_value)
+
+
+@dataclass(frozen=True)
+class MilpOutcome:
+    """One HiGHS MIP solve: ``status`` in :data:`MILP_STATUS`'s vocabulary, HiGHS's own word, the
+    proven dual bound (−inf if none), the best solution (None if none) and the nodes explored."""
+
+    status: str
+    highs_status: str
+    dual_bound: float
+    x: np.ndarray | None
+    nodes: int
+
+
+def solve_milp(cost, col_lo, col_hi, A, row_lo, row_hi, integrality, *, node_limit: int,
+               absolute_gap: float, relative_gap: float, integrality_tolerance: float,
+               time_limit: float | None = None, objective_bound: float | None = None) -> MilpOutcome:
+    """min costᵀx of a MIP (arguments as :func:`new_model`) by HiGHS's branch-and-bound.
+
+    ``node_limit`` is the work budget; ``time_limit`` (s) a user's cap only; ``objective_bound``
+    prunes every node whose bound reaches it (a known solution's value).
+    """
+    h = new_model(cost, col_lo, col_hi, A, row_lo, row_hi, integrality, mip_max_nodes=int(node_limit),
+                  mip_rel_gap=float(relative_gap), mip_abs_gap=float(absolute_gap),
+                  mip_feasibility_tolerance=float(integrality_tolerance))
+    if time_limit is not None:
+        h.setOptionValue("time_limit", float(max(0.0, time_limit)))
+    if objective_bound is not None:
+        h.setOptionValue("objective_bound", float(objective_bound))
+    h.run()
+    name = str(h.getModelStatus()).rsplit(".", 1)[-1]
+    info = h.getInfo()
+    dual = float(info.mip_dual_bound) if np.isfinite(info.mip_dual_bound) else -np.inf
+    x = None
+    if info.primal_solution_status == 2 or name == "kOptimal":
+        x = np.asarray(h.getSolution().col_value, dtype=float)
+    return MilpOutcome(MILP_STATUS.get(name, "failed"), name, dual, x, int(info.mip_node_count))

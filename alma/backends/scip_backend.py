@@ -93,14 +93,15 @@ def solve_mip(cost: np.ndarray, col_lo: np.ndarray, col_hi: np.ndarray, A: sp.sp
               row_hi: np.ndarray, integrality: np.ndarray, sos1: np.ndarray, *, node_limit: int,
               bilinear: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
               objective_limit: float | None = None, time_limit: float | None = None, absolute_gap: float = 1e-7,
-              feasibility_tolerance: float = 1e-9) -> MipOutcome:
+              feasibility_tolerance: float = 1e-9, parameters: tuple[tuple[str, object], ...] = ()) -> MipOutcome:
     """min costᵀx over ``row_lo ≤ A x ≤ row_hi``, ``col_lo ≤ x ≤ col_hi``, x_k integer where
     ``integrality`` and, for each row (a, b) of ``sos1``, x_a x_b = 0 (an SOS1 pair).  With
     ``bilinear = (c, pairs, w)`` also the quadratic equality cᵀx + Σ_k w_k x_a x_b = 0 (pairs
     k × 2), which SCIP relaxes by McCormick rows that tighten as branching narrows the bounds.
 
     ``node_limit`` is the work budget; ``objective_limit`` prunes every node whose bound reaches
-    it (a known state); ``time_limit`` (s) is a user's cap only.  Raises ``ModuleNotFoundError``
+    it (a known state); ``time_limit`` (s) is a user's cap only; ``parameters`` are further SCIP
+    parameters ``(name, value)`` set last.  Raises ``ModuleNotFoundError``
     with :data:`INSTALL_HINT` when PySCIPOpt is absent.
     """
     if pyscipopt is None:
@@ -115,6 +116,8 @@ def solve_mip(cost: np.ndarray, col_lo: np.ndarray, col_hi: np.ndarray, A: sp.sp
     m.setParam("parallel/maxnthreads", 1)
     if time_limit is not None:
         m.setParam("limits/time", float(max(time_limit, 0.0)))
+    for name, value in parameters:
+        m.setParam(name, value)
     inf = m.infinity()
     vtype = np.where(np.asarray(integrality, dtype=bool), "I", "C")
     lo = np.where(np.isfinite(col_lo), col_lo, -inf)

@@ -12,14 +12,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import highspy
 import numpy as np
 import scipy.sparse as sp
 
+from alma.backends import highs_backend
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.limits import Cap
-from alma.nonassociative.solvers import quiet_highs
 from alma.nonassociative.static_lps import with_bounded_columns
 
 #: Relative safety margin on every derived big-M (bounds come from LPs solved to ~1e-9).
@@ -48,46 +47,20 @@ class BigM:
     rate_minus: np.ndarray = field(default_factory=lambda: np.zeros(0))  # M_d⁻,i: largest −d_i
 
 
-def pass_model(h: highspy.Highs, cost: np.ndarray, col_lo: np.ndarray, col_hi: np.ndarray, A: sp.spmatrix,
-               row_lo: np.ndarray, row_hi: np.ndarray, integrality: np.ndarray | None = None) -> None:
-    """Pass an LP (or, with ``integrality``, a MIP) in column-wise form to a HiGHS object."""
-    A = sp.csc_matrix(A)
-    A.sort_indices()
-    lp = highspy.HighsLp()
-    lp.num_col_, lp.num_row_ = int(A.shape[1]), int(A.shape[0])
-    lp.col_cost_ = np.asarray(cost, dtype=float)
-    lp.col_lower_ = np.asarray(col_lo, dtype=float)
-    lp.col_upper_ = np.asarray(col_hi, dtype=float)
-    lp.row_lower_ = np.asarray(row_lo, dtype=float)
-    lp.row_upper_ = np.asarray(row_hi, dtype=float)
-    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-    lp.a_matrix_.start_ = A.indptr.astype(np.int32)
-    lp.a_matrix_.index_ = A.indices.astype(np.int32)
-    lp.a_matrix_.value_ = A.data.astype(float)
-    if integrality is not None:
-        lp.integrality_ = [highspy.HighsVarType.kInteger if v else highspy.HighsVarType.kContinuous
-                           for v in integrality]
-    h.passModel(lp)
-
-
-def _column_maxima(h: highspy.Highs, nvar: int, objectives: list[np.ndarray], max_pivots: int,
-                   cap: Cap) -> np.ndarray:
-    """max cᵀx of a passed LP for each c (warm-started simplex, ``max_pivots`` iterations each)."""
+def _column_maxima(h: highs_backend.HighsModel, objectives: list[np.ndarray], max_pivots: int, cap: Cap) -> np.ndarray:
+    """max cᵀx of an LP held by ``h`` for each c (warm-started simplex, ``max_pivots`` iterations each)."""
     out = np.empty(len(objectives))
-    idx = np.arange(nvar, dtype=np.int32)
-    h.setOptionValue("simplex_iteration_limit", int(max_pivots))
     for k, c in enumerate(objectives):
         if cap.expired():
             raise BoundsFailed("the time limit passed while deriving the big-M bounds", by_cap=True)
-        h.changeColsCost(nvar, idx, -np.asarray(c, dtype=float))
-        h.run()
-        if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
-            raise BoundsFailed(f"a big-M LP ended {h.modelStatusToString(h.getModelStatus())}")
-        out[k] = -h.getInfo().objective_function_value
+        value = highs_backend.warm_maximum(h, c, max_pivots)
+        if isinstance(value, str):
+            raise BoundsFailed(f"a big-M LP {value}")
+        out[k] = value
     return out
 
 
-def _static_field_model(model: Model, points: ContactPoints, alpha_max: float) -> highspy.Highs:
+def _static_field_model(model: Model, points: ContactPoints, alpha_max: float) -> highs_backend.HighsModel:
     """A HiGHS model of the statically admissible fields (Eqs. 3, 5) over (α, N, T, τ), 0 ≤ α ≤ alpha_max
     and 0 ≤ τ ≤ capacity, with zero cost: the callers set one objective after another on it (warm
     re-solves)."""
@@ -99,9 +72,7 @@ def _static_field_model(model: Model, points: ContactPoints, alpha_max: float) -
     hi = np.concatenate([b_eq, np.zeros(2 * P)])
     col_lo = np.concatenate([[0.0], np.zeros(P), np.full(P, -np.inf), np.zeros(q)])
     col_hi = np.concatenate([[alpha_max], np.full(2 * P, np.inf), model.capacity])
-    h = quiet_highs()
-    pass_model(h, np.zeros(1 + 2 * P + q), col_lo, col_hi, sp.vstack([A_eq, A_ub]), lo, hi)
-    return h
+    return highs_backend.new_model(np.zeros(1 + 2 * P + q), col_lo, col_hi, sp.vstack([A_eq, A_ub]), lo, hi)
 
 
 def static_point_bounds(model: Model, points: ContactPoints, alpha_max: float, *, max_pivots: int, cap: Cap,
@@ -113,7 +84,7 @@ def static_point_bounds(model: Model, points: ContactPoints, alpha_max: float, *
     sign = -1.0 if minimise else 1.0
     rows = np.eye(P) if weights is None else np.atleast_2d(weights)
     objectives = [np.concatenate([[0.0], sign * w, np.zeros(P + q)]) for w in rows]
-    return sign * _column_maxima(h, 1 + 2 * P + q, objectives, max_pivots, cap)
+    return sign * _column_maxima(h, objectives, max_pivots, cap)
 
 
 def joint_normal_minima(model: Model, points: ContactPoints, first: np.ndarray, alpha_max: float, *,
@@ -121,10 +92,8 @@ def joint_normal_minima(model: Model, points: ContactPoints, first: np.ndarray, 
     """min N_a + N_b of every joint (points first[j] to first[j + 1] − 1) over statically admissible
     fields with 0 ≤ α ≤ alpha_max."""
     P = points.count
-    ends = np.r_[first[1:], P]
     weights = np.zeros((first.size, P))
-    for j, (a, b) in enumerate(zip(first, ends)):
-        weights[j, a:b] = 1.0
+    weights[np.searchsorted(first, np.arange(P), side="right") - 1, np.arange(P)] = 1.0  # joint of each point
     return static_point_bounds(model, points, alpha_max, max_pivots=max_pivots, cap=cap, minimise=True,
                                weights=weights)
 
@@ -148,15 +117,14 @@ def kinematic_point_bounds(model: Model, points: ContactPoints, U: float, first:
                                                  np.zeros(q)])[None, :])])
     lo = np.concatenate([np.zeros(P), [model.n_free], np.zeros(m + q), [-np.inf]])
     hi = np.concatenate([np.full(P, np.inf), [model.n_free], np.zeros(m + q), [alpha_max * model.n_free]])
-    h = quiet_highs()
     nv = n + 2 * m + 2 * q
     col_lo = np.concatenate([np.full(n, -U), np.zeros(2 * m + 2 * q)])
     col_hi = np.concatenate([np.full(n, U), np.full(2 * m + 2 * q, np.inf)])
-    pass_model(h, np.zeros(nv), col_lo, col_hi, A, lo, hi)
+    h = highs_backend.new_model(np.zeros(nv), col_lo, col_hi, A, lo, hi)
     g_dense = g_t.toarray().T if q else np.zeros((n, 0))
     directions = np.hstack([points.normal.toarray(), tangent_j.toarray(), -tangent_j.toarray(), -g_dense, g_dense])
     objectives = [np.concatenate([directions[:, k], np.zeros(2 * m + 2 * q)]) for k in range(directions.shape[1])]
-    values = np.maximum(_column_maxima(h, nv, objectives, max_pivots, cap), 0.0)
+    values = np.maximum(_column_maxima(h, objectives, max_pivots, cap), 0.0)
     joint_of = np.searchsorted(first, np.arange(P), side="right") - 1
     k = P + 2 * m
     return values[:P], values[P:P + m][joint_of], values[P + m:k][joint_of], values[k:k + q], values[k + q:]

@@ -40,18 +40,16 @@ from __future__ import annotations
 
 import time
 
-import highspy
 import numpy as np
 
-from alma.backends import scip_backend
-from alma.certify.bigm import BoundsFailed, derive_big_m, pass_model
+from alma.backends import highs_backend, scip_backend
+from alma.certify.bigm import BoundsFailed, derive_big_m
 from alma.certify.certificate import Certificate
 from alma.certify.rows import MilpData, milp_data
 from alma.certify.sos1 import scip_certificate, sos1_data
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.limits import Cap
-from alma.nonassociative.solvers import quiet_highs
 from alma.settings import CertifySettings
 
 #: Absolute MIP gap: the proven bound is within this of the best state found.
@@ -60,58 +58,48 @@ MIP_ABSOLUTE_GAP = 1e-7
 #: hundreds releases enough force to settle visibly below the optimum (docs/decisions.md).
 MIP_INTEGRALITY_TOLERANCE = 1e-9
 
-MS = highspy.HighsModelStatus
 #: The MIP solvers of the certificate: HiGHS (big-M binaries) and SCIP (SOS1 pairs, alma[scip]).
 BACKENDS = ("highs", "scip")
 
 
 def _run_milp(data: MilpData, alpha_hi: float, alpha_best: float | None, settings: CertifySettings,
-              cap: Cap) -> highspy.Highs:
+              cap: Cap) -> highs_backend.MilpOutcome:
     """Solve the MILP with HiGHS within the node budget (and the user's cap, if any)."""
-    h = quiet_highs()
-    pass_model(h, data.cost, data.col_lo, data.col_hi, data.A, data.row_lo, data.row_hi, data.integrality)
-    h.setOptionValue("mip_max_nodes", int(settings.node_limit))
-    h.setOptionValue("mip_rel_gap", 1e-9)
-    h.setOptionValue("mip_abs_gap", MIP_ABSOLUTE_GAP)
-    h.setOptionValue("mip_feasibility_tolerance", MIP_INTEGRALITY_TOLERANCE)
-    if cap.seconds is not None:  # the user's cap only: no budget decision rests on the clock
-        h.setOptionValue("time_limit", float(max(0.0, cap.remaining())))
-    if alpha_best is not None:
-        # The verified state at α_best acts as an incumbent: nodes whose bound reaches it are pruned.
-        h.setOptionValue("objective_bound", float(alpha_hi))
-    h.run()
-    return h
+    # The verified state at α_best acts as an incumbent: nodes whose bound reaches it are pruned.
+    # The user's cap only bounds the clock: no budget decision rests on it.
+    return highs_backend.solve_milp(data.cost, data.col_lo, data.col_hi, data.A, data.row_lo, data.row_hi,
+                                    data.integrality, node_limit=settings.node_limit,
+                                    absolute_gap=MIP_ABSOLUTE_GAP, relative_gap=1e-9,
+                                    integrality_tolerance=MIP_INTEGRALITY_TOLERANCE,
+                                    time_limit=cap.remaining() if cap.seconds is not None else None,
+                                    objective_bound=alpha_hi if alpha_best is not None else None)
 
 
-def _certificate(h: highspy.Highs, data: MilpData, alpha_cap: float, U: float, t0: float,
+def _certificate(out: highs_backend.MilpOutcome, data: MilpData, alpha_cap: float, U: float, t0: float,
                  bounds_s: float) -> Certificate:
-    """Read the proven bound (and the MILP's own optimum) from the solved HiGHS object."""
-    status_code, info = h.getModelStatus(), h.getInfo()
-    dual = float(info.mip_dual_bound) if np.isfinite(info.mip_dual_bound) else 0.0
+    """Read the proven bound (and the MILP's own optimum) from HiGHS's outcome."""
+    dual = out.dual_bound if np.isfinite(out.dual_bound) else 0.0
     best, u, active = np.inf, None, False
-    if info.primal_solution_status == 2 or status_code == MS.kOptimal:
-        x = np.asarray(h.getSolution().col_value)
-        best, u = float(x[data.alpha_column]), x[data.velocity_columns]
+    if out.x is not None:
+        best, u = float(out.x[data.alpha_column]), out.x[data.velocity_columns]
         active = bool(np.abs(u).max() >= 0.999 * U)
     common = dict(velocity_bound=U, velocity_bound_active=active, mechanism=u, binaries=data.binaries,
-                  nodes=int(info.mip_node_count), bounds_s=bounds_s, time_s=time.perf_counter() - t0)
-    if status_code == MS.kOptimal:
+                  nodes=out.nodes, bounds_s=bounds_s, time_s=time.perf_counter() - t0)
+    if out.status == "optimal":
         lower = max(0.0, min(dual, best, alpha_cap))  # α_cap: a verified state exists there
         return Certificate("proven", f"optimal within mip gap {best - lower:.1e} (|u|∞ ≤ {U:.3g}"
                            f"{', bound active' if active else ''})", float(lower), best, float(best - lower), **common)
-    if status_code in (MS.kInfeasible, MS.kObjectiveBound):
+    if out.status == "pruned":
         lower = max(0.0, alpha_cap - MIP_ABSOLUTE_GAP)  # pruned against the cap within the MIP gap
         return Certificate("proven", f"no collapse state below the cap {alpha_cap:.9g} (best verified state / "
                            f"associative bound) within mip gap {MIP_ABSOLUTE_GAP:.0e} (|u|∞ ≤ {U:.3g})",
                            float(lower), np.inf, float(alpha_cap - lower), **common)
-    if status_code in (MS.kTimeLimit, MS.kInterrupt, MS.kSolutionLimit, MS.kIterationLimit):
+    if out.status in ("limit_reached", "node_limit"):
         lower = max(0.0, min(dual, alpha_cap))
-        status, why = (("limit_reached", "time limit reached") if status_code == MS.kTimeLimit
-                       else ("node_limit", f"node limit {info.mip_node_count} reached"))
-        return Certificate(status, f"{why}; proven lower bound {lower:.6g} (|u|∞ ≤ {U:.3g})", float(lower), best,
+        why = "time limit reached" if out.status == "limit_reached" else f"node limit {out.nodes} reached"
+        return Certificate(out.status, f"{why}; proven lower bound {lower:.6g} (|u|∞ ≤ {U:.3g})", float(lower), best,
                            float(alpha_cap - lower), **common)
-    return Certificate("failed", f"MILP failed: {h.modelStatusToString(status_code)}", 0.0, np.inf, np.inf,
-                       **common)
+    return Certificate("failed", f"MILP failed: HiGHS {out.highs_status}", 0.0, np.inf, np.inf, **common)
 
 
 def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray], *,
@@ -160,5 +148,5 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     if isinstance(data, str):
         return fail(data)
     bounds_s = time.perf_counter() - t0
-    h = _run_milp(data, alpha_hi, alpha_best, settings, cap)
-    return _certificate(h, data, alpha_cap, U, t0, bounds_s)
+    out = _run_milp(data, alpha_hi, alpha_best, settings, cap)
+    return _certificate(out, data, alpha_cap, U, t0, bounds_s)

@@ -121,7 +121,8 @@ def scip_certificate(data: MilpData, pairs: np.ndarray, energy: tuple, alpha_cap
                                  bilinear=energy if settings.scip_energy else None,
                                  objective_limit=alpha_hi if alpha_best is not None else None,
                                  time_limit=cap.remaining() if cap.seconds is not None else None,
-                                 absolute_gap=settings.absolute_gap, feasibility_tolerance=settings.scip_feasibility)
+                                 absolute_gap=settings.absolute_gap, feasibility_tolerance=settings.scip_feasibility,
+                                 parameters=settings.scip_parameters)
     best, u, active = out.primal, None, False
     if out.x is not None:
         best, u = float(out.x[data.alpha_column]), out.x[data.velocity_columns]
