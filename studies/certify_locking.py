@@ -30,18 +30,11 @@ from alma.certify.bigm import joint_normal_minima
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
 from alma.nonassociative.limits import Cap
-
-_RUN = ([0.5, 1, 1, 1, 1, 0.5], [1] * 5)
-#: The walls' courses, bottom first, as in verification/test_ferris_tin_loi.py (negative = opening).
-WALLS = {
-    1: [list(_RUN[i % 2]) for i in range(6)],
-    3: [[1, 1, 1, 1] if c == "E" else [.5, 1, 1, 1, .5] if c == "U" else [.5, 1, -1, 1, .5] if c == "u"
-        else [1, .5, -1, .5, 1] for c in "EUEuwuwuEUE"],
-}
+from benchmarks.bench_friction import FRICTION, WALLS
 
 
 def ferris_wall(k: int) -> alma.Scene:
-    return alma.coursed_wall(WALLS[k], 400.0, 175.0, friction=0.65, thickness=1000.0, unit_weight=10.0,
+    return alma.coursed_wall(WALLS[k], 400.0, 175.0, friction=FRICTION, thickness=1000.0, unit_weight=10.0,
                              name=f"Ferris & Tin-Loi wall {k}")
 
 

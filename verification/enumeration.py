@@ -22,7 +22,8 @@ def _static_min(model, pts, opened, slip, rate) -> float:
     b_eq = [-model.dead]
     A_ub, b_ub = [], []
     for p in range(P):
-        row = lambda a, b: np.concatenate([[0.0], a, b, np.zeros(q)])
+        def row(a, b, q=q):
+            return np.concatenate([[0.0], a, b, np.zeros(q)])
         e = np.eye(P)[p]
         A_ub += [row(-f[p] * e, e), row(-f[p] * e, -e)]  # |T| ≤ f N
         b_ub += [0.0, 0.0]
@@ -31,7 +32,8 @@ def _static_min(model, pts, opened, slip, rate) -> float:
             A_eq.append(row(f[p] * e, s * e)[None, :])
             b_eq.append(np.zeros(1))
     bounds = [(None, None)] + [(0.0, 0.0) if o else (0.0, None) for o in opened] + [(None, None)] * P
-    bounds += [((c, c) if r > 0 else (0.0, 0.0) if r < 0 else (0.0, c)) for c, r in zip(model.capacity, rate)]
+    bounds += [((c, c) if r > 0 else (0.0, 0.0) if r < 0 else (0.0, c))
+               for c, r in zip(model.capacity, rate, strict=True)]
     cost = np.zeros(1 + 2 * P + q)
     cost[0] = 1.0
     res = linprog(cost, A_ub=np.array(A_ub), b_ub=b_ub, A_eq=np.vstack(A_eq), b_eq=np.concatenate(b_eq),
