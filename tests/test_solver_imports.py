@@ -2,8 +2,7 @@
 
 Fails when a module outside ``alma/backends/`` imports a solver package (HiGHS, Clarabel, QDLDL,
 CasADi/IPOPT, SCIP, scipy's ``linprog``/``milp``).  ``alma/engine/`` is alma's own interior point
-with its factorisation backends, and ``alma/certify/`` is still routed through its own HiGHS
-calls (issue 35): both are listed here until they move.
+with its factorisation backends (QDLDL, feral), which are the product, not an adapter.
 """
 from __future__ import annotations
 
@@ -13,7 +12,7 @@ from pathlib import Path
 ALMA = Path(__file__).resolve().parents[1] / "alma"
 SOLVERS = ("highspy", "clarabel", "qdldl", "casadi", "pyscipopt", "cvxpy")
 SCIPY_SOLVERS = ("linprog", "milp")
-EXEMPT = ("backends", "engine", "certify")
+EXEMPT = ("backends", "engine")
 
 
 def solver_imports(path: Path) -> list[str]:
