@@ -225,7 +225,16 @@ def test_rotated(data, theta):
 @given(data=stacked(length=log_uniform(0.1, 1e4), height=log_uniform(0.1, 1e4), max_per_course=5))
 @example(data=assembly_dict([(0.0, [0.1, 1e4, 0.1], 1e3), (5000.0, [1.0, 1.0], 0.1)], 0.6))
 def test_mixed_tiny_and_huge(data):
-    check(alma.Scene.from_dict(data))
+    """Blocks 0.1 mm to 10 m in one scene: alma agrees with HiGHS, or refuses the drawing with a
+    message naming the contact tolerance (vertices within twice the tolerance, which grows with
+    the mean block size, are one point: a block or contact about that small is below the
+    drawing's accuracy, docs/scenes.md)."""
+    try:
+        scene = alma.Scene.from_dict(data)
+    except alma.SceneError as error:
+        assert "tolerance" in str(error), error
+        return
+    check(scene)
 
 
 @STRESS
