@@ -210,7 +210,8 @@ def _state(run: _Run, d: float, pose: Pose, solved: tuple[Result, Model]) -> _St
     result, built = solved
     current = built.scene
     bodies = bodies_of(current, result)
-    contacts = classify(built.joints, bodies, built.friction)
+    contacts = classify(built.joints, bodies, built.friction,
+                        np.isfinite(built.crushing) if built.crushing.size else None)
     return _State(d, pose, result, bodies, contacts, signature(current, result, contacts), built)
 
 
