@@ -111,3 +111,18 @@ def test_curve_does_not_depend_on_origin_or_block_order():
     assert np.allclose([p.d for p in other.curve], [p.d for p in base.curve], rtol=1e-7, atol=1e-6)
     assert np.allclose([p.alpha for p in other.curve], [p.alpha for p in base.curve], atol=1e-7)
     assert other.d0 == pytest.approx(base.d0, rel=1e-7)
+
+
+def test_a_joint_crushing_over_its_whole_length_ends_the_curve_and_is_named():
+    # the portal of verification/test_push.py at σ_c = 0.03 MPa: the collapse turns the whole
+    # frame about the left pier's crushing hinge while the right pier's base crushes whole
+    # (N = σ_c l t) and sinks, which rigid geometry cannot follow: the curve must say so
+    scene = alma.Scene.from_dict({"thickness": T, "unit_weight": GAMMA, "friction": 0.8, "compressive_strength": 0.03,
+                                  "blocks": [{"id": "ground", "vertices": _rect(-2000, -100, 5000, 100), "fixed": True},
+                                             {"id": "pier_l", "vertices": _rect(0, 0, 200, 1000)},
+                                             {"id": "pier_r", "vertices": _rect(800, 0, 200, 1000)},
+                                             {"id": "lintel", "vertices": _rect(-100, 1000, 1200, 200)}]})
+    result = push(scene)
+    assert result.end["reason"] == "no_equilibrium" and math.isnan(result.d0)
+    assert result.end["crushed_lost_joints"] == [["ground", "pier_r"]]
+    assert "crushed over its whole length" in result.message
