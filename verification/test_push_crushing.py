@@ -33,6 +33,7 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 
 import alma
 from alma.push import push
@@ -46,10 +47,12 @@ def _rect(x0, y0, w, h):
     return [[x0, y0], [x0 + w, y0], [x0 + w, y0 + h], [x0, y0 + h]]
 
 
-def _scene(strength: float | None, *, dx: float = 0.0, dy: float = 0.0, reverse: bool = False) -> alma.Scene:
-    blocks = [{"id": "ground", "vertices": _rect(-2000 + dx, -100 + dy, 5000, 100), "fixed": True},
-              {"id": "b1", "vertices": _rect(dx, dy, B, H)}]
-    data = {"thickness": T, "unit_weight": GAMMA, "friction": 0.8, "blocks": blocks[::-1] if reverse else blocks}
+def _scene(strength: float | None, *, dx: float = 0.0, dy: float = 0.0, reverse: bool = False,
+           scale: float = 1.0) -> alma.Scene:
+    k = scale
+    blocks = [{"id": "ground", "vertices": _rect(-2000 * k + dx, -100 * k + dy, 5000 * k, 100 * k), "fixed": True},
+              {"id": "b1", "vertices": _rect(dx, dy, B * k, H * k)}]
+    data = {"thickness": T * k, "unit_weight": GAMMA, "friction": 0.8, "blocks": blocks[::-1] if reverse else blocks}
     if strength is not None:
         data["compressive_strength"] = strength
     return alma.Scene.from_dict(data)
@@ -67,6 +70,11 @@ def _alpha(theta: float, a: float) -> float:
 def _theta_of_d(d: float) -> float:
     r, beta = 0.5 * math.hypot(B, H), math.atan2(H, B)
     return math.acos((r * math.cos(beta) - d) / r) - beta
+
+
+@pytest.fixture(scope="module")
+def base():
+    return push(_scene(0.05))
 
 
 @pytest.fixture(scope="module", params=[0.05, 0.2])
@@ -105,12 +113,36 @@ def test_strong_blocks_recover_the_rigid_curve():
     assert rigid.d0 == pytest.approx(B / 2, abs=1e-4)
 
 
-def test_curve_does_not_depend_on_origin_or_block_order():
-    base = push(_scene(0.05))
-    other = push(_scene(0.05, dx=1234.5, dy=-678.25, reverse=True))
-    assert np.allclose([p.d for p in other.curve], [p.d for p in base.curve], rtol=1e-7, atol=1e-6)
+@settings(max_examples=3, deadline=None)
+@given(scale=st.sampled_from([0.1, 1.0, 25.4]), dx=st.floats(-5e3, 5e3), dy=st.floats(-5e3, 5e3),
+       reverse=st.booleans())
+def test_curve_does_not_depend_on_units_origin_or_block_order(base, scale, dx, dy, reverse):
+    """The same structure k times larger (lengths and thickness × k) with σ_c × k has the same
+    a/b (W ∝ k³, a = W/(σ_c t) ∝ k): the same α at d × k."""
+    other = push(_scene(0.05 * scale, dx=dx, dy=dy, reverse=reverse, scale=scale))
+    assert other.status == alma.Status.OPTIMAL
+    assert np.allclose([p.d / scale for p in other.curve], [p.d for p in base.curve], rtol=1e-7, atol=1e-6)
     assert np.allclose([p.alpha for p in other.curve], [p.alpha for p in base.curve], atol=1e-7)
-    assert other.d0 == pytest.approx(base.d0, rel=1e-7)
+    assert other.d0 / scale == pytest.approx(base.d0, rel=1e-7)
+
+
+def test_two_stacked_blocks_rock_as_one_body_on_their_base_stress_block():
+    # 200 × 400 twice: one body b × h = 200 × 800 whose base joint carries both weights, so
+    # a = 2 W₁/(σ_c t); θ is the bodies' turn (the control is the top block, not the centroid)
+    strength = 0.05
+    scene = alma.Scene.from_dict({"thickness": T, "unit_weight": GAMMA, "friction": 0.8,
+                                  "compressive_strength": strength, "blocks": [
+                                      {"id": "ground", "vertices": _rect(-2000, -100, 5000, 100), "fixed": True},
+                                      {"id": "low", "vertices": _rect(0, 0, 200, 400)},
+                                      {"id": "top", "vertices": _rect(0, 400, 200, 400)}]})
+    result = push(scene, steps=10)
+    assert result.status == alma.Status.OPTIMAL and result.end["reason"] == "alpha_zero"
+    a = 200 * 800 * T * GAMMA * 1e-6 / (strength * T)
+    for p in result.curve:
+        theta = -p.pose.angle[2]
+        assert p.pose.angle[1] == pytest.approx(p.pose.angle[2], abs=1e-12)
+        ref = (200 * math.cos(theta) - 800 * math.sin(theta) - a) / (800 * math.cos(theta) + 200 * math.sin(theta))
+        assert p.alpha == pytest.approx(ref, abs=1e-6)
 
 
 def test_a_joint_crushing_over_its_whole_length_ends_the_curve_and_is_named():

@@ -16,7 +16,10 @@ Contacts after the step: :func:`alma.geometry.contacts.find_joints` on the displ
 previous configuration that stayed closed (|T_a(p) − T_b(p)| ≤ the contact tolerance) and are not
 on a flat joint: the hinge about which a joint turned becomes a point contact (start = end),
 whose normal is the face's that the other block's corner bears on (the bisector when two
-corners meet).  Lengths in mm, angles in rad; everything is vectorised over blocks and joints.
+corners meet).  A joint with a finite compressive strength turns about its *crushing hinge*
+(the end its stress block presses in, :func:`classify`) and keeps its length on that face,
+ending at the hinge, so that its capacity σ_c l t stays and the stress block forms at the hinge
+(docs/decisions.md).  Lengths in mm, angles in rad; everything is vectorised over blocks and joints.
 """
 from __future__ import annotations
 
