@@ -89,3 +89,12 @@ def test_push_refuses_a_bad_compressive_strength_by_name(files, value):
     assert out.returncode == 2
     assert json.loads(out.stdout)["status"] == "invalid_input"
     assert "--compressive-strength" in out.stderr
+
+
+def test_seismic_takes_the_compressive_strength(files):
+    out = _alma("seismic", "scene.json", "--site", "site.toml", "--steps", "8", "--compressive-strength", "0.05",
+                "--json", cwd=files)
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    assert data["alpha0"] == pytest.approx(0.3136, abs=1e-7)  # (b − W/(σ_c t))/h
+    assert data["e_star"] == pytest.approx(1.0, abs=1e-9)

@@ -158,3 +158,13 @@ def test_a_joint_crushing_over_its_whole_length_ends_the_curve_and_is_named():
     assert result.end["reason"] == "no_equilibrium" and math.isnan(result.d0)
     assert result.end["crushed_lost_joints"] == [["ground", "pier_r"]]
     assert "crushed over its whole length" in result.message
+
+
+def test_a_per_joint_strength_on_the_ground_joint_gives_the_same_curve(base):
+    # only the ground joint has σ_c (SPEC §2 "joints" override): the turned joint keeps it
+    data = _scene(None).to_dict()
+    data["joints"] = [{"blocks": ["ground", "b1"], "compressive_strength": 0.05}]
+    result = push(alma.Scene.from_dict(data))
+    assert result.status == alma.Status.OPTIMAL
+    assert np.allclose([p.alpha for p in result.curve], [p.alpha for p in base.curve], atol=1e-9)
+    assert result.d0 == pytest.approx(base.d0, rel=1e-9)
