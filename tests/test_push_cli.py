@@ -68,3 +68,33 @@ def test_bad_input_exits_2_with_one_json_object(files, args, word):
     assert out.returncode == 2
     assert json.loads(out.stdout)["status"] == "invalid_input"
     assert word in out.stderr
+
+
+def test_push_takes_the_compressive_strength_and_keeps_the_json_fields(files):
+    """σ_c = 0.05 MPa on the 240 × 600 block: a = W/(σ_c t) = 51.84 mm, α_c = (b − a)/h = 0.3136
+    and d₀ = (b − a)/2 = 94.08 mm (verification/test_push_crushing.py derives the curve)."""
+    rigid = json.loads(_alma("push", "scene.json", "--steps", "8", "--json", cwd=files).stdout)
+    out = _alma("push", "scene.json", "--steps", "8", "--compressive-strength", "0.05", "--json", cwd=files)
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    assert set(data) == set(rigid) and set(data["curve"][0]) == set(rigid["curve"][0])
+    assert data["status"] == "optimal" and data["end"]["reason"] == "alpha_zero"
+    assert data["alpha_c"] == pytest.approx(0.3136, abs=1e-7)
+    assert data["d0"] == pytest.approx(94.08, abs=1e-4) and rigid["d0"] == pytest.approx(120.0, abs=1e-4)
+
+
+@pytest.mark.parametrize("value", ["0", "-1", "nan"])
+def test_push_refuses_a_bad_compressive_strength_by_name(files, value):
+    out = _alma("push", "scene.json", f"--compressive-strength={value}", "--json", cwd=files)
+    assert out.returncode == 2
+    assert json.loads(out.stdout)["status"] == "invalid_input"
+    assert "--compressive-strength" in out.stderr
+
+
+def test_seismic_takes_the_compressive_strength(files):
+    out = _alma("seismic", "scene.json", "--site", "site.toml", "--steps", "8", "--compressive-strength", "0.05",
+                "--json", cwd=files)
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    assert data["alpha0"] == pytest.approx(0.3136, abs=1e-7)  # (b − W/(σ_c t))/h
+    assert data["e_star"] == pytest.approx(1.0, abs=1e-9)

@@ -12,7 +12,7 @@ from alma.backends import scip_backend
 from alma.cli import push as push_cli
 from alma.cli.json_output import dumps
 from alma.cli.outputs import OutputPathError, check_outputs
-from alma.cli.scene_options import add_scene_options, positive_float, scene_from_args
+from alma.cli.scene_options import add_scene_options, positive_float, scene_from_args, with_compressive_strength
 from alma.geometry.chains import parse_chain, with_chain
 from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, paper_panel
 from alma.geometry.scene import Scene, SceneError
@@ -297,15 +297,6 @@ def _print_text(scene: Scene, result, picture: str | None) -> None:
     print(f"  time       {', '.join(parts)}")
     if picture:
         print(f"  picture    {picture}")
-
-
-def with_compressive_strength(scene: Scene, value: float | None) -> Scene:
-    """``scene`` with ``--compressive-strength`` (MPa) for every joint, when given (SPEC §2)."""
-    if value is None:
-        return scene
-    if not (math.isfinite(value) and value > 0):
-        raise SceneError(f"--compressive-strength (MPa) must be a finite number > 0, got {value}")
-    return dataclasses.replace(scene, compressive_strength=float(value))
 
 
 def export_scene(scene: Scene, path: str) -> None:

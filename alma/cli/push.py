@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 from typing import Callable
 
-from alma.cli.scene_options import add_scene_options, scene_from_args
+from alma.cli.scene_options import add_compressive_strength, add_scene_options, scene_from_args
 from alma.geometry.scene import Scene, SceneError
 from alma.push import PUSH_MODELS, PushResult, push
 from alma.report.capacity import plot_capacity
@@ -24,7 +24,7 @@ def register(sub, invalid: Callable) -> None:
                    "(default: the block that moves most horizontally)")
     p.add_argument("--steps", type=int, default=None, help="steps from α_c to α = 0 (default 40)")
     _outputs(p)
-    add_scene_options(p)
+    add_compressive_strength(add_scene_options(p))
     p.set_defaults(func=lambda args: _run(args, invalid, None))
 
     p = sub.add_parser("seismic", help="the kinematic seismic check (NTC 2018, Circolare 2019 §C8.7.1)")
@@ -33,7 +33,7 @@ def register(sub, invalid: Callable) -> None:
     p.add_argument("--control", metavar="BLOCK", help="the control block of the capacity curve")
     p.add_argument("--steps", type=int, default=None, help="steps of the capacity curve (default 40)")
     _outputs(p)
-    add_scene_options(p)
+    add_compressive_strength(add_scene_options(p))
     p.set_defaults(func=lambda args: _run(args, invalid, args.site))
 
 

@@ -75,6 +75,23 @@ def add_scene_options(parser: argparse.ArgumentParser) -> argparse._ArgumentGrou
     return group
 
 
+def add_compressive_strength(group: argparse._ArgumentGroup) -> None:
+    """Add ``--compressive-strength MPA`` (SPEC §2 ``compressive_strength`` on every joint) to a
+    command whose analysis takes a finite compressive strength; :func:`scene_from_args` applies it."""
+    group.add_argument("--compressive-strength", type=positive_float, default=None, metavar="MPA",
+                       help="σ_c of every joint in MPa (overrides the scene's compressive_strength; default: the "
+                            "scene's, else infinitely strong blocks)")
+
+
+def with_compressive_strength(scene: Scene, value: float | None) -> Scene:
+    """``scene`` with ``--compressive-strength`` (MPa) for every joint, when given (SPEC §2)."""
+    if value is None:
+        return scene
+    if not (math.isfinite(value) and value > 0):
+        raise SceneError(f"--compressive-strength (MPa) must be a finite number > 0, got {value}")
+    return dataclasses.replace(scene, compressive_strength=float(value))
+
+
 def scene_from_args(args: argparse.Namespace) -> Scene:
     """The validated scene of ``args.scene`` with the scene options of ``args`` applied.
 
@@ -96,6 +113,7 @@ def scene_from_args(args: argparse.Namespace) -> Scene:
         scene = load_scene(path)
         if given:
             scene = dataclasses.replace(scene, **given, validated=False)
+    scene = with_compressive_strength(scene, getattr(args, "compressive_strength", None))
     tolerance = getattr(args, "contact_tolerance", None)
     if tolerance is not None:
         scene = dataclasses.replace(scene, contact_tolerance=tolerance, validated=False)

@@ -43,7 +43,7 @@ from alma.push.motion import (
     predictor,
     signature,
 )
-from alma.push.stop import closing, describe, falling_mode, lost_joints
+from alma.push.stop import closing, crushed_lost, describe, falling_mode, lost_joints
 from alma.results.types import Result, finite
 from alma.settings import PushSettings, Settings
 from alma.solve import solve
@@ -210,7 +210,8 @@ def _state(run: _Run, d: float, pose: Pose, solved: tuple[Result, Model]) -> _St
     result, built = solved
     current = built.scene
     bodies = bodies_of(current, result)
-    contacts = classify(built.joints, bodies, built.friction)
+    contacts = classify(built.joints, bodies, built.friction,
+                        np.isfinite(built.crushing) if built.crushing.size else None)
     return _State(d, pose, result, bodies, contacts, signature(current, result, contacts), built)
 
 
@@ -261,10 +262,12 @@ def _lost_equilibrium(lo: _State, hi: _State) -> dict[str, Any]:
     mode = falling_mode(hi.model)
     lost = lost_joints(lo.model, hi.model, mode.blocks) if mode is not None else []
     closed = closing(lo.model, hi.model, mode, lost) if mode is not None else []
+    crushed = crushed_lost(lo.result.joints, lost)
     return {"reason": "no_equilibrium", "bracket": [lo.d, hi.d], "alpha": lo.alpha,
             "falling_blocks": list(mode.blocks) if mode is not None else None,
             "lost_joints": [list(p) for p in lost], "closes_lost_joints": [list(p) for p in closed],
-            "text": describe((lo.d, hi.d), lo.alpha, mode, lost, closed)}
+            "crushed_lost_joints": [list(p) for p in crushed],
+            "text": describe((lo.d, hi.d), lo.alpha, mode, lost, closed, crushed)}
 
 
 def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_State], tuple | None]:

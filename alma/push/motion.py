@@ -16,7 +16,10 @@ Contacts after the step: :func:`alma.geometry.contacts.find_joints` on the displ
 previous configuration that stayed closed (|T_a(p) − T_b(p)| ≤ the contact tolerance) and are not
 on a flat joint: the hinge about which a joint turned becomes a point contact (start = end),
 whose normal is the face's that the other block's corner bears on (the bisector when two
-corners meet).  Lengths in mm, angles in rad; everything is vectorised over blocks and joints.
+corners meet).  A joint with a finite compressive strength turns about its *crushing hinge*
+(the end its stress block presses in, :func:`classify`) and keeps its length on that face,
+ending at the hinge, so that its capacity σ_c l t stays and the stress block forms at the hinge
+(docs/decisions.md).  Lengths in mm, angles in rad; everything is vectorised over blocks and joints.
 """
 from __future__ import annotations
 
@@ -87,6 +90,7 @@ class Contacts:
     hinge: np.ndarray  # (p,) bool: no relative velocity, two different bodies
     sliding: np.ndarray  # (p,) bool: tangential relative velocity, the normal one only dilatancy
     friction: np.ndarray  # (p,) the joint's friction coefficient
+    crushing: np.ndarray  # (p,) bool: the joint has a finite compressive strength σ_c
 
 
 def displaced(scene: Scene, pose: Pose) -> Scene:
@@ -123,8 +127,15 @@ def bodies_of(scene: Scene, result: Result) -> Bodies:
     return Bodies(of_block, centre, omega, velocity)
 
 
-def classify(joints: Joints, bodies: Bodies, friction: np.ndarray) -> Contacts:
-    """Every contact point of ``joints`` as a hinge, a sliding point or neither (it opens)."""
+def classify(joints: Joints, bodies: Bodies, friction: np.ndarray, crushing: np.ndarray | None = None) -> Contacts:
+    """Every contact point of ``joints`` as a hinge, a sliding point or neither (it opens).
+
+    ``crushing`` (m,) bool marks the joints with a finite compressive strength.  Their rocking
+    turns about the inner edge of the stress block (Eq. 10's flow rule on the parabola of
+    docs/compressive.md), so the end point at the stress block moves into the other block while
+    the far end opens: that end point is the joint's *crushing hinge*, kept closed over a finite
+    step as a hinge is (the rigid geometry neglects the crushed zone's own deformation).
+    """
     a = np.repeat(joints.block_a, 2)
     b = np.repeat(joints.block_b, 2)
     point = np.stack([joints.start, joints.end], axis=1).reshape(-1, 2)
@@ -138,9 +149,13 @@ def classify(joints: Joints, bodies: Bodies, friction: np.ndarray) -> Contacts:
     v_t = np.abs(rel[:, 0] * normal[:, 1] - rel[:, 1] * normal[:, 0])
     apart = bodies.of_block[a] != bodies.of_block[b]
     hinge = apart & (np.hypot(rel[:, 0], rel[:, 1]) <= tol)
+    crush = np.zeros(a.size, dtype=bool) if crushing is None else np.repeat(np.asarray(crushing, dtype=bool), 2)
+    # a crushing hinge: this end presses in without slip while the joint's other end opens
+    other = np.arange(a.size) ^ 1
+    hinge |= crush & apart & (v_n < -tol) & (v_t <= tol) & (v_n[other] > tol)
     f = np.repeat(friction, 2)
     sliding = apart & ~hinge & (v_t > tol) & (v_n <= f * v_t * (1 + 1e-6) + tol)
-    return Contacts(a, b, point, normal, hinge, sliding, f)
+    return Contacts(a, b, point, normal, hinge, sliding, f, crush)
 
 
 def signature(scene: Scene, result: Result, contacts: Contacts) -> tuple:
@@ -208,14 +223,33 @@ def joints_after(scene: Scene, contacts: Contacts, bodies: Bodies, z: np.ndarray
     single[pair] = single[pair + 1] = False
     first = np.concatenate([pair, np.flatnonzero(single)])
     last = np.concatenate([pair + 1, np.flatnonzero(single)])
+    end_point = point[last].copy()
+    single_at = np.flatnonzero(single)
+    end_point[pair.size:] = _crushing_segment(contacts, keep[single_at], point[single_at], normal[single_at])
     block_a = np.concatenate([found.block_a, a[first]])
     block_b = np.concatenate([found.block_b, b[first]])
     start = np.concatenate([found.start, point[first]])
-    end = np.concatenate([found.end, point[last]])
+    end = np.concatenate([found.end, end_point])
     normals = np.concatenate([found.normal, normal[first]])
     order = np.lexsort((start[:, 1], start[:, 0], block_b, block_a))
     return Joints(block_a=block_a[order], block_b=block_b[order], start=start[order], end=end[order],
                   normal=normals[order])
+
+
+def _crushing_segment(contacts: Contacts, kept: np.ndarray, point: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """The far end of the joint a kept contact point becomes: the point itself (a point contact)
+    for infinitely strong blocks; for a crushing joint, the point at the previous joint's length
+    from it along the bearing face, towards where the joint lay (docs/decisions.md: the material
+    under a crushing hinge is the joint's own, so the turned joint keeps its length, and its
+    capacity σ_c l t, on the face the hinge bears on)."""
+    crush = contacts.crushing[kept]
+    if not crush.any():
+        return point
+    partner = contacts.point[kept ^ 1] - contacts.point[kept]
+    length = np.hypot(partner[:, 0], partner[:, 1])
+    face = _perp(normal)
+    sense = np.where((partner * face).sum(axis=1) < 0, -1.0, 1.0)
+    return np.where(crush[:, None], point + (sense * length)[:, None] * face, point)
 
 
 # ---------------------------------------------------------------- helpers

@@ -19,6 +19,7 @@ Dimensionless as :mod:`alma.mechanics.model`; the blocks are named by their scen
 """
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -27,6 +28,7 @@ import scipy.sparse as sp
 
 from alma.backends.highs_backend import solve_conic_form
 from alma.mechanics.model import Model
+from alma.results.types import JointResult
 from alma.status import Status
 
 #: Blocks named in the message: the ones the falling mode moves most.
@@ -105,8 +107,16 @@ def _velocity(model: Model, u: np.ndarray, blocks: np.ndarray, points_mm: np.nda
     return np.where((free >= 0)[:, None], out, 0.0)
 
 
+def crushed_lost(joints: Iterable[JointResult], lost: list[tuple[str, str]]) -> list[tuple[str, str]]:
+    """The ``lost`` block pairs whose joint was ``crushing`` in the last configuration's result
+    (``joints``): crushed over its whole length, it sinks into its support, a motion the rigid
+    geometry of the push does not follow (docs/seismic.md)."""
+    crushing = {tuple(sorted(j.blocks)) for j in joints if j.state == "crushing"}
+    return [p for p in lost if p in crushing]
+
+
 def describe(d: tuple[float, float], alpha: float, mode: FallingMode | None, lost: list[tuple[str, str]],
-             closed: list[tuple[str, str]] | None = None) -> str:
+             closed: list[tuple[str, str]] | None = None, crushed: list[tuple[str, str]] | None = None) -> str:
     """The stop in words."""
     text = (f"the curve ends at d in [{d[0]:.6g}, {d[1]:.6g}] mm with α = {alpha:.4g} > 0: beyond it the "
             "displaced structure carries its dead load at no multiplier (a loss of equilibrium, not a zero of α)")
@@ -120,4 +130,7 @@ def describe(d: tuple[float, float], alpha: float, mode: FallingMode | None, los
     if closed:
         text += (" and the falling mode moves back into " + ", ".join(f"{a}–{b}" for a, b in closed[:NAMED]) +
                  " (contacts dropped at the contact tolerance: the end may depend on it)")
+    if crushed:
+        text += ("; " + ", ".join(f"{a}–{b}" for a, b in crushed[:NAMED]) + " crushed over its whole length "
+                 "(N = σ_c l t) and sank into its support, which the rigid geometry does not follow")
     return text
