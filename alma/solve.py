@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from typing import cast
 
 from alma.associative.crisp import crisp_mechanism
 from alma.associative.lp import solve_lp
@@ -16,7 +17,7 @@ from alma.mechanics.model import Model, build_model
 from alma.nonassociative.search import NonAssociativeSolution, carried_back, solve_nonassociative
 from alma.results.build import associative_result, comparison, nonassociative_result
 from alma.results.types import AssociativeResult, Comparison, NonAssociativeResult
-from alma.settings import Settings
+from alma.settings import Effort, Settings
 
 MODELS = ("associative", "nonassociative", "both")
 
@@ -81,8 +82,8 @@ def _settings(settings: Settings | None, tolerance: float | None, effort: str | 
         raise TypeError(f"settings must be an alma.settings.Settings, got {type(s).__name__}")
     if tolerance is not None:
         s = dataclasses.replace(s, associative=dataclasses.replace(s.associative, tolerance=float(tolerance)))
-    if effort is not None:  # SearchSettings checks it against alma.settings.EFFORTS
-        s = dataclasses.replace(s, search=dataclasses.replace(s.search, effort=effort))
+    if effort is not None:  # any string: SearchSettings checks it against alma.settings.EFFORTS
+        s = dataclasses.replace(s, search=dataclasses.replace(s.search, effort=cast(Effort, effort)))
     if time_limit is not None:
         if not time_limit > 0:
             raise ValueError(f"time_limit must be a positive number of seconds, got {time_limit!r}")
