@@ -143,7 +143,7 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
                   associative_alpha, certify=certify if certify is not None else CertifySettings())
     records, skipped, timings = _run_starts(ctx, polish)
     common: dict[str, Any] = dict(candidates=tuple(ctx.candidates), timings=timings, starts=tuple(records),
-                  stopped_by_limit=ctx.cap.hit, skipped=tuple(skipped))
+                                  stopped_by_limit=ctx.cap.hit, skipped=tuple(skipped))
     best = ctx.best()
     if best is None:
         return NonAssociativeSolution(Status.NOT_CONVERGED, "no verified collapse state was found", None,
@@ -181,7 +181,7 @@ def carried_back(solution: NonAssociativeSolution, canonical: Model, frame: Cano
             break
     timings = dict(solution.timings, carry_back_s=time.perf_counter() - t0)
     common: dict[str, Any] = dict(candidates=moved, timings=timings, starts=solution.starts,
-                  stopped_by_limit=solution.stopped_by_limit, skipped=solution.skipped)
+                                  stopped_by_limit=solution.stopped_by_limit, skipped=solution.skipped)
     if best is None:
         message = solution.message if solution.best is None else \
             "no state of the canonical search verified on the drawing's model"
