@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from typing import cast
+from typing import Literal, cast, overload
 
 from alma.associative.crisp import crisp_mechanism
 from alma.associative.lp import solve_lp
@@ -22,6 +22,24 @@ from alma.settings import Effort, Settings
 MODELS = ("associative", "nonassociative", "both")
 
 
+# One signature per model, so that a call names its result's type (the body is the last one).
+@overload
+def solve(scene: Scene | Model, model: Literal["associative"] = ..., *, settings: Settings | None = ...,
+          tolerance: float | None = ..., joints: Joints | None = ..., effort: str | None = ...,
+          certify: bool = ..., time_limit: float | None = ...) -> AssociativeResult: ...
+@overload
+def solve(scene: Scene | Model, model: Literal["nonassociative"], *, settings: Settings | None = ...,
+          tolerance: float | None = ..., joints: Joints | None = ..., effort: str | None = ...,
+          certify: bool = ..., time_limit: float | None = ...) -> NonAssociativeResult: ...
+@overload
+def solve(scene: Scene | Model, model: Literal["both"], *, settings: Settings | None = ...,
+          tolerance: float | None = ..., joints: Joints | None = ..., effort: str | None = ...,
+          certify: bool = ..., time_limit: float | None = ...) -> Comparison: ...
+@overload
+def solve(scene: Scene | Model, model: str = ..., *, settings: Settings | None = ...,
+          tolerance: float | None = ..., joints: Joints | None = ..., effort: str | None = ...,
+          certify: bool = ..., time_limit: float | None = ...
+          ) -> AssociativeResult | NonAssociativeResult | Comparison: ...
 def solve(scene: Scene | Model, model: str = "associative", *, settings: Settings | None = None,
           tolerance: float | None = None, joints: Joints | None = None, effort: str | None = None,
           certify: bool = False, time_limit: float | None = None
