@@ -11,11 +11,11 @@ from typing import Protocol, cast
 
 import numpy as np
 
+from alma.backends.linprog_backend import LPMethod
 from alma.certify.milp import certify
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.gilbert import gilbert, projected_gilbert
-from alma.backends.linprog_backend import LPMethod
 from alma.nonassociative.limits import Cap, Work, no_cap
 from alma.nonassociative.nlp import ipopt_polish
 from alma.nonassociative.rocking import rocking_candidates

@@ -29,8 +29,7 @@ from alma.backends.termination import Termination
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative import bounded as bf
-from alma.nonassociative.static_lps import (LP_METHOD, StaticLP, fixed_set_static_interior, kinematic_lp,
-                                            static_lp)
+from alma.nonassociative.static_lps import LP_METHOD, StaticLP, fixed_set_static_interior, kinematic_lp, static_lp
 from alma.settings import StateTolerances
 
 #: The default tolerances (:class:`alma.settings.StateTolerances`; a search passes its settings').
