@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from typing import Literal, cast, overload
 
 from alma.associative.crisp import crisp_mechanism
 from alma.associative.lp import solve_lp
@@ -16,11 +17,29 @@ from alma.mechanics.model import Model, build_model
 from alma.nonassociative.search import NonAssociativeSolution, carried_back, solve_nonassociative
 from alma.results.build import associative_result, comparison, nonassociative_result
 from alma.results.types import AssociativeResult, Comparison, NonAssociativeResult
-from alma.settings import Settings
+from alma.settings import Effort, Settings
 
 MODELS = ("associative", "nonassociative", "both")
 
 
+# One signature per model, so that a call names its result's type (the body is the last one).
+@overload
+def solve(scene: Scene | Model, model: Literal["associative"] = ..., *, settings: Settings | None = ...,
+          tolerance: float | None = ..., joints: Joints | None = ..., effort: str | None = ...,
+          certify: bool = ..., time_limit: float | None = ...) -> AssociativeResult: ...
+@overload
+def solve(scene: Scene | Model, model: Literal["nonassociative"], *, settings: Settings | None = ...,
+          tolerance: float | None = ..., joints: Joints | None = ..., effort: str | None = ...,
+          certify: bool = ..., time_limit: float | None = ...) -> NonAssociativeResult: ...
+@overload
+def solve(scene: Scene | Model, model: Literal["both"], *, settings: Settings | None = ...,
+          tolerance: float | None = ..., joints: Joints | None = ..., effort: str | None = ...,
+          certify: bool = ..., time_limit: float | None = ...) -> Comparison: ...
+@overload
+def solve(scene: Scene | Model, model: str = ..., *, settings: Settings | None = ...,
+          tolerance: float | None = ..., joints: Joints | None = ..., effort: str | None = ...,
+          certify: bool = ..., time_limit: float | None = ...
+          ) -> AssociativeResult | NonAssociativeResult | Comparison: ...
 def solve(scene: Scene | Model, model: str = "associative", *, settings: Settings | None = None,
           tolerance: float | None = None, joints: Joints | None = None, effort: str | None = None,
           certify: bool = False, time_limit: float | None = None
@@ -81,8 +100,8 @@ def _settings(settings: Settings | None, tolerance: float | None, effort: str | 
         raise TypeError(f"settings must be an alma.settings.Settings, got {type(s).__name__}")
     if tolerance is not None:
         s = dataclasses.replace(s, associative=dataclasses.replace(s.associative, tolerance=float(tolerance)))
-    if effort is not None:  # SearchSettings checks it against alma.settings.EFFORTS
-        s = dataclasses.replace(s, search=dataclasses.replace(s.search, effort=effort))
+    if effort is not None:  # any string: SearchSettings checks it against alma.settings.EFFORTS
+        s = dataclasses.replace(s, search=dataclasses.replace(s.search, effort=cast(Effort, effort)))
     if time_limit is not None:
         if not time_limit > 0:
             raise ValueError(f"time_limit must be a positive number of seconds, got {time_limit!r}")

@@ -58,7 +58,7 @@ def with_overrides(scene: alma.Scene, friction: float = 0.4) -> alma.Scene:
     fixed = {i for i, b in enumerate(scene.blocks) if b.fixed}
     data = scene.to_dict()
     data["joints"] = [{"blocks": [scene.blocks[a].id, scene.blocks[b].id], "friction": friction, "cohesion": 0.0}
-                      for a, b in zip(joints.block_a, joints.block_b) if a in fixed or b in fixed]
+                      for a, b in zip(joints.block_a, joints.block_b, strict=True) if a in fixed or b in fixed]
     return alma.Scene.from_dict(data)
 
 

@@ -28,7 +28,7 @@ def measure(name: str, scene: alma.Scene, sigma: float) -> None:
         r = alma.solve(s, joints=joints)
         t = r.timings
         rows.append(t["solve_s"] + t["certify_s"])
-        print(f"{name:28s} {label:20s} {r.n_blocks:6d} blocks  {str(r.status):14s} α = {r.alpha:.9f}  "
+        print(f"{name:28s} {label:20s} {r.n_blocks:6d} blocks  {r.status!s:14s} α = {r.alpha:.9f}  "
               f"{r.iterations:4d} it  solve {t['solve_s']:7.2f} s  certificate {t['certify_s']:6.2f} s", flush=True)
     print(f"{name:28s} cone / LP (solve + certificate): {rows[1] / rows[0]:.1f}x", flush=True)
 

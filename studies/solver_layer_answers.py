@@ -19,7 +19,6 @@ import json
 import sys
 import time
 from collections.abc import Callable, Iterator
-from typing import cast
 
 import alma
 from alma.geometry.scene import Scene
@@ -60,7 +59,7 @@ def record(path: str, only: str | None) -> None:
         if only and only not in name:
             continue
         t0 = time.perf_counter()
-        both = cast(alma.Comparison, alma.solve(make(), model="both"))
+        both = alma.solve(make(), model="both")
         a, n = both.associative, both.nonassociative
         assert a is not None and n is not None
         out[name] = {"assoc_alpha": repr(a.alpha), "assoc_status": str(a.status),

@@ -8,8 +8,7 @@ import types
 
 import numpy as np
 import pytest
-from hypothesis import example, given, settings
-from hypothesis import strategies as st
+from hypothesis import example, given, settings, strategies as st
 
 import alma
 import alma.associative.lp as lp_module

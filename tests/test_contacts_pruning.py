@@ -108,4 +108,4 @@ def test_interval_join_matches_all_pairs(seed):
     x, y = contacts._overlapping_intervals(gx, lox, hix, gy, loy, hiy)
     expected = {(a, b) for a in range(nx) for b in range(ny)
                 if gx[a] == gy[b] and max(lox[a], loy[b]) <= min(hix[a], hiy[b])}
-    assert sorted(zip(x.tolist(), y.tolist())) == sorted(expected)
+    assert sorted(zip(x.tolist(), y.tolist(), strict=True)) == sorted(expected)

@@ -31,7 +31,7 @@ def columns_on_ground_scene(friction: float, widths: list[float], heights: list[
     blocks = [{"id": "ground", "vertices": [[-50.0, -50.0], [total + 50.0, -50.0], [total + 50.0, 0.0],
                                             [-50.0, 0.0]], "fixed": True}]
     x = 0.0
-    for c, (w, column) in enumerate(zip(widths, heights)):
+    for c, (w, column) in enumerate(zip(widths, heights, strict=True)):
         y = 0.0
         for r, h in enumerate(column):
             blocks.append({"id": f"c{c}r{r}", "vertices": [[x, y], [x + w, y], [x + w, y + h], [x, y + h]]})

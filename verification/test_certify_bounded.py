@@ -13,8 +13,9 @@ from __future__ import annotations
 import dataclasses
 
 import pytest
-from hypothesis import HealthCheck, example, given, settings
-from hypothesis import strategies as st
+from hypothesis import HealthCheck, example, given, settings, strategies as st
+from test_certify import COLUMN_BESIDE_SHORT_BLOCK, columns_on_ground, side_by_side
+from test_cohesion_ties_loads import THICKNESS, _tied_block, _weight, block_scene
 
 import alma
 from alma.associative.lp import solve_lp
@@ -24,8 +25,6 @@ from alma.mechanics.model import build_model
 from alma.nonassociative.search import solve_nonassociative
 from alma.nonassociative.states import exact_state
 from alma.settings import CertifySettings
-from test_certify import COLUMN_BESIDE_SHORT_BLOCK, columns_on_ground, side_by_side
-from test_cohesion_ties_loads import THICKNESS, _tied_block, _weight, block_scene
 
 
 def _certified(scene: alma.Scene) -> alma.NonAssociativeResult:

@@ -22,6 +22,7 @@
 from __future__ import annotations
 
 import copy
+import itertools
 import math
 
 import cvxpy as cp
@@ -31,6 +32,7 @@ import pytest
 import alma
 from alma.geometry.contacts import find_joints
 from alma.status import Status
+
 from helpers import arch_dict, column_dict, ground, rect, scene_dict, single_block_dict
 
 #: kN per (MPa · mm²)
@@ -97,7 +99,6 @@ def cvxpy_alpha(scene: alma.Scene) -> float:
     joints = find_joints(scene)
     blocks = scene.blocks
     free = [i for i, blk in enumerate(blocks) if not blk.fixed]
-    row = {i: k for k, i in enumerate(free)}
     m = joints.count
     N, Tt, M, alpha = cp.Variable(m), cp.Variable(m), cp.Variable(m), cp.Variable()
     rows = {(i, c): 0 for i in free for c in range(3)}
@@ -162,7 +163,7 @@ def test_monotone_convergent_and_independent(name):
         assert result.status == Status.OPTIMAL, (sigma, result.message)
         assert result.alpha == pytest.approx(cvxpy_alpha(_with_strength(data, sigma)), rel=1e-6, abs=1e-9)
         alphas.append(result.alpha)
-    assert all(a >= b for a, b in zip([rigid.alpha] + alphas, alphas))  # α falls with σ_c ...
+    assert all(a >= b for a, b in itertools.pairwise([rigid.alpha, *alphas]))  # α falls with σ_c ...
     assert alphas[-1] < 0.9 * rigid.alpha  # ... and visibly so near crushing
     d3, d2 = rigid.alpha - alphas[0], rigid.alpha - alphas[1]  # σ_c = 1000 and 100 MPa
     assert 0.0 <= d3 <= 0.2 * d2 and d3 <= 1e-3 * rigid.alpha
@@ -177,14 +178,14 @@ def test_weakest_case_crushes():
 # --------------------------------------------------------------------------- NTC 2018, Eq. (7.8.2)
 def test_pier_moment_of_the_italian_code():
     """M_u = (l² t σ₀ / 2)(1 − σ₀ / (0.85 f_d)) for a pier l × h under a top load P (NTC 2018)."""
-    l, h, P, fd = 1000.0, 2000.0, 60.0, 1.2  # mm, mm, kN, MPa
-    data = scene_dict([ground(-500.0, 1500.0), {"id": "pier", "vertices": rect(0.0, 0.0, l, h)}], friction=10.0)
+    length, h, P, fd = 1000.0, 2000.0, 60.0, 1.2  # mm, mm, kN, MPa
+    data = scene_dict([ground(-500.0, 1500.0), {"id": "pier", "vertices": rect(0.0, 0.0, length, h)}], friction=10.0)
     data["live_load"] = {"direction": [1.0, 0.0], "self_weight": False}
-    data["loads"] = [{"block": "pier", "point": [l / 2, h], "dead": [0.0, -P], "live": [1.0, 0.0]}]
+    data["loads"] = [{"block": "pier", "point": [length / 2, h], "dead": [0.0, -P], "live": [1.0, 0.0]}]
     result = _alpha(data, 0.85 * fd)
-    W = l * h * T * GAMMA * 1e-9
-    sigma0 = (P + W) / (l * T) / MPA_MM2  # MPa, the axial stress at the base
-    Mu = (l**2 * T * sigma0 * MPA_MM2 / 2) * (1 - sigma0 / (0.85 * fd))  # kN·mm
+    W = length * h * T * GAMMA * 1e-9
+    sigma0 = (P + W) / (length * T) / MPA_MM2  # MPa, the axial stress at the base
+    Mu = (length**2 * T * sigma0 * MPA_MM2 / 2) * (1 - sigma0 / (0.85 * fd))  # kN·mm
     assert result.status == Status.OPTIMAL
     assert result.alpha == pytest.approx(Mu / h, rel=1e-9)  # live load 1 kN × α at height h
 

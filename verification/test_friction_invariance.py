@@ -16,8 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 
 import alma
 
@@ -144,7 +143,7 @@ def rewritten(data: dict, order: list[int], starts: list[int], extra: bool) -> d
         b = out["blocks"][i]
         v = b["vertices"]
         if extra and b.get("fixed"):
-            v = [p for a, q in zip(v, v[1:] + v[:1]) for p in (a, [(a[0] + q[0]) / 2, (a[1] + q[1]) / 2])]
+            v = [p for a, q in zip(v, v[1:] + v[:1], strict=True) for p in (a, [(a[0] + q[0]) / 2, (a[1] + q[1]) / 2])]
         shift = starts[k % len(starts)] % len(v)
         blocks.append(dict(b, vertices=v[shift:] + v[:shift]))
     out["blocks"] = blocks
@@ -207,7 +206,7 @@ def test_redundant_support_vertices_and_reversed_blocks():
     top = max(y for _, y in ground["vertices"])
     xs = sorted({x for b in data["blocks"] if not b.get("fixed") for x, y in b["vertices"] if y == top})
     split = []
-    for a, q in zip(ground["vertices"], ground["vertices"][1:] + ground["vertices"][:1]):
+    for a, q in zip(ground["vertices"], ground["vertices"][1:] + ground["vertices"][:1], strict=True):
         split.append(a)
         if a[1] == top and q[1] == top:
             inner = [x for x in xs if min(a[0], q[0]) < x < max(a[0], q[0])]

@@ -15,7 +15,6 @@ import alma
 from helpers import assemblies, single_block_scene
 
 
-
 def side_by_side(k: int, f: float, b: float = 1.0, h: float = 2.0) -> alma.Scene:
     """k blocks b × h side by side on the ground (the prototype's trap cases)."""
     blocks = [{"id": "g", "vertices": [[-b, -1], [(k + 1) * b, -1], [(k + 1) * b, 0], [-b, 0]], "fixed": True}]
@@ -226,9 +225,9 @@ def test_closest_field_returns_a_field_that_is_already_admissible():
     import numpy as np
 
     from alma.associative.lp import solve_lp
-    from alma.nonassociative.cap_lp import CapLP, ClosestField
     from alma.mechanics.contact_points import ContactPoints
     from alma.mechanics.model import build_model
+    from alma.nonassociative.cap_lp import CapLP, ClosestField
 
     model = build_model(alma.paper_panel("running", "2:1", "2:1", 0.6))
     points = ContactPoints.from_model(model)
@@ -275,7 +274,7 @@ def test_projected_iteration_settles_on_large_panels(bond, panel, block, frictio
     model = build_model(alma.paper_panel(bond, panel, block, friction))
     points = ContactPoints.from_model(model)
     lp = solve_lp(model)
-    state, iterations = projected_gilbert(model, points, lp.multipliers.reshape(-1, 2).sum(axis=1))
+    state, _iterations = projected_gilbert(model, points, lp.multipliers.reshape(-1, 2).sum(axis=1))
     assert state is not None and state.verified, state and state.residuals
     assert state.alpha <= lp.alpha + 1e-7
     if whole_search:
@@ -289,9 +288,9 @@ def test_warm_highs_model_iteration_limit_is_per_solve():
     import numpy as np
 
     from alma.associative.lp import solve_lp
-    from alma.nonassociative.cap_lp import CapLP
     from alma.mechanics.contact_points import ContactPoints
     from alma.mechanics.model import build_model
+    from alma.nonassociative.cap_lp import CapLP
 
     model = build_model(alma.paper_panel("running", "2:1", "4:1", 0.6))
     points = ContactPoints.from_model(model)

@@ -80,7 +80,8 @@ def test_json_has_the_fields_of_the_spec(single):
 
 
 def test_two_stacked_blocks_rock_as_one_about_the_base_toe():
-    scene = _scene([{"id": "low", "vertices": _rect(0, 0, 200, 400)}, {"id": "top", "vertices": _rect(0, 400, 200, 400)}])
+    scene = _scene([{"id": "low", "vertices": _rect(0, 0, 200, 400)},
+                    {"id": "top", "vertices": _rect(0, 400, 200, 400)}])
     result = push(scene, steps=10)
     assert result.status == alma.Status.OPTIMAL
     # one body 200 × 800 (the joint between the blocks stays closed: it is found again each step)
@@ -95,7 +96,8 @@ def test_two_stacked_blocks_rock_as_one_about_the_base_toe():
 
 
 def test_slender_top_block_rocks_alone_on_the_lower_one():
-    scene = _scene([{"id": "base", "vertices": _rect(0, 0, 800, 200)}, {"id": "top", "vertices": _rect(100, 200, 150, 600)}])
+    scene = _scene([{"id": "base", "vertices": _rect(0, 0, 800, 200)},
+                    {"id": "top", "vertices": _rect(100, 200, 150, 600)}])
     result = push(scene, steps=10)
     assert result.status == alma.Status.OPTIMAL and result.control == "top"
     errors = [abs(p.alpha - _rocking_alpha(150, 600, _theta_of_d(p.d, 150, 600))) for p in result.curve]

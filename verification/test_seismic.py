@@ -98,8 +98,9 @@ def test_elevated_mechanism_takes_the_larger_demand():
     assert check.linear["demand"] == pytest.approx(max(0.20 * G * 1.20 / 2.0, upper), rel=1e-12)
 
 
-@pytest.mark.parametrize("bad, word", [({"ag": -0.1}, "ag"), ({"soil": "F"}, "soil"), ({"topography": "T9"}, "topography"),
-                                       ({"Z": 3.0}, "H"), ({"colour": 1}, "unknown")])
+@pytest.mark.parametrize("bad, word", [({"ag": -0.1}, "ag"), ({"soil": "F"}, "soil"),
+                                       ({"topography": "T9"}, "topography"), ({"Z": 3.0}, "H"),
+                                       ({"colour": 1}, "unknown")])
 def test_bad_site_is_refused_by_name(bad, word):
     with pytest.raises(ValueError, match=word):
         Site.from_dict({**SITE1, **bad})

@@ -8,6 +8,8 @@ that the two bounds certify each other.  All quantities are dimensionless (``alm
 """
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -115,13 +117,14 @@ def _repair_field(A: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float, 
     off its bounds can take part and the bounds hold) -- the second only when the first is not
     admissible or leaves a gap near the tolerance, since it costs another factorisation.
     """
-    best_static = None
+    best_static: tuple[np.ndarray, float, float] | None = None
     top = max(float(mu.max(initial=0.0)), 1e-300)
     room = np.minimum(mu, bound - mu)
     for affine in (False, True):
         if affine:
-            ok = best_static[2] <= 0.1 * residual_tolerance
-            gap = (upper_estimate - best_static[1]) / max(1.0, abs(upper_estimate))
+            plain = cast("tuple[np.ndarray, float, float]", best_static)  # the first pass set it
+            ok = plain[2] <= 0.1 * residual_tolerance
+            gap = (upper_estimate - plain[1]) / max(1.0, abs(upper_estimate))
             if ok and gap <= 0.1 * gap_tolerance:
                 break
             support = np.flatnonzero(room > 1e-14 * top)
@@ -132,7 +135,7 @@ def _repair_field(A: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float, 
         trial = static_correction(A, model, mu.copy(), alpha, support, weight, bound, feral_min_rows)
         if best_static is None or _better(trial, best_static, residual_tolerance):
             best_static = trial
-    return best_static
+    return cast("tuple[np.ndarray, float, float]", best_static)  # the loop ran: it is set
 
 
 def repair_field(A: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float, bound: np.ndarray,

@@ -19,6 +19,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 import scipy.sparse as sp
@@ -32,7 +33,7 @@ from alma.backends.termination import SolverResult, Termination, termination
 from alma.engine.select import choose, solve_with_engine
 from alma.engine.types import IPMSettings
 from alma.mechanics.model import Model
-from alma.settings import AssociativeSettings
+from alma.settings import AssociativeSettings, Engine
 from alma.status import Status
 
 #: The default normalisation of Eq. 10 (see :class:`alma.settings.AssociativeSettings`).
@@ -86,13 +87,13 @@ def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, toler
     """
     s = settings or AssociativeSettings()
     if engine is not None:
-        s = dataclasses.replace(s, engine=engine)
+        s = dataclasses.replace(s, engine=cast(Engine, engine))  # any string: AssociativeSettings checks it
     if ipm_settings is not None:
         s = dataclasses.replace(s, ipm=ipm_settings)
     tol = s.tolerance if tolerance is None else tolerance
     iters = s.max_iter if max_iter is None else max_iter
     H = model.equilibrium if equilibrium is None else equilibrium
-    n, k = H.shape
+    _, k = H.shape
     if k == 0:  # no joint: any motion is free, no load can be carried
         return _trivial(model, Status.NO_EQUILIBRIUM, "no joint carries the free blocks")
     if model.crushes:
@@ -271,7 +272,7 @@ def dissipation(model: Model, u: np.ndarray) -> float:
     (cohesion c l t |γ|, ties strength · elongation rate), dimensionless."""
     if not model.n_bounded:
         return 0.0
-    return float(model.capacity @ np.maximum(-(model.bounded.T @ u), 0.0))
+    return float(model.capacity @ np.maximum(-(cast(sp.csc_matrix, model.bounded).T @ u), 0.0))
 
 
 def _kinematic_form(model: Model, H: sp.csc_matrix, normalisation: float

@@ -235,7 +235,8 @@ MILP_STATUS: dict[str, str] = {
 }
 
 
-def new_model(cost, col_lo, col_hi, A, row_lo, row_hi, integrality=None, **options: object) -> highspy.Highs:
+def new_model(cost, col_lo, col_hi, A, row_lo, row_hi, integrality=None,
+              **options: bool | int | float | str) -> highspy.Highs:
     """A quiet HiGHS (:func:`quiet_highs` with ``options``) holding min costᵀx over
     row_lo ≤ A x ≤ row_hi, col_lo ≤ x ≤ col_hi (A passed column-wise), with x_k integer where
     ``integrality`` is true (``None``: an LP)."""

@@ -22,7 +22,7 @@ import scipy.sparse as sp
 try:  # optional: ``pip install alma[scip]``
     import pyscipopt
 except ImportError:  # pragma: no cover — exercised only where PySCIPOpt is absent
-    pyscipopt = None
+    pyscipopt = None  # type: ignore[assignment]  # every entry point checks it and raises INSTALL_HINT
 
 #: What to tell a user who asks for SCIP without it.
 INSTALL_HINT = "the SCIP certification backend needs PySCIPOpt: install alma[scip] (pip install 'alma[scip]')"
@@ -128,14 +128,15 @@ def solve_mip(cost: np.ndarray, col_lo: np.ndarray, col_hi: np.ndarray, A: sp.sp
     # PySCIPOpt takes one constraint per call: a loop over the MILP's rows (its data is built vectorised).
     for i in range(R.shape[0]):
         cols, vals = R.indices[R.indptr[i]:R.indptr[i + 1]], R.data[R.indptr[i]:R.indptr[i + 1]]
-        expr = pyscipopt.quicksum(float(v) * x[c] for c, v in zip(cols, vals))
+        expr = pyscipopt.quicksum(float(v) * x[c] for c, v in zip(cols, vals, strict=True))
         lhs = float(row_lo[i]) if np.isfinite(row_lo[i]) else None
         rhs = float(row_hi[i]) if np.isfinite(row_hi[i]) else None
         m.addCons(pyscipopt.scip.ExprCons(expr, lhs=lhs, rhs=rhs), name=f"r{i}")
     if bilinear is not None:
         c, quad, w = bilinear
         lin = pyscipopt.quicksum(float(c[k]) * x[k] for k in np.flatnonzero(c))
-        products = pyscipopt.quicksum(float(wk) * x[a] * x[b] for (a, b), wk in zip(np.asarray(quad, dtype=int), w))
+        products = pyscipopt.quicksum(float(wk) * x[a] * x[b]
+                                      for (a, b), wk in zip(np.asarray(quad, dtype=int), w, strict=True))
         m.addCons(lin + products == 0.0, name="energy")
     for a, b in np.asarray(sos1, dtype=int).reshape(-1, 2):
         m.addConsSOS1([x[a], x[b]])

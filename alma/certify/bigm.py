@@ -11,6 +11,7 @@ the user's wall-clock cap is checked between them.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -138,7 +139,7 @@ def derive_big_m(model: Model, points: ContactPoints, alpha_hi: float, U: float,
     row-norm velocity bounds instead of per-point LPs.  Raises :class:`BoundsFailed`.
     """
     P = points.count
-    limits = dict(max_pivots=max_pivots, cap=cap)
+    limits: dict[str, Any] = dict(max_pivots=max_pivots, cap=cap)
     try:
         if per_point:
             m_n = static_point_bounds(model, points, alpha_hi, **limits)

@@ -39,6 +39,7 @@ reported, and whether it was active at the optimum.  The work is bounded by a no
 from __future__ import annotations
 
 import time
+from typing import Any
 
 import numpy as np
 
@@ -83,8 +84,8 @@ def _certificate(out: highs_backend.MilpOutcome, data: MilpData, alpha_cap: floa
     if out.x is not None:
         best, u = float(out.x[data.alpha_column]), out.x[data.velocity_columns]
         active = bool(np.abs(u).max() >= 0.999 * U)
-    common = dict(velocity_bound=U, velocity_bound_active=active, mechanism=u, binaries=data.binaries,
-                  nodes=out.nodes, bounds_s=bounds_s, time_s=time.perf_counter() - t0)
+    common: dict[str, Any] = dict(velocity_bound=U, velocity_bound_active=active, mechanism=u, binaries=data.binaries,
+                                  nodes=out.nodes, bounds_s=bounds_s, time_s=time.perf_counter() - t0)
     if out.status == "optimal":
         lower = max(0.0, min(dual, best, alpha_cap))  # α_cap: a verified state exists there
         return Certificate("proven", f"optimal within mip gap {best - lower:.1e} (|u|∞ ≤ {U:.3g}"

@@ -7,6 +7,7 @@ Forces in mean block weights, f_Lᵀu = n_free.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 import scipy.sparse as sp
@@ -97,17 +98,18 @@ def _continuous_rows(rows: _Rows, L: _Layout, model: Model, points: ContactPoint
     """Equilibrium (Eq. 3), yield (Eq. 5), ξ ≥ 0, γ = γ⁺ − γ⁻, d = d⁺ − d⁻, f_Lᵀu = n_free and the
     energy cut."""
     P, m, f, q = L.P, L.m, points.friction, L.q
-    I, Im, F = sp.identity(P, format="csr"), sp.identity(m, format="csr"), sp.diags(f)
+    Ip, Im, F = sp.identity(P, format="csr"), sp.identity(m, format="csr"), sp.diags(f)
     equilibrium = {0: model.live[:, None], 1: points.normal, L.i_T: points.tangent}
     if q:
         equilibrium[L.i_tau] = model.bounded
     rows.add(equilibrium, L.n, -model.dead, -model.dead)
-    rows.add({1: -F, L.i_T: I}, P, -np.inf, 0.0)  # T − fN ≤ 0
-    rows.add({1: -F, L.i_T: -I}, P, -np.inf, 0.0)  # −T − fN ≤ 0
+    rows.add({1: -F, L.i_T: Ip}, P, -np.inf, 0.0)  # T − fN ≤ 0
+    rows.add({1: -F, L.i_T: -Ip}, P, -np.inf, 0.0)  # −T − fN ≤ 0
     rows.add({L.i_u: points.normal.T}, P, 0.0, np.inf)  # ξ ≥ 0
     rows.add({L.i_u: points.tangent[:, first].T, L.i_gp: -Im, L.i_gm: Im}, m, 0.0, 0.0)  # γ = γ⁺ − γ⁻
     if q:  # −Gᵀu = d⁺ − d⁻
-        rows.add({L.i_u: model.bounded.T, L.i_dp: sp.identity(q), L.i_dm: -sp.identity(q)}, q, 0.0, 0.0)
+        g = cast(sp.csc_matrix, model.bounded)  # q > 0: the model has its bounded columns
+        rows.add({L.i_u: g.T, L.i_dp: sp.identity(q), L.i_dm: -sp.identity(q)}, q, 0.0, 0.0)
     rows.add({L.i_u: model.live[None, :]}, 1, float(model.n_free), float(model.n_free))
     # α n_free = −f₀ᵀu + Σ_j f N_j |γ_j| + Σ_i τ_i d_i with N_j ≥ ℓ_j (an LP bound), |γ_j| = γ⁺_j + γ⁻_j
     # and τ_i d_i = cap_i d⁺_i on the bounded columns' flow rule.

@@ -22,6 +22,7 @@ admissible sets, the same validity argument as there).  Forces in mean block wei
 from __future__ import annotations
 
 import time
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -54,10 +55,10 @@ def sos1_data(model: Model, points: ContactPoints, big_m: BigM, first: np.ndarra
     nvar = i_s + q
     rows = _Rows(nvar)
     _continuous_rows(rows, L, model, points, first, big_m.joint_minimum)
-    I, F = sp.identity(P, format="csr"), sp.diags(points.friction)
-    rows.add({L.i_u: -points.normal.T, i_xi: I}, P, 0.0, 0.0)  # ξ = normalᵀu
-    rows.add({1: -F, L.i_T: -I, i_rp: I}, P, 0.0, 0.0)  # r⁺ = f N + T
-    rows.add({1: -F, L.i_T: I, i_rm: I}, P, 0.0, 0.0)  # r⁻ = f N − T
+    Ip, F = sp.identity(P, format="csr"), sp.diags(points.friction)
+    rows.add({L.i_u: -points.normal.T, i_xi: Ip}, P, 0.0, 0.0)  # ξ = normalᵀu
+    rows.add({1: -F, L.i_T: -Ip, i_rp: Ip}, P, 0.0, 0.0)  # r⁺ = f N + T
+    rows.add({1: -F, L.i_T: Ip, i_rm: Ip}, P, 0.0, 0.0)  # r⁻ = f N − T
     if q:
         rows.add({L.i_tau: sp.identity(q), i_s: sp.identity(q)}, q, model.capacity, model.capacity)  # s = cap − τ
     col_lo, col_hi = _columns(L, big_m, model, points, alpha_hi, U, *_joint_slip_bounds(big_m, first, P))
@@ -127,8 +128,8 @@ def scip_certificate(data: MilpData, pairs: np.ndarray, energy: tuple, alpha_cap
     if out.x is not None:
         best, u = float(out.x[data.alpha_column]), out.x[data.velocity_columns]
         active = bool(np.abs(u).max() >= 0.999 * U)
-    common = dict(velocity_bound=U, velocity_bound_active=active, mechanism=u, binaries=len(pairs),
-                  nodes=out.nodes, bounds_s=bounds_s, time_s=time.perf_counter() - t0, backend="scip")
+    common: dict[str, Any] = dict(velocity_bound=U, velocity_bound_active=active, mechanism=u, binaries=len(pairs),
+                                  nodes=out.nodes, bounds_s=bounds_s, time_s=time.perf_counter() - t0, backend="scip")
     scope = f"|u|∞ ≤ {U:.3g}{', bound active' if active else ''}; SCIP {out.scip_status}, {len(pairs)} SOS1 pairs"
     if out.status == "proven" and out.x is not None:
         lower = max(0.0, min(out.dual_bound, best, alpha_cap))

@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 import argparse
-from typing import Callable
+from collections.abc import Callable
 
 from alma.cli.scene_options import finite_float, non_negative_float, positive_float
 from alma.geometry.generators import KINDS, arch, coursed_wall, wall
@@ -15,13 +15,15 @@ def register(sub, add_common: Callable, run: Callable, export: Callable, invalid
     p = sub.add_parser("wall", help="a bonded wall with openings and lintels (SPEC §3)")
     p.add_argument("--bond", choices=BONDS, help="required unless --courses is given")
     p.add_argument("--width", type=positive_float, help="mm (required unless --courses is given)")
-    p.add_argument("--height", type=positive_float, help="mm, a whole number of courses (required unless --courses is given)")
+    p.add_argument("--height", type=positive_float,
+                   help="mm, a whole number of courses (required unless --courses is given)")
     p.add_argument("--courses", metavar="FILE", help="lay the wall from a text file instead: one course per line, "
                    "top course first as drawn, block lengths in units of the block length, negative for a gap")
     p.add_argument("--block", required=True, metavar="LxH", help="block length x height, mm (e.g. 240x60)")
     p.add_argument("--opening", action="append", default=[], metavar="X,Y,W,H",
                    help="a rectangular opening (mm, on course lines; repeatable); a lintel spans each")
-    p.add_argument("--overburden", type=non_negative_float, default=0.0, metavar="KPA", help="pre-compression on the top course")
+    p.add_argument("--overburden", type=non_negative_float, default=0.0, metavar="KPA",
+                   help="pre-compression on the top course")
     p.add_argument("--thickness", type=positive_float, default=120.0, help="mm")
     p.add_argument("--friction", type=non_negative_float, default=0.6)
     p.add_argument("--export-scene", metavar="OUT.json|OUT.dxf", help="write the wall as a scene file")

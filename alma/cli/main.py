@@ -7,6 +7,7 @@ import json
 import math
 import sys
 from pathlib import Path
+from typing import NoReturn, cast
 
 from alma.backends import scip_backend
 from alma.cli import push as push_cli
@@ -19,8 +20,8 @@ from alma.geometry.scene import Scene, SceneError
 from alma.report.html import write_html, write_settlement_html, write_tilt_html
 from alma.report.picture import StillPicture
 from alma.report.plot import plot_mechanism
+from alma.settings import CERTIFY_BACKENDS, EFFORTS, AssociativeSettings, CertifyBackend, CertifySettings, Settings
 from alma.settle import SettleError, after_settlement, settle
-from alma.settings import CERTIFY_BACKENDS, EFFORTS, AssociativeSettings, CertifySettings, Settings
 from alma.solve import MODELS, solve
 from alma.tilt import tilt, tilted
 
@@ -36,7 +37,7 @@ class UsageError(Exception):
 class _Parser(argparse.ArgumentParser):
     """argparse, with its refusals raised to :func:`main` (which says them, as JSON too with --json)."""
 
-    def error(self, message: str):  # type: ignore[override]
+    def error(self, message: str) -> NoReturn:
         raise UsageError(self, message)
 
 
@@ -111,7 +112,7 @@ def _build_parser() -> argparse.ArgumentParser:
     try:
         from alma.cli import study as study_cli
     except ImportError:  # pragma: no cover — the study commands are optional extras
-        study_cli = None
+        study_cli = None  # type: ignore[assignment]  # None: the study commands are not offered
     if study_cli is not None:
         study_cli.register(sub)
     return parser
@@ -272,7 +273,7 @@ def _certify_settings(args: argparse.Namespace) -> CertifySettings | str:
         return f"--certify-backend scip: {scip_backend.INSTALL_HINT}"
     if nodes is not None and nodes < 1:
         return f"--certify-nodes must be a positive number of nodes, got {nodes}"
-    base = CertifySettings(backend=backend)
+    base = CertifySettings(backend=cast(CertifyBackend, backend))  # one of CERTIFY_BACKENDS (argparse's choices)
     return base if nodes is None else dataclasses.replace(base, node_limit=int(nodes))
 
 

@@ -4,8 +4,9 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
+from typing import cast
 
 from alma.cli.scene_options import add_compressive_strength, add_scene_options, scene_from_args
 from alma.geometry.scene import Scene, SceneError
@@ -96,8 +97,9 @@ def _print_text(scene: Scene, result: PushResult | SeismicResult, picture: str |
         print(f"  M*, e*     {result.M_star:.6g} kg, {result.e_star:.4f}")
         print(f"  linear     a0* = {result.a0_star:.4g} m/s² vs demand {lin['demand']:.4g} m/s²: "
               f"safety index {lin['safety_index']:.3f} ({'verified' if lin['verified'] else 'NOT verified'})")
-        if nl.get("verified") is not None:
-            print(f"  nonlinear  du* = {nl['du_star'] * 1e3:.4g} mm vs demand {nl['demand'] * 1e3:.4g} mm "
+        if nl.get("verified") is not None:  # the check ran: its values are numbers
+            du, demand = cast(float, nl["du_star"]), cast(float, nl["demand"])
+            print(f"  nonlinear  du* = {du * 1e3:.4g} mm vs demand {demand * 1e3:.4g} mm "
                   f"(Ts = {nl['Ts']:.3f} s): safety index {nl['safety_index']:.3f} "
                   f"({'verified' if nl['verified'] else 'NOT verified'})")
     if picture:

@@ -18,9 +18,12 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import math
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from alma.geometry.scene import Scene, SceneError, load_scene
+
 
 def finite_float(text: str) -> float:
     """An argparse type: a finite number (NaN and inf are refused with the option named)."""
@@ -51,7 +54,7 @@ def non_negative_float(text: str) -> float:
 
 #: The materials a command line may set: (scene field = option destination, argparse type, help).
 #: Each is a top-level scene value applying to every joint or block without an override.
-MATERIALS: tuple[tuple[str, object, str], ...] = (
+MATERIALS: tuple[tuple[str, Callable[[str], float], str], ...] = (
     ("thickness", positive_float, "mm (default 120)"),
     ("unit_weight", positive_float, "kN/m³ (default 18)"),
     ("friction", non_negative_float, "f = tan φ on every joint without an override (default 0.6)"),
@@ -101,7 +104,7 @@ def scene_from_args(args: argparse.Namespace) -> Scene:
         The file cannot be read, is not a scene, or an option does not apply to it.
     """
     path = Path(args.scene)
-    given = {field: getattr(args, field, None) for field, _, _ in MATERIALS}
+    given: dict[str, Any] = {field: getattr(args, field, None) for field, _, _ in MATERIALS}
     given = {field: value for field, value in given.items() if value is not None}
     supports = getattr(args, "supports", None)
     if path.suffix.lower() == ".dxf":

@@ -21,7 +21,7 @@ from alma.cli.json_output import dumps
 from alma.settings import EFFORTS
 from alma.study.design import PAPER_DESIGN
 
-__all__ = ["register", "doe_handler", "anova_handler", "paper_handler", "compare_handler"]
+__all__ = ["anova_handler", "compare_handler", "doe_handler", "paper_handler", "register"]
 
 
 def register(subparsers: Any) -> None:

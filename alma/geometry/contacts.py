@@ -65,17 +65,17 @@ class Joints:
         return 0.5 * (self.start + self.end)
 
 
-def reference_length(scene: "Scene") -> float:
+def reference_length(scene: Scene) -> float:
     """√(mean block area): the length that makes the model dimensionless."""
     return float(np.sqrt(block_areas_and_centroids(scene)[0].mean()))
 
 
-def block_areas_and_centroids(scene: "Scene") -> tuple[np.ndarray, np.ndarray]:
+def block_areas_and_centroids(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
     """Areas (n,) and centroids (n, 2) of all blocks, vectorised over the flattened edges."""
     return areas_and_centroids(scene_edges(scene))
 
 
-def find_joints(scene: "Scene") -> Joints:
+def find_joints(scene: Scene) -> Joints:
     """All joints of the scene (contacts of positive length between two blocks).
 
     The vertices are snapped first (:mod:`alma.geometry.snap`: vertices of different blocks
@@ -97,7 +97,7 @@ def find_joints(scene: "Scene") -> Joints:
                   end=joints.end + origin, normal=joints.normal, warnings=snapped.warnings + near)
 
 
-def snapped_edges(scene: "Scene", origin: np.ndarray) -> tuple[SnappedEdges, float, float]:
+def snapped_edges(scene: Scene, origin: np.ndarray) -> tuple[SnappedEdges, float, float]:
     """The scene's edges about ``origin`` after snapping (:mod:`alma.geometry.snap`), with the
     contact tolerance and the near-miss band (mm).
 
@@ -112,7 +112,7 @@ def snapped_edges(scene: "Scene", origin: np.ndarray) -> tuple[SnappedEdges, flo
     return snap_edges(scene, raw, snap, functools.partial(_pair_indices, snap=reach, band=max(band, reach))), snap, band
 
 
-def snapped_vertices(scene: "Scene") -> tuple[np.ndarray, ...]:
+def snapped_vertices(scene: Scene) -> tuple[np.ndarray, ...]:
     """Each block's vertices after snapping (mm, in the drawing's frame), in the scene's order:
     the drawing as joint detection and the overlap check see it (an unmoved vertex as drawn)."""
     origin = local_origin(scene)
@@ -150,7 +150,8 @@ def _frames(edges: Edges, snap: float) -> tuple[np.ndarray, np.ndarray, np.ndarr
     return direction, outward, length, angle_tol
 
 
-def _candidate_pairs(edges: Edges, snap: float, band: float) -> tuple[np.ndarray, ...] | None:
+def _candidate_pairs(edges: Edges, snap: float, band: float
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, float] | None:
     """Edge pairs (i, j) of two blocks on nearly the same line (offsets within ``band``) with
     opposite outward normals, with each edge's direction, outward normal and length; None when
     there is none."""
@@ -183,7 +184,7 @@ def _candidate_pairs(edges: Edges, snap: float, band: float) -> tuple[np.ndarray
     return i, j, direction, outward, length, angle_tol
 
 
-def _contact_segments(scene: "Scene", edges: Edges, i: np.ndarray, j: np.ndarray, direction: np.ndarray,
+def _contact_segments(scene: Scene, edges: Edges, i: np.ndarray, j: np.ndarray, direction: np.ndarray,
                       outward: np.ndarray, length: np.ndarray, angle_tol: float, snap: float,
                       band: float) -> tuple[Joints, tuple[str, ...]]:
     """The joints of the candidate pairs, numbered with block_a < block_b (pairs of two fixed
@@ -235,7 +236,7 @@ def _midway(point: np.ndarray, on_line: np.ndarray, normal: np.ndarray) -> np.nd
     return point - 0.5 * ((point - on_line) * normal).sum(axis=1)[:, None] * normal
 
 
-def _near_misses(scene: "Scene", a: np.ndarray, b: np.ndarray, gap: np.ndarray, overlap: np.ndarray,
+def _near_misses(scene: Scene, a: np.ndarray, b: np.ndarray, gap: np.ndarray, overlap: np.ndarray,
                  snap: float) -> tuple[str, ...]:
     """One message per pair of blocks whose facing edges miss each other (see _contact_segments)."""
     if a.size == 0:

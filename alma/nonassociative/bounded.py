@@ -23,6 +23,8 @@ same set complement each other.  Dimensionless, as :mod:`alma.mechanics.model`.
 """
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -33,7 +35,7 @@ def rates(model: Model, mechanism: np.ndarray) -> np.ndarray:
     """d = −Gᵀu of every bounded column (the power of its force at unit τ is −d)."""
     if not model.n_bounded:
         return np.zeros(0)
-    return -(model.bounded.T @ mechanism)
+    return -(cast(sp.csc_matrix, model.bounded).T @ mechanism)
 
 
 def rate_signs(d: np.ndarray, tolerance: float) -> np.ndarray:
@@ -68,7 +70,7 @@ def kinematic_rows(model: Model, may_grow: np.ndarray, may_shrink: np.ndarray
     Columns that may neither grow nor shrink keep d = 0; those that may only grow get −d ≤ 0,
     those that may only shrink d ≤ 0; those that may do both get no row.
     """
-    g_t = model.bounded.T.tocsr()  # rows gᵢᵀ, d = −gᵢᵀu
+    g_t = cast(sp.csc_matrix, model.bounded).T.tocsr()  # rows gᵢᵀ, d = −gᵢᵀu
     fixed = np.flatnonzero(~may_grow & ~may_shrink)
     grow = np.flatnonzero(may_grow & ~may_shrink)
     shrink = np.flatnonzero(may_shrink & ~may_grow)

@@ -10,6 +10,8 @@ budget (LP solves and simplex iterations) and stop early only at the user's :cla
 """
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
 from alma.mechanics.contact_points import ContactPoints
@@ -58,8 +60,8 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
     interior = points.count > ipm_above
     cap_lp = None if interior else CapLP(model, points, max_pivots=work.lp_pivots)
     last, best, used = None, None, 0
-    seen: set[tuple[bytes, bytes, bytes]] = set()
-    tried: set[tuple[bytes, bytes, bytes]] = set()
+    seen: set[tuple[bytes, ...]] = set()
+    tried: set[tuple[bytes, ...]] = set()
     for iteration in range(work.iterations):
         if cap.expired() or work.spent(tally):
             break
@@ -69,7 +71,7 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
             lp = static_lp_clarabel(model, points, slope=slope, cap=(f - slope) * n_bar,
                                     max_iter=work.interior_iterations)
         else:
-            lp = cap_lp.solve(slope, (f - slope) * n_bar, max_pivots=work.lp_limit(tally))
+            lp = cast(CapLP, cap_lp).solve(slope, (f - slope) * n_bar, max_pivots=work.lp_limit(tally))
         tally.add(lp.pivots)
         used += 1
         if lp.status != "optimal" or lp.mechanism is None:
@@ -99,7 +101,7 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
         n_bar = n_bar + relaxation * (lp.normal - n_bar)
     if last is None:
         return best, used
-    final = exact_state(model, points, last.mechanism, start, limits=work.exact_limits(tally),
+    final = exact_state(model, points, cast(np.ndarray, last.mechanism), start, limits=work.exact_limits(tally),
                         method=work.exact_method, tally=tally)
     return lower(final, best), used
 
@@ -118,8 +120,8 @@ class _Anderson:
 
     def step(self, n_bar: np.ndarray, step: np.ndarray) -> np.ndarray:
         """The next N̄: the combination of the last steps that best cancels the residual."""
-        self.x = (self.x + [n_bar.copy()])[-(self.memory + 1):]
-        self.g = (self.g + [step])[-(self.memory + 1):]
+        self.x = [*self.x, n_bar.copy()][-(self.memory + 1):]
+        self.g = [*self.g, step][-(self.memory + 1):]
         if len(self.x) == 1:
             return n_bar + step
         d_g = np.diff(np.array(self.g), axis=0).T

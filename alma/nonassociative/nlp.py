@@ -65,7 +65,7 @@ def _initial(model: Model, points: ContactPoints, mechanism: np.ndarray, seed: C
     work = float(model.live @ mechanism)
     u0 = mechanism * (model.n_free / work) if work > 0 else mechanism
     slip = points.tangent.T @ u0
-    d = -(model.bounded.T @ u0) if q else np.zeros(0)
+    d = -(model.bounded.T @ u0) if q else np.zeros(0)  # type: ignore[union-attr]  # q > 0: it has columns
     if seed is not None:
         forces = np.concatenate([[seed.alpha], seed.normal, seed.shear])
         tau = seed.bounded if seed.bounded.size == q else np.where(d > 0, model.capacity, 0.0)

@@ -23,8 +23,16 @@ import numpy as np
 
 from alma.backends.linprog_backend import LPMethod
 from alma.nonassociative.limits import Work
-from alma.nonassociative.starts import (Context, GilbertStart, IpoptStart, LpStart, MilpStart, ProjectedStart,
-                                        RockingStart, Start)
+from alma.nonassociative.starts import (
+    Context,
+    GilbertStart,
+    IpoptStart,
+    LpStart,
+    MilpStart,
+    ProjectedStart,
+    RockingStart,
+    Start,
+)
 from alma.nonassociative.tilted import TiltStart
 from alma.settings import EFFORTS, SearchSettings
 

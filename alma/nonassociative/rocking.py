@@ -144,7 +144,7 @@ def _ranked(model: Model, grown: list[np.ndarray | None], seed_pivot: list[np.nd
     seen: set[tuple[bytes, tuple[float, float]]] = set()
     ranked: list[tuple[float, int, np.ndarray, np.ndarray, float, float]] = []
     live, dead = model.live.reshape(-1, 3), model.dead.reshape(-1, 3)
-    for index, pivot, omega in zip(grown, seed_pivot, seed_omega):
+    for index, pivot, omega in zip(grown, seed_pivot, seed_omega, strict=True):
         if index is None:
             continue
         key = (index.tobytes(), (round(float(pivot[0]), 9), round(float(pivot[1]), 9)))

@@ -31,6 +31,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -141,8 +142,8 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
                   associative_mechanism, _associative_normal(associative_multipliers, points.count),
                   associative_alpha, certify=certify if certify is not None else CertifySettings())
     records, skipped, timings = _run_starts(ctx, polish)
-    common = dict(candidates=tuple(ctx.candidates), timings=timings, starts=tuple(records),
-                  stopped_by_limit=ctx.cap.hit, skipped=tuple(skipped))
+    common: dict[str, Any] = dict(candidates=tuple(ctx.candidates), timings=timings, starts=tuple(records),
+                                  stopped_by_limit=ctx.cap.hit, skipped=tuple(skipped))
     best = ctx.best()
     if best is None:
         return NonAssociativeSolution(Status.NOT_CONVERGED, "no verified collapse state was found", None,
@@ -176,11 +177,11 @@ def carried_back(solution: NonAssociativeSolution, canonical: Model, frame: Cano
         exact = fast_exact_state(model, points, moved[k].mechanism, moved[k].start, limits=limits)
         if exact is not None and exact.verified:
             best = exact
-            moved = moved[:k] + (exact,) + moved[k + 1:]
+            moved = (*moved[:k], exact, *moved[k + 1:])
             break
     timings = dict(solution.timings, carry_back_s=time.perf_counter() - t0)
-    common = dict(candidates=moved, timings=timings, starts=solution.starts,
-                  stopped_by_limit=solution.stopped_by_limit, skipped=solution.skipped)
+    common: dict[str, Any] = dict(candidates=moved, timings=timings, starts=solution.starts,
+                                  stopped_by_limit=solution.stopped_by_limit, skipped=solution.skipped)
     if best is None:
         message = solution.message if solution.best is None else \
             "no state of the canonical search verified on the drawing's model"

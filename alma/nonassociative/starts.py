@@ -7,15 +7,15 @@ starts run, and :mod:`alma.nonassociative.search` runs them in turn.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import Protocol
+from typing import Protocol, cast
 
 import numpy as np
 
+from alma.backends.linprog_backend import LPMethod
 from alma.certify.milp import certify
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.gilbert import gilbert, projected_gilbert
-from alma.backends.linprog_backend import LPMethod
 from alma.nonassociative.limits import Cap, Work, no_cap
 from alma.nonassociative.nlp import ipopt_polish
 from alma.nonassociative.rocking import rocking_candidates
@@ -57,7 +57,10 @@ class Context:
 class Start(Protocol):
     """One way of finding a collapse state."""
 
-    name: str
+    @property
+    def name(self) -> str:
+        """The start's name in the search's records (read-only: the starts are frozen)."""
+        ...
 
     def run(self, ctx: Context, tally: Tally) -> tuple[CollapseState | None, int]:
         """The start's best state (None: none) and its iterations, its work counted in ``tally``."""
@@ -186,7 +189,8 @@ class MilpStart:
             mechanisms.append(ctx.associative_mechanism)
         nodes = max(1, ctx.settings.milp_start_work // max(ctx.model.n_free + ctx.model.n_bounded, 1))
         settings = replace(ctx.certify, node_limit=min(nodes, ctx.certify.node_limit))
-        certificate = certify(ctx.model, float(ctx.associative_alpha), mechanisms, settings=settings,
+        # The policy runs this start only with a finite associative α (policy.wanted).
+        certificate = certify(ctx.model, float(cast(float, ctx.associative_alpha)), mechanisms, settings=settings,
                               alpha_best=best.alpha if best is not None else None,
                               time_limit=ctx.cap.remaining() if ctx.cap.seconds is not None else None)
         if certificate.mechanism is None:

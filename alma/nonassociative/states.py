@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -28,8 +29,7 @@ from alma.backends.termination import Termination
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative import bounded as bf
-from alma.nonassociative.static_lps import (LP_METHOD, StaticLP, fixed_set_static_interior, kinematic_lp,
-                                            static_lp)
+from alma.nonassociative.static_lps import LP_METHOD, StaticLP, fixed_set_static_interior, kinematic_lp, static_lp
 from alma.settings import StateTolerances
 
 #: The default tolerances (:class:`alma.settings.StateTolerances`; a search passes its settings').
@@ -150,7 +150,7 @@ def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray
     force_scale = max(1.0, float(np.abs(normal).max(initial=0.0)), float(tau.max(initial=0.0)))
     balance = points.normal @ normal + points.tangent @ shear + model.dead + alpha * model.live
     if q:
-        balance = balance + model.bounded @ tau
+        balance = balance + model.bounded @ tau  # type: ignore[operator]  # q > 0: the model has its columns
     equilibrium = float(np.abs(balance).max(initial=0.0))
     yield_violation = float(max(np.maximum(-normal, 0).max(initial=0.0),
                                 np.maximum(np.abs(shear) - points.friction * normal, 0).max(initial=0.0)))
@@ -205,8 +205,8 @@ def _fixed_set_field(model: Model, points: ContactPoints, open_points: np.ndarra
 
     Clarabel's field is written on the cone generators only; with bounded forces (``signs``, the
     bounded columns' set) HiGHS's interior point with crossover takes its place."""
-    coulomb = dict(slope=points.friction, cap=np.zeros(points.count), maximise=False,
-                   open_points=open_points, slip_sign=slip_sign)
+    coulomb: dict[str, Any] = dict(slope=points.friction, cap=np.zeros(points.count), maximise=False,
+                                   open_points=open_points, slip_sign=slip_sign)
     if model.n_bounded:
         coulomb["bounded_signs"] = signs
         method = LPMethod.IPM if method == LPMethod.CLARABEL else method

@@ -11,6 +11,7 @@ LP their rates' rows; a scene without them builds exactly the LPs it always did.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 import scipy.sparse as sp
@@ -228,7 +229,8 @@ def kinematic_lp(model: Model, points: ContactPoints, open_points: np.ndarray, s
     A_ub = sp.vstack([-normal_t[np.flatnonzero(open_points)],
                       -sp.diags(slip_sign[slipping]) @ tangent_t[np.flatnonzero(slipping)]]).tocsr()
     if model.n_bounded:
-        equal, below = bf.kinematic_rows(model, *bounded_allowed)
+        # bounded_allowed is required when the model has bounded forces (docstring).
+        equal, below = bf.kinematic_rows(model, *cast("tuple[np.ndarray, np.ndarray]", bounded_allowed))
         A_eq, A_ub = sp.vstack([A_eq, equal]).tocsr(), sp.vstack([A_ub, below]).tocsr()
         b_eq = np.concatenate([b_eq, np.zeros(equal.shape[0])])
     rows = A_ub.shape[0]

@@ -22,7 +22,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -203,7 +203,8 @@ def _control(scene: Scene, result: Result, control: str | None) -> tuple[int, fl
 def _solve(scene: Scene, pose: Pose, joints: Joints, model: str, settings: Settings | None
            ) -> tuple[Result, Model]:
     built = build_model(displaced(scene, pose), joints)
-    return solve(built, model=model, settings=settings), built
+    # PUSH_MODELS: one model, never "both", so no Comparison comes back.
+    return cast(Result, solve(built, model=model, settings=settings)), built
 
 
 def _state(run: _Run, d: float, pose: Pose, solved: tuple[Result, Model]) -> _State:
@@ -244,9 +245,9 @@ def _curve(run: _Run, start: _State) -> PushResult:
             step = p.flat_step * run.length if flat else nxt.d * start.alpha / drop / p.steps
             step = min(max(step, p.probe * run.length), p.max_step * run.length)
         state = nxt
-    if bracket is None:
+    if bracket is None:  # the loop leaves without a bracket only by a break that sets failure
         return _result(run, states, failure, (math.nan, math.nan), math.nan, solves,
-                       {"reason": reason, "text": failure[1]})
+                       {"reason": reason, "text": cast("tuple[Status, str]", failure)[1]})
     lo, hi, extra, failure = _refine(run, *bracket)
     states += extra
     if not math.isfinite(hi.alpha):

@@ -48,7 +48,7 @@ class Pose:
     shift: np.ndarray  # (n, 2) mm, the displacement of each block's original centroid
 
     @classmethod
-    def rest(cls, n: int) -> "Pose":
+    def rest(cls, n: int) -> Pose:
         return cls(np.zeros(n), np.zeros((n, 2)))
 
 
@@ -109,8 +109,8 @@ def bodies_of(scene: Scene, result: Result) -> Bodies:
     index = {block.id: i for i, block in enumerate(scene.blocks)}
     n = len(scene.blocks)
     of_block = np.full(n, -1)
-    for g, macro in enumerate(result.macro_blocks):
-        of_block[[index[k] for k in macro.blocks]] = g
+    for group, macro in enumerate(result.macro_blocks):
+        of_block[[index[k] for k in macro.blocks]] = group
     count = len(result.macro_blocks)
     u = np.zeros((n, 3))
     rows = [index[b.id] for b in result.blocks]
@@ -164,7 +164,7 @@ def signature(scene: Scene, result: Result, contacts: Contacts) -> tuple:
     ids = np.asarray(scene.block_ids, dtype=object)
     macros = frozenset((frozenset(m.blocks), m.motion) for m in result.macro_blocks)
     pairs = lambda keep: frozenset(  # noqa: E731
-        tuple(sorted(p)) for p in zip(ids[contacts.a[keep]].tolist(), ids[contacts.b[keep]].tolist()))
+        tuple(sorted(p)) for p in zip(ids[contacts.a[keep]].tolist(), ids[contacts.b[keep]].tolist(), strict=True))
     return macros, pairs(contacts.hinge), pairs(contacts.sliding)
 
 

@@ -29,9 +29,10 @@ from __future__ import annotations
 
 import math
 import tomllib
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, cast
 
 import numpy as np
 
@@ -70,7 +71,7 @@ class Site:
     storeys: int | None = None
 
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> "Site":
+    def from_dict(cls, data: Mapping[str, Any]) -> Site:
         """The site of a TOML table (keys of SPEC §3), checked key by key."""
         unknown = set(data) - _SITE_KEYS
         if unknown:
@@ -81,9 +82,11 @@ class Site:
         site = cls(**{k: data[k] for k in data})
         for name in ("ag", "F0", "Tc_star", "FC", "q"):
             value = getattr(site, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and value > 0):
+            if (isinstance(value, bool) or not isinstance(value, (int, float))
+                    or not (math.isfinite(value) and value > 0)):
                 raise ValueError(f"site: {name} must be a positive number, got {value!r}")
-        if isinstance(site.Z, bool) or not isinstance(site.Z, (int, float)) or not (math.isfinite(site.Z) and site.Z >= 0):
+        if (isinstance(site.Z, bool) or not isinstance(site.Z, (int, float))
+                or not (math.isfinite(site.Z) and site.Z >= 0)):
             raise ValueError(f"site: Z must be a number >= 0 (m), got {site.Z!r}")
         if site.Z > 0:
             if not (isinstance(site.H, (int, float)) and site.H >= site.Z and site.H > 0):
@@ -170,14 +173,16 @@ def seismic(scene: Scene, site: Site | Mapping[str, Any], *, curve: PushResult |
     e_star = G * m_star / (sum_p * 1e3)
     a0_star = alpha0 * G / (e_star * site.FC)
     demand = _linear_demand(site, spec)
-    linear = {"demand": demand, "safety_index": a0_star / demand, "verified": bool(a0_star >= demand)}
+    linear: dict[str, float | bool | None] = {"demand": demand, "safety_index": a0_star / demand,
+                                              "verified": bool(a0_star >= demand)}
     factor = float((weights @ dx ** 2) / (dx[k] * (weights @ dx)))  # d* = d_k · factor
     d_star = np.array([p.d for p in pushed.curve]) * factor * 1e-3
     a_star = np.array([p.alpha for p in pushed.curve]) * G / (e_star * site.FC)
-    curve_star = tuple(zip(d_star.tolist(), a_star.tolist()))
+    curve_star = tuple(zip(d_star.tolist(), a_star.tolist(), strict=True))
     nonlinear = _nonlinear(site, spec, pushed, d_star, a_star, factor)
     status, message = pushed.status, pushed.message
-    if not math.isfinite(nonlinear.get("safety_index", math.nan)):
+    safety = cast(float, nonlinear.get("safety_index", math.nan))  # a number when present
+    if not math.isfinite(safety):
         message = f"{message}; the nonlinear check needs d0 (the curve must reach α = 0)"
     return SeismicResult(status, message, site, spec, alpha0, m_star, e_star, a0_star, linear, nonlinear,
                          curve_star, pushed)
@@ -211,8 +216,9 @@ def _linear_demand(site: Site, spec: Spectrum) -> float:
 
 def _building(site: Site) -> tuple[float, float, float]:
     """T₁ = C₁ H^¾ (s), ψ(Z) = Z/H and γ = 3N/(2N + 1)."""
-    n = site.storeys
-    return C1_MASONRY * site.H ** 0.75, site.Z / site.H, 3 * n / (2 * n + 1)
+    # Only at Z > 0, where Site.from_dict requires H and storeys.
+    n, H = cast(int, site.storeys), cast(float, site.H)
+    return C1_MASONRY * H ** 0.75, site.Z / H, 3 * n / (2 * n + 1)
 
 
 def _nonlinear(site: Site, spec: Spectrum, pushed: PushResult, d_star: np.ndarray, a_star: np.ndarray,

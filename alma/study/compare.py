@@ -34,8 +34,7 @@ import alma
 from alma.report.plot import MechanismPicture, plot_side_by_side
 from alma.study.compare_report import start_times, write_report
 from alma.study.compare_stats import _statistics
-from alma.study.compare_table import (COMPARE_COLUMNS, DIFFER_TOLERANCE, CompareReport, _panel_name,
-                                      compare_table)
+from alma.study.compare_table import COMPARE_COLUMNS, DIFFER_TOLERANCE, CompareReport, _panel_name, compare_table
 from alma.study.doe import PAPER_DESIGN, RESULTS_FILE, Design, load_design, picture_path, read_results, run_doe
 
 __all__ = ["COMPARE_COLUMNS", "CompareReport", "compare_table", "run_compare", "start_times", "write_report"]
@@ -102,7 +101,7 @@ def _mechanism_figures(table: pd.DataFrame, folder: Path, n: int, effort: str | 
         index = json.loads(index_path.read_text()) if index_path.is_file() else {}
     except (OSError, json.JSONDecodeError):
         index = {}
-    pngs = []
+    pngs: list[Path | None] = []
     for r in chosen.itertuples():
         name = (f"mechanisms_{r.bond}_panel{r.panel_ratio}_blocks{r.block_ratio}_"
                 f"f{float(r.friction):.2f}.png").replace(":", "-")
@@ -137,7 +136,7 @@ def _draw_pair(r: Any, path: Path, effort: str | None, report: CompareReport,
     else:  # a study from before the pictures were kept (or a picture lost): solve again
         built = alma.build_model(scene, alma.find_joints(scene))
         lp = alma.solve(built, model="associative")
-        kwargs = {"effort": effort} if effort else {}
+        kwargs: dict[str, Any] = {"effort": effort} if effort else {}
         if time_limit is not None:
             kwargs["time_limit"] = time_limit
         nl = alma.solve(built, model="nonassociative", **kwargs)

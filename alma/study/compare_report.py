@@ -12,10 +12,17 @@ import pandas as pd
 import alma
 from alma.stats.effects import pareto_reference
 from alma.study.compare_stats import _Anova, start_times
-from alma.study.compare_table import (BOUND_TOLERANCE, DIFFER_TOLERANCE, FACTOR_COLUMNS, SIGNIFICANCE, VERIFIED,
-                                      CompareReport, _LABELS, _panel_name)
+from alma.study.compare_table import (
+    _LABELS,
+    BOUND_TOLERANCE,
+    DIFFER_TOLERANCE,
+    FACTOR_COLUMNS,
+    SIGNIFICANCE,
+    VERIFIED,
+    CompareReport,
+    _panel_name,
+)
 from alma.study.design import Design
-
 
 
 def _f(x: Any, fmt: str = ".4f") -> str:
@@ -165,7 +172,7 @@ def _time_by_start(t: pd.DataFrame) -> list[str]:
     runs = start_times(t)
     lines = ["## Where the search time goes", ""]
     if runs.empty:
-        return lines + ["No per-start times recorded (results written by an older alma).", ""]
+        return [*lines, "No per-start times recorded (results written by an older alma).", ""]
     total = float(runs["time_s"].sum())
     lost = float(runs.loc[~runs["panel_converged"], "time_s"].sum())
     lines.append(f"{total:.0f} s of search over {t['starts_nl'].astype(bool).sum()} panels; "
@@ -204,13 +211,14 @@ def write_report(report: CompareReport, design: Design, stats: dict[str, Any], m
 def _header_lines(report: CompareReport, design: Design, effort: str | None, time_limit: float | None,
                   results_path: Path, n_results: int, resumed: int) -> list[str]:
     t, out = report.table, report.out
+    limit = f"time limit {time_limit:g} s per search" if time_limit is not None else "no time limit (work budgets)"
     lines = ["# Associative against non-associative collapse multipliers", ""]
     lines.append(f"alma {getattr(alma, '__version__', '?')}; {len(t)} panels "
                  f"({' × '.join(str(len(getattr(design, c))) for c in FACTOR_COLUMNS)} design: "
                  + "; ".join(f"{c} {', '.join(_lvl(c, v) if c == 'friction' else str(v) for v in getattr(design, c))}"
                              for c in FACTOR_COLUMNS)
                  + f"); non-associative effort {effort or 'auto'} (auto: thorough up to 200 blocks, fast above), "
-                 f"{'time limit ' + format(time_limit, 'g') + ' s per search' if time_limit is not None else 'no time limit (work budgets)'}. "
+                 f"{limit}. "
                  f"Results: `{_rel(results_path, out)}` ({n_results} rows, {resumed} resumed from an earlier run); "
                  f"table: `compare.csv`.")
     lines.append("")

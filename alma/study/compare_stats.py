@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import json
 import math
-
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -13,7 +12,7 @@ import pandas as pd
 
 from alma.stats.anova import anova, varying_factors
 from alma.stats.effects import standardized_effects
-from alma.study.compare_table import FACTOR_COLUMNS, SIGNIFICANCE, VERIFIED, CompareReport, _LABELS
+from alma.study.compare_table import _LABELS, FACTOR_COLUMNS, SIGNIFICANCE, VERIFIED, CompareReport
 
 
 @dataclass

@@ -70,7 +70,7 @@ def compare_table(results: pd.DataFrame) -> pd.DataFrame:
         n_blocks = next((float(r["n_blocks"]) for r in (a, n)
                          if r is not None and math.isfinite(float(r["n_blocks"]))), math.nan)
         rows.append({
-            **dict(zip(FACTOR_COLUMNS, idx)),
+            **dict(zip(FACTOR_COLUMNS, idx, strict=True)),
             "n_blocks": n_blocks,
             "alpha_lp": alpha_lp, "alpha_nl": alpha_nl,
             "ratio": alpha_nl / alpha_lp if ok else math.nan,

@@ -160,7 +160,8 @@ def load_design(path: str | os.PathLike[str]) -> Design:
 
     Keys: ``panel_ratio``, ``block_ratio``, ``bond``, ``friction``, ``chain``,
     ``compressive_strength`` (plural forms accepted), each a list of levels (a single value is a
-    one-level list), and the single values ``chain_height`` and ``chain_anchored``; they may also sit in a ``[design]`` table.
+    one-level list), and the single values ``chain_height`` and ``chain_anchored``; they may also sit in
+    a ``[design]`` table.
     Unknown keys and bad levels raise ``ValueError``.
     """
     p = Path(path)

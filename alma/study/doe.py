@@ -37,21 +37,33 @@ from __future__ import annotations
 import math
 import os
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import pandas as pd
 
-from alma.settings import EFFORTS, SearchSettings, Settings
+from alma.settings import EFFORTS, Effort, SearchSettings, Settings
 from alma.study.design import PAPER_DESIGN, Design, load_design
 from alma.study.keys import _alma_version, key_settings, panel_key
+from alma.study.lock import StudyBusy, study_lock
 from alma.study.progress import _Progress
 from alma.study.runners import _run_dask, _run_local
-from alma.study.lock import StudyBusy, study_lock
 from alma.study.store import COLUMNS, PICTURE, RESULTS_FILE, _ResultsFile, frame, picture_path, read_results
 from alma.study.tasks import _solve_task, _Task
 
-__all__ = ["COLUMNS", "Design", "MODELS", "PAPER_DESIGN", "RESULTS_FILE", "StudyBusy", "key_settings",
-           "load_design", "panel_key", "picture_path", "read_results", "run_doe"]
+__all__ = [
+    "COLUMNS",
+    "MODELS",
+    "PAPER_DESIGN",
+    "RESULTS_FILE",
+    "Design",
+    "StudyBusy",
+    "key_settings",
+    "load_design",
+    "panel_key",
+    "picture_path",
+    "read_results",
+    "run_doe",
+]
 
 #: Contact models a study can run; ``both`` runs the two in turn on each panel.
 MODELS = ("associative", "nonassociative")
@@ -94,7 +106,8 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
                          "run the compressive_strength levels with --model associative")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    settings = Settings(search=SearchSettings(effort=effort or "auto"), time_limit=time_limit)
+    # effort: checked against EFFORTS by _check above.
+    settings = Settings(search=SearchSettings(effort=cast(Effort, effort or "auto")), time_limit=time_limit)
     with study_lock(out):  # one run per folder: a second is refused, no panel is solved twice
         results = _ResultsFile(out / RESULTS_FILE)
         try:
@@ -140,9 +153,9 @@ def _plan(design: Design, models: tuple[str, ...], settings: Settings, results: 
     keys = [panel_key(p, b, bond, friction, m, version=version, settings=settings, chain=chain,
                       chain_y=design.chain_y(p), chain_anchored=design.chain_anchored, compressive_strength=sigma)
             for p, b, bond, friction, chain, sigma, m in runs]
-    results.set_aside({key: why for key, run in zip(keys, runs)
+    results.set_aside({key: why for key, run in zip(keys, runs, strict=True)
                        if key in results.rows and (why := _mismatch(results.rows[key], *run))})
-    for (p, b, bond, friction, chain, sigma, m), key in zip(runs, keys):
+    for (p, b, bond, friction, chain, sigma, m), key in zip(runs, keys, strict=True):
         wanted.append(key)
         done = results.rows.get(key)
         if done is not None and not (retry_errors and done["status"] == "error"):

@@ -57,7 +57,7 @@ def read_line(number: int, raw: bytes, columns: tuple[str, ...], checked: bool) 
         return Line(number, raw, problem=f"{len(fields)} fields, expected {len(columns)} (a cut or merged line)")
     if checked and row_checksum(fields[:-1]) != fields[-1]:
         return Line(number, raw, problem="its checksum does not match its content (edited or damaged)")
-    problem = inconsistency(dict(zip(columns, fields)))
+    problem = inconsistency(dict(zip(columns, fields, strict=True)))
     if problem:
         return Line(number, raw, problem=problem)
     return Line(number, raw, fields=fields)

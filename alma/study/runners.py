@@ -4,7 +4,8 @@ from __future__ import annotations
 import gc
 import queue as queue_mod
 import sys
-from typing import Any, Callable, Sequence
+from collections.abc import Callable, Sequence
+from typing import Any
 
 from alma.study.tasks import _error_text, _init_worker, _solve_task, _solve_task_pooled, _Task
 
@@ -88,7 +89,7 @@ def _run_dask(tasks: Sequence[_Task], scheduler: Any, record: Callable[[dict[str
     futures = []
     try:
         futures = [client.submit(_solve_task, t, pure=False) for t in tasks]
-        by_future = dict(zip(futures, tasks))
+        by_future = dict(zip(futures, tasks, strict=True))
         for fut in as_completed(futures):
             task = by_future[fut]
             try:

@@ -71,7 +71,7 @@ def _format(value: Any) -> str:
 def format_row(row: dict[str, Any]) -> list[str]:
     """The fields of ``row`` as written, its checksum last."""
     fields = [_format(row.get(c, "")) for c in COLUMNS[:-1]]
-    return fields + [row_checksum(fields)]
+    return [*fields, row_checksum(fields)]
 
 
 def _csv_line(fields: list[str] | tuple[str, ...]) -> str:
@@ -154,7 +154,7 @@ class _ResultsFile:
         header, good, bad = scan(self.path)
         self._lines = good
         for line in good:
-            self.rows[line.fields[COLUMNS.index("key")]] = dict(zip(COLUMNS, line.fields))
+            self.rows[line.fields[COLUMNS.index("key")]] = dict(zip(COLUMNS, line.fields, strict=True))
         if bad:
             self._set_aside(bad)
         elif header != COLUMNS or not self.path.read_bytes().endswith(b"\n"):
@@ -175,7 +175,7 @@ class _ResultsFile:
 
     def _set_aside(self, bad: list[Line]) -> None:
         """Quarantine first, then the file without them: a kill in between keeps both copies."""
-        text = b"".join(f"# {self.path.name} line {line.number}: {line.problem}\n".encode("utf-8")
+        text = b"".join(f"# {self.path.name} line {line.number}: {line.problem}\n".encode()
                         + line.raw + b"\n" for line in bad)
         _fsync_write(self.quarantine, text, "ab")
         self._rewrite()
@@ -195,7 +195,7 @@ class _ResultsFile:
         self._fh.write(text)  # one write per line
         self._fh.flush()
         os.fsync(self._fh.fileno())
-        self.rows[str(row["key"])] = dict(zip(COLUMNS, fields))
+        self.rows[str(row["key"])] = dict(zip(COLUMNS, fields, strict=True))
         self._lines.append(Line(0, text.rstrip("\n").encode("utf-8"), fields=tuple(fields)))
 
     def close(self) -> None:
@@ -229,7 +229,7 @@ def read_results(path: str | os.PathLike[str]) -> pd.DataFrame:
     path = Path(path)
     _, good, bad = scan(path)
     report_damage(path, bad, "left out (run alma doe on the folder to set them aside and solve them again)")
-    return frame([dict(zip(COLUMNS, line.fields)) for line in good])
+    return frame([dict(zip(COLUMNS, line.fields, strict=True)) for line in good])
 
 
 def is_results_file(path: str | os.PathLike[str]) -> bool:

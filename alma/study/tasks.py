@@ -6,15 +6,16 @@ import json
 import math
 import signal
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 import alma
 from alma.geometry.chains import with_chain
 from alma.geometry.contacts import find_joints
 from alma.geometry.panels import BLOCK_LENGTHS, PANEL_HEIGHTS
-from alma.settings import Settings
 from alma.report.plot import MechanismPicture
+from alma.settings import Settings
 from alma.study.store import PICTURE
 
 #: Relative cost of a bond's panels (measured on Table 5), to hand out the largest tasks first.
