@@ -197,6 +197,10 @@ class SearchSettings:
     #: rounded to canonical_bits significant bits (6e-8): below the states' tolerances, and a
     #: round-off of 1e-15 (units, unit weight) rounds the other way once in ~1e7 entries.
     canonical_bits: int = 24
+    #: When no canonical state verifies on the drawing's own model (the 24-bit data moved an
+    #: active set off the drawing's: 9 of the 108 panels), the search runs again with the canonical
+    #: data rounded to this many bits (52: as computed); None: no second run.
+    fallback_bits: int | None = 52
     #: Canonical states (lowest α first) made exact on the drawing's own model before giving up.
     carry_back_tries: int = 4
     #: States whose α are this close (relative) are one answer: the earliest start's is kept.

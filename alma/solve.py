@@ -18,6 +18,7 @@ from alma.nonassociative.search import NonAssociativeSolution, carried_back, sol
 from alma.results.build import associative_result, comparison, nonassociative_result
 from alma.results.types import AssociativeResult, Comparison, NonAssociativeResult
 from alma.settings import Effort, Settings
+from alma.status import Status
 
 MODELS = ("associative", "nonassociative", "both")
 
@@ -143,16 +144,29 @@ def _search(built: Model, settings: Settings) -> NonAssociativeSolution:
     """Eq. 9 searched on the canonical drawing (one structure, one answer), answered on ``built``.
 
     The canonical model gets its own associative solution (Eq. 10) to start from; the lowest
-    canonical states are then made exact on ``built`` itself (:func:`carried_back`).
+    canonical states are then made exact on ``built`` itself (:func:`carried_back`).  When none
+    of them verifies there, the search runs again with the canonical data rounded to
+    ``fallback_bits`` (:class:`~alma.settings.SearchSettings`).
     """
     scene, frame = canonical_scene(built.scene)
-    canonical = snapped(build_model(scene), settings.search.canonical_bits)
-    lp = solve_lp(canonical, settings.associative, time_limit=settings.time_limit)
-    solution = solve_nonassociative(canonical, lp.mechanism if lp.solved else None,
-                                    lp.multipliers if lp.solved else None, effort=settings.search.effort,
-                                    settings=settings.search, time_limit=settings.time_limit,
-                                    associative_alpha=lp.alpha if lp.solved else None, certify=settings.certify)
-    return carried_back(solution, canonical, frame, built, settings.search)
+    unrounded = build_model(scene)
+    answer = None
+    for bits in (settings.search.canonical_bits, settings.search.fallback_bits):
+        if bits is None:
+            break
+        canonical = snapped(unrounded, bits)
+        lp = solve_lp(canonical, settings.associative, time_limit=settings.time_limit)
+        solution = solve_nonassociative(canonical, lp.mechanism if lp.solved else None,
+                                        lp.multipliers if lp.solved else None, effort=settings.search.effort,
+                                        settings=settings.search, time_limit=settings.time_limit,
+                                        associative_alpha=lp.alpha if lp.solved else None,
+                                        certify=settings.certify)
+        answer = carried_back(solution, canonical, frame, built, settings.search)
+        # Again at the fallback's precision only when canonical states verified there and none here.
+        if answer.status != Status.NOT_CONVERGED or solution.best is None or solution.stopped_by_limit:
+            break
+    assert answer is not None  # canonical_bits is an int
+    return answer
 
 
 def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settings,
