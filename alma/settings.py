@@ -198,9 +198,10 @@ class SearchSettings:
     #: round-off of 1e-15 (units, unit weight) rounds the other way once in ~1e7 entries.
     canonical_bits: int = 24
     #: When no canonical state verifies on the drawing's own model (the 24-bit data moved an
-    #: active set off the drawing's: 9 of the 108 panels), the search runs again with the canonical
-    #: data rounded to this many bits (52: as computed); None: no second run.
-    fallback_bits: int | None = 52
+    #: active set off the drawing's: 9 of the 108 panels), a second search on the canonical data
+    #: rounded to this many bits (52: as computed). None (no second run) by default: its answer
+    #: moves with round-off of the input (a panel perturbed by 1e-12 lost its state again).
+    fallback_bits: int | None = None
     #: Canonical states (lowest α first) made exact on the drawing's own model before giving up.
     carry_back_tries: int = 4
     #: States whose α are this close (relative) are one answer: the earliest start's is kept.
