@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 
@@ -39,3 +39,23 @@ def direction(value: Iterable[Any], what: str) -> tuple[float, float]:
     if norm == 0:
         raise SceneError(f"{what} must be a non-zero vector")
     return (x / norm, y / norm)
+
+
+def listed(data: Mapping[str, Any], key: str) -> list[Any]:
+    """``data[key]`` as a list (absent or empty: []), else a SceneError naming the key."""
+    value = data.get(key) or []
+    if not isinstance(value, list):
+        raise SceneError(f"scene: '{key}' must be a list")
+    return value
+
+
+def optional_number(value: Any, what: str) -> float | None:
+    """None, or a finite number (:func:`number`)."""
+    return None if value is None else number(value, what)
+
+
+def flag(value: Any, what: str) -> bool:
+    """A JSON boolean, else a SceneError naming ``what``."""
+    if not isinstance(value, bool):
+        raise SceneError(f"{what} must be true or false, got {value!r}")
+    return value

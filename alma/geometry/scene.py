@@ -29,7 +29,14 @@ from alma.geometry.loads import (
     tie_from_dict,
     tie_to_dict,
 )
-from alma.geometry.parsing import SceneError, direction as _direction, number as _number
+from alma.geometry.parsing import (
+    SceneError,
+    direction as _direction,
+    flag as _flag,
+    listed as _list,
+    number as _number,
+    optional_number as _optional_number,
+)
 from alma.geometry.polygons import check_polygons, find_overlaps
 
 _SCENE_KEYS = {"name", "thickness", "unit_weight", "friction", "cohesion", "blocks",
@@ -386,19 +393,3 @@ def _joint_override(raw: Any, index: int) -> JointOverride:
     return JointOverride(blocks=(str(pair[0]), str(pair[1])), friction=friction, cohesion=cohesion,
                          compressive_strength=strength)
 
-
-def _list(data: Mapping[str, Any], key: str) -> list[Any]:
-    value = data.get(key) or []
-    if not isinstance(value, list):
-        raise SceneError(f"scene: '{key}' must be a list")
-    return value
-
-
-def _optional_number(value: Any, what: str) -> float | None:
-    return None if value is None else _number(value, what)
-
-
-def _flag(value: Any, what: str) -> bool:
-    if not isinstance(value, bool):
-        raise SceneError(f"{what} must be true or false, got {value!r}")
-    return value

@@ -28,7 +28,6 @@ from matplotlib.figure import Figure
 
 from alma.stats.anova import (
     BLOCK_LENGTH_MM,
-    FACTOR_LEVELS,
     FACTORS,
     PANEL_HEIGHT_MM,
     PANEL_LENGTH_MM,
@@ -36,6 +35,7 @@ from alma.stats.anova import (
     anova,
 )
 from alma.stats.effects import pareto_reference, standardized_effects
+from alma.stats.levels import level_label as _level_label, levels as _levels
 
 __all__ = [
     "interaction_plot_matrix",
@@ -82,34 +82,6 @@ def _normalized(df: pd.DataFrame, response: str) -> pd.DataFrame:
     out["friction"] = pd.to_numeric(out["friction"]).astype(float).round(6)
     out[response] = pd.to_numeric(out[response]).astype(float)
     return out
-
-
-def _levels(df: pd.DataFrame, col: str) -> list[Any]:
-    """Levels present in ``df``, in Table 1 order first, unknown levels after (sorted)."""
-    present = list(pd.unique(df[col]))
-    known = [v for v in FACTOR_LEVELS[col] if _contains(present, v)]
-    extra = sorted(v for v in present if not _contains(FACTOR_LEVELS[col], v))
-    return [_match(present, v) for v in known] + extra
-
-
-def _contains(values: Sequence[Any], v: Any) -> bool:
-    if isinstance(v, float):
-        return any(isinstance(x, (float, int)) and abs(float(x) - v) < 1e-9 for x in values)
-    return v in values
-
-
-def _match(values: Sequence[Any], v: Any) -> Any:
-    if isinstance(v, float):
-        return next(x for x in values if abs(float(x) - v) < 1e-9)
-    return v
-
-
-def _level_label(col: str, v: Any) -> str:
-    if col == "friction":
-        return f"{float(v):.2f}"
-    if col == "bond":
-        return str(v).capitalize()
-    return str(v)
 
 
 def _means(df: pd.DataFrame, by: list[str], response: str) -> pd.Series:
