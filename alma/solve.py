@@ -9,7 +9,7 @@ from alma.associative.crisp import crisp_mechanism
 from alma.associative.lp import solve_lp
 from alma.associative.radenkovic import radenkovic_lower_bound
 from alma.certify.milp import certify as certify_milp
-from alma.geometry.canonical import canonical_scene
+from alma.geometry.canonical import CanonicalFrame, canonical_scene
 from alma.geometry.contacts import Joints, find_joints
 from alma.geometry.scene import Scene, SceneError
 from alma.mechanics.canonical import snapped
@@ -150,23 +150,26 @@ def _search(built: Model, settings: Settings) -> NonAssociativeSolution:
     """
     scene, frame = canonical_scene(built.scene)
     unrounded = build_model(scene)
-    answer = None
-    for bits in (settings.search.canonical_bits, settings.search.fallback_bits):
-        if bits is None:
-            break
-        canonical = snapped(unrounded, bits)
-        lp = solve_lp(canonical, settings.associative, time_limit=settings.time_limit)
-        solution = solve_nonassociative(canonical, lp.mechanism if lp.solved else None,
-                                        lp.multipliers if lp.solved else None, effort=settings.search.effort,
-                                        settings=settings.search, time_limit=settings.time_limit,
-                                        associative_alpha=lp.alpha if lp.solved else None,
-                                        certify=settings.certify)
-        answer = carried_back(solution, canonical, frame, built, settings.search)
-        # Again at the fallback's precision only when canonical states verified there and none here.
-        if answer.status != Status.NOT_CONVERGED or solution.best is None or solution.stopped_by_limit:
-            break
-    assert answer is not None  # canonical_bits is an int
+    answer, solution = _search_at(unrounded, frame, built, settings, settings.search.canonical_bits)
+    fallback = settings.search.fallback_bits
+    # Again at the fallback's precision only when canonical states verified there and none here.
+    if (fallback is not None and answer.status == Status.NOT_CONVERGED and solution.best is not None
+            and not solution.stopped_by_limit):
+        answer, _ = _search_at(unrounded, frame, built, settings, fallback)
     return answer
+
+
+def _search_at(unrounded: Model, frame: CanonicalFrame, built: Model, settings: Settings,
+               bits: int) -> tuple[NonAssociativeSolution, NonAssociativeSolution]:
+    """The search on the canonical model rounded to ``bits`` bits: (the answer on ``built``, the
+    canonical search's own solution)."""
+    canonical = snapped(unrounded, bits)
+    lp = solve_lp(canonical, settings.associative, time_limit=settings.time_limit)
+    solution = solve_nonassociative(canonical, lp.mechanism if lp.solved else None,
+                                    lp.multipliers if lp.solved else None, effort=settings.search.effort,
+                                    settings=settings.search, time_limit=settings.time_limit,
+                                    associative_alpha=lp.alpha if lp.solved else None, certify=settings.certify)
+    return carried_back(solution, canonical, frame, built, settings.search), solution
 
 
 def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settings,
