@@ -16,8 +16,9 @@
   length l and thickness t under the axial stress σ₀ = N/(l t) resists in its plane the moment
   M_u = (l² t σ₀ / 2)(1 − σ₀ / (0.85 f_d)) — the same rectangular stress block at 0.85 f_d.  With
   compressive_strength = 0.85 f_d, a one-block pier under a top load P and a horizontal α at its
-  top carries α h = M_u.  (A published *case* with printed digits, e.g. an arch with finite
-  crushing strength, is not reproduced here: see docs/compressive.md.)
+  top carries α h = M_u.  A published worked example (EC6's top-of-wall factor) is in
+  test_compressive_published.py; a published limit-analysis case (an arch with finite crushing
+  strength) is not reproduced: see docs/compressive.md.
 """
 from __future__ import annotations
 

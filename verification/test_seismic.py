@@ -5,8 +5,7 @@ Tab. 3.2.IV for S_S and C_C, Tab. 3.2.V for S_T); the kinematic check from the C
 §C8.7.1: for one rigid block rocking about its toe every weight moves with the block, so
 e* = 1, M* = its mass and a₀* = α₀ g / FC = (b/h) g / FC.
 
-Not done: a published worked example of simple overturning of a façade (the search of the
-project's library returned neither the Circolare's text nor a worked example with numbers).
+A published worked example of a façade's overturning is in test_seismic_published.py.
 """
 from __future__ import annotations
 
