@@ -27,8 +27,8 @@ What alma computes and what it does not:
   the floor loads and the vault are point loads whose live part is their weight (their masses
   take the seismic action), the thrust H a dead point load.  alma's α₀ is the source's.
 - M*, e*, a₀* come from alma's collapse mechanism: the horizontal virtual displacement of each
-  weight's point is read off alma's block velocities and put in the Circolare's Eq. C8.7.1.5
-  (2019; C8A.4.3 in 2009), written here.  ``alma.seismic`` itself refuses this scene: it takes
+  weight's point is read off alma's block velocities and put in the Circolare's M* and e*
+  (2019: Eq. C8.7.1.5; 2009: §C8A.4), written here.  ``alma.seismic`` itself refuses this scene: it takes
   the masses from block self-weights only and no external force F_k (the thrust H), so the
   source's floor loads, vault and thrust are outside it.  That is a gap of ``alma.seismic``
   (reported, not tested here), not of the mechanism.
@@ -131,7 +131,7 @@ def _virtual_displacements(scene: alma.Scene, result) -> dict[str, float]:
 
 
 def test_participating_mass_of_alma_mechanism(solved):
-    """M* = (ΣP δ)²/(g ΣP δ²) and e* = g M*/ΣP (Circolare 2019 Eq. C8.7.1.5) from alma's
+    """M* = (ΣP δ)²/(g ΣP δ²) and e* = g M*/ΣP (Circolare 2019 Eq. C8.7.1.5, 2009 §C8A.4) from alma's
     mechanism: 20.16 t/m and 0.749 as printed (measured 20.1647 with g = 9.80665, 20.1578 with
     the source's 9.81; e* = 0.749044)."""
     scene, result = solved
