@@ -25,7 +25,8 @@ def nonlinear_value(check: SeismicResult, key: str) -> float:
 def linear_line(check: SeismicResult) -> float:
     """The spectral acceleration a₀* must reach for the linear check (m/s²): the 2009 demand, or
     the 2019 check's a_g S / q."""
-    return float(check.linear.get("a0_star_required", check.linear["demand"]) or float("nan"))
+    value = check.linear.get("a0_star_required", check.linear["demand"])
+    return float(value) if isinstance(value, (int, float)) else float("nan")
 
 
 def plot_capacity(scene: Scene, result: PushResult, path: str | Path, *, check: SeismicResult | None = None,
