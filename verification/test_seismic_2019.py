@@ -212,8 +212,10 @@ def test_edition_from_the_site_file_and_the_command_line(tmp_path):
         from_option["safety_index"], rel=1e-12)  # at Z = 0 the two linear checks are one inequality
     assert np.isfinite(from_option["nonlinear"]["a_g_SLV"])
     text = subprocess.run([sys.executable, "-m", "alma.cli", "seismic", "scene.json", "--site", "site.toml",
-                           "--steps", "4", "--edition", "2019"], capture_output=True, text=True, cwd=tmp_path)
+                           "--steps", "4", "--edition", "2019", "--plot", "check.png"],
+                          capture_output=True, text=True, cwd=tmp_path)
     assert text.returncode == 0 and "Circolare 2019" in text.stdout and "a_g,SLV" in text.stdout, text.stderr
+    assert (tmp_path / "check.png").stat().st_size > 0
     (tmp_path / "high.toml").write_text('ag = 0.2\nF0 = 2.4\nTc_star = 0.3\nsoil = "B"\nZ = 6.0\nH = 9.0\n'
                                         'storeys = 3\n')
     refused = subprocess.run([sys.executable, "-m", "alma.cli", "seismic", "scene.json", "--site", "high.toml",
