@@ -51,7 +51,7 @@ from alma.status import Status
 
 #: C₁ of T₁ = C₁ H^¾ for masonry buildings (NTC 2018 Eq. 7.3.6).
 C1_MASONRY = 0.050
-#: Ultimate and secant displacements as fractions of d₀* and d_u* (Circolare 2009 §C8A.4.2.3).
+#: Ultimate and secant displacements as fractions of d₀* and d_u* (Circolare 2009 §C8A.4).
 ULTIMATE_FRACTION = 0.4
 SECANT_FRACTION = 0.4
 #: The editions of the Circolare whose checks are implemented; the first is the default.

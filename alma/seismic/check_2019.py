@@ -1,8 +1,8 @@
 """The kinematic checks of a local mechanism in the form of the Circolare 2019 (§C8.7.1.2.1.5–8).
 
 Source: Circolare 21 gennaio 2019, n. 7 C.S.LL.PP., §C8.7.1.2.1 (pp. 269–273 of the printed
-text), read from a public transcription of the official PDF (module ``docs/seismic.md`` says
-which).  Both checks are framed in ground accelerations; the capacity curve is Eqs. C8.7.1.3–5,
+text), read from a public transcription of the official PDF (``docs/seismic.md`` names it).
+Both checks are framed in ground accelerations; the capacity curve is Eqs. C8.7.1.3–5,
 a = α(d_C) g / (e* FC) and d = d_C Σ(P+Q)δ² / (δ_Cx Σ(P+Q)δ), as in the Circolare 2009.
 
 Linear check (SLV with a behaviour factor, §C8.7.1.2.1.7), for a mechanism at the ground:
