@@ -68,7 +68,7 @@ def test_single_block_kinematic_check():
         {"id": "ground", "vertices": [[-500, -100], [800, -100], [800, 0], [-500, 0]], "fixed": True},
         {"id": "wall", "vertices": [[0, 0], [b, 0], [b, h], [0, h]]}]})
     site = Site(**SITE1, FC=1.35)
-    check = alma.seismic(scene, site, steps=20)
+    check = alma.seismic(scene, site, edition="2009", steps=20)
     mass = b * h * 120 * 1e-9 * 18 / G * 1e3  # kg
     assert check.e_star == pytest.approx(1.0, abs=1e-9)
     assert check.M_star == pytest.approx(mass, rel=1e-9)
@@ -90,7 +90,7 @@ def test_elevated_mechanism_takes_the_larger_demand():
         {"id": "ground", "vertices": [[-500, -100], [800, -100], [800, 0], [-500, 0]], "fixed": True},
         {"id": "wall", "vertices": [[0, 0], [b, 0], [b, h], [0, h]]}]})
     site = Site(**SITE1, Z=6.0, H=9.0, storeys=3)
-    check = alma.seismic(scene, site, steps=10)
+    check = alma.seismic(scene, site, edition="2009", steps=10)
     s = check.spectrum
     T1 = 0.050 * 9.0 ** 0.75
     upper = s.Se(T1) * (6.0 / 9.0) * (9 / 7) / 2.0
@@ -110,7 +110,7 @@ def test_a_curve_that_loses_equilibrium_bounds_the_ultimate_displacement():
     # the stability of the elements; the arch's curve stops at a loss of equilibrium with α > 0,
     # d₀* is then the secant's zero through its last two points
     arch = alma.load_scene(Path(__file__).resolve().parents[1] / "examples" / "arch.json")
-    check = alma.seismic(arch, SITE1)
+    check = alma.seismic(arch, SITE1, edition="2009")
     nl, curve = check.nonlinear, check.push.curve
     assert check.push.end["reason"] == "no_equilibrium" and nl["d0_extrapolated"] is True
     (d1, a1), (d2, a2) = [(p.d, p.alpha) for p in curve[-2:]]

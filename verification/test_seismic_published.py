@@ -26,12 +26,11 @@ What alma computes and what it does not:
 - α₀ is alma's limit analysis of the whole scene (every mechanism, not only the global one);
   the floor loads and the vault are point loads whose live part is their weight (their masses
   take the seismic action), the thrust H a dead point load.  alma's α₀ is the source's.
-- M*, e*, a₀* come from alma's collapse mechanism: the horizontal virtual displacement of each
-  weight's point is read off alma's block velocities and put in the Circolare's M* and e*
-  (2019: Eq. C8.7.1.5; 2009: §C8A.4), written here.  ``alma.seismic`` itself refuses this scene: it takes
-  the masses from block self-weights only and no external force F_k (the thrust H), so the
-  source's floor loads, vault and thrust are outside it.  That is a gap of ``alma.seismic``
-  (reported, not tested here), not of the mechanism.
+- M*, e*, a₀* come from ``alma.seismic`` on the scene: the floor loads and the vault are carried
+  masses (their live part their weight along the action), the thrust an external force F_k (no
+  live part); ``alma.seismic`` sums e* and M* over the blocks' centroids and the carried loads'
+  points (Circolare 2019 Eq. C8.7.1.5; 2009 §C8A.4).  The same sums are written out here, on
+  alma's mechanism, as an independent cross-check.
 - a₀*: alma's unrounded 0.5644 m/s² (g = 9.80665, FC = 1) differs from the printed 0.563 in the
   third digit because the source divides the *rounded* α₀ = 0.043 (two significant digits) by
   e* with g = 9.81; with alma's α₀ and e* rounded as printed the source's arithmetic gives 0.563.
@@ -155,3 +154,28 @@ def test_participating_mass_of_alma_mechanism(solved):
     a0 = result.alpha * G / e_star
     assert a0 == pytest.approx(0.5644, abs=5e-5)
     assert 0.0425 * G / e_star <= a0 <= 0.0435 * G / e_star
+
+
+@pytest.mark.parametrize("edition", ["2019", "2009"])
+def test_alma_seismic_on_the_facade(solved, edition):
+    """``alma.seismic`` itself: the carried floors and vault as masses, the thrust as a force F_k;
+    M* = 20.16 t/m and e* = 0.749 as printed, a₀* = 0.5644 m/s² (FC = 1 as in the source), and
+    the same numbers as the sums over the weights written out above on alma's mechanism."""
+    scene, result = solved
+    site = {"ag": 0.2, "F0": 2.4, "Tc_star": 0.3, "soil": "B", "FC": 1.0}  # any site: not compared
+    check = alma.seismic(scene, site, edition=edition, steps=8)
+    assert check.edition == edition
+    assert round(check.alpha0, 3) == ALPHA0
+    assert round(check.M_star / 1e3, 2) == M_STAR  # kg per m of wall → t/m
+    assert round(check.e_star, 3) == E_STAR
+    assert check.a0_star == pytest.approx(0.5644, abs=5e-5)
+    data = check.to_dict()
+    assert [c["load"] for c in data["carried_loads"]] == [0, 1, 2, 3] and data["external_forces"] == [4]
+    # cross-check: the sums over the source's seven weights on alma's mechanism
+    delta = _virtual_displacements(scene, result)
+    weights = _weights()
+    p = np.array([weights[k][0] for k in delta])
+    d = np.array(list(delta.values()))
+    assert check.M_star == pytest.approx((p @ d) ** 2 / (G * (p @ d ** 2)) * 1e3, rel=1e-9)
+    assert check.e_star == pytest.approx((p @ d) ** 2 / (p.sum() * (p @ d ** 2)), rel=1e-9)
+    assert check.alpha0 == pytest.approx(result.alpha, rel=1e-12)

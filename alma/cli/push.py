@@ -13,7 +13,7 @@ from alma.geometry.scene import Scene, SceneError
 from alma.push import PUSH_MODELS, PushResult, push
 from alma.report.capacity import plot_capacity
 from alma.report.capacity_html import write_capacity_html
-from alma.seismic import SeismicResult, load_site, seismic
+from alma.seismic import EDITIONS, SeismicResult, load_site, seismic
 
 
 def register(sub, invalid: Callable) -> None:
@@ -31,6 +31,9 @@ def register(sub, invalid: Callable) -> None:
     p = sub.add_parser("seismic", help="the kinematic seismic check (NTC 2018, Circolare 2019 §C8.7.1)")
     p.add_argument("scene", help="scene file: JSON (SPEC §2) or a DXF drawing")
     p.add_argument("--site", required=True, metavar="SITE.toml", help="the site's parameters (SPEC §3 keys)")
+    p.add_argument("--edition", choices=EDITIONS, default=None,
+                   help="the Circolare whose form of the checks applies (default: the site file's "
+                        "'edition', else 2019)")
     p.add_argument("--control", metavar="BLOCK", help="the control block of the capacity curve")
     p.add_argument("--steps", type=int, default=None, help="steps of the capacity curve (default 40)")
     _outputs(p)
@@ -57,7 +60,7 @@ def _run(args: argparse.Namespace, invalid: Callable, site_path: str | None) -> 
         if site is None:
             result: PushResult | SeismicResult = push(scene, model=args.model, **options)
         else:
-            result = seismic(scene, site, **options)
+            result = seismic(scene, site, edition=args.edition, **options)
     except (SceneError, ValueError) as exc:
         return invalid(exc, args)
     curve = result if isinstance(result, PushResult) else result.push
@@ -72,6 +75,31 @@ def _run(args: argparse.Namespace, invalid: Callable, site_path: str | None) -> 
     else:
         _print_text(scene, result, args.plot)
     return 0
+
+
+def _verdict(check: dict) -> str:
+    return f"safety index {check['safety_index']:.3f} ({'verified' if check['verified'] else 'NOT verified'})"
+
+
+def _lines_2009(result: SeismicResult) -> list[str]:
+    lin, nl = result.linear, result.nonlinear
+    lines = [f"  linear     a0* = {result.a0_star:.4g} m/s² vs demand {lin['demand']:.4g} m/s²: {_verdict(lin)}"]
+    if nl.get("verified") is not None:  # the check ran: its values are numbers
+        du, demand = cast(float, nl["du_star"]), cast(float, nl["demand"])
+        lines.append(f"  nonlinear  du* = {du * 1e3:.4g} mm vs demand {demand * 1e3:.4g} mm "
+                     f"(Ts = {nl['Ts']:.3f} s): {_verdict(nl)}")
+    return lines
+
+
+def _lines_2019(result: SeismicResult) -> list[str]:
+    lin, nl = result.linear, result.nonlinear
+    lines = [f"  linear     a_g,SLV = q a_Z,SLD / S = {lin['a_g_SLV']:.4g} m/s² vs a_g {lin['demand']:.4g} m/s²: "
+             f"{_verdict(lin)}"]
+    if nl.get("verified") is not None:
+        d, demand = cast(float, nl["d_SLV"]), cast(float, nl["displacement_demand"])
+        lines.append(f"  nonlinear  d_SLV = {d * 1e3:.4g} mm vs demand {demand * 1e3:.4g} mm (T_SLV = "
+                     f"{nl['T_SLV']:.3f} s, ξ = 8 %): a_g,SLV = {nl['a_g_SLV']:.4g} m/s², {_verdict(nl)}")
+    return lines
 
 
 def _check_output(path: str, inputs: tuple[str | None, ...]) -> None:
@@ -93,15 +121,9 @@ def _print_text(scene: Scene, result: PushResult | SeismicResult, picture: str |
         print(f"  {stop}  ({len(curve.curve)} points, {curve.solves} LP solves, "
               f"{sum(p.mechanism_changed for p in curve.curve)} mechanism changes)")
     if isinstance(result, SeismicResult) and curve.curve:
-        lin, nl = result.linear, result.nonlinear
-        print(f"  M*, e*     {result.M_star:.6g} kg, {result.e_star:.4f}")
-        print(f"  linear     a0* = {result.a0_star:.4g} m/s² vs demand {lin['demand']:.4g} m/s²: "
-              f"safety index {lin['safety_index']:.3f} ({'verified' if lin['verified'] else 'NOT verified'})")
-        if nl.get("verified") is not None:  # the check ran: its values are numbers
-            du, demand = cast(float, nl["du_star"]), cast(float, nl["demand"])
-            print(f"  nonlinear  du* = {du * 1e3:.4g} mm vs demand {demand * 1e3:.4g} mm "
-                  f"(Ts = {nl['Ts']:.3f} s): safety index {nl['safety_index']:.3f} "
-                  f"({'verified' if nl['verified'] else 'NOT verified'})")
+        print(f"  M*, e*     {result.M_star:.6g} kg, {result.e_star:.4f}  (Circolare {result.edition})")
+        for line in (_lines_2019 if result.edition == "2019" else _lines_2009)(result):
+            print(line)
     if picture:
         print(f"  picture    {picture}")
     sys.stdout.flush()

@@ -11,10 +11,21 @@ from alma.push import PushResult
 from alma.push.motion import displaced
 from alma.seismic import SeismicResult
 
+#: The 2019 edition's names of the nonlinear check's ultimate displacement and displacement demand.
+_NAMES_2019 = {"du_star": "d_SLV", "demand": "displacement_demand"}
+
 
 def nonlinear_value(check: SeismicResult, key: str) -> float:
-    """A number of the nonlinear check (``du_star``, ``demand``: m), NaN where it has none."""
-    value = check.nonlinear.get(key)
+    """A number of the nonlinear check (``du_star``: the ultimate displacement, ``demand``: the
+    displacement demand, both m, under either edition's name), NaN where it has none."""
+    value = check.nonlinear.get(_NAMES_2019.get(key, key) if check.edition == "2019" else key)
+    return float(value) if isinstance(value, (int, float)) else float("nan")
+
+
+def linear_line(check: SeismicResult) -> float:
+    """The spectral acceleration a₀* must reach for the linear check (m/s²): the 2009 demand, or
+    the 2019 check's a_g S / q."""
+    value = check.linear.get("a0_star_required", check.linear["demand"])
     return float(value) if isinstance(value, (int, float)) else float("nan")
 
 
@@ -87,17 +98,19 @@ def _spectral(ax, check: SeismicResult) -> None:
         return
     ds, a = np.array(check.curve_star).T
     ax.plot(ds * 1e3, a, "-", color="tab:blue", lw=1.5, label="a*(d*)")
-    ax.axhline(check.linear["demand"], color="tab:red", ls="--", lw=1,
-               label=f"linear demand {check.linear['demand']:.3g} m/s²")
+    ax.axhline(linear_line(check), color="tab:red", ls="--", lw=1,
+               label=f"linear check: a₀* ≥ {linear_line(check):.3g} m/s²")
     ax.plot([0], [check.a0_star], "o", color="tab:blue", label=f"a₀* = {check.a0_star:.3g} m/s²")
     du, demand = nonlinear_value(check, "du_star"), nonlinear_value(check, "demand")
     if check.nonlinear and np.isfinite(du):
-        ax.axvline(du * 1e3, color="tab:green", lw=1, label=f"d_u* = {du * 1e3:.3g} mm")
+        name = "d_SLV" if check.edition == "2019" else "d_u*"
+        ax.axvline(du * 1e3, color="tab:green", lw=1, label=f"{name} = {du * 1e3:.3g} mm")
         ax.axvline(demand * 1e3, color="tab:red", lw=1, label=f"demand Δ = {demand * 1e3:.3g} mm")
     ax.axhline(0, color="k", lw=0.5)
     ax.set_xlabel("d* [mm]")
     ax.set_ylabel("a* [m/s²]")
     si = check.linear["safety_index"]
     si2 = nonlinear_value(check, "safety_index")
-    ax.set_title(f"kinematic check: linear {si:.3g}, nonlinear {si2:.3g}", fontsize=10)
+    ax.set_title(f"kinematic check (Circolare {check.edition}): linear {si:.3g}, nonlinear {si2:.3g}",
+                 fontsize=10)
     ax.legend(fontsize=7)

@@ -12,7 +12,7 @@ import numpy as np
 
 from alma.geometry.scene import Scene
 from alma.push import PushResult
-from alma.report.capacity import nonlinear_value
+from alma.report.capacity import linear_line, nonlinear_value
 from alma.report.capacity_frames import frames_svg, slider_html
 from alma.seismic import SeismicResult
 
@@ -36,9 +36,10 @@ def write_capacity_html(result: PushResult, path: str | Path, *, check: SeismicR
     if check is not None and check.curve_star:
         ds, a = np.array(check.curve_star).T
         figures.append(_svg(ds * 1e3, a, "d* [mm]", "a* [m/s²]",
-                            marks=[("d_u*", nonlinear_value(check, "du_star") * 1e3, None),
+                            marks=[("d_SLV" if check.edition == "2019" else "d_u*",
+                                    nonlinear_value(check, "du_star") * 1e3, None),
                                    ("demand", nonlinear_value(check, "demand") * 1e3, None),
-                                   ("linear demand", None, check.linear["demand"])]))
+                                   ("linear check", None, linear_line(check))]))
         rows += [(k, json.dumps(v)) for k, v in check.to_dict().items()
                  if k not in ("curve_star", "push", "message", "status", "control")]
     table = "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(v)}</td></tr>" for k, v in rows)

@@ -1,32 +1,37 @@
-"""The kinematic seismic check of a local mechanism (NTC 2018 with Circolare n. 7/2019, §C8.7.1).
+"""The kinematic seismic check of a local mechanism (NTC 2018 with the Circolare 2019 or 2009).
 
 The mechanism is the one alma's limit analysis finds (not a catalogue's): α₀ is the collapse
 multiplier of the horizontal load proportional to the weights, the virtual displacements δx,i
-are its blocks' centroids' horizontal velocities, and the capacity curve is ``alma.push``'s
-α(d) on the displaced geometry.  Formulas (Circolare 2019 §C8.7.1.2, as in the Circolare 2009
-§C8A.4 they come from), with P_i the weights of the n moving blocks (kN):
+are the horizontal velocities of its masses in the collapse mechanism (blocks' self-weights and
+carried loads: :mod:`alma.seismic.masses`), and the capacity curve is ``alma.push``'s α(d) on
+the displaced geometry.  ``edition`` chooses the form of the checks: ``"2019"`` (the default,
+Circolare n. 7/2019 §C8.7.1.2.1.5–8: :mod:`alma.seismic.check_2019`) or ``"2009"`` (Circolare
+n. 617/2009 §C8A.4, below), with P_i the weights of the n moving masses (kN):
 
-- participating mass and fraction: M* = (Σ P_i δx,i)² / (g Σ P_i δx,i²),
-  e* = g M* / Σ P_i;
-- spectral acceleration of activation: a₀* = α₀ Σ P_i / (M* FC) = α₀ g / (e* FC);
-- linear check: a₀* ≥ a_g S / q for a mechanism at the ground (Z = 0), and, for a mechanism
+- participating mass and fraction (both editions; 2019 Eq. C8.7.1.5):
+  M* = (Σ P_i δx,i)² / (g Σ P_i δx,i²), e* = g M* / Σ P_i;
+- spectral acceleration of activation: a₀* = α₀ Σ P_i / (M* FC) = α₀ g / (e* FC)
+  (2019: a_{Z,SLD} of Eq. C8.7.1.8);
+- capacity curve (both editions; 2019 Eqs. C8.7.1.3–4): d* = d_k Σ P_i δx,i² / (δx,k Σ P_i δx,i)
+  (d_k the control point's displacement) and a* = α g / (e* FC) (FC divides the accelerations as
+  it does a₀*; the displacements are not divided);
+- 2009 linear check: a₀* ≥ a_g S / q for a mechanism at the ground (Z = 0), and, for a mechanism
   whose base is at height Z > 0, also a₀* ≥ S_e(T₁) ψ(Z) γ / q with T₁ = C₁ H^¾ (C₁ = 0.050,
   NTC 2018 Eq. 7.3.6 for masonry), ψ(Z) = Z / H and γ = 3N / (2N + 1) (N storeys); the demand is
   the larger, the safety index a₀* / demand;
-- nonlinear check: the capacity curve in spectral coordinates d* = d_k Σ P_i δx,i² /
-  (δx,k Σ P_i δx,i) (d_k the control point's displacement) and a* = α g / (e* FC) (FC divides the
-  accelerations as it does a₀*; the displacements are not divided); d₀* where a* = 0;
-  d_u* = 0.4 d₀*, or the displacement where the curve loses equilibrium when that is smaller
-  (the code's "situations incompatible with the stability of the elements"; d₀* is then
-  extrapolated on the secant of the curve's last two points); d_s* = 0.4 d_u*,
-  a_s* = a*(d_s*), T_s = 2π √(d_s*/a_s*); demand Δ = S_De(T_s) at Z = 0, and for Z > 0 also
-  S_De(T₁) ψ(Z) γ (T_s/T₁)² / √((1 − T_s/T₁)² + 0.02 T_s/T₁); the safety index d_u* / demand.
+- 2009 nonlinear check: d₀* where a* = 0; d_u* = 0.4 d₀*, or the displacement where the curve
+  loses equilibrium when that is smaller (the code's "situations incompatible with the stability
+  of the elements"; d₀* is then extrapolated on the secant of the curve's last two points);
+  d_s* = 0.4 d_u*, a_s* = a*(d_s*), T_s = 2π √(d_s*/a_s*); demand Δ = S_De(T_s) at Z = 0, and for
+  Z > 0 also S_De(T₁) ψ(Z) γ (T_s/T₁)² / √((1 − T_s/T₁)² + 0.02 T_s/T₁); the safety index
+  d_u* / demand.
 
 Units: masses in kg, accelerations in m/s², displacements in m (the scene's mm converted),
 periods in s.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import tomllib
 from collections.abc import Mapping
@@ -36,21 +41,24 @@ from typing import Any, cast
 
 import numpy as np
 
-from alma.geometry.contacts import block_areas_and_centroids
 from alma.geometry.scene import Scene
 from alma.push import PushResult, push
 from alma.results.types import finite
+from alma.seismic.check_2019 import XI_SLV, d0_star_of, linear_2019, nonlinear_2019
+from alma.seismic.masses import MassPoints, check_loads, mass_points
 from alma.seismic.spectrum import G, Spectrum, elastic_spectrum
 from alma.status import Status
 
-#: kN per (mm³ · kN/m³)
-_MM3_TO_M3 = 1e-9
 #: C₁ of T₁ = C₁ H^¾ for masonry buildings (NTC 2018 Eq. 7.3.6).
 C1_MASONRY = 0.050
-#: Ultimate and secant displacements as fractions of d₀* and d_u* (Circolare §C8.7.1.2).
+#: Ultimate and secant displacements as fractions of d₀* and d_u* (Circolare 2009 §C8A.4).
 ULTIMATE_FRACTION = 0.4
 SECANT_FRACTION = 0.4
-_SITE_KEYS = {"ag", "F0", "Tc_star", "soil", "topography", "FC", "q", "Z", "H", "storeys"}
+#: The editions of the Circolare whose checks are implemented; the first is the default.
+EDITIONS = ("2019", "2009")
+_SITE_KEYS = {"ag", "F0", "Tc_star", "soil", "topography", "FC", "q", "Z", "H", "storeys", "edition"}
+#: The JSON fields ``du_star`` and ``Ts`` (SPEC §3) are these terms of each edition's nonlinear check.
+_TOP_FIELDS = {"2009": ("du_star", "Ts"), "2019": ("d_SLV", "T_SLV")}
 
 
 @dataclass(frozen=True)
@@ -69,6 +77,8 @@ class Site:
     Z: float = 0.0
     H: float | None = None
     storeys: int | None = None
+    #: The Circolare whose form of the checks applies: "2019" or "2009".
+    edition: str = EDITIONS[0]
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> Site:
@@ -79,7 +89,10 @@ class Site:
         missing = {"ag", "F0", "Tc_star", "soil"} - set(data)
         if missing:
             raise ValueError(f"site: missing key(s) {sorted(missing)}")
-        site = cls(**{k: data[k] for k in data})
+        values = dict(data)
+        if isinstance(values.get("edition"), int) and not isinstance(values["edition"], bool):
+            values["edition"] = str(values["edition"])  # edition = 2019 in TOML reads as a number
+        site = cls(**values)
         for name in ("ag", "F0", "Tc_star", "FC", "q"):
             value = getattr(site, name)
             if (isinstance(value, bool) or not isinstance(value, (int, float))
@@ -93,6 +106,8 @@ class Site:
                 raise ValueError(f"site: a mechanism at Z = {site.Z} m needs the building's height H >= Z (m)")
             if not (isinstance(site.storeys, int) and not isinstance(site.storeys, bool) and site.storeys >= 1):
                 raise ValueError("site: a mechanism at Z > 0 needs 'storeys', a positive integer")
+        if site.edition not in EDITIONS:
+            raise ValueError(f"site: edition must be one of {list(EDITIONS)}, got {site.edition!r}")
         elastic_spectrum(site.ag, site.F0, site.Tc_star, site.soil, site.topography)  # checks soil, topography
         return site
 
@@ -129,84 +144,108 @@ class SeismicResult:
     #: The capacity curve in spectral coordinates: (d* m, a* m/s²) per point of the push curve.
     curve_star: tuple[tuple[float, float], ...]
     push: PushResult = field(repr=False, compare=False)
+    #: The Circolare whose form of the checks was applied ("2019" or "2009").
+    edition: str = EDITIONS[0]
+    #: The moving masses and their virtual displacements (None when there is no curve).
+    masses: MassPoints | None = field(default=None, repr=False, compare=False)
 
     def to_dict(self) -> dict[str, Any]:
         clean = lambda d: {k: (finite(v) if isinstance(v, float) else v) for k, v in d.items()}  # noqa: E731
         nl = clean(self.nonlinear)
-        return {"status": str(self.status), "message": self.message, "control": self.push.control,
+        du, ts = _TOP_FIELDS[self.edition]
+        masses = self.masses
+        carried = [{"load": i, "block": b, "weight": w, "dx": d} for i, b, w, d in masses.carried] if masses else []
+        return {"status": str(self.status), "message": self.message, "edition": self.edition,
+                "control": self.push.control,
                 "alpha0": finite(self.alpha0), "M_star": finite(self.M_star), "e_star": finite(self.e_star),
                 "a0_star": finite(self.a0_star), "demand": finite(self.linear["demand"]),
                 "safety_index": finite(self.linear["safety_index"]), "linear": clean(self.linear),
-                "d0_star": nl.get("d0_star"), "du_star": nl.get("du_star"), "Ts": nl.get("Ts"),
+                "d0_star": nl.get("d0_star"), "du_star": nl.get(du), "Ts": nl.get(ts),
                 "nonlinear": nl, "spectrum": self.spectrum.to_dict(),
                 "site": {k: getattr(self.site, k) for k in sorted(_SITE_KEYS)},
+                "carried_loads": carried, "external_forces": list(masses.forces) if masses else [],
                 "curve_star": [[finite(d), finite(a)] for d, a in self.curve_star],
                 "push": self.push.to_dict()}
 
 
-def seismic(scene: Scene, site: Site | Mapping[str, Any], *, curve: PushResult | None = None,
-            **push_options: Any) -> SeismicResult:
+def seismic(scene: Scene, site: Site | Mapping[str, Any], *, edition: str | None = None,
+            curve: PushResult | None = None, **push_options: Any) -> SeismicResult:
     """The linear and nonlinear kinematic checks of ``scene``'s collapse mechanism at ``site``.
 
-    ``curve``: a capacity curve already computed for ``scene`` (else ``alma.push(scene,
-    **push_options)`` runs).  The live load must be the weights in a horizontal direction (the
-    code's seismic action on masses proportional to the weights).
+    Parameters
+    ----------
+    scene
+        The structure (mm, kN): gravity along −y, the live load the free blocks' weights along ±x
+        (the code's action on the masses, α P_k), point loads either carried masses (their live
+        part their mass's weight along the same direction) or external forces F_k (no live part):
+        :mod:`alma.seismic.masses`.
+    site
+        The site's parameters (SPEC §3 site file keys).
+    edition
+        ``"2019"`` or ``"2009"``: the Circolare whose form of the checks applies (module
+        docstring); None takes the site's ``edition`` (default "2019").
+    curve
+        A capacity curve already computed for ``scene`` (else ``alma.push(scene,
+        **push_options)`` runs).
+
+    Returns
+    -------
+    SeismicResult
+        Both checks' terms under the edition's names; ``edition`` says which applied.
     """
     site = site if isinstance(site, Site) else Site.from_dict(site)
+    edition = site.edition if edition is None else edition
+    if edition not in EDITIONS:
+        raise ValueError(f"edition must be one of {list(EDITIONS)}, got {edition!r}")
+    if edition != site.edition:
+        site = dataclasses.replace(site, edition=edition)
+    if edition == "2019" and site.Z > 0:
+        raise ValueError("edition 2019: a mechanism at Z > 0 needs the floor spectrum of the Circolare 2019 "
+                         "(Eqs. C7.2.5-C7.2.10), which alma does not implement; use edition 2009 for Z > 0")
     if not scene.validated:
         scene.validate()
-    if not (scene.live_self_weight and not scene.loads and abs(scene.live_load_direction[1]) < 1e-12
-            and abs(scene.gravity[0]) < 1e-12):
-        raise ValueError("the kinematic check needs gravity along -y and the live load the weights along ±x "
-                         "(no extra point loads): the code's action is proportional to the masses")
+    if not (scene.live_self_weight and abs(scene.live_load_direction[1]) < 1e-12 and abs(scene.gravity[0]) < 1e-12):
+        raise ValueError("the kinematic check needs gravity along -y and the live load the weights along ±x: "
+                         "the code's action is proportional to the masses")
+    check_loads(scene)
     spec = elastic_spectrum(site.ag, site.F0, site.Tc_star, site.soil, site.topography)
     pushed = curve if curve is not None else push(scene, **push_options)
     if not pushed.curve:
         nan = math.nan
+        demand = _linear_demand(site, spec) if edition == "2009" else spec.ag
         return SeismicResult(pushed.status, pushed.message, site, spec, nan, nan, nan, nan,
-                             {"demand": _linear_demand(site, spec), "safety_index": nan, "verified": None},
-                             {}, (), pushed)
-    weights, dx, k = _virtual(scene, pushed)
+                             {"demand": demand, "safety_index": nan, "verified": None},
+                             {}, (), pushed, edition)
+    masses = mass_points(scene, pushed)
+    weights, dx, k = masses.weight, masses.dx, masses.control
     alpha0 = pushed.curve[0].alpha
     sum_p = float(weights.sum())
     m_star = float((weights @ dx) ** 2 / (G * (weights @ dx ** 2))) * 1e3  # kN → N, so kg
     e_star = G * m_star / (sum_p * 1e3)
     a0_star = alpha0 * G / (e_star * site.FC)
-    demand = _linear_demand(site, spec)
-    linear: dict[str, float | bool | None] = {"demand": demand, "safety_index": a0_star / demand,
-                                              "verified": bool(a0_star >= demand)}
     factor = float((weights @ dx ** 2) / (dx[k] * (weights @ dx)))  # d* = d_k · factor
     d_star = np.array([p.d for p in pushed.curve]) * factor * 1e-3
     a_star = np.array([p.alpha for p in pushed.curve]) * G / (e_star * site.FC)
     curve_star = tuple(zip(d_star.tolist(), a_star.tolist(), strict=True))
-    nonlinear = _nonlinear(site, spec, pushed, d_star, a_star, factor)
+    if edition == "2009":
+        demand = _linear_demand(site, spec)
+        linear: dict[str, float | bool | None] = {"demand": demand, "safety_index": a0_star / demand,
+                                                  "verified": bool(a0_star >= demand)}
+        nonlinear = _nonlinear(site, spec, pushed, d_star, a_star, factor)
+    else:
+        linear = linear_2019(site.q, spec, a0_star)
+        spec8 = elastic_spectrum(site.ag, site.F0, site.Tc_star, site.soil, site.topography, damping=XI_SLV)
+        nonlinear = nonlinear_2019(pushed, d_star, a_star, factor, spec8, cast(float, linear["a_g_SLD"]))
     status, message = pushed.status, pushed.message
     safety = cast(float, nonlinear.get("safety_index", math.nan))  # a number when present
     if not math.isfinite(safety):
         message = f"{message}; the nonlinear check needs d0 (the curve must reach α = 0)"
     return SeismicResult(status, message, site, spec, alpha0, m_star, e_star, a0_star, linear, nonlinear,
-                         curve_star, pushed)
-
-
-def _virtual(scene: Scene, pushed: PushResult) -> tuple[np.ndarray, np.ndarray, int]:
-    """Weights P_i (kN) and horizontal virtual displacements δx,i (along the curve's sense) of the
-    moving blocks of the collapse mechanism, and the control block's row."""
-    areas, _ = block_areas_and_centroids(scene)
-    index = {b.id: i for i, b in enumerate(scene.blocks)}
-    ids = [b.id for b in pushed.first.blocks]
-    u = np.array([b.u for b in pushed.first.blocks], dtype=float).reshape(-1, 3)
-    rows = np.array([index[i] for i in ids])
-    own = np.array([scene.blocks[i].weight if scene.blocks[i].weight is not None else np.nan for i in rows])
-    weights = np.where(np.isnan(own), np.abs(areas[rows]) * scene.thickness * scene.unit_weight * _MM3_TO_M3, own)
-    moving = set().union(*(m.blocks for m in pushed.first.macro_blocks)) if pushed.first.macro_blocks else set(ids)
-    keep = np.array([i in moving for i in ids])
-    dx = u[:, 0] * pushed.sense
-    k = int(np.flatnonzero(np.array(ids)[keep] == pushed.control)[0])
-    return weights[keep], dx[keep], k
+                         curve_star, pushed, edition, masses)
 
 
 def _linear_demand(site: Site, spec: Spectrum) -> float:
-    """a_g S / q, and at Z > 0 the larger of it and S_e(T₁) ψ(Z) γ / q (m/s²)."""
+    """a_g S / q, and at Z > 0 the larger of it and S_e(T₁) ψ(Z) γ / q (m/s², Circolare 2009)."""
     ground = spec.ag * spec.S / site.q
     if site.Z <= 0:
         return ground
@@ -223,19 +262,11 @@ def _building(site: Site) -> tuple[float, float, float]:
 
 def _nonlinear(site: Site, spec: Spectrum, pushed: PushResult, d_star: np.ndarray, a_star: np.ndarray,
                factor: float) -> dict[str, float | bool | None]:
-    """d₀*, d_u*, d_s*, a_s*, T_s and the displacement check (module docstring)."""
-    d0, lost = pushed.d0, math.nan
-    if not math.isfinite(d0) and pushed.end.get("reason") == "no_equilibrium" and len(pushed.curve) >= 2:
-        # the curve stops at a loss of equilibrium with α > 0: d₀ is extrapolated on the secant of
-        # its last two points, and the stop itself bounds d_u* (the Circolare's "displacement
-        # incompatible with the stability of the elements")
-        (d1, a1), (d2, a2) = [(p.d, p.alpha) for p in pushed.curve[-2:]]
-        d0 = d2 + (d2 - d1) * a2 / (a1 - a2) if a1 > a2 > 0 else math.nan
-        lost = pushed.end["bracket"][0] * factor * 1e-3
-    if not math.isfinite(d0):
+    """d₀*, d_u*, d_s*, a_s*, T_s and the displacement check of the Circolare 2009 (module docstring)."""
+    d0_star, lost = d0_star_of(pushed, factor)
+    if not math.isfinite(d0_star):
         return {"d0_star": math.nan, "du_star": math.nan, "ds_star": math.nan, "as_star": math.nan,
                 "Ts": math.nan, "demand": math.nan, "safety_index": math.nan, "verified": None}
-    d0_star = d0 * factor * 1e-3
     du_star = min(ULTIMATE_FRACTION * d0_star, lost) if math.isfinite(lost) else ULTIMATE_FRACTION * d0_star
     ds_star = SECANT_FRACTION * du_star
     as_star = float(np.interp(ds_star, d_star, a_star))
