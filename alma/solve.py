@@ -13,6 +13,7 @@ from alma.engine.pattern_cache import PatternCache
 from alma.geometry.canonical import CanonicalFrame, canonical_scene
 from alma.geometry.contacts import Joints, find_joints
 from alma.geometry.scene import Scene, SceneError
+from alma.geometry.validation import validated
 from alma.mechanics.canonical import snapped
 from alma.mechanics.model import Model, build_model
 from alma.nonassociative.search import NonAssociativeSolution, carried_back, solve_nonassociative
@@ -140,10 +141,12 @@ def _build(scene: Scene | Model, joints: Joints | None) -> tuple[Model, dict[str
         return scene, {"joints_s": 0.0, "build_s": 0.0}
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be an alma.Scene or alma.Model, got {type(scene).__name__}")
-    if not scene.validated:
-        scene.validate()  # a hand-built scene meets the same rules as a loaded one
     t0 = time.perf_counter()
-    joints = find_joints(scene) if joints is None else joints
+    if not scene.validated:  # a hand-built scene meets the same rules as a loaded one
+        scene, found = validated(scene)
+        joints = found if joints is None else joints  # the check's joints, not found again
+    elif joints is None:
+        joints = find_joints(scene)
     t1 = time.perf_counter()
     built = build_model(scene, joints)
     return built, {"joints_s": t1 - t0, "build_s": time.perf_counter() - t1}

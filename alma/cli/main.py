@@ -219,7 +219,7 @@ def _cmd_panel(args: argparse.Namespace) -> int:
             height, strength = parse_chain(text)
             scene = with_chain(scene, height, strength, anchored=args.anchored, name=f"chain{k + 1}")
         if args.chain:
-            scene.validate()
+            scene = scene.validate()
         scene = with_compressive_strength(scene, args.compressive_strength)  # exported with it
     except SceneError as exc:
         return _invalid(exc, args)

@@ -88,8 +88,7 @@ def canonical_scene(scene: Scene, settings: CanonicalSettings = CanonicalSetting
                               for o in scene.joint_overrides),
         loads=tuple(_load(load, frame) for load in scene.loads),
         ties=tuple(_tie(tie, frame) for tie in scene.ties), validated=False)
-    canonical.validate()
-    return canonical, frame
+    return canonical.validate(), frame
 
 
 def _unit(vector: np.ndarray) -> tuple[float, float]:

@@ -99,9 +99,7 @@ def displaced(scene: Scene, pose: Pose) -> Scene:
     blocks = tuple(dataclasses.replace(b, vertices=_apply(b.vertices, pose.angle[i], origin[i],
                                                           origin[i] + pose.shift[i]))
                    for i, b in enumerate(scene.blocks))
-    moved = dataclasses.replace(scene, blocks=blocks)
-    object.__setattr__(moved, "validated", True)
-    return moved
+    return dataclasses.replace(scene, blocks=blocks, validated=True)
 
 
 def bodies_of(scene: Scene, result: Result) -> Bodies:

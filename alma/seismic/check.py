@@ -154,7 +154,7 @@ def seismic(scene: Scene, site: Site | Mapping[str, Any], *, curve: PushResult |
     """
     site = site if isinstance(site, Site) else Site.from_dict(site)
     if not scene.validated:
-        scene.validate()
+        scene = scene.validate()
     if not (scene.live_self_weight and not scene.loads and abs(scene.live_load_direction[1]) < 1e-12
             and abs(scene.gravity[0]) < 1e-12):
         raise ValueError("the kinematic check needs gravity along -y and the live load the weights along ±x "

@@ -15,6 +15,7 @@ from alma.engine.pattern_cache import PatternCache
 from alma.geometry.chains import with_chain
 from alma.geometry.contacts import find_joints
 from alma.geometry.panels import BLOCK_LENGTHS, PANEL_HEIGHTS
+from alma.geometry.validation import validated
 from alma.report.plot import MechanismPicture
 from alma.settings import Settings
 from alma.study.store import PICTURE
@@ -178,9 +179,8 @@ def _chained_model(task: _Task, scene: Any, joints: Any, strength: float) -> Any
     A chain between the end blocks leaves the blocks and joints as they are; an anchored one
     adds two fixed anchors that touch nothing, so the joints are found again.
     """
-    chained = with_chain(scene, task.chain_y, strength, anchored=task.chain_anchored, name="chain")
-    chained.validate()
-    return alma.build_model(chained, find_joints(chained) if task.chain_anchored else joints)
+    chained, found = validated(with_chain(scene, task.chain_y, strength, anchored=task.chain_anchored, name="chain"))
+    return alma.build_model(chained, found if task.chain_anchored else joints)
 
 
 def _solve_models(built: Any, models: tuple[str, ...], settings: Settings,
