@@ -137,6 +137,8 @@ def _crisp(built: Model, lp, settings: Settings, timings: dict[str, float]):
 
 
 def _build(scene: Scene | Model, joints: Joints | None) -> tuple[Model, dict[str, float]]:
+    """The model of ``scene`` and the seconds of its joints and build; a scene not validated yet
+    is validated here, and its ``joints_s`` is the validation's, whose joints the model uses."""
     if isinstance(scene, Model):
         return scene, {"joints_s": 0.0, "build_s": 0.0}
     if not isinstance(scene, Scene):
