@@ -7,7 +7,12 @@ dodge a cycle); imports under ``if TYPE_CHECKING:`` are annotations only and do 
 from __future__ import annotations
 
 import ast
+import dataclasses
+import pickle
 from pathlib import Path
+
+import alma
+from alma.engine import PatternCache
 
 ALMA = Path(__file__).resolve().parents[1] / "alma"
 
@@ -163,3 +168,21 @@ def test_the_checks_see_what_they_look_for(tmp_path):
     assert local == [(9, "alma.mechanics.model"), (14, "alma.solve"), (15, "alma.tilt")]
     assert _cycle({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == ["a", "b", "c", "a"]
     assert _cycle({"a": {"b"}, "b": set(), "c": {"a", "b"}}) == []
+
+
+def test_a_solve_writes_nothing_into_its_model():
+    """No write into a caller's object: after both models (the LP, the friction search, its
+    canonical drawing, the f = 0 bound) every field of the model and its H are as they were."""
+    model = alma.build_model(alma.paper_panel("stack", "2:1", "4:1", 0.6))
+
+    def state() -> bytes:
+        return pickle.dumps([*(getattr(model, f.name) for f in dataclasses.fields(model)), model.equilibrium,
+                             model.equilibrium.indices, model.contact_points])
+
+    before = state()
+    patterns = PatternCache()
+    first = alma.solve(model, model="both", patterns=patterns)
+    assert state() == before
+    again = alma.solve(model, model="both", patterns=patterns)
+    assert first.to_dict()["ratio"] == again.to_dict()["ratio"]
+    assert first.nonassociative.alpha == again.nonassociative.alpha

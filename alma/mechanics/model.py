@@ -27,6 +27,7 @@ import scipy.sparse as sp
 
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
 from alma.geometry.scene import Scene, SceneError
+from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.forces import Frame, bounded_columns, crushing_capacity, joint_values, point_load_vectors
 
 #: kN per (mm³ · kN/m³)
@@ -93,6 +94,12 @@ class Model:
         H = (self.normal_part + self.tangent_part @ sp.diags(scale)).tocsc()
         H.sort_indices()  # a fresh matrix of this model's own: sorted before anyone reads it
         return H
+
+    @functools.cached_property
+    def contact_points(self) -> ContactPoints:
+        """The contact-point form of this model (normal and tangential columns per point, Eq. 2),
+        built once per model: this model's own lazy attribute, not a cache a solver writes in."""
+        return ContactPoints.build(self)
 
     def with_friction(self, friction: float) -> Model:
         """The same geometry and joints with a uniform friction coefficient."""
