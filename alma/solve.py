@@ -55,8 +55,10 @@ def solve(scene: Scene | Model, model: str = "associative", *, settings: Setting
     Parameters
     ----------
     scene
-        A :class:`~alma.geometry.scene.Scene` (validated here if it was built by hand) or a
-        prebuilt :class:`~alma.mechanics.model.Model` (skips joint detection and assembly).
+        A :class:`~alma.geometry.scene.Scene` (validated here, at every call, if it was built by
+        hand: ``scene = scene.validate()`` once to solve it many times; the scene passed is never
+        changed) or a prebuilt :class:`~alma.mechanics.model.Model` (skips joint detection and
+        assembly).
     model
         ``"associative"``: the dilatant LP of Eq. 10, certified from both sides;
         ``"nonassociative"``: the lowest verified collapse state of Eq. 9 found by the search
