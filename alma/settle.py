@@ -32,6 +32,7 @@ import scipy.sparse as sp
 from alma.associative.certificate import _repair_field
 from alma.backends.clarabel_backend import solve_conic_lp
 from alma.geometry.scene import JointOverride, Scene, SceneError
+from alma.geometry.validation import validated
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.forces import joint_values
 from alma.mechanics.model import Model, build_model
@@ -78,14 +79,15 @@ class SettlementResult:
 def settle(scene: Scene, settings: AssociativeSettings | None = None) -> SettlementResult:
     """The settlement mechanism of ``scene`` and its certified dead-load work (module docstring)."""
     s = settings or AssociativeSettings()
+    joints = None
     if not scene.validated:
-        scene.validate()
+        scene, joints = validated(scene)  # the check's joints serve the model
     # An explicit zero settlement is answered (nothing moves, work 0); none at all is a mistake.
     if not any(b.settlement is not None for b in scene.blocks):
         raise SettleError("no support of the scene has a 'settlement' (a fixed block's prescribed motion, "
                           "SPEC §2): there is nothing to settle")
     t0 = time.perf_counter()
-    model = build_model(scene)
+    model = build_model(scene, joints)
     if model.crushes:
         raise SceneError("compressive_strength: the settlement analysis takes infinitely strong blocks only; "
                          "remove compressive_strength from the scene")
@@ -144,9 +146,7 @@ def after_settlement(scene: Scene, result: SettlementResult | None = None) -> Sc
     kept = tuple(o for o in scene.joint_overrides if tuple(sorted(o.blocks)) not in opened)
     lost = tuple(JointOverride(blocks=pair, friction=_friction_of(scene, pair), cohesion=0.0)
                  for pair in sorted(opened))
-    out = replace(scene, joint_overrides=kept + lost, validated=False)
-    out.validate()
-    return out
+    return replace(scene, joint_overrides=kept + lost, validated=False).validate()
 
 
 def _friction_of(scene: Scene, pair: tuple[str, str]) -> float | None:

@@ -9,9 +9,11 @@ from alma.associative.crisp import crisp_mechanism
 from alma.associative.lp import solve_lp
 from alma.associative.radenkovic import radenkovic_lower_bound
 from alma.certify.milp import certify as certify_milp
+from alma.engine.pattern_cache import PatternCache
 from alma.geometry.canonical import CanonicalFrame, canonical_scene
 from alma.geometry.contacts import Joints, find_joints
 from alma.geometry.scene import Scene, SceneError
+from alma.geometry.validation import validated
 from alma.mechanics.canonical import snapped
 from alma.mechanics.model import Model, build_model
 from alma.nonassociative.search import NonAssociativeSolution, carried_back, solve_nonassociative
@@ -27,31 +29,36 @@ MODELS = ("associative", "nonassociative", "both")
 @overload
 def solve(scene: Scene | Model, model: Literal["associative"] = ..., *, settings: Settings | None = ...,
           tolerance: float | None = ..., joints: Joints | None = ..., effort: str | None = ...,
-          certify: bool = ..., time_limit: float | None = ...) -> AssociativeResult: ...
+          certify: bool = ..., time_limit: float | None = ..., patterns: PatternCache | None = ...
+          ) -> AssociativeResult: ...
 @overload
 def solve(scene: Scene | Model, model: Literal["nonassociative"], *, settings: Settings | None = ...,
           tolerance: float | None = ..., joints: Joints | None = ..., effort: str | None = ...,
-          certify: bool = ..., time_limit: float | None = ...) -> NonAssociativeResult: ...
+          certify: bool = ..., time_limit: float | None = ..., patterns: PatternCache | None = ...
+          ) -> NonAssociativeResult: ...
 @overload
 def solve(scene: Scene | Model, model: Literal["both"], *, settings: Settings | None = ...,
           tolerance: float | None = ..., joints: Joints | None = ..., effort: str | None = ...,
-          certify: bool = ..., time_limit: float | None = ...) -> Comparison: ...
+          certify: bool = ..., time_limit: float | None = ..., patterns: PatternCache | None = ...
+          ) -> Comparison: ...
 @overload
 def solve(scene: Scene | Model, model: str = ..., *, settings: Settings | None = ...,
           tolerance: float | None = ..., joints: Joints | None = ..., effort: str | None = ...,
-          certify: bool = ..., time_limit: float | None = ...
+          certify: bool = ..., time_limit: float | None = ..., patterns: PatternCache | None = ...
           ) -> AssociativeResult | NonAssociativeResult | Comparison: ...
 def solve(scene: Scene | Model, model: str = "associative", *, settings: Settings | None = None,
           tolerance: float | None = None, joints: Joints | None = None, effort: str | None = None,
-          certify: bool = False, time_limit: float | None = None
+          certify: bool = False, time_limit: float | None = None, patterns: PatternCache | None = None
           ) -> AssociativeResult | NonAssociativeResult | Comparison:
     """Collapse multiplier and mechanism of a scene.
 
     Parameters
     ----------
     scene
-        A :class:`~alma.geometry.scene.Scene` (validated here if it was built by hand) or a
-        prebuilt :class:`~alma.mechanics.model.Model` (skips joint detection and assembly).
+        A :class:`~alma.geometry.scene.Scene` (validated here, at every call, if it was built by
+        hand: ``scene = scene.validate()`` once to solve it many times; the scene passed is never
+        changed) or a prebuilt :class:`~alma.mechanics.model.Model` (skips joint detection and
+        assembly).
     model
         ``"associative"``: the dilatant LP of Eq. 10, certified from both sides;
         ``"nonassociative"``: the lowest verified collapse state of Eq. 9 found by the search
@@ -70,6 +77,11 @@ def solve(scene: Scene | Model, model: str = "associative", *, settings: Setting
     time_limit
         A user's wall-clock cap in seconds; when it cuts the work the status is
         ``limit_reached``.  Without it the answer depends on the input and settings only.
+    patterns
+        A :class:`~alma.engine.PatternCache` the caller keeps across calls: the interior point
+        reuses the normal-equations pattern of a structure it solved before (the frictions of
+        one geometry in a study).  It changes the cost, never the answer; without it each LP
+        builds its own.
     """
     settings = _settings(settings, tolerance, effort, time_limit)
     if model not in MODELS:
@@ -82,14 +94,14 @@ def solve(scene: Scene | Model, model: str = "associative", *, settings: Setting
         raise SceneError("compressive_strength: the non-associative model (Eq. 9) takes no finite compressive "
                          "strength (its verifier and certificate check the Coulomb cones only); solve with "
                          "model='associative', or remove compressive_strength")
-    lp = solve_lp(built, settings.associative, time_limit=settings.time_limit)
+    lp = solve_lp(built, settings.associative, time_limit=settings.time_limit, patterns=patterns)
     timings.update(solve_s=lp.solve_time, certify_s=lp.certify_time)
     warned = built.joints.warnings
     assoc = dataclasses.replace(associative_result(built, _crisp(built, lp, settings, timings), timings),
                                 warnings=warned)
     if model == "associative":
         return assoc
-    nl = dataclasses.replace(_nonassociative(built, lp, assoc, settings, certify), warnings=warned)
+    nl = dataclasses.replace(_nonassociative(built, lp, assoc, settings, certify, patterns), warnings=warned)
     return comparison(assoc, nl) if model == "both" else nl
 
 
@@ -127,20 +139,24 @@ def _crisp(built: Model, lp, settings: Settings, timings: dict[str, float]):
 
 
 def _build(scene: Scene | Model, joints: Joints | None) -> tuple[Model, dict[str, float]]:
+    """The model of ``scene`` and the seconds of its joints and build; a scene not validated yet
+    is validated here, and its ``joints_s`` is the validation's, whose joints the model uses."""
     if isinstance(scene, Model):
         return scene, {"joints_s": 0.0, "build_s": 0.0}
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be an alma.Scene or alma.Model, got {type(scene).__name__}")
-    if not scene.validated:
-        scene.validate()  # a hand-built scene meets the same rules as a loaded one
     t0 = time.perf_counter()
-    joints = find_joints(scene) if joints is None else joints
+    if not scene.validated:  # a hand-built scene meets the same rules as a loaded one
+        scene, found = validated(scene)
+        joints = found if joints is None else joints  # the check's joints, not found again
+    elif joints is None:
+        joints = find_joints(scene)
     t1 = time.perf_counter()
     built = build_model(scene, joints)
     return built, {"joints_s": t1 - t0, "build_s": time.perf_counter() - t1}
 
 
-def _search(built: Model, settings: Settings) -> NonAssociativeSolution:
+def _search(built: Model, settings: Settings, patterns: PatternCache | None) -> NonAssociativeSolution:
     """Eq. 9 searched on the canonical drawing (one structure, one answer), answered on ``built``.
 
     The canonical model gets its own associative solution (Eq. 10) to start from; the lowest
@@ -150,21 +166,21 @@ def _search(built: Model, settings: Settings) -> NonAssociativeSolution:
     """
     scene, frame = canonical_scene(built.scene)
     unrounded = build_model(scene)
-    answer, solution = _search_at(unrounded, frame, built, settings, settings.search.canonical_bits)
+    answer, solution = _search_at(unrounded, frame, built, settings, settings.search.canonical_bits, patterns)
     fallback = settings.search.fallback_bits
     # Again at the fallback's precision only when canonical states verified there and none here.
     if (fallback is not None and answer.status == Status.NOT_CONVERGED and solution.best is not None
             and not solution.stopped_by_limit):
-        answer, _ = _search_at(unrounded, frame, built, settings, fallback)
+        answer, _ = _search_at(unrounded, frame, built, settings, fallback, patterns)
     return answer
 
 
-def _search_at(unrounded: Model, frame: CanonicalFrame, built: Model, settings: Settings,
-               bits: int) -> tuple[NonAssociativeSolution, NonAssociativeSolution]:
+def _search_at(unrounded: Model, frame: CanonicalFrame, built: Model, settings: Settings, bits: int,
+               patterns: PatternCache | None) -> tuple[NonAssociativeSolution, NonAssociativeSolution]:
     """The search on the canonical model rounded to ``bits`` bits: (the answer on ``built``, the
     canonical search's own solution)."""
     canonical = snapped(unrounded, bits)
-    lp = solve_lp(canonical, settings.associative, time_limit=settings.time_limit)
+    lp = solve_lp(canonical, settings.associative, time_limit=settings.time_limit, patterns=patterns)
     solution = solve_nonassociative(canonical, lp.mechanism if lp.solved else None,
                                     lp.multipliers if lp.solved else None, effort=settings.search.effort,
                                     settings=settings.search, time_limit=settings.time_limit,
@@ -173,15 +189,15 @@ def _search_at(unrounded: Model, frame: CanonicalFrame, built: Model, settings: 
 
 
 def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settings,
-                    certify: bool) -> NonAssociativeResult:
+                    certify: bool, patterns: PatternCache | None) -> NonAssociativeResult:
     """Eq. 9: the search from the LP's mechanism and field, and the MILP proof if asked."""
     t0 = started = time.perf_counter()
     timings = dict(assoc.timings)
-    solution = _search(built, settings)
+    solution = _search(built, settings, patterns)
     timings["nonassociative_s"] = time.perf_counter() - t0
     timings.update({k: float(v) for k, v in solution.timings.items() if k.endswith("_s")})
     t0 = time.perf_counter()
-    radenkovic = radenkovic_lower_bound(built, settings.associative)
+    radenkovic = radenkovic_lower_bound(built, settings.associative, patterns)
     timings["radenkovic_s"] = time.perf_counter() - t0
     certificate = None
     if certify:

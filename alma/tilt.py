@@ -70,7 +70,7 @@ def tilt(scene: Scene, *, settings: TiltSettings | None = None, associative: Ass
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be an alma.Scene, got {type(scene).__name__}")
     if not scene.validated:
-        scene.validate()
+        scene = scene.validate()
     if method not in ("auto", "exact", "bisection"):
         raise ValueError(f"method must be 'auto', 'exact' or 'bisection', got {method!r}")
     homogeneous = _homogeneous(scene)

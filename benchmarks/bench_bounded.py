@@ -36,7 +36,7 @@ def cases() -> dict[str, alma.Scene]:
     chained = panel
     for height in (690.0, 1410.0, 2130.0, 2850.0):
         chained = with_chain(chained, height, 5.0)
-    chained.validate()
+    chained = chained.validate()
     return {"plain": panel, "cohesion 5 kPa": _cohesive(panel, 5.0), "4 chains": chained,
             "cohesion + chains": _cohesive(chained, 5.0)}
 

@@ -3,8 +3,8 @@
 For each running-bond wall of ``bench_scaling.py`` (``--walls``) the three frictions of the paper
 (0.27, 0.6, 1.0) are solved one after another through the interior point, once with every model
 building its own pattern ("fresh") and once sharing the pattern of the first friction through
-``Model.derived`` ("shared", what ``Model.with_friction`` does), alternated ``--repeat`` times in
-one process.  Prints the pattern and total seconds of each pass and checks that both give the
+one :class:`alma.engine.PatternCache` ("shared", what a study task does), alternated ``--repeat``
+times in one process.  Prints the pattern and total seconds of each pass and checks that both give the
 same iterations and α.
 
     python -m studies.bench_pattern_reuse [--walls 1000,5000,20000] [--repeat 2]
@@ -17,6 +17,7 @@ from pathlib import Path
 
 import alma
 from alma.associative.lp import solve_lp
+from alma.engine import PatternCache
 from benchmarks.bench_scaling import wall_shape
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -26,15 +27,13 @@ FRICTIONS = (0.27, 0.6, 1.0)
 
 def one_pass(geometry: alma.Model, shared: bool) -> tuple[float, float, list[tuple[int, float]]]:
     """(pattern seconds, total seconds, (iterations, α) per friction) of the three solves."""
-    geometry.derived.clear()
+    patterns = PatternCache()
     total = pattern = 0.0
     answers = []
     for friction in FRICTIONS:
         model = geometry.with_friction(friction)
-        if not shared:
-            model.derived.clear()
         t0 = time.perf_counter()
-        lp = solve_lp(model, engine="ipm")
+        lp = solve_lp(model, engine="ipm", patterns=patterns if shared else None)
         total += time.perf_counter() - t0
         pattern += lp.engine["pattern_s"]
         answers.append((lp.iterations, lp.alpha))

@@ -3,16 +3,28 @@ Eq. 10, and the hook in ``solve_lp`` (the certificate, not the engine, decides e
 from __future__ import annotations
 
 import ast
+import dataclasses
+import pickle
 import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from hypothesis import given, settings, strategies as st
 
 import alma
 from alma.associative.lp import NORMALISATION, solve_lp  # NORMALISATION: the default's value
-from alma.engine import IPMSettings, available_backends, make_factoriser, normal_pattern, select, solve_eq10
+from alma.engine import (
+    IPMSettings,
+    PatternCache,
+    available_backends,
+    make_factoriser,
+    normal_pattern,
+    select,
+    solve_eq10,
+    structure_key,
+)
 from alma.settings import AssociativeSettings
 
 #: The default thresholds of engine="auto".
@@ -89,20 +101,70 @@ def test_a_pattern_is_not_reused_for_another_structure(wall):
         normal_pattern(wall.equilibrium[:, :-4].tocsc()).with_values(wall.equilibrium)
 
 
-def test_the_frictions_of_a_geometry_share_one_pattern(wall):
-    """solve_lp keeps the pattern on the model; a model at another f reuses it with the same
-    answer as a fresh one, iteration for iteration."""
-    from alma.associative.lp import NORMAL_PATTERN
+def _same(a, b) -> bool:
+    """Two LP solutions equal bit for bit (α, bounds, u, μ, iterations)."""
+    return (a.status == b.status and a.iterations == b.iterations and a.alpha == b.alpha and a.lower == b.lower
+            and a.upper == b.upper and np.array_equal(a.mechanism, b.mechanism)
+            and np.array_equal(a.multipliers, b.multipliers))
 
-    first = solve_lp(wall, engine="ipm")
-    kept = wall.derived[NORMAL_PATTERN]
+
+def test_the_frictions_of_a_geometry_share_one_pattern(wall):
+    """A caller's PatternCache keeps the pattern of the structure solved; a model at another f
+    reuses it, and the answer is the one of a fresh pattern bit for bit."""
+    patterns = PatternCache()
+    first = solve_lp(wall, engine="ipm", patterns=patterns)
+    assert (len(patterns), patterns.hits, patterns.misses) == (1, 0, 1)
     other = wall.with_friction(0.4)
-    assert other.derived is wall.derived
-    again = solve_lp(other, engine="ipm")
-    assert other.derived[NORMAL_PATTERN] is not kept  # the same structure with the new values
+    again = solve_lp(other, engine="ipm", patterns=patterns)
+    assert (len(patterns), patterns.hits, patterns.misses) == (1, 1, 1)
     fresh = solve_lp(alma.build_model(other.scene), engine="ipm")
     assert first.status == again.status == fresh.status == "optimal"
-    assert again.iterations == fresh.iterations and again.alpha == fresh.alpha
+    assert _same(again, fresh)
+
+
+def test_a_pattern_serves_only_its_own_structure(wall):
+    """At f = 0 half of H's entries vanish: another structure, another key, its own pattern."""
+    patterns = PatternCache()
+    solve_lp(wall, engine="ipm", patterns=patterns)
+    zero = wall.with_friction(0.0)
+    assert structure_key(zero.equilibrium, zero.equilibrium.shape[0]) != structure_key(
+        wall.equilibrium, wall.equilibrium.shape[0])
+    cached = solve_lp(zero, engine="ipm", patterns=patterns)
+    assert (len(patterns), patterns.hits) == (2, 0)
+    assert _same(cached, solve_lp(zero, engine="ipm"))
+    # the key is the structure, not the values: the same H at another friction has the same key
+    H1, H2 = wall.equilibrium, wall.with_friction(1.3).equilibrium
+    assert not np.array_equal(H1.data, H2.data)
+    assert structure_key(H1, H1.shape[0]) == structure_key(H2, H2.shape[0])
+    assert structure_key(H1, H1.shape[0]) != structure_key(H1, H1.shape[0] - 3)
+
+
+def test_solve_lp_writes_nothing_into_the_model(wall):
+    """The solver reads its model: every field and H are the same, bit for bit, after a solve
+    (scipy sorts an unsorted matrix in place on first use, even through a transposed view:
+    H is built sorted), so a second solve of the same model gives the first one's answer."""
+    model = wall.with_friction(0.5)
+
+    def state() -> bytes:
+        return pickle.dumps([*(getattr(model, f.name) for f in dataclasses.fields(model)), model.equilibrium,
+                             model.equilibrium.indices])
+
+    before = state()
+    first = solve_lp(model, engine="ipm", patterns=PatternCache())
+    solve_lp(model, engine="clarabel")
+    assert state() == before
+    assert not hasattr(model, "derived")
+    assert _same(solve_lp(model, engine="ipm"), first)
+
+
+@settings(max_examples=8, deadline=None)
+@given(friction=st.floats(0.05, 2.0))
+def test_a_warm_cache_never_changes_the_answer(wall, friction):
+    """Property: whatever was solved before, the answer at f is the fresh one, bit for bit."""
+    patterns = PatternCache()
+    solve_lp(wall, engine="ipm", patterns=patterns)
+    model = wall.with_friction(friction)
+    assert _same(solve_lp(model, engine="ipm", patterns=patterns), solve_lp(model, engine="ipm"))
 
 
 @pytest.mark.parametrize("backend", available_backends())

@@ -72,7 +72,7 @@ def _repair_mechanism(H: sp.csc_matrix, live: np.ndarray, u: np.ndarray, norm: f
                       residual_tolerance: float, feral_min_rows: int = _FERAL_MIN_ROWS
                       ) -> tuple[np.ndarray, float]:
     """The kinematic repair (see :func:`certify_pair`); returns u and its relative violation."""
-    HT = H.T.tocsr()
+    HT = H.T.tocsr(copy=True)  # a view would share H's arrays, which abs() may sort in place
     abs_HT = abs(HT)
     violated = np.zeros(HT.shape[0], dtype=bool)
 

@@ -30,6 +30,7 @@ from alma.associative.crushing import crushing_work, rigid_columns, solve_static
 from alma.backends.clarabel_backend import solve_conic_lp
 from alma.backends.highs_backend import solve_conic_form
 from alma.backends.termination import SolverResult, Termination, termination
+from alma.engine.pattern_cache import PatternCache, structure_key
 from alma.engine.select import choose, solve_with_engine
 from alma.engine.types import IPMSettings
 from alma.mechanics.model import Model
@@ -42,9 +43,6 @@ NORMALISATION = AssociativeSettings().normalisation
 #: the interior point's scale (1000) and its absolute tolerances (1e-10) leave a flow-rule
 #: violation above the certificate's on some vertices at f_Lᵀu = 1, none at 10 per block.
 SIMPLEX_NORMALISATIONS = (1e-3, 10.0)
-#: Name of the interior point's normal-equations pattern in ``Model.derived``: built once per
-#: geometry, reused at the other frictions of a study (issue 16, item 1).
-NORMAL_PATTERN = "alma.engine.normal_pattern"
 
 
 @dataclass(frozen=True)
@@ -78,12 +76,14 @@ class LPSolution:
 def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, tolerance: float | None = None,
              max_iter: int | None = None, equilibrium: sp.csc_matrix | None = None,
              time_limit: float | None = None, engine: str | None = None,
-             ipm_settings: IPMSettings | None = None) -> LPSolution:
+             ipm_settings: IPMSettings | None = None, patterns: PatternCache | None = None) -> LPSolution:
     """Solve Eq. 10 (Clarabel, or alma's interior point) and certify the value from both sides.
 
     ``tolerance``, ``max_iter`` and ``engine`` override the fields of ``settings``, and
     ``ipm_settings`` its interior point's (``settings.ipm``: e.g. its factorisation backend); ``time_limit`` (s)
     is a user's cap (its cut gives ``limit_reached``).  ``equilibrium`` replaces the model's H.
+    ``patterns``: the caller's cache of the interior point's normal-equations patterns (the
+    frictions of one geometry share one; the answer is the same with or without it).
     """
     s = settings or AssociativeSettings()
     if engine is not None:
@@ -98,7 +98,7 @@ def solve_lp(model: Model, settings: AssociativeSettings | None = None, *, toler
         return _trivial(model, Status.NO_EQUILIBRIUM, "no joint carries the free blocks")
     if model.crushes:
         return _solve_crushing(model, H, s, iters, time_limit)
-    sol, label, note, record = _solve_pair(model, H, s, tol, iters, time_limit)
+    sol, label, note, record = _solve_pair(model, H, s, tol, iters, time_limit, patterns)
     if sol.status in (Status.NO_COLLAPSE, Status.NO_EQUILIBRIUM):
         message = ("no kinematically admissible mechanism with positive live-load work"
                    if sol.status == Status.NO_COLLAPSE else
@@ -239,22 +239,25 @@ def _crushing_mechanism(model: Model, H: sp.csc_matrix, mechanisms: tuple, mu: n
 
 
 def _solve_pair(model: Model, H: sp.csc_matrix, s: AssociativeSettings, tol: float, iters: int,
-                time_limit: float | None
+                time_limit: float | None, patterns: PatternCache | None = None
                 ) -> tuple[SolverResult, str, str, dict[str, float]]:
     """The primal–dual pair of Eq. 10 from the chosen engine: (solution, solver label, note, the
     interior point's record).
 
     alma's interior point (``alma.engine``) takes Eq. 10 with the bounded forces' dissipation
     variables as auxiliary rows (:func:`_engine_form`); when it does not converge Clarabel solves
-    the problem and the note says so.
+    the problem and the note says so.  Its normal-equations pattern comes from ``patterns`` when
+    the same structure was solved before, and goes there (the caller's cache, not the model).
     """
     if choose(s.engine, model.n_free, bool(model.n_bounded), min_blocks=s.auto_min_blocks,
               min_blocks_bounded=s.auto_min_blocks_bounded) == "ipm":
         start = time.perf_counter()
         H_aug, dead, live = _engine_form(model, H)
+        key = structure_key(H_aug, H.shape[0]) if patterns is not None else b""
         ans = solve_with_engine(H_aug, dead, live, s.normalisation * float(model.n_free), s.ipm,
-                                n_primary=H.shape[0], pattern=model.derived.get(NORMAL_PATTERN))
-        model.derived[NORMAL_PATTERN] = ans.result.pattern
+                                n_primary=H.shape[0], pattern=patterns.get(key) if patterns is not None else None)
+        if patterns is not None and ans.result.pattern is not None:
+            patterns.put(key, ans.result.pattern)
         term = termination("engine", ans.status)
         if term is Termination.OPTIMAL:
             return (SolverResult(term, ans.status, ans.x, ans.duals, ans.iterations, time.perf_counter() - start,

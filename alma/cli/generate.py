@@ -49,8 +49,7 @@ def register(sub, add_common: Callable, run: Callable, export: Callable, invalid
 
 def _generated(args: argparse.Namespace, build: Callable, run: Callable, export: Callable, invalid: Callable) -> int:
     try:
-        scene = build(args)
-        scene.validate()
+        scene = build(args).validate()
     except (SceneError, ValueError) as exc:
         return invalid(exc, args)
     if args.export_scene:

@@ -10,11 +10,12 @@ from pathlib import Path
 from typing import NoReturn, cast
 
 from alma.backends import scip_backend
-from alma.cli import push as push_cli
+from alma.cli import generate, push as push_cli, study as study_cli
 from alma.cli.json_output import dumps
 from alma.cli.outputs import OutputPathError, check_outputs
 from alma.cli.scene_options import add_scene_options, positive_float, scene_from_args, with_compressive_strength
 from alma.geometry.chains import parse_chain, with_chain
+from alma.geometry.dxf import write_dxf
 from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, paper_panel
 from alma.geometry.scene import Scene, SceneError
 from alma.report.html import write_html, write_settlement_html, write_tilt_html
@@ -104,17 +105,10 @@ def _build_parser() -> argparse.ArgumentParser:
                         "tilted table in SVG and the critical angle in words")
     p_tilt.set_defaults(func=_cmd_tilt)
 
-    from alma.cli import generate
-
     generate.register(sub, _add_common, _run, export_scene, _invalid)
     push_cli.register(sub, _invalid)
 
-    try:
-        from alma.cli import study as study_cli
-    except ImportError:  # pragma: no cover — the study commands are optional extras
-        study_cli = None  # type: ignore[assignment]  # None: the study commands are not offered
-    if study_cli is not None:
-        study_cli.register(sub)
+    study_cli.register(sub)
     return parser
 
 
@@ -225,7 +219,7 @@ def _cmd_panel(args: argparse.Namespace) -> int:
             height, strength = parse_chain(text)
             scene = with_chain(scene, height, strength, anchored=args.anchored, name=f"chain{k + 1}")
         if args.chain:
-            scene.validate()
+            scene = scene.validate()
         scene = with_compressive_strength(scene, args.compressive_strength)  # exported with it
     except SceneError as exc:
         return _invalid(exc, args)
@@ -303,8 +297,6 @@ def _print_text(scene: Scene, result, picture: str | None) -> None:
 def export_scene(scene: Scene, path: str) -> None:
     """Write ``scene`` as JSON (SPEC §2) or, for a ``.dxf`` path, as a drawing."""
     if path.lower().endswith(".dxf"):
-        from alma.geometry.dxf import write_dxf
-
         write_dxf(scene, path)
     else:
         Path(path).write_text(json.dumps(scene.to_dict(), indent=1))

@@ -120,6 +120,4 @@ def scene_from_args(args: argparse.Namespace) -> Scene:
     tolerance = getattr(args, "contact_tolerance", None)
     if tolerance is not None:
         scene = dataclasses.replace(scene, contact_tolerance=tolerance, validated=False)
-    if not scene.validated:
-        scene.validate()
-    return scene
+    return scene if scene.validated else scene.validate()

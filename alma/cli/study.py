@@ -19,7 +19,7 @@ from typing import Any
 
 from alma.cli.json_output import dumps
 from alma.settings import EFFORTS
-from alma.study.design import PAPER_DESIGN
+from alma.study.design import PAPER_DESIGN, load_design
 
 __all__ = ["anova_handler", "compare_handler", "doe_handler", "paper_handler", "register"]
 
@@ -141,8 +141,6 @@ def _error(message: str) -> None:
 
 def _design_argument(args: argparse.Namespace):
     """(design or None, failed): the ``--design`` file, its error printed if it cannot be read."""
-    from alma.study.doe import load_design
-
     if not getattr(args, "design", None):
         return None, False
     try:

@@ -8,7 +8,8 @@ every status from what it returns.
 from .cholesky import PREFERENCE, FactorisationError, available_backends, make_factoriser
 from .ipm import solve_eq10
 from .normal import NormalPattern, normal_pattern
+from .pattern_cache import PatternCache, structure_key
 from .types import IPMResult, IPMSettings
 
-__all__ = ["PREFERENCE", "FactorisationError", "IPMResult", "IPMSettings", "NormalPattern",
-           "available_backends", "make_factoriser", "normal_pattern", "solve_eq10"]
+__all__ = ["PREFERENCE", "FactorisationError", "IPMResult", "IPMSettings", "NormalPattern", "PatternCache",
+           "available_backends", "make_factoriser", "normal_pattern", "solve_eq10", "structure_key"]

@@ -103,8 +103,7 @@ def canonical_scene(scene: Scene, settings: CanonicalSettings = CanonicalSetting
                               for o in scene.joint_overrides),
         loads=tuple(_load(load, frame, exact) for load in scene.loads),
         ties=tuple(_tie(tie, frame, exact) for tie in scene.ties), validated=False)
-    canonical.validate()
-    return canonical, frame
+    return canonical.validate(), frame
 
 
 def significant(values: np.ndarray, bits: int) -> np.ndarray:

@@ -20,6 +20,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from alma.geometry import panels
 from alma.geometry.loads import PointLoad
 from alma.geometry.panels import BLOCK_HEIGHT, course_lengths
 from alma.geometry.parsing import SceneError
@@ -252,8 +253,6 @@ def wall(bond: str, panel_length: float, panel_height: float, block_length: floa
          overburden_kpa: float = 0.0, bearing: float | None = None, **options) -> Scene:
     """``alma.wall``: the bonded wall of :func:`alma.geometry.panels.wall`, or, with ``openings``
     or an ``overburden_kpa``, the :func:`facade` with them."""
-    from alma.geometry import panels
-
     if not openings and not overburden_kpa:
         return panels.wall(bond, panel_length, panel_height, block_length, block_height, **options)
     return facade(bond, panel_length, panel_height, block_length, block_height, openings=openings,

@@ -6,6 +6,7 @@ A scene holds geometry and material data only; joints are found from it
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from collections.abc import Mapping, Sequence
@@ -15,13 +16,12 @@ from typing import Any
 
 import numpy as np
 
-from alma.geometry.contacts import find_joints
+from alma.geometry import validation
 from alma.geometry.dxf import read_dxf
 from alma.geometry.loads import (
     PointLoad,
     Settlement,
     Tie,
-    check_items,
     load_from_dict,
     load_to_dict,
     settlement_from_dict,
@@ -37,7 +37,6 @@ from alma.geometry.parsing import (
     number as _number,
     optional_number as _optional_number,
 )
-from alma.geometry.polygons import check_polygons, find_overlaps
 
 _SCENE_KEYS = {"name", "thickness", "unit_weight", "friction", "cohesion", "blocks",
                "live_load", "gravity", "joints", "loads", "ties", "contact_tolerance",
@@ -100,7 +99,8 @@ class Scene:
     #: σ_c of every joint in MPa (SPEC §2): N ≤ σ_c l t, |M| ≤ N (l/2 − N/(2 σ_c t)); None:
     #: infinitely strong blocks.
     compressive_strength: float | None = None
-    #: Set by :meth:`validate`: a scene built by hand is validated before it is solved.
+    #: True on the scene :meth:`validate` returns (and on the loaders'): a scene built by hand is
+    #: validated before it is solved.  A change of geometry or material passes ``validated=False``.
     validated: bool = field(default=False, compare=False, repr=False)
 
     # ------------------------------------------------------------------ I/O
@@ -143,9 +143,7 @@ class Scene:
             contact_tolerance=_optional_number(data.get("contact_tolerance"), "scene: contact_tolerance"),
             compressive_strength=_optional_number(data.get("compressive_strength"), "scene: compressive_strength"),
         )
-        if validate:
-            scene.validate()
-        return scene
+        return scene.validate() if validate else scene
 
     def to_dict(self) -> dict[str, Any]:
         """The scene as the JSON object of SPEC §2."""
@@ -187,68 +185,20 @@ class Scene:
 
     def with_friction(self, friction: float) -> Scene:
         """The same geometry with another friction coefficient (no re-validation needed)."""
-        import dataclasses
-
         if not (math.isfinite(friction) and friction >= 0):
             raise SceneError(f"scene: friction must be a finite number >= 0, got {friction}")
         return dataclasses.replace(self, friction=float(friction))
 
     # ----------------------------------------------------------- validation
-    def validate(self) -> None:
-        """Refuse every bad input of SPEC §2 with a message naming block and rule."""
-        if not self.thickness > 0:
-            raise SceneError(f"scene: thickness must be > 0, got {self.thickness}")
-        if not self.unit_weight > 0:
-            raise SceneError(f"scene: unit_weight must be > 0, got {self.unit_weight}")
-        if self.friction < 0:
-            raise SceneError(f"scene: friction must be >= 0, got {self.friction}")
-        if self.cohesion < 0:
-            raise SceneError(f"scene: cohesion must be >= 0, got {self.cohesion}")
-        if self.compressive_strength is not None and not self.compressive_strength > 0:
-            raise SceneError("scene: compressive_strength (MPa) must be > 0 (omit it for infinitely strong "
-                             f"blocks), got {self.compressive_strength}")
-        if self.contact_tolerance is not None and not 0 < self.contact_tolerance <= 0.01:
-            raise SceneError("scene: contact_tolerance (relative to the blocks' size) must lie in (0, 0.01], "
-                             f"got {self.contact_tolerance}")
-        ids = [b.id for b in self.blocks]
-        seen: set[str] = set()
-        for block_id in ids:
-            if block_id in seen:
-                raise SceneError(f"block '{block_id}': duplicate id")
-            seen.add(block_id)
-        for override in self.joint_overrides:
-            for block_id in override.blocks:
-                if block_id not in seen:
-                    raise SceneError(f"joint {list(override.blocks)}: unknown block '{block_id}'")
-        check_polygons(self)
-        if not any(b.fixed for b in self.blocks):
-            raise SceneError("scene: no support — at least one block must be 'fixed': true")
-        if all(b.fixed for b in self.blocks):
-            raise SceneError("scene: no free block — every block is fixed")
-        overlaps, tolerance = find_overlaps(self)
-        if overlaps:
-            i, j, depth = overlaps[0]
-            raise SceneError(
-                f"blocks '{self.blocks[i].id}' and '{self.blocks[j].id}' overlap: blocks may touch "
-                f"but not interpenetrate (a sliver {depth:.3g} mm deep, beyond the contact tolerance of "
-                f"{tolerance:.3g} mm; {len(overlaps)} overlapping pair(s) in all)")
-        joints = find_joints(self)
-        touched = np.zeros(len(self.blocks), dtype=bool)
-        touched[joints.block_a] = True
-        touched[joints.block_b] = True
-        for index, block in enumerate(self.blocks):
-            if not block.fixed and not touched[index]:
-                raise SceneError(f"block '{block.id}': touches nothing — a free block needs at least one joint")
-        if self.joint_overrides:
-            position = {b.id: i for i, b in enumerate(self.blocks)}
-            pairs = set(zip(np.minimum(joints.block_a, joints.block_b).tolist(),
-                            np.maximum(joints.block_a, joints.block_b).tolist(), strict=True))
-            for override in self.joint_overrides:
-                i, j = sorted(position[k] for k in override.blocks)
-                if (i, j) not in pairs:
-                    raise SceneError(f"joint {list(override.blocks)}: these blocks do not touch")
-        check_items(self.blocks, self.loads, self.ties)
-        object.__setattr__(self, "validated", True)
+    def validate(self) -> Scene:
+        """Refuse every bad input of SPEC §2 with a message naming block and rule
+        (:func:`alma.geometry.validation.check_scene`); return the scene marked validated.
+
+        Pure: ``self`` is not changed, so a caller keeps the returned scene (a loaded scene is
+        returned validated).  :func:`~alma.geometry.validation.validated` also gives the joints
+        the check found, for a caller that builds the model next.
+        """
+        return validation.validated(self)[0]
 
     # --------------------------------------------------------------- helpers
     @property
@@ -258,8 +208,6 @@ class Scene:
     def transformed(self, matrix: np.ndarray, offset: Sequence[float] = (0.0, 0.0),
                     rotate_loads: bool = True) -> Scene:
         """Apply x -> matrix @ x + offset to every block (and to gravity/live load directions)."""
-        import dataclasses
-
         matrix = np.asarray(matrix, dtype=float)
         shift = np.asarray(offset, dtype=float)
         blocks = tuple(dataclasses.replace(b, vertices=_ccw(b.vertices @ matrix.T + shift)) for b in self.blocks)

@@ -41,7 +41,7 @@ def snapped(model: Model, bits: int) -> Model:
         model, centroid=_snap(model.centroid, bits), normal_part=_snap_matrix(model.normal_part, bits),
         tangent_part=_snap_matrix(model.tangent_part, bits), dead=_snap(model.dead, bits),
         live=_snap(model.live, bits), bounded=_snap_matrix(model.bounded, bits),
-        capacity=_snap(model.capacity, bits), derived={})
+        capacity=_snap(model.capacity, bits))
 
 
 def mechanism_to_drawing(u: np.ndarray, canonical: Model, frame: CanonicalFrame, model: Model) -> np.ndarray:

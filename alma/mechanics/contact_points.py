@@ -11,11 +11,13 @@ transposes give the relative velocities at the points:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
 
-from alma.mechanics.model import Model
+if TYPE_CHECKING:
+    from alma.mechanics.model import Model
 
 
 @dataclass(frozen=True)
@@ -46,11 +48,13 @@ class ContactPoints:
 
     @classmethod
     def from_model(cls, model: Model) -> ContactPoints:
-        """The contact points of ``model``, built once per model (kept on the model instance)."""
-        cached = model.__dict__.get("_contact_points")
-        if cached is None:
-            # Generator columns are ordered (joint, point, ±); the "+" columns carry n and +t.
-            cached = cls(normal=model.normal_part[:, 0::2].tocsc(), tangent=model.tangent_part[:, 0::2].tocsc(),
-                         friction=np.repeat(model.friction, 2), joint=np.repeat(np.arange(model.n_joints), 2))
-            model.__dict__["_contact_points"] = cached
-        return cached
+        """The contact points of ``model``: its :attr:`~alma.mechanics.model.Model.contact_points`,
+        built once per model by :meth:`build`."""
+        return model.contact_points
+
+    @classmethod
+    def build(cls, model: Model) -> ContactPoints:
+        """The contact points of ``model`` from its generator columns."""
+        # Generator columns are ordered (joint, point, ±); the "+" columns carry n and +t.
+        return cls(normal=model.normal_part[:, 0::2].tocsc(), tangent=model.tangent_part[:, 0::2].tocsc(),
+                   friction=np.repeat(model.friction, 2), joint=np.repeat(np.arange(model.n_joints), 2))

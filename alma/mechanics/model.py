@@ -27,6 +27,7 @@ import scipy.sparse as sp
 
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
 from alma.geometry.scene import Scene, SceneError
+from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.forces import Frame, bounded_columns, crushing_capacity, joint_values, point_load_vectors
 
 #: kN per (mm³ · kN/m³)
@@ -62,9 +63,6 @@ class Model:
     #: (m,) crushing capacity σ_c l t of each joint (dimensionless; ∞: infinitely strong blocks,
     #: :func:`alma.mechanics.forces.crushing_capacity`); empty when no joint has one.
     crushing: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
-    #: What solvers derive from the geometry alone (the interior point's normal-equations
-    #: pattern), kept by name; the models of one geometry (:meth:`with_friction`) share it.
-    derived: dict = dataclasses.field(default_factory=dict, compare=False, repr=False)
 
     @property
     def n_bounded(self) -> int:
@@ -86,9 +84,22 @@ class Model:
 
     @functools.cached_property
     def equilibrium(self) -> sp.csc_matrix:
-        """H of ``H μ + f_0 + α f_L = 0`` (columns: joint k, point p, sign ±), built once per model."""
+        """H of ``H μ + f_0 + α f_L = 0`` (columns: joint k, point p, sign ±), built once per model.
+
+        In canonical form (sorted indices): scipy sorts an unsorted matrix in place on first use
+        (``abs``, sums), even through a transposed view, so an unsorted H would change under a
+        solver's hands and a second solve of the same model would sum in another order.
+        """
         scale = np.repeat(self.friction, 4)
-        return (self.normal_part + self.tangent_part @ sp.diags(scale)).tocsc()
+        H = (self.normal_part + self.tangent_part @ sp.diags(scale)).tocsc()
+        H.sort_indices()  # a fresh matrix of this model's own: sorted before anyone reads it
+        return H
+
+    @functools.cached_property
+    def contact_points(self) -> ContactPoints:
+        """The contact-point form of this model (normal and tangential columns per point, Eq. 2),
+        built once per model: this model's own lazy attribute, not a cache a solver writes in."""
+        return ContactPoints.build(self)
 
     def with_friction(self, friction: float) -> Model:
         """The same geometry and joints with a uniform friction coefficient."""

@@ -34,6 +34,8 @@ import pandas as pd
 import alma
 from alma.paper.printed import TABLE5_DECIMALS, _printed
 from alma.paper.report import write_report
+from alma.report.plot import plot_mechanism
+from alma.stats import figures as F
 from alma.stats.anova import anova, load_results
 from alma.study.compare import run_compare
 from alma.study.doe import run_doe
@@ -138,8 +140,6 @@ def table3_r2(ours_anova: Any, exact_anova: Any, t5_anova: Any, published: dict[
 
 def statistics_figures(ours: pd.DataFrame, ours_anova: Any, t5: pd.DataFrame, t5_anova: Any,
                        folder: Path) -> list[Path]:
-    from alma.stats import figures as F
-
     folder.mkdir(parents=True, exist_ok=True)
     written = []
     for tag, df, res in (("alma", ours, ours_anova), ("table5", t5, t5_anova)):
@@ -154,15 +154,8 @@ def statistics_figures(ours: pd.DataFrame, ours_anova: Any, t5: pd.DataFrame, t5
 
 def mechanism_figures(captions: pd.DataFrame, t5cmp: pd.DataFrame, titles: dict[int, str],
                       folder: Path) -> tuple[pd.DataFrame, str]:
-    """Solve the panels of Figs. 11-15, plot them if alma.plot exists; rows for mechanisms.csv."""
-    try:
-        from alma.report.plot import plot_mechanism
-    except ImportError as exc:
-        plot_mechanism = None  # type: ignore[assignment]  # the figures are optional: α is still compared
-        note = (f"mechanism figures 11-15 skipped: alma.plot.plot_mechanism is not available "
-                f"({exc}); the α values are still compared")
-    else:
-        note = ""
+    """Solve the panels of Figs. 11-15 and plot them; rows for mechanisms.csv."""
+    note = ""
     folder.mkdir(parents=True, exist_ok=True)
     t5 = t5cmp.set_index(_key(t5cmp))
     rows = []
@@ -181,13 +174,12 @@ def mechanism_figures(captions: pd.DataFrame, t5cmp: pd.DataFrame, titles: dict[
         title = (f"Fig. {fig}{sub}: {c['subcaption']} ({c['bond']}, panel {c['panel_ratio']}, "
                  f"blocks {c['block_ratio']}, f = {friction:.2f})")
         png = ""
-        if plot_mechanism is not None:
-            path = folder / f"fig{fig}{sub}.png"
-            try:
-                plot_mechanism(scene, result, path, title=title)
-                png = str(path.relative_to(folder.parent))
-            except Exception as exc:  # a plotting failure must not lose the comparison
-                note = f"mechanism figure {fig}{sub} failed: {type(exc).__name__}: {exc}"
+        path = folder / f"fig{fig}{sub}.png"
+        try:
+            plot_mechanism(scene, result, path, title=title)
+            png = str(path.relative_to(folder.parent))
+        except Exception as exc:  # a plotting failure must not lose the comparison
+            note = f"mechanism figure {fig}{sub} failed: {type(exc).__name__}: {exc}"
         rows.append({
             "figure": fig, "panel": sub, "bond": c["bond"], "panel_ratio": c["panel_ratio"],
             "block_ratio": c["block_ratio"], "friction": friction,

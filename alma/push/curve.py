@@ -28,6 +28,7 @@ import numpy as np
 
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
 from alma.geometry.scene import Scene
+from alma.geometry.validation import validated
 from alma.mechanics.model import Model, build_model
 from alma.push.corrector import corrected
 from alma.push.motion import (
@@ -165,13 +166,14 @@ def push(scene: Scene, *, model: str = "associative", control: str | None = None
         if not (isinstance(steps, int) and steps >= 1):
             raise ValueError(f"steps must be a positive integer, got {steps!r}")
         p = dataclasses.replace(p, steps=steps)
+    joints = None
     if not scene.validated:
-        scene.validate()
+        scene, joints = validated(scene)  # the check's joints serve the first step
     areas, _ = block_areas_and_centroids(scene)
     free = np.array([not b.fixed for b in scene.blocks])
     length = float(np.sqrt(np.abs(areas[free]).sum()))
     pose = Pose.rest(len(scene.blocks))
-    solved = _solve(scene, pose, find_joints(scene), model, settings)
+    solved = _solve(scene, pose, find_joints(scene) if joints is None else joints, model, settings)
     first = solved[0]
     if first.status not in (Status.OPTIMAL, Status.FEASIBLE):
         return PushResult(first.status, f"no capacity curve: {first.message}", model, None,

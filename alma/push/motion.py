@@ -104,9 +104,7 @@ def displaced(scene: Scene, pose: Pose) -> Scene:
     blocks = tuple(dataclasses.replace(b, vertices=_apply(b.vertices, pose.angle[i], origin[i],
                                                           origin[i] + pose.shift[i]))
                    for i, b in enumerate(scene.blocks))
-    moved = dataclasses.replace(scene, blocks=blocks, loads=_moved_loads(scene, pose, origin))
-    object.__setattr__(moved, "validated", True)
-    return moved
+    return dataclasses.replace(scene, blocks=blocks, loads=_moved_loads(scene, pose, origin), validated=True)
 
 
 def _moved_loads(scene: Scene, pose: Pose, origin: np.ndarray) -> tuple[PointLoad, ...]:

@@ -203,7 +203,7 @@ def seismic(scene: Scene, site: Site | Mapping[str, Any], *, edition: str | None
         raise ValueError("edition 2019: a mechanism at Z > 0 needs the floor spectrum of the Circolare 2019 "
                          "(Eqs. C7.2.5-C7.2.10), which alma does not implement; use edition 2009 for Z > 0")
     if not scene.validated:
-        scene.validate()
+        scene = scene.validate()
     if not (scene.live_self_weight and abs(scene.live_load_direction[1]) < 1e-12 and abs(scene.gravity[0]) < 1e-12):
         raise ValueError("the kinematic check needs gravity along -y and the live load the weights along ±x: "
                          "the code's action is proportional to the masses")

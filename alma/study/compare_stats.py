@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from alma.stats import figures as F
 from alma.stats.anova import anova, varying_factors
 from alma.stats.effects import standardized_effects
 from alma.study.compare_table import _LABELS, FACTOR_COLUMNS, SIGNIFICANCE, VERIFIED, CompareReport
@@ -84,11 +85,6 @@ def _statistics(table: pd.DataFrame, figures_dir: Path, report: CompareReport) -
              "ratio": _run_anova(table, "ratio", "α_NL/α_LP")}
     figures_dir.mkdir(parents=True, exist_ok=True)
     valid = table[valid_rows]
-    try:
-        from alma.stats import figures as F
-    except ImportError as exc:  # pragma: no cover - matplotlib is a dependency
-        report.notes.append(f"statistics figures skipped: {exc}")
-        return stats
     if valid.empty:
         report.notes.append("statistics figures skipped: no panel has both multipliers")
         return stats

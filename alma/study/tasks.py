@@ -11,9 +11,11 @@ from dataclasses import dataclass
 from typing import Any
 
 import alma
+from alma.engine.pattern_cache import PatternCache
 from alma.geometry.chains import with_chain
 from alma.geometry.contacts import find_joints
 from alma.geometry.panels import BLOCK_LENGTHS, PANEL_HEIGHTS
+from alma.geometry.validation import validated
 from alma.report.plot import MechanismPicture
 from alma.settings import Settings
 from alma.study.store import PICTURE
@@ -151,6 +153,7 @@ def _solve_task(task: _Task, emit: Callable[[dict[str, Any]], None] | None = Non
     for item in task.items:
         groups.setdefault(item[:2], []).append(item)
     chained: dict[float, Any] = {0.0: base}
+    patterns = PatternCache()  # the task's frictions share the interior point's patterns
     for (chain, friction), items in groups.items():
         timings = dict(first)
         try:
@@ -159,7 +162,7 @@ def _solve_task(task: _Task, emit: Callable[[dict[str, Any]], None] | None = Non
                 chained[chain] = _chained_model(task, scene, joints, chain)
             built = chained[chain].with_friction(friction)
             timings["build_s"] += time.perf_counter() - t0
-            results = _solve_models(built, tuple(item[2] for item in items), task.settings)
+            results = _solve_models(built, tuple(item[2] for item in items), task.settings, patterns)
         except Exception as exc:
             for item in items:
                 out(_row(task, item, error=_error_text(exc), timings=timings))
@@ -176,19 +179,19 @@ def _chained_model(task: _Task, scene: Any, joints: Any, strength: float) -> Any
     A chain between the end blocks leaves the blocks and joints as they are; an anchored one
     adds two fixed anchors that touch nothing, so the joints are found again.
     """
-    chained = with_chain(scene, task.chain_y, strength, anchored=task.chain_anchored, name="chain")
-    chained.validate()
-    return alma.build_model(chained, find_joints(chained) if task.chain_anchored else joints)
+    chained, found = validated(with_chain(scene, task.chain_y, strength, anchored=task.chain_anchored, name="chain"))
+    return alma.build_model(chained, found if task.chain_anchored else joints)
 
 
-def _solve_models(built: Any, models: tuple[str, ...], settings: Settings) -> dict[str, Any]:
+def _solve_models(built: Any, models: tuple[str, ...], settings: Settings,
+                  patterns: PatternCache | None = None) -> dict[str, Any]:
     """Each model's result for one panel and friction, the associative LP solved once: with
     both models, one ``alma.solve(model="both")`` gives both rows."""
 
     if set(models) == {"associative", "nonassociative"}:
-        both = alma.solve(built, model="both", settings=settings)
+        both = alma.solve(built, model="both", settings=settings, patterns=patterns)
         return {"associative": both.associative, "nonassociative": both.nonassociative}
-    return {m: alma.solve(built, model=m, settings=settings) for m in models}
+    return {m: alma.solve(built, model=m, settings=settings, patterns=patterns) for m in models}
 
 
 # Local process pool: rows stream back through a queue given to each worker at start-up.
