@@ -309,6 +309,9 @@ class PushSettings:
     #: (a multithreaded LAPACK call slows 30x on a loaded machine: 2 s at 291 unknowns, the sparse
     #: normal equations 0.02-0.06 s); above, the sparse normal equations.
     dense_columns: int = 60
+    #: A tie shorter than its rest length by more than this (relative to the length scale) is
+    #: slack: far above the round-off of rigid motions (1e-16 of the coordinates), far below a step.
+    tie_slack: float = 1e-9
 
 
 @dataclass(frozen=True)

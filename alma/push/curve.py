@@ -7,6 +7,9 @@ displaced geometry the joints are found again and the limit analysis is solved a
 (Eq. 10, or Eq. 9 with ``model="nonassociative"``), which gives α(d) and the mechanism for the
 next step, until α ≤ 0, or until a configuration carries the dead load at no α (a loss of
 equilibrium: the curve then ends with α > 0, its ``end`` says why, :mod:`alma.push.stop`).
+Point loads and ties move with their blocks; each state carries its ties' rest lengths, and a
+tie shorter than its rest length is slack, left out of that configuration's analysis
+(:mod:`alma.push.carried`).
 
 Steps: a probe of ``PushSettings.probe`` × L (L = √(total area of the free blocks)) estimates
 d₀ by a secant through α_c; the curve then advances in steps of that estimate / ``steps`` (at most
@@ -30,6 +33,7 @@ from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joint
 from alma.geometry.scene import Scene
 from alma.geometry.validation import validated
 from alma.mechanics.model import Model, build_model
+from alma.push.carried import tie_lengths, without_slack
 from alma.push.corrector import corrected
 from alma.push.motion import (
     Bodies,
@@ -44,7 +48,7 @@ from alma.push.motion import (
     predictor,
     signature,
 )
-from alma.push.stop import closing, crushed_lost, describe, falling_mode, lost_joints
+from alma.push.stop import lost_equilibrium
 from alma.results.types import Result, finite
 from alma.settings import PushSettings, Settings
 from alma.solve import solve
@@ -115,6 +119,8 @@ class _State:
     contacts: Contacts
     signature: tuple
     model: Model = field(repr=False, compare=False)
+    #: Each tie's rest length (mm): the longest it has been up to here (:mod:`alma.push.carried`).
+    rest: np.ndarray = field(repr=False, compare=False, default_factory=lambda: np.zeros(0))
 
     @property
     def alpha(self) -> float:
@@ -173,7 +179,8 @@ def push(scene: Scene, *, model: str = "associative", control: str | None = None
     free = np.array([not b.fixed for b in scene.blocks])
     length = float(np.sqrt(np.abs(areas[free]).sum()))
     pose = Pose.rest(len(scene.blocks))
-    solved = _solve(scene, pose, find_joints(scene) if joints is None else joints, model, settings)
+    solved = _solve(scene, pose, find_joints(scene) if joints is None else joints, model, settings,
+                    tie_lengths(scene.ties), p.tie_slack * length)
     first = solved[0]
     if first.status not in (Status.OPTIMAL, Status.FEASIBLE):
         return PushResult(first.status, f"no capacity curve: {first.message}", model, None,
@@ -202,20 +209,23 @@ def _control(scene: Scene, result: Result, control: str | None) -> tuple[int, fl
     return ids.index(control), math.copysign(1.0, ux[control])
 
 
-def _solve(scene: Scene, pose: Pose, joints: Joints, model: str, settings: Settings | None
-           ) -> tuple[Result, Model]:
-    built = build_model(displaced(scene, pose), joints)
+def _solve(scene: Scene, pose: Pose, joints: Joints, model: str, settings: Settings | None, rest: np.ndarray,
+           slack: float) -> tuple[Result, Model, np.ndarray]:
+    """The limit analysis of ``scene`` at ``pose`` without the ties that are slack there (shorter
+    than their ``rest`` lengths by more than ``slack`` mm), and the rest lengths after it."""
+    current, after = without_slack(displaced(scene, pose), rest, slack)
+    built = build_model(current, joints)
     # PUSH_MODELS: one model, never "both", so no Comparison comes back.
-    return cast(Result, solve(built, model=model, settings=settings)), built
+    return cast(Result, solve(built, model=model, settings=settings)), built, after
 
 
-def _state(run: _Run, d: float, pose: Pose, solved: tuple[Result, Model]) -> _State:
-    result, built = solved
+def _state(run: _Run, d: float, pose: Pose, solved: tuple[Result, Model, np.ndarray]) -> _State:
+    result, built, rest = solved
     current = built.scene
     bodies = bodies_of(current, result)
     contacts = classify(built.joints, bodies, built.friction,
                         np.isfinite(built.crushing) if built.crushing.size else None)
-    return _State(d, pose, result, bodies, contacts, signature(current, result, contacts), built)
+    return _State(d, pose, result, bodies, contacts, signature(current, result, contacts), built, rest)
 
 
 def _curve(run: _Run, start: _State) -> PushResult:
@@ -253,24 +263,12 @@ def _curve(run: _Run, start: _State) -> PushResult:
     lo, hi, extra, failure = _refine(run, *bracket)
     states += extra
     if not math.isfinite(hi.alpha):
+        end = lost_equilibrium((lo.d, hi.d), lo.alpha, lo.model, hi.model, lo.result.joints)
         return _result(run, [s for s in states if s.d < hi.d], failure, (math.nan, math.nan), math.nan,
-                       solves + len(extra), _lost_equilibrium(lo, hi))
+                       solves + len(extra), end)
     root = _secant(lo, hi)
     return _result(run, [s for s in states if s.d <= hi.d], failure, (lo.d, hi.d), root,
                    solves + len(extra), {"reason": "alpha_zero", "d": root})
-
-
-def _lost_equilibrium(lo: _State, hi: _State) -> dict[str, Any]:
-    """The end of a curve at a configuration without equilibrium (:mod:`alma.push.stop`)."""
-    mode = falling_mode(hi.model)
-    lost = lost_joints(lo.model, hi.model, mode.blocks) if mode is not None else []
-    closed = closing(lo.model, hi.model, mode, lost) if mode is not None else []
-    crushed = crushed_lost(lo.result.joints, lost)
-    return {"reason": "no_equilibrium", "bracket": [lo.d, hi.d], "alpha": lo.alpha,
-            "falling_blocks": list(mode.blocks) if mode is not None else None,
-            "lost_joints": [list(p) for p in lost], "closes_lost_joints": [list(p) for p in closed],
-            "crushed_lost_joints": [list(p) for p in crushed],
-            "text": describe((lo.d, hi.d), lo.alpha, mode, lost, closed, crushed)}
 
 
 def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_State], tuple | None]:
@@ -333,7 +331,8 @@ def _move(run: _Run, state: _State, d: float) -> _State:
                       *args)
     pose = advance(state.pose, scene0, bodies, z)
     joints = joints_after(displaced(scene0, pose), state.contacts, bodies, z)
-    return _state(run, d, pose, _solve(scene0, pose, joints, run.model, run.settings))
+    return _state(run, d, pose, _solve(scene0, pose, joints, run.model, run.settings, state.rest,
+                                       run.push.tie_slack * run.length))
 
 
 def _usable(state: _State) -> bool:

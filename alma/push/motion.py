@@ -30,8 +30,8 @@ import numpy as np
 
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
 from alma.geometry.edges import contact_lengths, scene_edges
-from alma.geometry.loads import PointLoad
 from alma.geometry.scene import Scene
+from alma.push.carried import moved_loads, moved_ties
 from alma.results.joints import MOTION_TOLERANCE
 from alma.results.types import Result
 
@@ -98,30 +98,16 @@ def displaced(scene: Scene, pose: Pose) -> Scene:
     """``scene`` with every block moved by ``pose`` (a validated geometry stays valid: no check).
 
     A point load's point moves with its block (a carried floor, a vault's thrust stay where they
-    act on the block); the forces keep their directions (gravity, the horizontal action).
+    act on the block); the forces keep their directions (gravity, the horizontal action).  A
+    tie's end points move with their blocks, so its line and lever arms follow the displaced
+    geometry (:mod:`alma.push.carried`; whether it is slack is the curve's history, not the pose's).
     """
     origin = _centroids(scene)
     blocks = tuple(dataclasses.replace(b, vertices=_apply(b.vertices, pose.angle[i], origin[i],
                                                           origin[i] + pose.shift[i]))
                    for i, b in enumerate(scene.blocks))
-    return dataclasses.replace(scene, blocks=blocks, loads=_moved_loads(scene, pose, origin), validated=True)
-
-
-def _moved_loads(scene: Scene, pose: Pose, origin: np.ndarray) -> tuple[PointLoad, ...]:
-    """The scene's point loads with their points moved by their blocks' poses (None: the centroid)."""
-    if not any(load.point is not None for load in scene.loads):
-        return scene.loads
-    index = {b.id: i for i, b in enumerate(scene.blocks)}
-    at = [k for k, load in enumerate(scene.loads) if load.point is not None]
-    rows = np.array([index[scene.loads[k].block] for k in at])
-    points = np.array([scene.loads[k].point for k in at], dtype=float)
-    c, s = np.cos(pose.angle[rows]), np.sin(pose.angle[rows])
-    r = points - origin[rows]
-    moved = np.column_stack([c * r[:, 0] - s * r[:, 1], s * r[:, 0] + c * r[:, 1]]) + origin[rows] + pose.shift[rows]
-    loads = list(scene.loads)
-    for k, point in zip(at, moved.tolist(), strict=True):
-        loads[k] = dataclasses.replace(loads[k], point=(point[0], point[1]))
-    return tuple(loads)
+    return dataclasses.replace(scene, blocks=blocks, loads=moved_loads(scene, pose.angle, pose.shift, origin),
+                               ties=moved_ties(scene, pose.angle, pose.shift, origin), validated=True)
 
 
 def bodies_of(scene: Scene, result: Result) -> Bodies:

@@ -134,3 +134,19 @@ def describe(d: tuple[float, float], alpha: float, mode: FallingMode | None, los
         text += ("; " + ", ".join(f"{a}–{b}" for a, b in crushed[:NAMED]) + " crushed over its whole length "
                  "(N = σ_c l t) and sank into its support, which the rigid geometry does not follow")
     return text
+
+
+def lost_equilibrium(bracket: tuple[float, float], alpha: float, before: Model, after: Model,
+                     joints: Iterable[JointResult]) -> dict[str, Any]:
+    """The ``end`` of a curve whose configuration at ``bracket[1]`` (mm) has no equilibrium:
+    the falling mode of ``after``, the joints of ``before`` (whose results are ``joints``, α =
+    ``alpha`` at ``bracket[0]``) it lost, those the mode closes, and the text."""
+    mode = falling_mode(after)
+    lost = lost_joints(before, after, mode.blocks) if mode is not None else []
+    closed = closing(before, after, mode, lost) if mode is not None else []
+    crushed = crushed_lost(joints, lost)
+    return {"reason": "no_equilibrium", "bracket": list(bracket), "alpha": alpha,
+            "falling_blocks": list(mode.blocks) if mode is not None else None,
+            "lost_joints": [list(p) for p in lost], "closes_lost_joints": [list(p) for p in closed],
+            "crushed_lost_joints": [list(p) for p in crushed],
+            "text": describe(bracket, alpha, mode, lost, closed, crushed)}
