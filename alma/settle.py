@@ -31,6 +31,7 @@ import scipy.sparse as sp
 
 from alma.associative.certificate import _repair_field
 from alma.backends.clarabel_backend import solve_conic_lp
+from alma.geometry.contacts import Joints
 from alma.geometry.scene import JointOverride, Scene, SceneError
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.forces import joint_values
@@ -75,8 +76,13 @@ class SettlementResult:
                 "residuals": {k: finite(v) for k, v in self.residuals.items()}, "timings": dict(self.timings)}
 
 
-def settle(scene: Scene, settings: AssociativeSettings | None = None) -> SettlementResult:
-    """The settlement mechanism of ``scene`` and its certified dead-load work (module docstring)."""
+def settle(scene: Scene, settings: AssociativeSettings | None = None, joints: Joints | None = None
+           ) -> SettlementResult:
+    """The settlement mechanism of ``scene`` and its certified dead-load work (module docstring).
+
+    ``joints``: the scene's contacts when they are not its flat ones alone (a displaced
+    configuration's point contacts, :func:`alma.push.motion.joints_after`); default: found.
+    """
     s = settings or AssociativeSettings()
     if not scene.validated:
         scene.validate()
@@ -85,7 +91,7 @@ def settle(scene: Scene, settings: AssociativeSettings | None = None) -> Settlem
         raise SettleError("no support of the scene has a 'settlement' (a fixed block's prescribed motion, "
                           "SPEC §2): there is nothing to settle")
     t0 = time.perf_counter()
-    model = build_model(scene)
+    model = build_model(scene, joints)
     if model.crushes:
         raise SceneError("compressive_strength: the settlement analysis takes infinitely strong blocks only; "
                          "remove compressive_strength from the scene")

@@ -1,0 +1,273 @@
+"""Settlement capacity: the support settlement at which a structure can no longer carry its dead load.
+
+The scene's ``settlement`` (SPEC §2: a rigid motion of a fixed block, translation t and rotation
+r about a point c) is scaled by a growing factor s: at s the support has moved by
+
+    x ↦ R(s r)(x − c) + c + s t                                   (exact, finite rotation)
+
+and the free blocks take the compatible crack pattern (:func:`alma.settle`, the kinematic
+problem of Iannuzzo et al.: the motion that lets the dead load do the most work) for the next
+increment of s.  Each increment is a finite rigid step of push's machinery
+(:mod:`alma.push.motion`, :mod:`alma.push.corrector`): the settling supports move exactly by
+their prescribed increment, the free blocks turn about their instantaneous centres, and the
+corrector keeps every contact the settlement mechanism keeps (hinges, sliding points) closed;
+the joints are then found again on the displaced geometry (contacts open and close, new ones
+appear).  At each s the associative limit analysis (Eq. 10) of the displaced structure gives
+its load multiplier α(s) under the scene's live load; the structure stands under its dead
+load while α(s) > 0 (Eq. 10's static problem is feasible at α = 0).  The settlement capacity
+s_u is where α reaches 0, or where no stress field carries the dead load at any α (a loss of
+equilibrium): push's adaptive steps and bracket refinement (:func:`alma.push.curve._curve`) find
+it, to ``PushSettings.d0_tolerance`` times the abscissa's scale.
+
+The abscissa of the curve is the settlement of the *control support* (the settling support
+with the largest translation, ties by id): s |t| in mm; when no support translates, the
+rotation s |r| in rad (scale 1 rad).  Steps and accuracy are relative to L = √(free area) for
+a translation, so units, origin and block order do not change the steps taken.
+"""
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
+from alma.geometry.scene import Scene
+from alma.mechanics.model import build_model
+from alma.push.corrector import corrected
+from alma.push.curve import PushResult, _curve, _Run, _State
+from alma.push.motion import Bodies, MotionError, Pose, advance, classify, displaced, joints_after, predictor, signature
+from alma.results.types import finite
+from alma.settings import PushSettings, Settings
+from alma.settle import SettleError, SettlementResult, settle
+from alma.solve import solve
+from alma.status import Status
+
+#: A free block whose settlement motion is below this fraction of the supports' own is at rest.
+_REST = 1e-9
+
+
+@dataclass(frozen=True)
+class _Supports:
+    """The settling supports: scene index, translation t (mm), rotation r (rad), point c (mm)."""
+
+    index: np.ndarray  # (k,)
+    translation: np.ndarray  # (k, 2)
+    rotation: np.ndarray  # (k,)
+    about: np.ndarray  # (k, 2)
+    control: int  # scene index of the control support
+    measure: float  # |t| (mm) or |r| (rad) of the control support: abscissa per unit s
+    unit: str  # "mm" or "rad"
+
+
+@dataclass(frozen=True)
+class _Context:
+    """What the settlement's steps share: the supports, the geometric length and the crack
+    patterns met (abscissa → opened joints; this module's own record, filled as states are made)."""
+
+    supports: _Supports
+    length: float  # L, mm
+    settings: Settings | None
+    cracks: dict[float, tuple[tuple[str, str], ...]] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class SettlementCapacity:
+    """The settlement capacity of a scene: s_u, the curve α(s) and the crack pattern at each step.
+
+    ``s_u`` is in ``unit`` (mm of the control support's translation, or rad of its rotation);
+    ``factor_u`` = s_u / that measure (the multiple of the scene's settlement at capacity);
+    ``curve`` is push's :class:`~alma.push.curve.PushResult` whose abscissa ``d`` is the
+    settlement (its ``control`` the control support).
+    """
+
+    status: Status
+    message: str
+    support: str
+    unit: str
+    s_u: float
+    bracket: tuple[float, float]
+    factor_u: float
+    curve: PushResult
+    cracks: tuple[tuple[tuple[str, str], ...], ...]  # per curve point: the joints the settlement opens
+    measure: float  # the control support's settlement per unit factor (mm or rad)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON object of ``alma settle --capacity``."""
+        points = [{"s": p.d, "factor": p.d / self.measure, "alpha": finite(p.alpha),
+                   "mechanism_changed": p.mechanism_changed, "status": str(p.status),
+                   "opened": [list(j) for j in c]} for p, c in zip(self.curve.curve, self.cracks, strict=True)]
+        return {"status": str(self.status), "message": self.message, "support": self.support, "unit": self.unit,
+                "s_u": finite(self.s_u), "s_u_bracket": [finite(x) for x in self.bracket],
+                "factor_u": finite(self.factor_u), "alpha_0": finite(self.curve.alpha_c), "curve": points,
+                "solves": self.curve.solves, "end": self.curve.end}
+
+
+def settlement_capacity(scene: Scene, *, steps: int | None = None, settings: Settings | None = None,
+                        push_settings: PushSettings | None = None) -> SettlementCapacity:
+    """The settlement at which ``scene`` can no longer carry its dead load (module docstring).
+
+    Parameters
+    ----------
+    scene
+        A scene (mm, kN) with a ``settlement`` on at least one fixed block.
+    steps
+        Steps from s = 0 to the capacity (``PushSettings.steps`` when None).
+
+    Returns
+    -------
+    SettlementCapacity
+        ``status`` ``optimal`` when every α of the curve is certified and s_u is bracketed to
+        the stated accuracy; ``no_equilibrium`` when the structure cannot carry its dead load
+        before it settles; ``limit_reached`` when the step budget ran out with α still > 0.
+
+    Raises
+    ------
+    SettleError
+        When no support of the scene has a settlement, or the settlement is zero.
+    """
+    p = push_settings or PushSettings()
+    if steps is not None:
+        if not (isinstance(steps, int) and steps >= 1):
+            raise ValueError(f"steps must be a positive integer, got {steps!r}")
+        p = dataclasses.replace(p, steps=steps)
+    if not scene.validated:
+        scene.validate()
+    supports = _supports(scene)
+    areas, _ = block_areas_and_centroids(scene)
+    free = np.array([not b.fixed for b in scene.blocks])
+    ctx = _Context(supports, float(np.sqrt(np.abs(areas[free]).sum())), settings)
+    scale = ctx.length if supports.unit == "mm" else 1.0
+    run = _Run(scene, "associative", settings, p, scale, supports.control, 1.0,
+               mover=functools.partial(_move, ctx))
+    start = _configuration(ctx, run, 0.0, Pose.rest(len(scene.blocks)), find_joints(scene))
+    support = scene.blocks[supports.control].id
+    if not (start.result.status == Status.OPTIMAL and start.alpha > 0):
+        empty = PushResult(start.result.status, start.result.message, "associative", support, (), math.nan,
+                           (math.nan, math.nan), 1, start.result)
+        status = Status.NO_EQUILIBRIUM if start.result.status == Status.OPTIMAL else start.result.status
+        return SettlementCapacity(status, f"before any settlement: {start.result.message} (α = {start.alpha:.6g})",
+                                  support, supports.unit, math.nan, (math.nan, math.nan), math.nan, empty, (),
+                                  supports.measure)
+    curve = _curve(run, start)
+    return _capacity(ctx, curve, support)
+
+
+def _capacity(ctx: _Context, curve: PushResult, support: str) -> SettlementCapacity:
+    """s_u from push's end of the curve: α = 0 (its d₀), or the bracket of a loss of equilibrium."""
+    unit = ctx.supports.unit
+    if curve.end.get("reason") == "no_equilibrium":
+        lo, hi = curve.end["bracket"]
+        bracket = (float(lo), float(hi))
+    else:
+        bracket = curve.d0_bracket
+    s_u = curve.d0 if math.isfinite(curve.d0) else 0.5 * (bracket[0] + bracket[1])
+    cracks = tuple(ctx.cracks.get(p.d, ()) for p in curve.curve)
+    message = curve.message.replace("d0 = ", "s_u = ").replace(" mm", f" {unit}") if unit == "rad" else \
+        curve.message.replace("d0 = ", "s_u = ")
+    if curve.status == Status.LIMIT_REACHED or not math.isfinite(s_u):
+        message = f"the structure still carries its dead load at the last settlement tried: {message}"
+    result = SettlementCapacity(curve.status, message, support, unit, s_u, bracket, s_u / ctx.supports.measure,
+                                curve, cracks, ctx.supports.measure)
+    return result
+
+
+def _supports(scene: Scene) -> _Supports:
+    """The settling supports and the control one (largest translation, then rotation; ties by id)."""
+    rows = [(i, b) for i, b in enumerate(scene.blocks) if b.settlement is not None]
+    if not rows:
+        raise SettleError("no support of the scene has a 'settlement' (a fixed block's prescribed motion, "
+                          "SPEC §2): there is no settlement to grow")
+    index = np.array([i for i, _ in rows])
+    t = np.array([b.settlement.translation for _, b in rows], dtype=float).reshape(-1, 2)
+    r = np.array([b.settlement.rotation for _, b in rows], dtype=float)
+    c = np.array([b.settlement.about for _, b in rows], dtype=float).reshape(-1, 2)
+    size = np.hypot(t[:, 0], t[:, 1])
+    ids = [b.id for _, b in rows]
+    unit, magnitude = ("mm", size) if size.max() > 0 else ("rad", np.abs(r))
+    if not magnitude.max() > 0:
+        raise SettleError("every 'settlement' of the scene is zero: there is no settlement to grow")
+    best = min(range(len(rows)), key=lambda k: (-magnitude[k], ids[k]))
+    return _Supports(index, t, r, c, int(index[best]), float(magnitude[best]), unit)
+
+
+def _placed(scene0: Scene, pose: Pose, supports: _Supports, s: float) -> Scene:
+    """The scene displaced by ``pose``, each settling support's ``about`` carried to c + s t (its
+    settlement there is the rate of the motion at s)."""
+    here = displaced(scene0, pose)
+    blocks = list(here.blocks)
+    for k, i in enumerate(supports.index):  # the few settling supports, not the blocks' loop
+        moved = dataclasses.replace(blocks[i].settlement, about=tuple(supports.about[k] + s * supports.translation[k]))
+        blocks[i] = dataclasses.replace(blocks[i], settlement=moved)
+    out = dataclasses.replace(here, blocks=tuple(blocks))
+    object.__setattr__(out, "validated", True)  # a rigid motion of a validated geometry
+    return out
+
+
+def _configuration(ctx: _Context, run: _Run, s: float, pose: Pose, joints: Joints) -> _State:
+    """The configuration at factor ``s``: α of the displaced structure and its settlement mechanism."""
+    sup = ctx.supports
+    here = _placed(run.scene, pose, sup, s)
+    built = build_model(here, joints)
+    result = solve(built, model="associative", settings=ctx.settings)
+    associative = ctx.settings.associative if ctx.settings is not None else None
+    crack = settle(here, associative, joints)
+    d = s * sup.measure
+    ctx.cracks[d] = crack.opened if crack.status == Status.OPTIMAL else ()
+    if crack.status == Status.OPTIMAL:
+        bodies = _bodies(here, crack, sup, s, ctx.length)
+    elif not (math.isfinite(result.alpha) and result.alpha > 0):
+        bodies = _bodies(here, None, sup, s, ctx.length)  # the curve ends here: no step leaves it
+    else:
+        raise MotionError(f"the settlement mechanism at s = {d:.6g} {sup.unit} is not certified "
+                          f"({crack.status}: {crack.message})")
+    contacts = classify(built.joints, bodies, built.friction)
+    return _State(d, pose, result, bodies, contacts, signature(here, result, contacts), built)
+
+
+def _bodies(scene: Scene, crack: SettlementResult | None, sup: _Supports, s: float, length: float) -> Bodies:
+    """The moving free blocks of the settlement mechanism (each its own body, velocity at its
+    centroid per unit s) and the settling supports (velocity t at c + s t, rotation rate r)."""
+    n = len(scene.blocks)
+    u = np.zeros((n, 3))
+    if crack is not None and crack.blocks:
+        index = {b.id: i for i, b in enumerate(scene.blocks)}
+        u[[index[b.id] for b in crack.blocks]] = np.array([b.u for b in crack.blocks], dtype=float)
+    own = float((np.hypot(*sup.translation.T) + np.abs(sup.rotation) * length).max())
+    moving = np.hypot(u[:, 0], u[:, 1]) + np.abs(u[:, 2]) * length > _REST * own
+    moving[sup.index] = False
+    free = np.flatnonzero(moving)
+    of_block = np.full(n, -1)
+    of_block[free] = np.arange(free.size)
+    of_block[sup.index] = free.size + np.arange(sup.index.size)
+    centroid = block_areas_and_centroids(scene)[1]
+    centre = np.vstack([centroid[free], sup.about + s * sup.translation])
+    omega = np.concatenate([u[free, 2], sup.rotation])
+    velocity = np.vstack([u[free, :2], sup.translation])
+    return Bodies(of_block, centre, omega, velocity)
+
+
+def _move(ctx: _Context, run: _Run, state: _State, d: float) -> _State:
+    """The configuration at abscissa ``d``: the supports by their exact increment, the free
+    blocks along ``state``'s settlement mechanism with its contacts kept closed."""
+    sup, bodies = ctx.supports, state.bodies
+    s0, s1 = state.d / sup.measure, d / sup.measure
+    ds = s1 - s0
+    z0 = predictor(bodies, ds)
+    mine = bodies.of_block[sup.index]
+    z0[mine] = np.column_stack([ds * sup.rotation, ds * sup.translation])
+    prescribed = np.zeros(bodies.count, dtype=bool)
+    prescribed[mine] = True
+    args = (z0, None, 0.0, ctx.length, run.push, prescribed)
+    try:
+        z = corrected(bodies, state.contacts, *args)
+    except MotionError:
+        # as push does: sliding points kept closed may over-constrain a dilatant mechanism
+        z = corrected(bodies, dataclasses.replace(state.contacts, sliding=np.zeros_like(state.contacts.sliding)),
+                      *args)
+    pose = advance(state.pose, run.scene, bodies, z)
+    joints = joints_after(_placed(run.scene, pose, sup, s1), state.contacts, bodies, z)
+    return _configuration(ctx, run, s1, pose, joints)
