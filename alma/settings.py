@@ -309,6 +309,10 @@ class PushSettings:
     #: (a multithreaded LAPACK call slows 30x on a loaded machine: 2 s at 291 unknowns, the sparse
     #: normal equations 0.02-0.06 s); above, the sparse normal equations.
     dense_columns: int = 60
+    #: The settlement capacity's crack pattern is a vertex of the settlement LP's optimal face
+    #: whose dead-load work is within this of the optimum (relative): far above the interior
+    #: point's 1e-10 and far below any difference between two distinct crack patterns.
+    settlement_vertex_slack: float = 1e-8
 
 
 @dataclass(frozen=True)

@@ -38,8 +38,9 @@ from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joint
 from alma.geometry.scene import Scene
 from alma.mechanics.model import build_model
 from alma.push.corrector import corrected
-from alma.push.curve import PushResult, _curve, _Run, _State
+from alma.push.curve import PushPoint, PushResult, _curve, _Run, _State
 from alma.push.motion import Bodies, MotionError, Pose, advance, classify, displaced, joints_after, predictor, signature
+from alma.results.joints import MOTION_TOLERANCE
 from alma.results.types import finite
 from alma.settings import PushSettings, Settings
 from alma.settle import SettleError, SettlementResult, settle
@@ -92,14 +93,14 @@ class SettlementCapacity:
     bracket: tuple[float, float]
     factor_u: float
     curve: PushResult
-    cracks: tuple[tuple[tuple[str, str], ...], ...]  # per curve point: the joints the settlement opens
+    cracks: tuple[tuple[tuple[str, str], ...], ...]  # per curve point: the joints the settlement moves
     measure: float  # the control support's settlement per unit factor (mm or rad)
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON object of ``alma settle --capacity``."""
         points = [{"s": p.d, "factor": p.d / self.measure, "alpha": finite(p.alpha),
                    "mechanism_changed": p.mechanism_changed, "status": str(p.status),
-                   "opened": [list(j) for j in c]} for p, c in zip(self.curve.curve, self.cracks, strict=True)]
+                   "cracked": [list(j) for j in c]} for p, c in zip(self.curve.curve, self.cracks, strict=True)]
         return {"status": str(self.status), "message": self.message, "support": self.support, "unit": self.unit,
                 "s_u": finite(self.s_u), "s_u_bracket": [finite(x) for x in self.bracket],
                 "factor_u": finite(self.factor_u), "alpha_0": finite(self.curve.alpha_c), "curve": points,
@@ -146,14 +147,35 @@ def settlement_capacity(scene: Scene, *, steps: int | None = None, settings: Set
     start = _configuration(ctx, run, 0.0, Pose.rest(len(scene.blocks)), find_joints(scene))
     support = scene.blocks[supports.control].id
     if not (start.result.status == Status.OPTIMAL and start.alpha > 0):
-        empty = PushResult(start.result.status, start.result.message, "associative", support, (), math.nan,
-                           (math.nan, math.nan), 1, start.result)
-        status = Status.NO_EQUILIBRIUM if start.result.status == Status.OPTIMAL else start.result.status
-        return SettlementCapacity(status, f"before any settlement: {start.result.message} (α = {start.alpha:.6g})",
-                                  support, supports.unit, math.nan, (math.nan, math.nan), math.nan, empty, (),
-                                  supports.measure)
-    curve = _curve(run, start)
+        return _failed(start, supports, support, f"before any settlement: {start.result.message} "
+                       f"(α = {start.alpha:.6g})")
+    # Any settlement cracks the intact structure (a spreading arch takes its hinges at once): α
+    # may drop at s = 0⁺, so push's steps start from the first cracked configuration, whose
+    # slope, not the jump, sets their length.
+    try:
+        first = _move(ctx, run, start, p.probe * scale)
+    except MotionError as exc:
+        return _failed(start, supports, support, f"the first settlement step: {exc}")
+    if not (math.isfinite(first.alpha) and first.alpha > 0 and first.result.status == Status.OPTIMAL):
+        curve = _curve(run, start)  # α ≤ 0 already at the probe: push's refinement inside it
+    else:
+        curve = _curve(run, first)
+        head = PushPoint(0.0, start.alpha, False, start.result.status, start.result.mechanism_class, start.pose)
+        points = list(curve.curve)
+        points[0] = dataclasses.replace(points[0], mechanism_changed=first.signature != start.signature)
+        curve = dataclasses.replace(curve, curve=(head, *points), solves=curve.solves + 1, first=start.result)
     return _capacity(ctx, curve, support)
+
+
+def _failed(start: _State, supports: _Supports, support: str, message: str) -> SettlementCapacity:
+    """No curve: the structure does not stand at s = 0, or the first step failed."""
+    result = start.result
+    empty = PushResult(result.status, result.message, "associative", support, (), math.nan, (math.nan, math.nan), 1,
+                       result)
+    status = Status.NO_EQUILIBRIUM if result.status == Status.OPTIMAL and not start.alpha > 0 else (
+        result.status if result.status != Status.OPTIMAL else Status.NOT_CONVERGED)
+    return SettlementCapacity(status, message, support, supports.unit, math.nan, (math.nan, math.nan), math.nan,
+                              empty, (), supports.measure)
 
 
 def _capacity(ctx: _Context, curve: PushResult, support: str) -> SettlementCapacity:
@@ -214,9 +236,8 @@ def _configuration(ctx: _Context, run: _Run, s: float, pose: Pose, joints: Joint
     built = build_model(here, joints)
     result = solve(built, model="associative", settings=ctx.settings)
     associative = ctx.settings.associative if ctx.settings is not None else None
-    crack = settle(here, associative, joints)
+    crack = settle(here, associative, joints, crisp=run.push.settlement_vertex_slack)
     d = s * sup.measure
-    ctx.cracks[d] = crack.opened if crack.status == Status.OPTIMAL else ()
     if crack.status == Status.OPTIMAL:
         bodies = _bodies(here, crack, sup, s, ctx.length)
     elif not (math.isfinite(result.alpha) and result.alpha > 0):
@@ -225,6 +246,7 @@ def _configuration(ctx: _Context, run: _Run, s: float, pose: Pose, joints: Joint
         raise MotionError(f"the settlement mechanism at s = {d:.6g} {sup.unit} is not certified "
                           f"({crack.status}: {crack.message})")
     contacts = classify(built.joints, bodies, built.friction)
+    ctx.cracks[d] = _cracked(here, built.joints, bodies, ctx.length)
     return _State(d, pose, result, bodies, contacts, signature(here, result, contacts), built)
 
 
@@ -248,6 +270,24 @@ def _bodies(scene: Scene, crack: SettlementResult | None, sup: _Supports, s: flo
     omega = np.concatenate([u[free, 2], sup.rotation])
     velocity = np.vstack([u[free, :2], sup.translation])
     return Bodies(of_block, centre, omega, velocity)
+
+
+def _cracked(scene: Scene, joints: Joints, bodies: Bodies, length: float) -> tuple[tuple[str, str], ...]:
+    """The crack pattern: the joints whose two sides move apart in the settlement mechanism (a
+    relative velocity at either end: hinging, opening or sliding), as sorted id pairs."""
+    if bodies.count == 0 or joints.count == 0:
+        return ()
+    ends = np.concatenate([joints.start, joints.end])
+    a, b = np.tile(joints.block_a, 2), np.tile(joints.block_b, 2)
+    rel = np.hypot(*(bodies.velocity_at(b, ends) - bodies.velocity_at(a, ends)).T)
+    scale = max(float(np.abs(bodies.velocity).max(initial=0.0)), 1e-300)
+    moving = (rel > MOTION_TOLERANCE * scale).reshape(2, -1).any(axis=0)
+    # a hinge's two sides meet at the point and turn at different rates
+    omega = np.where(bodies.of_block >= 0, bodies.omega[np.maximum(bodies.of_block, 0)], 0.0)
+    moving |= np.abs(omega[joints.block_b] - omega[joints.block_a]) * length > MOTION_TOLERANCE * scale
+    ids = scene.block_ids
+    return tuple(sorted({tuple(sorted((ids[i], ids[j]))) for i, j in
+                         zip(joints.block_a[moving].tolist(), joints.block_b[moving].tolist(), strict=True)}))
 
 
 def _move(ctx: _Context, run: _Run, state: _State, d: float) -> _State:
