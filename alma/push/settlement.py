@@ -30,11 +30,12 @@ import dataclasses
 import functools
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
+from alma.geometry.loads import Settlement
 from alma.geometry.scene import Scene
 from alma.mechanics.model import build_model
 from alma.push.corrector import corrected
@@ -199,16 +200,16 @@ def _capacity(ctx: _Context, curve: PushResult, support: str) -> SettlementCapac
 
 def _supports(scene: Scene) -> _Supports:
     """The settling supports and the control one (largest translation, then rotation; ties by id)."""
-    rows = [(i, b) for i, b in enumerate(scene.blocks) if b.settlement is not None]
+    rows = [(i, b.id, b.settlement) for i, b in enumerate(scene.blocks) if b.settlement is not None]
     if not rows:
         raise SettleError("no support of the scene has a 'settlement' (a fixed block's prescribed motion, "
                           "SPEC §2): there is no settlement to grow")
-    index = np.array([i for i, _ in rows])
-    t = np.array([b.settlement.translation for _, b in rows], dtype=float).reshape(-1, 2)
-    r = np.array([b.settlement.rotation for _, b in rows], dtype=float)
-    c = np.array([b.settlement.about for _, b in rows], dtype=float).reshape(-1, 2)
+    index = np.array([i for i, _, _ in rows])
+    t = np.array([m.translation for _, _, m in rows], dtype=np.float64).reshape(-1, 2)
+    r = np.array([m.rotation for _, _, m in rows], dtype=np.float64)
+    c = np.array([m.about for _, _, m in rows], dtype=np.float64).reshape(-1, 2)
     size = np.hypot(t[:, 0], t[:, 1])
-    ids = [b.id for _, b in rows]
+    ids = [k for _, k, _ in rows]
     unit, magnitude = ("mm", size) if size.max() > 0 else ("rad", np.abs(r))
     if not magnitude.max() > 0:
         raise SettleError("every 'settlement' of the scene is zero: there is no settlement to grow")
@@ -222,7 +223,8 @@ def _placed(scene0: Scene, pose: Pose, supports: _Supports, s: float) -> Scene:
     here = displaced(scene0, pose)
     blocks = list(here.blocks)
     for k, i in enumerate(supports.index):  # the few settling supports, not the blocks' loop
-        moved = dataclasses.replace(blocks[i].settlement, about=tuple(supports.about[k] + s * supports.translation[k]))
+        about = supports.about[k] + s * supports.translation[k]
+        moved = dataclasses.replace(cast(Settlement, blocks[i].settlement), about=(float(about[0]), float(about[1])))
         blocks[i] = dataclasses.replace(blocks[i], settlement=moved)
     out = dataclasses.replace(here, blocks=tuple(blocks))
     object.__setattr__(out, "validated", True)  # a rigid motion of a validated geometry
