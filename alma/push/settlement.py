@@ -40,7 +40,18 @@ from alma.geometry.scene import Scene
 from alma.mechanics.model import build_model
 from alma.push.corrector import corrected
 from alma.push.curve import PushPoint, PushResult, _curve, _Run, _State
-from alma.push.motion import Bodies, MotionError, Pose, advance, classify, displaced, joints_after, predictor, signature
+from alma.push.motion import (
+    Bodies,
+    MotionError,
+    Pose,
+    advance,
+    classify,
+    displaced,
+    face_first,
+    joints_after,
+    predictor,
+    signature,
+)
 from alma.results.joints import MOTION_TOLERANCE
 from alma.results.types import finite
 from alma.settings import PushSettings, Settings
@@ -231,15 +242,37 @@ def _placed(scene0: Scene, pose: Pose, supports: _Supports, s: float) -> Scene:
     return out
 
 
+def _touching(scene: Scene, joints: Joints) -> Scene:
+    """``scene`` keeping the joint overrides of the pairs that still touch: a block that moved
+    off its neighbour has no joint there for the override to name (not a mistake of the scene)."""
+    if not scene.joint_overrides:
+        return scene
+    ids = scene.block_ids
+    pairs = {frozenset((ids[a], ids[b])) for a, b in zip(joints.block_a.tolist(), joints.block_b.tolist(), strict=True)}
+    kept = tuple(o for o in scene.joint_overrides if frozenset(o.blocks) in pairs)
+    if len(kept) == len(scene.joint_overrides):
+        return scene
+    out = dataclasses.replace(scene, joint_overrides=kept)
+    object.__setattr__(out, "validated", True)  # fewer overrides of a validated scene
+    return out
+
+
 def _configuration(ctx: _Context, run: _Run, s: float, pose: Pose, joints: Joints) -> _State:
     """The configuration at factor ``s``: α of the displaced structure and its settlement mechanism."""
     sup = ctx.supports
-    here = _placed(run.scene, pose, sup, s)
+    here = _touching(_placed(run.scene, pose, sup, s), joints)
     built = build_model(here, joints)
     result = solve(built, model="associative", settings=ctx.settings)
     associative = ctx.settings.associative if ctx.settings is not None else None
     crack = settle(here, associative, joints, crisp=run.push.settlement_vertex_slack)
     d = s * sup.measure
+    if crack.status == Status.NO_EQUILIBRIUM and result.status == Status.OPTIMAL and result.alpha > 0:
+        # The settlement LP's dual is the dead load's own equilibrium (α = 0): it has none here,
+        # although a field carries α_c > 0 of live load (the structure leans on the live load):
+        # the dead load is lost, which is the capacity's question.
+        result = dataclasses.replace(result, status=Status.NO_EQUILIBRIUM, alpha=-math.inf,
+                                     message=f"the dead load alone has no equilibrium ({crack.message}); "
+                                             f"α_c = {result.alpha:.6g} needs the live load's help")
     if crack.status == Status.OPTIMAL:
         bodies = _bodies(here, crack, sup, s, ctx.length)
     elif not (math.isfinite(result.alpha) and result.alpha > 0):
@@ -304,12 +337,22 @@ def _move(ctx: _Context, run: _Run, state: _State, d: float) -> _State:
     prescribed = np.zeros(bodies.count, dtype=bool)
     prescribed[mine] = True
     args = (z0, None, 0.0, ctx.length, run.push, prescribed)
-    try:
-        z = corrected(bodies, state.contacts, *args)
-    except MotionError:
-        # as push does: sliding points kept closed may over-constrain a dilatant mechanism
-        z = corrected(bodies, dataclasses.replace(state.contacts, sliding=np.zeros_like(state.contacts.sliding)),
-                      *args)
+    contacts = face_first(displaced(run.scene, state.pose), state.contacts)
+    on_support = np.isin(contacts.a, sup.index) | np.isin(contacts.b, sup.index)
+    tries = (contacts,
+             # as push does: sliding points kept closed may over-constrain a dilatant mechanism
+             dataclasses.replace(contacts, sliding=np.zeros_like(contacts.sliding)),
+             # a block hinged to a fixed support and resting on a settling one by a corner (a lintel
+             # over a sinking pier) slides on it at second order: its corner stays on the face only
+             dataclasses.replace(contacts, hinge=contacts.hinge & ~on_support,
+                                 sliding=contacts.sliding | (contacts.hinge & on_support)))
+    for k, kept in enumerate(tries):
+        try:
+            z = corrected(bodies, kept, *args)
+            break
+        except MotionError:
+            if k == len(tries) - 1:
+                raise
     pose = advance(state.pose, run.scene, bodies, z)
     joints = joints_after(_placed(run.scene, pose, sup, s1), state.contacts, bodies, z)
     return _configuration(ctx, run, s1, pose, joints)

@@ -1,0 +1,121 @@
+"""Settlement capacity (issue 33, item 4) against closed forms written here from the geometry.
+
+Each case grows the scene's ``settlement`` by a factor s, moves the blocks with large
+displacements, and finds s_u where the displaced structure can no longer carry its dead load
+(alma.settlement_capacity).  The accuracy stated by the analysis is the bracket of s_u:
+``PushSettings.d0_tolerance`` (1e-7) times the abscissa's scale (1 rad for a rotation, L =
+√(free area) for a translation); every reference below is met to 1e-6 relative.
+
+1. A block b × h on a support that rotates clockwise about a point (a tilting table driven
+   as a settlement): the block moves with its support, and under a horizontal α W at its
+   centroid on a base tilted by θ, rocking about the downhill toe needs
+   α = (b cos θ − h sin θ)/(h cos θ + b sin θ) = tan(atan(b/h) − θ), sliding α = tan(φ − θ)
+   (f = tan φ; the associative sliding of one flat joint gives the same value).  So
+   α(θ) = tan(min(atan(b/h), φ) − θ) at every step and s_u = min(atan(b/h), φ).
+2. Two stacked blocks of one width b (heights h₁, h₂) on that support: the column rocks as one
+   before the top block does (b/(h₁ + h₂) < b/h₂), s_u = atan(b/(h₁ + h₂)) for f > b/(h₁ + h₂).
+3. A lintel over a sinking pier: a block b × h (corners (0, 0) and (b, h)) rests on a fixed
+   support under x ≤ c and on a frictionless pier under x ≥ c that drops (translation
+   (0, −1)), with c < b/2 so that its weight leans on the pier.  The block turns about the
+   fixed support's corner (c, 0) while its corner (b, 0) slides on the pier's top: at rotation θ
+   the pier has dropped s = (b − c) sin θ.  Its equilibrium: the pier's reaction is vertical
+   (frictionless), so the fixed corner's must be vertical too, at the angle θ from the block
+   face's normal: it stands while tan θ ≤ f, and s_u = (b − c) f / √(1 + f²).  (The pier's
+   reaction W g_x / ((b − c) cos θ) stays below W for these sizes, so no other limit comes first.)
+"""
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+import alma
+from alma.status import Status
+
+REL = 1e-6
+
+
+def tilting(b: float, h: float, f: float, heights: tuple[float, ...] = ()) -> alma.Scene:
+    """A block b × h (and blocks of ``heights`` above it) on a support turning clockwise about (100, 0)."""
+    blocks = [{"id": "ground", "vertices": [[-300, -100], [600, -100], [600, 0], [-300, 0]], "fixed": True,
+               "settlement": {"rotation": -1.0, "about": [100, 0]}},
+              {"id": "b0", "vertices": [[0, 0], [b, 0], [b, h], [0, h]]}]
+    y = h
+    for k, hk in enumerate(heights, start=1):
+        blocks.append({"id": f"b{k}", "vertices": [[0, y], [b, y], [b, y + hk], [0, y + hk]]})
+        y += hk
+    return alma.Scene.from_dict({"name": "tilting support", "thickness": 100, "unit_weight": 20, "friction": f,
+                                 "blocks": blocks})
+
+
+def lintel(f: float, unit: float = 1.0, origin: tuple[float, float] = (0.0, 0.0), reverse: bool = False,
+           b: float = 400.0, h: float = 300.0, c: float = 100.0) -> alma.Scene:
+    """Case 3 in ``unit`` mm per drawing unit, moved by ``origin``, blocks listed in reverse if asked."""
+    def poly(*pts: tuple[float, float]) -> list[list[float]]:
+        return [[(x + origin[0]) / unit, (y + origin[1]) / unit] for x, y in pts]
+
+    blocks = [{"id": "support", "vertices": poly((-200, -100), (c, -100), (c, 0), (-200, 0)), "fixed": True},
+              {"id": "pier", "vertices": poly((c, -100), (700, -100), (700, 0), (c, 0)), "fixed": True,
+               "settlement": {"translation": [0, -1]}},
+              {"id": "lintel", "vertices": poly((0, 0), (b, 0), (b, h), (0, h))}]
+    return alma.Scene.from_dict({"name": "lintel over a sinking pier", "thickness": 100 / unit,
+                                 "unit_weight": 20 * unit ** 3, "friction": f,
+                                 "blocks": blocks[::-1] if reverse else blocks,
+                                 "joints": [{"blocks": ["lintel", "pier"], "friction": 0.0}]})
+
+
+@pytest.mark.parametrize(("b", "h", "f"), [(200.0, 600.0, 1.0), (200.0, 600.0, 0.2), (400.0, 300.0, 0.9)])
+def test_block_on_a_tilting_support(b: float, h: float, f: float) -> None:
+    result = alma.settlement_capacity(tilting(b, h, f))
+    limit = min(math.atan(b / h), math.atan(f))
+    assert result.status == Status.OPTIMAL, result.message
+    assert result.unit == "rad" and result.support == "ground"
+    assert result.s_u == pytest.approx(limit, rel=REL)
+    assert result.bracket[0] <= limit <= result.bracket[1] or abs(result.s_u - limit) <= REL * limit
+    for point in result.curve.curve:  # the whole curve, the step past s_u (α < 0) included
+        assert point.alpha == pytest.approx(math.tan(limit - point.d), abs=REL)
+    assert result.cracks[0] == ()  # the block moves with its support: nothing cracks
+
+
+def test_two_stacked_blocks_rock_as_one_column() -> None:
+    b, h1, h2 = 200.0, 300.0, 250.0
+    result = alma.settlement_capacity(tilting(b, h1, 1.0, (h2,)))
+    assert result.status == Status.OPTIMAL, result.message
+    assert result.s_u == pytest.approx(math.atan(b / (h1 + h2)), rel=REL)
+
+
+@pytest.mark.parametrize("f", [0.3, 0.5, 1.0])
+def test_lintel_over_a_sinking_pier(f: float) -> None:
+    result = alma.settlement_capacity(lintel(f))
+    exact = 300.0 * f / math.hypot(1.0, f)
+    assert result.status == Status.OPTIMAL, result.message
+    assert result.unit == "mm" and result.support == "pier"
+    assert result.s_u == pytest.approx(exact, rel=REL)
+    # the lintel cracks off both supports' faces from the first step: it turns about the corner
+    assert ("lintel", "support") in result.cracks[1] or ("support", "lintel") in result.cracks[1]
+    assert result.curve.curve[-1].alpha <= 0 < result.curve.curve[-2].alpha
+
+
+@functools.cache
+def _reference() -> alma.SettlementCapacity:
+    return alma.settlement_capacity(lintel(0.5))
+
+
+@settings(max_examples=4, deadline=None)
+@given(unit=st.sampled_from([0.1, 1.0, 25.4, 1000.0]),
+       origin=st.tuples(st.floats(-5e3, 5e3, allow_nan=False), st.floats(-5e3, 5e3, allow_nan=False)),
+       reverse=st.booleans())
+def test_units_origin_and_block_order_do_not_change_s_u(unit: float, origin: tuple[float, float],
+                                                         reverse: bool) -> None:
+    """s_u (in the drawing's units) × the unit is the same settlement in mm, wherever the
+    drawing lies and in whichever order its blocks are listed."""
+    result = alma.settlement_capacity(lintel(0.5, unit=unit, origin=origin, reverse=reverse))
+    assert result.status == Status.OPTIMAL, result.message
+    assert result.s_u * unit == pytest.approx(300.0 * 0.5 / math.hypot(1.0, 0.5), rel=REL)
+    reference = _reference()
+    assert len(result.curve.curve) == len(reference.curve.curve)  # the same steps, relative to L
+    assert np.allclose([p.d * unit for p in result.curve.curve], [p.d for p in reference.curve.curve],
+                       rtol=1e-6, atol=1e-9)
