@@ -77,7 +77,7 @@ def run_capacity(args: argparse.Namespace, invalid: Callable) -> int:
         print(f"  s_u        {result.s_u:.6g} {result.unit}  (bracket [{result.bracket[0]:.9g}, "
               f"{result.bracket[1]:.9g}]; {result.factor_u:.6g} x the scene's settlement)")
         print(f"  curve      {len(result.curve.curve)} points, {result.curve.solves} configurations solved; "
-              f"cracked at s_u: {len(result.cracks[-1]) if result.cracks else 0} joints")
+              f"cracked before s_u: {', '.join('|'.join(j) for j in result.cracked_u) or 'none'}")
     if args.plot:
         print(f"  picture    {args.plot}")
     sys.stdout.flush()

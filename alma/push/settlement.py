@@ -108,6 +108,12 @@ class SettlementCapacity:
     cracks: tuple[tuple[tuple[str, str], ...], ...]  # per curve point: the joints the settlement moves
     measure: float  # the control support's settlement per unit factor (mm or rad)
 
+    @property
+    def cracked_u(self) -> tuple[tuple[str, str], ...]:
+        """The crack pattern of the last configuration that still stands (α > 0), before s_u."""
+        standing = [c for p, c in zip(self.curve.curve, self.cracks, strict=True) if p.alpha > 0]
+        return standing[-1] if standing else ()
+
     def to_dict(self) -> dict[str, Any]:
         """The JSON object of ``alma settle --capacity``."""
         points = [{"s": p.d, "factor": p.d / self.measure, "alpha": finite(p.alpha),
@@ -115,7 +121,8 @@ class SettlementCapacity:
                    "cracked": [list(j) for j in c]} for p, c in zip(self.curve.curve, self.cracks, strict=True)]
         return {"status": str(self.status), "message": self.message, "support": self.support, "unit": self.unit,
                 "s_u": finite(self.s_u), "s_u_bracket": [finite(x) for x in self.bracket],
-                "factor_u": finite(self.factor_u), "alpha_0": finite(self.curve.alpha_c), "curve": points,
+                "factor_u": finite(self.factor_u), "alpha_0": finite(self.curve.alpha_c),
+                "cracked_u": [list(j) for j in self.cracked_u], "curve": points,
                 "solves": self.curve.solves, "end": self.curve.end}
 
 
