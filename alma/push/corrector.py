@@ -136,13 +136,21 @@ def _equations(bodies: Bodies, contacts: Contacts, z: np.ndarray, control: tuple
         vals += [np.array([dc[0, 0]]), np.array([1.0])]
         row += 1
     if prescribed is not None and start is not None and prescribed.any():
-        fixed = np.flatnonzero(prescribed)
-        weight = np.array([length, 1.0, 1.0])
-        residual.append(((z[fixed] - start[fixed]) * weight).reshape(-1))
-        rows_r.append(row + np.arange(3 * fixed.size))
-        cols.append((3 * fixed[:, None] + np.arange(3)).reshape(-1))
-        vals.append(np.tile(weight, fixed.size))
-        row += 3 * fixed.size
+        row = _prescribed_rows(z, start, prescribed, length, row, (residual, rows_r, cols, vals))
     jac = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows_r).astype(int),
                                                 np.concatenate(cols).astype(int))), shape=(row, 3 * g_count))
     return np.concatenate(residual), jac
+
+
+def _prescribed_rows(z: np.ndarray, start: np.ndarray, prescribed: np.ndarray, length: float, row: int,
+                     out: tuple[list, list, list, list]) -> int:
+    """Append the rows z_g = start_g of the prescribed bodies (the angle's times ``length``, mm)
+    to ``out`` (residual, rows, columns, values); returns the next row."""
+    residual, rows_r, cols, vals = out
+    fixed = np.flatnonzero(prescribed)
+    weight = np.array([length, 1.0, 1.0])
+    residual.append(((z[fixed] - start[fixed]) * weight).reshape(-1))
+    rows_r.append(row + np.arange(3 * fixed.size))
+    cols.append((3 * fixed[:, None] + np.arange(3)).reshape(-1))
+    vals.append(np.tile(weight, fixed.size))
+    return row + 3 * fixed.size
