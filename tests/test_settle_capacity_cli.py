@@ -46,6 +46,15 @@ def test_capacity_json_is_one_object_with_s_u_the_curve_and_the_cracks(tmp_path)
     assert (tmp_path / "cap.png").stat().st_size > 0
 
 
+def test_capacity_html_has_one_frame_per_step_under_a_slider(tmp_path):
+    out = _alma("settle", "scene.json", "--capacity", "--html", "cap.html", cwd=_scene(tmp_path, LINTEL))
+    assert out.returncode == 0, out.stderr
+    page = (tmp_path / "cap.html").read_text()
+    points = page.count('class="frame"')
+    assert points > 5 and page.count("cracked at s = ") == points
+    assert 'type="range"' in page and "s_u" in page and "http://" not in page.replace("http://www.w3.org", "")
+
+
 def test_capacity_text_names_the_support_and_s_u(tmp_path):
     out = _alma("settle", "scene.json", "--capacity", cwd=_scene(tmp_path, LINTEL))
     assert out.returncode == 0, out.stderr
@@ -92,7 +101,8 @@ def test_bad_scene_is_refused_with_exit_2(tmp_path, scene, words):
     assert json.loads(out.stdout)["status"] == "invalid_input"
 
 
-@pytest.mark.parametrize("extra", [["--steps", "0"], ["--html", "page.html"], ["--plot", "scene.json"]])
+@pytest.mark.parametrize("extra", [["--steps", "0"], ["--html", "scene.json"], ["--plot", "scene.json"],
+                                   ["--plot", "nowhere/cap.png"]])
 def test_bad_options_are_refused_with_exit_2(tmp_path, extra):
     out = _alma("settle", "scene.json", "--capacity", *extra, cwd=_scene(tmp_path, LINTEL))
     assert out.returncode == 2 and "Traceback" not in out.stderr and "invalid input" in out.stderr

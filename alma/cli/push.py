@@ -51,21 +51,26 @@ def add_capacity_options(p: argparse.ArgumentParser) -> None:
 def run_capacity(args: argparse.Namespace, invalid: Callable) -> int:
     """``alma settle SCENE --capacity``: s_u, α(s) and the crack pattern at each step."""
     try:
-        if args.html:
-            raise ValueError("--html is not drawn for --capacity: use --plot OUT.png or --json")
-        if args.plot:
-            _check_output(args.plot, (args.scene,))
+        for out in (args.plot, args.html):
+            if out:
+                _check_output(out, (args.scene,))
         if args.steps is not None and args.steps < 1:
             raise ValueError(f"--steps must be a positive integer, got {args.steps}")
         scene = scene_from_args(args)
         result = settlement_capacity(scene, steps=args.steps)
     except (SceneError, SettleError, ValueError) as exc:
         return invalid(exc, args)
+    name = "s: rotation" if result.unit == "rad" else "s: settlement"
+    abscissa = (f"{name} of {result.support} [{result.unit}]", "s_u", result.unit)
+    curve = dataclasses.replace(result.curve, d0=result.s_u)
     if args.plot and result.curve.curve:
-        name = "s: rotation" if result.unit == "rad" else "s: settlement"
-        curve = dataclasses.replace(result.curve, d0=result.s_u)
-        plot_capacity(scene, curve, args.plot, title=scene.name or None,
-                      abscissa=(f"{name} of {result.support} [{result.unit}]", "s_u", result.unit))
+        plot_capacity(scene, curve, args.plot, title=scene.name or None, abscissa=abscissa)
+    if args.html and result.curve.curve:
+        rows = [(k, v if isinstance(v, str) else json.dumps(v)) for k, v in result.to_dict().items() if k != "curve"]
+        rows += [(f"cracked at s = {p.d:.6g} {result.unit}", ", ".join("|".join(j) for j in c) or "none")
+                 for p, c in zip(result.curve.curve, result.cracks, strict=True)]
+        write_capacity_html(curve, args.html, title=scene.name or "settlement capacity", scene=scene,
+                            abscissa=abscissa, rows=rows)
     if args.json:
         print(json.dumps(result.to_dict()))
         return 0
