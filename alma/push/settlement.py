@@ -53,7 +53,7 @@ from alma.push.motion import (
     signature,
 )
 from alma.results.joints import MOTION_TOLERANCE
-from alma.results.types import finite
+from alma.results.types import Result, finite
 from alma.settings import PushSettings, Settings
 from alma.settle import SettleError, SettlementResult, settle
 from alma.solve import solve
@@ -163,10 +163,15 @@ def settlement_capacity(scene: Scene, *, steps: int | None = None, settings: Set
     scale = ctx.length if supports.unit == "mm" else 1.0
     run = _Run(scene, "associative", settings, p, scale, supports.control, 1.0,
                mover=functools.partial(_move, ctx))
-    start = _configuration(ctx, run, 0.0, Pose.rest(len(scene.blocks)), find_joints(scene))
     support = scene.blocks[supports.control].id
+    try:
+        start = _configuration(ctx, run, 0.0, Pose.rest(len(scene.blocks)), find_joints(scene))
+    except MotionError as exc:  # the settlement mechanism of the scene as drawn is not certified
+        drawn = solve(build_model(scene), model="associative", settings=settings)
+        return _failed(drawn, Status.NOT_CONVERGED, supports, support, f"before any settlement: {exc}")
     if not (start.result.status == Status.OPTIMAL and start.alpha > 0):
-        return _failed(start, supports, support, f"before any settlement: {start.result.message} "
+        status = Status.NO_EQUILIBRIUM if start.result.status == Status.OPTIMAL else start.result.status
+        return _failed(start.result, status, supports, support, f"before any settlement: {start.result.message} "
                        f"(α = {start.alpha:.6g})")
     # Any settlement cracks the intact structure (a spreading arch takes its hinges at once): α
     # may drop at s = 0⁺, so push's steps start from the first cracked configuration, whose
@@ -174,7 +179,7 @@ def settlement_capacity(scene: Scene, *, steps: int | None = None, settings: Set
     try:
         first = _move(ctx, run, start, p.probe * scale)
     except MotionError as exc:
-        return _failed(start, supports, support, f"the first settlement step: {exc}")
+        return _failed(start.result, Status.NOT_CONVERGED, supports, support, f"the first settlement step: {exc}")
     if not (math.isfinite(first.alpha) and first.alpha > 0 and first.result.status == Status.OPTIMAL):
         curve = _curve(run, start)  # α ≤ 0 already at the probe: push's refinement inside it
     else:
@@ -186,13 +191,11 @@ def settlement_capacity(scene: Scene, *, steps: int | None = None, settings: Set
     return _capacity(ctx, curve, support)
 
 
-def _failed(start: _State, supports: _Supports, support: str, message: str) -> SettlementCapacity:
-    """No curve: the structure does not stand at s = 0, or the first step failed."""
-    result = start.result
+def _failed(result: Result, status: Status, supports: _Supports, support: str, message: str) -> SettlementCapacity:
+    """No curve: the structure does not stand at s = 0, or its first step failed (``result``: the
+    analysis of the scene as drawn)."""
     empty = PushResult(result.status, result.message, "associative", support, (), math.nan, (math.nan, math.nan), 1,
                        result)
-    status = Status.NO_EQUILIBRIUM if result.status == Status.OPTIMAL and not start.alpha > 0 else (
-        result.status if result.status != Status.OPTIMAL else Status.NOT_CONVERGED)
     return SettlementCapacity(status, message, support, supports.unit, math.nan, (math.nan, math.nan), math.nan,
                               empty, (), supports.measure)
 
