@@ -79,10 +79,12 @@ def run_capacity(args: argparse.Namespace, invalid: Callable) -> int:
     print(f"  support    {result.support} (s in {result.unit})")
     if result.curve.curve:
         print(f"  alpha(0)   {result.curve.alpha_c:.6f}")
+        last = result.curve.curve[-1].d
         print(f"  s_u        {result.s_u:.6g} {result.unit}  (bracket [{result.bracket[0]:.9g}, "
-              f"{result.bracket[1]:.9g}]; {result.factor_u:.6g} x the scene's settlement)")
+              f"{result.bracket[1]:.9g}]; {result.factor_u:.6g} x the scene's settlement)" if result.s_u == result.s_u
+              else f"  s_u        not reached: the structure stands at s = {last:.6g} {result.unit}, the last tried")
         print(f"  curve      {len(result.curve.curve)} points, {result.curve.solves} configurations solved; "
-              f"cracked before s_u: {', '.join('|'.join(j) for j in result.cracked_u) or 'none'}")
+              f"cracked while standing: {', '.join('|'.join(j) for j in result.cracked_u) or 'none'}")
     if args.plot:
         print(f"  picture    {args.plot}")
     sys.stdout.flush()
