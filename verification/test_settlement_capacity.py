@@ -22,9 +22,12 @@ displacements, and finds s_u where the displaced structure can no longer carry i
    (frictionless), so the fixed corner's must be vertical too, at the angle θ from the block
    face's normal: it stands while tan θ ≤ f, and s_u = (b − c) f / √(1 + f²).  (The pier's
    reaction W g_x / ((b − c) cos θ) stays below W for these sizes, so no other limit comes first.)
+4. Case 1 with a support that also translates (a finite rigid motion whose path is not a circle
+   about one centre): the tilt at s_u is still atan(b/h).
 """
 from __future__ import annotations
 
+import dataclasses
 import functools
 import json
 import math
@@ -34,6 +37,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import alma
+from alma.geometry.loads import Settlement
 from alma.settle import SettleError
 from alma.status import Status
 
@@ -80,6 +84,22 @@ def test_block_on_a_tilting_support(b: float, h: float, f: float) -> None:
     for point in result.curve.curve:  # the whole curve, the step past s_u (α < 0) included
         assert point.alpha == pytest.approx(math.tan(limit - point.d), abs=REL)
     assert result.cracks[0] == ()  # the block moves with its support: nothing cracks
+
+
+def test_a_support_that_turns_and_translates() -> None:
+    """The settlement (translation (3, −4) mm, rotation −0.01 rad about a far point) is followed
+    exactly, not along its instantaneous centre's circle: the block still falls at a tilt of
+    atan(b/h), at s = 5 mm of translation per 0.01 rad, and α(θ) holds at every step."""
+    scene = tilting(200.0, 600.0, 1.0)
+    ground = dataclasses.replace(scene.blocks[0], settlement=Settlement((3.0, -4.0), -0.01, (-250.0, -50.0)))
+    scene = dataclasses.replace(scene, blocks=(ground, *scene.blocks[1:]), validated=False)
+    result = alma.settlement_capacity(scene)
+    limit = math.atan(200.0 / 600.0)
+    assert result.status == Status.OPTIMAL and result.unit == "mm", result.message
+    assert result.factor_u * 0.01 == pytest.approx(limit, rel=REL)
+    assert result.s_u == pytest.approx(5.0 * limit / 0.01, rel=REL)
+    for point in result.curve.curve:
+        assert point.alpha == pytest.approx(math.tan(limit - point.d / 5.0 * 0.01), abs=REL)
 
 
 def test_two_stacked_blocks_rock_as_one_column() -> None:
