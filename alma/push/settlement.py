@@ -59,9 +59,6 @@ from alma.settle import SettleError, SettlementResult, settle
 from alma.solve import solve
 from alma.status import Status
 
-#: A free block whose settlement motion is below this fraction of the supports' own is at rest.
-_REST = 1e-9
-
 
 @dataclass(frozen=True)
 class _Supports:
@@ -304,7 +301,8 @@ def _bodies(scene: Scene, crack: SettlementResult | None, sup: _Supports, s: flo
         index = {b.id: i for i, b in enumerate(scene.blocks)}
         u[[index[b.id] for b in crack.blocks]] = np.array([b.u for b in crack.blocks], dtype=float)
     own = float((np.hypot(*sup.translation.T) + np.abs(sup.rotation) * length).max())
-    moving = np.hypot(u[:, 0], u[:, 1]) + np.abs(u[:, 2]) * length > _REST * own
+    # a free block moves as the joints' states read motion: above this fraction of the largest
+    moving = np.hypot(u[:, 0], u[:, 1]) + np.abs(u[:, 2]) * length > MOTION_TOLERANCE * own
     moving[sup.index] = False
     free = np.flatnonzero(moving)
     of_block = np.full(n, -1)
