@@ -312,6 +312,10 @@ class PushSettings:
     #: A tie shorter than its rest length by more than this (relative to the length scale) is
     #: slack: far above the round-off of rigid motions (1e-16 of the coordinates), far below a step.
     tie_slack: float = 1e-9
+    #: The settlement capacity's crack pattern is a vertex of the settlement LP's optimal face
+    #: whose dead-load work is within this of the optimum (relative): far above the interior
+    #: point's 1e-10 and far below any difference between two distinct crack patterns.
+    settlement_vertex_slack: float = 1e-8
 
 
 @dataclass(frozen=True)

@@ -31,6 +31,8 @@ import scipy.sparse as sp
 
 from alma.associative.certificate import _repair_field
 from alma.backends.clarabel_backend import solve_conic_lp
+from alma.backends.highs_backend import solve_conic_form
+from alma.geometry.contacts import Joints
 from alma.geometry.scene import JointOverride, Scene, SceneError
 from alma.geometry.validation import validated
 from alma.mechanics.contact_points import ContactPoints
@@ -76,12 +78,19 @@ class SettlementResult:
                 "residuals": {k: finite(v) for k, v in self.residuals.items()}, "timings": dict(self.timings)}
 
 
-def settle(scene: Scene, settings: AssociativeSettings | None = None) -> SettlementResult:
-    """The settlement mechanism of ``scene`` and its certified dead-load work (module docstring)."""
+def settle(scene: Scene, settings: AssociativeSettings | None = None, joints: Joints | None = None,
+           crisp: float | None = None) -> SettlementResult:
+    """The settlement mechanism of ``scene`` and its certified dead-load work (module docstring).
+
+    ``joints``: the scene's contacts when they are not its flat ones alone (a displaced
+    configuration's point contacts, :func:`alma.push.motion.joints_after`); default: found.
+    ``crisp``: when given, one vertex of the optimal face (:func:`_vertex`, its work within this
+    relative slack of the optimum) instead of the interior point's blend of all of them.
+    """
     s = settings or AssociativeSettings()
-    joints = None
     if not scene.validated:
-        scene, joints = validated(scene)  # the check's joints serve the model
+        scene, found = validated(scene)  # the check's joints serve the model unless given
+        joints = found if joints is None else joints
     # An explicit zero settlement is answered (nothing moves, work 0); none at all is a mistake.
     if not any(b.settlement is not None for b in scene.blocks):
         raise SettleError("no support of the scene has a 'settlement' (a fixed block's prescribed motion, "
@@ -100,8 +109,8 @@ def settle(scene: Scene, settings: AssociativeSettings | None = None) -> Settlem
     # the duals of the three row blocks are μ, τ and c − τ.
     eye = sp.identity(q, format="csc")
     A = sp.bmat([[-H.T, None], [-G.T, -eye], [None, -eye]], format="csc") if q else -H.T.tocsc()
-    sol = solve_conic_lp(np.concatenate([-model.dead, capacity]), A, np.concatenate([h, g, np.zeros(q)]),
-                         0, k + 2 * q, tolerance=s.tolerance, max_iter=s.max_iter)
+    q_cost, b = np.concatenate([-model.dead, capacity]), np.concatenate([h, g, np.zeros(q)])
+    sol = solve_conic_lp(q_cost, A, b, 0, k + 2 * q, tolerance=s.tolerance, max_iter=s.max_iter)
     timings = {"build_s": 0.0, "solve_s": sol.solve_time}
     if sol.status in (Status.NO_EQUILIBRIUM, Status.NO_COLLAPSE):
         message = ("the structure cannot carry its dead load: the settlement mechanism is unbounded"
@@ -109,7 +118,8 @@ def settle(scene: Scene, settings: AssociativeSettings | None = None) -> Settlem
         return _empty(model, Status(sol.status), message, timings)
     # With no settlement at all u = 0 is the mechanism (nothing moves); the LP still gives the field.
     moves = h.any() or g.any()
-    u = sol.x[:n] if moves else np.zeros(n)
+    x = _vertex(q_cost, A, b, sol.x, k, n, crisp) if moves and crisp is not None else sol.x
+    u = x[:n] if moves else np.zeros(n)
     fields = np.clip(sol.duals[:k + q], 0.0, np.concatenate([np.full(k, np.inf), capacity]))
     field = types.SimpleNamespace(dead=model.dead, live=np.zeros(n))
     # _repair_field reads only .dead and .live of its model: the settlement's field carries no live load.
@@ -131,6 +141,25 @@ def settle(scene: Scene, settings: AssociativeSettings | None = None) -> Settlem
     timings["certify_s"] = time.perf_counter() - t0 - sol.solve_time
     return _result(model, status, message, u, mu, tau, Bounds(lower, upper),
                    {"static_equilibrium": static_residual, "kinematic_compatibility": kinematic_residual}, timings)
+
+
+def _vertex(cost: np.ndarray, A: sp.csc_matrix, b: np.ndarray, x: np.ndarray, k: int, n: int,
+            slack: float) -> np.ndarray:
+    """A vertex of the kinematic LP's optimal face: the least total power of the generators
+    (Σ (Hᵀu + h), the L1 norm of the joints' relative motion) plus the bounded forces'
+    dissipation variables, among the motions whose dead-load work is within ``slack`` (relative)
+    of the interior point's ``x``.  A symmetric arch that spreads has two crown hinges of equal
+    work; the interior point returns their blend, a four-hinge motion that is a mechanism of its
+    own at the next configuration, the vertex one of them.  ``x`` itself when HiGHS finds none."""
+    value = float(cost @ x)
+    sparse = -np.asarray(A[:k, :].sum(axis=0)).ravel()
+    sparse[n:] += 1.0
+    cap = value + slack * abs(value)
+    sol = solve_conic_form(sparse, sp.vstack([A, sp.csr_matrix(cost)]).tocsc(), np.append(b, cap), 0)
+    if sol.status != Status.OPTIMAL:
+        return x
+    size = float((abs(A) @ np.abs(sol.x)).max(initial=0.0)) + float(np.abs(b).max(initial=0.0))
+    return sol.x if float((A @ sol.x - b).max(initial=0.0)) <= 1e-9 * max(size, 1e-300) else x
 
 
 def after_settlement(scene: Scene, result: SettlementResult | None = None) -> Scene:

@@ -25,6 +25,7 @@ def main(out: Path) -> int:
         "chains.png": ["panel", "--bond", "running", "--panel-ratio", "1:2", "--block-ratio", "4:1",
                        "--friction", "0.6", "--chain", "2850:5", "--anchored"],
         "settlement.png": ["settle", str(ROOT / "examples" / "settlement.json")],
+        "settlement_capacity.png": ["settle", str(ROOT / "examples" / "spreading_arch.json"), "--capacity"],
     }
     for name, command in commands.items():
         code = alma_main([*command, "--plot", str(out / name), "--json"])

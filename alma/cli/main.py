@@ -94,6 +94,7 @@ def _build_parser() -> argparse.ArgumentParser:
     p_settle.add_argument("--plot", metavar="OUT.png", help="write a picture of the settlement mechanism")
     p_settle.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the settlement "
                           "mechanism in SVG, the crack pattern, the work and the reactions in words")
+    push_cli.add_capacity_options(p_settle)
     p_settle.set_defaults(func=_cmd_settle)
 
     p_tilt = sub.add_parser("tilt", help="the critical tilt angle on a tilting table (SPEC §3)")
@@ -154,6 +155,8 @@ def _cmd_solve(args: argparse.Namespace) -> int:
 
 
 def _cmd_settle(args: argparse.Namespace) -> int:
+    if args.capacity:
+        return push_cli.run_capacity(args, _invalid)
     try:
         scene = scene_from_args(args)
         result = settle(scene)

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import sys
 from collections.abc import Callable
@@ -11,9 +12,11 @@ from typing import cast
 from alma.cli.scene_options import add_compressive_strength, add_scene_options, scene_from_args
 from alma.geometry.scene import Scene, SceneError
 from alma.push import PUSH_MODELS, PushResult, push
+from alma.push.settlement import settlement_capacity
 from alma.report.capacity import plot_capacity
 from alma.report.capacity_html import write_capacity_html
 from alma.seismic import EDITIONS, SeismicResult, load_site, seismic
+from alma.settle import SettleError
 
 
 def register(sub, invalid: Callable) -> None:
@@ -39,6 +42,56 @@ def register(sub, invalid: Callable) -> None:
     _outputs(p)
     add_compressive_strength(add_scene_options(p))
     p.set_defaults(func=lambda args: _run(args, invalid, args.site))
+
+
+def add_capacity_options(p: argparse.ArgumentParser) -> None:
+    """``alma settle --capacity [--steps N]``: the settlement capacity instead of one mechanism."""
+    p.add_argument("--capacity", action="store_true", help="grow the settlement until the structure can no "
+                   "longer carry its dead load (settlement capacity s_u, the curve α(s), large displacements)")
+    p.add_argument("--steps", type=int, default=None, help="with --capacity: steps from s = 0 to s_u (default 40)")
+
+
+def run_capacity(args: argparse.Namespace, invalid: Callable) -> int:
+    """``alma settle SCENE --capacity``: s_u, α(s) and the crack pattern at each step."""
+    try:
+        for out in (args.plot, args.html):
+            if out:
+                _check_output(out, (args.scene,))
+        if args.steps is not None and args.steps < 1:
+            raise ValueError(f"--steps must be a positive integer, got {args.steps}")
+        scene = scene_from_args(args)
+        result = settlement_capacity(scene, steps=args.steps)
+    except (SceneError, SettleError, ValueError) as exc:
+        return invalid(exc, args)
+    name = "s: rotation" if result.unit == "rad" else "s: settlement"
+    abscissa = (f"{name} of {result.support} [{result.unit}]", "s_u", result.unit)
+    curve = dataclasses.replace(result.curve, d0=result.s_u)
+    if args.plot and result.curve.curve:
+        plot_capacity(scene, curve, args.plot, title=scene.name or None, abscissa=abscissa)
+    if args.html and result.curve.curve:
+        rows = [(k, v if isinstance(v, str) else json.dumps(v)) for k, v in result.to_dict().items() if k != "curve"]
+        rows += [(f"cracked at s = {p.d:.6g} {result.unit}", ", ".join("|".join(j) for j in c) or "none")
+                 for p, c in zip(result.curve.curve, result.cracks, strict=True)]
+        write_capacity_html(curve, args.html, title=scene.name or "settlement capacity", scene=scene,
+                            abscissa=abscissa, rows=rows)
+    if args.json:
+        print(json.dumps(result.to_dict()))
+        return 0
+    print(f"{scene.name or 'scene'}")
+    print(f"  status     {result.status} — {result.message}")
+    print(f"  support    {result.support} (s in {result.unit})")
+    if result.curve.curve:
+        print(f"  alpha(0)   {result.curve.alpha_c:.6f}")
+        last = result.curve.curve[-1].d
+        print(f"  s_u        {result.s_u:.6g} {result.unit}  (bracket [{result.bracket[0]:.9g}, "
+              f"{result.bracket[1]:.9g}]; {result.factor_u:.6g} x the scene's settlement)" if result.s_u == result.s_u
+              else f"  s_u        not reached: the structure stands at s = {last:.6g} {result.unit}, the last tried")
+        print(f"  curve      {len(result.curve.curve)} points, {result.curve.solves} configurations solved; "
+              f"cracked while standing: {', '.join('|'.join(j) for j in result.cracked_u) or 'none'}")
+    if args.plot:
+        print(f"  picture    {args.plot}")
+    sys.stdout.flush()
+    return 0
 
 
 def _outputs(p: argparse.ArgumentParser) -> None:

@@ -88,6 +88,6 @@ def without_slack(scene: Scene, rest: np.ndarray, tolerance: float) -> tuple[Sce
     after = np.maximum(rest, length)
     if taut.all():
         return scene, after
-    kept = dataclasses.replace(scene, ties=tuple(t for t, k in zip(scene.ties, taut.tolist(), strict=True) if k))
-    object.__setattr__(kept, "validated", scene.validated)
+    kept = dataclasses.replace(scene, ties=tuple(t for t, k in zip(scene.ties, taut.tolist(), strict=True) if k),
+                               validated=scene.validated)
     return kept, after

@@ -26,11 +26,14 @@ from alma.push.motion import Bodies, Contacts, MotionError, _perp, _rotate
 from alma.settings import PushSettings
 
 
-def corrected(bodies: Bodies, contacts: Contacts, start: np.ndarray, control: tuple[int, np.ndarray],
-              target: float, length: float, settings: PushSettings) -> np.ndarray:
+def corrected(bodies: Bodies, contacts: Contacts, start: np.ndarray, control: tuple[int, np.ndarray] | None,
+              target: float, length: float, settings: PushSettings,
+              prescribed: np.ndarray | None = None) -> np.ndarray:
     """Increments (g, 3) that close every hinge and sliding point of ``contacts`` and move the
     control point (``control``: its block and its current position, mm) horizontally by
-    ``target`` mm, by Newton's method from ``start``.
+    ``target`` mm, by Newton's method from ``start``.  ``prescribed`` (g,) bool: bodies whose
+    increment is ``start``'s and stays so (a settling support's own motion); with it,
+    ``control`` may be None.
 
     Raises
     ------
@@ -43,7 +46,7 @@ def corrected(bodies: Bodies, contacts: Contacts, start: np.ndarray, control: tu
     previous = np.inf
     size = np.inf
     for _ in range(settings.corrector_iterations):
-        residual, jacobian = _equations(bodies, contacts, z, control, target)
+        residual, jacobian = _equations(bodies, contacts, z, control, target, prescribed, start, length)
         size = float(np.abs(residual).max(initial=0.0))
         if size <= tol:
             return z
@@ -53,7 +56,8 @@ def corrected(bodies: Bodies, contacts: Contacts, start: np.ndarray, control: tu
         step = _least_squares(jacobian @ sp.diags(scale), residual, settings.dense_columns)
         z = z - (step * scale).reshape(-1, 3)
     else:
-        size = float(np.abs(_equations(bodies, contacts, z, control, target)[0]).max(initial=0.0))
+        size = float(np.abs(_equations(bodies, contacts, z, control, target, prescribed, start, length)[0]).max(
+            initial=0.0))
     if size <= tol * 1e3:
         return z
     raise MotionError(f"the mechanism's contacts cannot stay closed over this step (residual {size:.3g} mm "
@@ -78,9 +82,11 @@ def _least_squares(jacobian: sp.spmatrix, residual: np.ndarray, dense_columns: i
     return x
 
 
-def _equations(bodies: Bodies, contacts: Contacts, z: np.ndarray, control: tuple[int, np.ndarray],
-               target: float) -> tuple[np.ndarray, np.ndarray]:
-    """Residual and Jacobian (columns: angle, shift x, shift y of each body) of the corrector."""
+def _equations(bodies: Bodies, contacts: Contacts, z: np.ndarray, control: tuple[int, np.ndarray] | None,
+               target: float, prescribed: np.ndarray | None = None, start: np.ndarray | None = None,
+               length: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """Residual and Jacobian (columns: angle, shift x, shift y of each body) of the corrector;
+    a prescribed body's rows hold its increment at ``start``'s (the angle's times ``length``, mm)."""
     g_count = bodies.count
     rows_r, cols, vals = [], [], []
     residual = []
@@ -121,13 +127,30 @@ def _equations(bodies: Bodies, contacts: Contacts, z: np.ndarray, control: tuple
         vals += [(-(da * na).sum(axis=1) + (gap * _perp(na)).sum(axis=1))[ma], -na[ma, 0], -na[ma, 1],
                  (db * na).sum(axis=1)[mb], na[mb, 0], na[mb, 1]]
         row += s.size
-    block, where = control
-    gc, moved, dc = side(np.array([block]), where[None, :])
-    residual.append(np.array([moved[0, 0] - where[0] - target]))
-    rows_r += [np.array([row]), np.array([row])]
-    cols += [np.array([3 * gc[0]]), np.array([3 * gc[0] + 1])]
-    vals += [np.array([dc[0, 0]]), np.array([1.0])]
-    row += 1
+    if control is not None:
+        block, where = control
+        gc, moved, dc = side(np.array([block]), where[None, :])
+        residual.append(np.array([moved[0, 0] - where[0] - target]))
+        rows_r += [np.array([row]), np.array([row])]
+        cols += [np.array([3 * gc[0]]), np.array([3 * gc[0] + 1])]
+        vals += [np.array([dc[0, 0]]), np.array([1.0])]
+        row += 1
+    if prescribed is not None and start is not None and prescribed.any():
+        row = _prescribed_rows(z, start, prescribed, length, row, (residual, rows_r, cols, vals))
     jac = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows_r).astype(int),
                                                 np.concatenate(cols).astype(int))), shape=(row, 3 * g_count))
     return np.concatenate(residual), jac
+
+
+def _prescribed_rows(z: np.ndarray, start: np.ndarray, prescribed: np.ndarray, length: float, row: int,
+                     out: tuple[list, list, list, list]) -> int:
+    """Append the rows z_g = start_g of the prescribed bodies (the angle's times ``length``, mm)
+    to ``out`` (residual, rows, columns, values); returns the next row."""
+    residual, rows_r, cols, vals = out
+    fixed = np.flatnonzero(prescribed)
+    weight = np.array([length, 1.0, 1.0])
+    residual.append(((z[fixed] - start[fixed]) * weight).reshape(-1))
+    rows_r.append(row + np.arange(3 * fixed.size))
+    cols.append((3 * fixed[:, None] + np.arange(3)).reshape(-1))
+    vals.append(np.tile(weight, fixed.size))
+    return row + 3 * fixed.size

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, cast
 
@@ -138,6 +139,8 @@ class _Run:
     length: float  # L, mm
     control: int
     sense: float
+    #: The step to a configuration (default :func:`_move`; the settlement capacity's its own).
+    mover: Callable[[_Run, _State, float], _State] | None = None
 
 
 def push(scene: Scene, *, model: str = "associative", control: str | None = None, steps: int | None = None,
@@ -240,7 +243,7 @@ def _curve(run: _Run, start: _State) -> PushResult:
                        f"(d = {state.d:.6g} mm): the step budget ran out")
             break
         try:
-            nxt = _move(run, state, state.d + step)
+            nxt = (run.mover or _move)(run, state, state.d + step)
         except MotionError as exc:
             failure, reason = (Status.NOT_CONVERGED, f"at d = {state.d:.6g} mm: {exc}"), "motion"
             break
@@ -288,7 +291,7 @@ def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_St
                 if not lo.d < target < hi.d:
                     break
             try:
-                s = _move(run, lo, target)
+                s = (run.mover or _move)(run, lo, target)
             except MotionError as exc:
                 return lo, hi, extra, (Status.NOT_CONVERGED, f"refining d₀ at {target:.9g} mm: {exc}")
             if not _usable(s):

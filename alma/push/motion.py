@@ -219,7 +219,11 @@ def joints_after(scene: Scene, contacts: Contacts, bodies: Bodies, z: np.ndarray
     if not closed.any():
         return found
     keep = np.flatnonzero(closed)
-    point = 0.5 * (pa + pb)[keep]
+    # a corner that slid on a face is where the contact is (the midpoint would leave the face)
+    corner_a = _at_vertex(scene, contacts.a[keep], pa[keep], snap)
+    corner_b = _at_vertex(scene, contacts.b[keep], pb[keep], snap)
+    point = np.where((corner_b & ~corner_a)[:, None], pb[keep],
+                     np.where((corner_a & ~corner_b)[:, None], pa[keep], 0.5 * (pa + pb)[keep]))
     normal = _hinge_normal(scene, bodies, z, contacts, keep, snap)
     a, b = contacts.a[keep], contacts.b[keep]
     # one joint per pair of closed points of one previous joint, else a point contact
@@ -240,6 +244,21 @@ def joints_after(scene: Scene, contacts: Contacts, bodies: Bodies, z: np.ndarray
     order = np.lexsort((start[:, 1], start[:, 0], block_b, block_a))
     return Joints(block_a=block_a[order], block_b=block_b[order], start=start[order], end=end[order],
                   normal=normals[order])
+
+
+def face_first(scene: Scene, contacts: Contacts) -> Contacts:
+    """``contacts`` with each corner-on-face point written from the face's block (a) to the
+    corner's (b), normal flipped where that swaps them: the corrector turns a sliding point's
+    normal with block a, so that a corner sliding on a face keeps the face's normal whichever
+    block the scene lists first."""
+    if contacts.a.size == 0:
+        return contacts
+    snap, _ = contact_lengths(scene, scene_edges(scene))
+    swap = _at_vertex(scene, contacts.a, contacts.point, snap) & ~_at_vertex(scene, contacts.b, contacts.point, snap)
+    if not swap.any():
+        return contacts
+    a, b = np.where(swap, contacts.b, contacts.a), np.where(swap, contacts.a, contacts.b)
+    return dataclasses.replace(contacts, a=a, b=b, normal=np.where(swap[:, None], -contacts.normal, contacts.normal))
 
 
 def _crushing_segment(contacts: Contacts, kept: np.ndarray, point: np.ndarray, normal: np.ndarray) -> np.ndarray:

@@ -30,10 +30,13 @@ def linear_line(check: SeismicResult) -> float:
 
 
 def plot_capacity(scene: Scene, result: PushResult, path: str | Path, *, check: SeismicResult | None = None,
-                  title: str | None = None, snapshots: int = 3) -> Path:
+                  title: str | None = None, snapshots: int = 3, abscissa: tuple[str, str, str] | None = None
+                  ) -> Path:
     """Save a PNG: α(d) (mm), the configurations at ``snapshots`` steps from d = 0 to d₀, and with
     ``check`` the curve a*(d*) (m, m/s²) with a₀*, d_u*, the demand displacement and the linear
-    demand."""
+    demand.  ``abscissa``: (axis label, name of the root, unit) of another abscissa than the
+    control block's displacement (the settlement capacity's s, s_u, mm or rad)."""
+    label, root, unit = abscissa or (f"d: horizontal displacement of {result.control} [mm]", "d₀", "mm")
     import matplotlib
 
     matplotlib.use("Agg")
@@ -45,21 +48,21 @@ def plot_capacity(scene: Scene, result: PushResult, path: str | Path, *, check: 
     d = np.array([p.d for p in result.curve])
     alpha = np.array([p.alpha for p in result.curve])
     ax = axes[0]
-    ax.plot(d, alpha, "-", color="tab:blue", lw=1.5, label="α(d)")
+    ax.plot(d, alpha, "-", color="tab:blue", lw=1.5, label=f"α({label.split(':')[0]})")
     ax.plot(d, alpha, ".", color="tab:blue", ms=3)
     changed = np.array([p.mechanism_changed for p in result.curve], dtype=bool)
     if changed.any():
         ax.plot(d[changed], alpha[changed], "o", mfc="none", color="tab:red", label="mechanism changes")
     if np.isfinite(result.d0):
         ax.axvline(result.d0, color="0.4", ls=":", lw=1)
-        ax.annotate(f"d₀ = {result.d0:.4g} mm", (result.d0, 0), textcoords="offset points", xytext=(-70, 10),
+        ax.annotate(f"{root} = {result.d0:.4g} {unit}", (result.d0, 0), textcoords="offset points", xytext=(-70, 10),
                     fontsize=8)
     ax.axhline(0, color="k", lw=0.5)
-    ax.set_xlabel(f"d: horizontal displacement of {result.control} [mm]")
+    ax.set_xlabel(label)
     ax.set_ylabel("α")
     ax.set_title(f"capacity curve ({result.model}, {result.status})", fontsize=10)
     ax.legend(fontsize=8)
-    _snapshots(axes[1], scene, result, snapshots)
+    _snapshots(axes[1], scene, result, snapshots, label.split(":")[0], unit)
     if check is not None:
         _spectral(axes[2], check)
     if title:
@@ -70,7 +73,7 @@ def plot_capacity(scene: Scene, result: PushResult, path: str | Path, *, check: 
     return path
 
 
-def _snapshots(ax, scene: Scene, result: PushResult, count: int) -> None:
+def _snapshots(ax, scene: Scene, result: PushResult, count: int, name: str = "d", unit: str = "mm") -> None:
     """Outlines of the structure at ``count`` points of the curve spread from d = 0 to d₀."""
     from matplotlib.collections import PolyCollection
 
@@ -82,8 +85,9 @@ def _snapshots(ax, scene: Scene, result: PushResult, count: int) -> None:
         polygons = [b.vertices for b in moved.blocks]
         fixed = [b.fixed for b in moved.blocks]
         face = ["0.8" if f else "none" for f in fixed]
+        label = f"{name} = {points[k].d:.3g} {unit}, α = {points[k].alpha:.3g}"
         ax.add_collection(PolyCollection(polygons, facecolors=face, edgecolors=colours[n % len(colours)],
-                                         linewidths=0.8, label=f"d = {points[k].d:.3g} mm, α = {points[k].alpha:.3g}"))
+                                         linewidths=0.8, label=label))
     ax.autoscale_view()
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm]")

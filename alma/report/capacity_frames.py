@@ -46,8 +46,9 @@ def frames_svg(scene: Scene, result: PushResult, *, pixels: float = 520.0) -> st
             f'width="{w * k:.0f}" height="{h * k:.0f}">{"".join(groups)}</svg>')
 
 
-def slider_html(result: PushResult) -> str:
-    """The range input over the steps, its label and the script that shows one frame."""
+def slider_html(result: PushResult, name: str = "d", unit: str = "mm") -> str:
+    """The range input over the steps, its label (``name`` = value ``unit``) and the script that
+    shows one frame."""
     n = len(result.curve)
     points = json.dumps([[p.d, p.alpha] for p in result.curve])
     return (f'<div><input id="step" type="range" min="0" max="{n - 1}" value="0" step="1" style="width:520px">'
@@ -56,7 +57,8 @@ def slider_html(result: PushResult) -> str:
             f"var pts={html.escape(points, quote=False)};var s=document.getElementById('step');"
             "var l=document.getElementById('steplabel');var m=document.getElementById('curvemark');"
             "function show(k){for(var i=0;i<f.length;i++){f[i].style.display=(i==k)?'':'none';}"
-            "l.textContent=' step '+k+': d = '+pts[k][0].toPrecision(4)+' mm, \u03b1 = '+pts[k][1].toPrecision(4);"
+            f"l.textContent=' step '+k+': {html.escape(name)} = '+pts[k][0].toPrecision(4)+' {html.escape(unit)}, "
+            "\u03b1 = '+pts[k][1].toPrecision(4);"
             "if(m){m.setAttribute('cx',m.dataset['x'+k]);m.setAttribute('cy',m.dataset['y'+k]);}}"
             "s.addEventListener('input',function(){show(+s.value);});show(0);})();</script>")
 

@@ -20,19 +20,23 @@ _W, _H, _PAD = 520, 320, 48
 
 
 def write_capacity_html(result: PushResult, path: str | Path, *, check: SeismicResult | None = None,
-                        title: str = "", scene: Scene | None = None) -> Path:
+                        title: str = "", scene: Scene | None = None, abscissa: tuple[str, str, str] | None = None,
+                        rows: list[tuple[str, str]] | None = None) -> Path:
     """Write the page for ``result`` (and ``check``) to ``path``; with ``scene`` (the one pushed)
-    the displaced structure at every step beside the curve, under a slider."""
+    the displaced structure at every step beside the curve, under a slider.  ``abscissa`` (axis
+    label, name of the root, unit) and ``rows`` (the table) for another abscissa than the control
+    block's displacement (the settlement capacity's s)."""
+    label, root, unit = abscissa or (f"d: horizontal displacement of {result.control} [mm]", "d₀", "mm")
     d = np.array([p.d for p in result.curve])
     alpha = np.array([p.alpha for p in result.curve])
-    figures = [_svg(d, alpha, f"d: horizontal displacement of {result.control} [mm]", "α",
-                    marks=[("d₀", result.d0, None)], marker=scene is not None)]
+    figures = [_svg(d, alpha, label, "α", marks=[(root, result.d0, None)], marker=scene is not None)]
     if scene is not None:
         figures = [f"<div style='display:flex;flex-wrap:wrap;align-items:flex-start'>{figures[0]}"
-                   f"{frames_svg(scene, result)}</div>{slider_html(result)}"]
-    rows = [("status", str(result.status)), ("message", result.message), ("control block", str(result.control)),
-            ("α_c", f"{result.alpha_c:.6g}"), ("d₀ [mm]", f"{result.d0:.6g}"), ("LP solves", str(result.solves)),
-            ("end", str(result.end.get("text", result.end.get("reason", ""))))]
+                   f"{frames_svg(scene, result)}</div>{slider_html(result, label.split(':')[0], unit)}"]
+    rows = rows or [("status", str(result.status)), ("message", result.message),
+                    ("control block", str(result.control)), ("α_c", f"{result.alpha_c:.6g}"),
+                    ("d₀ [mm]", f"{result.d0:.6g}"), ("LP solves", str(result.solves)),
+                    ("end", str(result.end.get("text", result.end.get("reason", ""))))]
     if check is not None and check.curve_star:
         ds, a = np.array(check.curve_star).T
         figures.append(_svg(ds * 1e3, a, "d* [mm]", "a* [m/s²]",
