@@ -10,14 +10,11 @@ canonical form, which depends on the structure only:
   ones dropped, counter-clockwise, starting at the lowest (then leftmost) one;
 - the blocks: ordered by their centroid (y, then x).
 
-The canonical drawing is written in exact binary numbers, so that the round-off of a
-translation, rotation or change of units leaves no trace in it: every position lies on a grid
-of :attr:`CanonicalSettings.snap_bits` below the blocks' size (one structure, one set of
-vertices: points at one height stay at one height, so the drawing's alignments are kept), and
-every magnitude (unit weight, cohesion, loads, directions) keeps
-:attr:`CanonicalSettings.value_bits` significant bits.  The model built from it is then the
-same to the last bit for every writing of the structure, and consistent: its lever arms come
-from one set of points (:mod:`alma.mechanics.canonical`).
+Positions are compared on a binary grid of :attr:`CanonicalSettings.grid_bits` below the blocks'
+size, so that the round-off of a translation, rotation or change of units does not decide an
+order; the positions themselves are kept as computed (the model built from them is rounded to
+fewer bits: :mod:`alma.mechanics.canonical`), so that a mechanism carried back to the drawing
+keeps its hinges where they are.
 
 Point loads, ties and settlements move with their blocks; block ids, materials and joint
 overrides are kept.  :class:`CanonicalFrame` maps motions back to the drawing's frame.
@@ -41,13 +38,6 @@ class CanonicalSettings:
     #: real difference of place, and a round-off of 1e-16 relative lands on another grid point
     #: once in ~1e8.
     grid_bits: int = 20
-    #: Positions are snapped to a grid 2^-snap_bits × the blocks' size (5e-7 at most): well above
-    #: the round-off of a change of frame or units (1e-12 relative crosses a grid line once in
-    #: ~1e5 positions), while a state found on the snapped drawing is made exact on the drawing.
-    snap_bits: int = 20
-    #: Magnitudes (unit weight, cohesion, loads, directions) keep value_bits significant bits
-    #: (6e-8): a round-off of 1e-15 rounds the other way once in ~1e7.
-    value_bits: int = 24
     #: A vertex is collinear with its neighbours when the triangle they span is below this
     #: fraction of the squared longer edge (a drawing's "same line", not a real corner).
     collinear: float = 1e-12
@@ -74,9 +64,8 @@ class CanonicalFrame:
 def canonical_scene(scene: Scene, settings: CanonicalSettings = CanonicalSettings()) -> tuple[Scene, CanonicalFrame]:
     """The canonical form of ``scene`` (module docstring) and the frame that maps back to it.
 
-    Lengths are in units of √(mean free-block area); forces in units of the weight of a square of
-    that side (unit weight and thickness become 1), so that a change of units leaves the same
-    numbers; every ratio of weights, loads and capacities, and hence α, is kept.
+    Lengths are in units of √(mean free-block area), forces stay in kN: the unit weight is
+    multiplied by the unit², the cohesion by the unit, so every weight and capacity is kept.
     """
     matrix = _frame_matrix(scene, settings)
     turned = [b.vertices @ matrix.T for b in scene.blocks]
@@ -87,53 +76,19 @@ def canonical_scene(scene: Scene, settings: CanonicalSettings = CanonicalSetting
     unit = float(np.sqrt(np.mean(np.abs(free))))
     step = 2.0 ** -settings.grid_bits
     frame = CanonicalFrame(matrix, -corner, unit, np.zeros(0, dtype=int))
-    force = scene.unit_weight * unit ** 2 * scene.thickness  # kN per canonical force unit
-    exact = _Exact(2.0 ** -settings.snap_bits, settings.value_bits, force)
-    blocks = [dataclasses.replace(b, vertices=_clean(exact.place((v - corner) / unit), step, settings),
-                                  settlement=_settlement(b.settlement, frame, exact),
-                                  weight=None if b.weight is None else exact.value(b.weight / force))
+    blocks = [dataclasses.replace(b, vertices=_clean((v - corner) / unit, step, settings),
+                                  settlement=_settlement(b.settlement, frame))
               for b, v in zip(scene.blocks, turned, strict=True)]
     frame = dataclasses.replace(frame, order=_block_order(blocks, step))
     canonical = dataclasses.replace(
         scene, blocks=tuple(blocks[i] for i in frame.order), gravity=(0.0, -1.0),
-        live_load_direction=exact.vector(_unit(matrix @ np.asarray(scene.live_load_direction, dtype=float))),
-        unit_weight=1.0, thickness=1.0, cohesion=exact.value(scene.cohesion * unit * scene.thickness / force),
-        joint_overrides=tuple(dataclasses.replace(o, cohesion=None if o.cohesion is None else
-                                                  exact.value(o.cohesion * unit * scene.thickness / force))
+        live_load_direction=_unit(matrix @ np.asarray(scene.live_load_direction, dtype=float)),
+        unit_weight=scene.unit_weight * unit ** 2, cohesion=scene.cohesion * unit,
+        joint_overrides=tuple(dataclasses.replace(o, cohesion=None if o.cohesion is None else o.cohesion * unit)
                               for o in scene.joint_overrides),
-        loads=tuple(_load(load, frame, exact) for load in scene.loads),
-        ties=tuple(_tie(tie, frame, exact) for tie in scene.ties), validated=False)
+        loads=tuple(_load(load, frame) for load in scene.loads),
+        ties=tuple(_tie(tie, frame) for tie in scene.ties), validated=False)
     return canonical.validate(), frame
-
-
-def significant(values: np.ndarray, bits: int) -> np.ndarray:
-    """Each value rounded to ``bits`` significant bits (exactly representable; 0 stays 0)."""
-    x = np.asarray(values, dtype=float)
-    mantissa, exponent = np.frexp(x)
-    return np.ldexp(np.round(np.ldexp(mantissa, bits)), exponent - bits)
-
-
-@dataclass(frozen=True)
-class _Exact:
-    """Positions on a grid of ``step`` (canonical lengths), magnitudes to ``bits`` significant bits,
-    forces in units of ``force`` kN."""
-
-    step: float
-    bits: int
-    force: float
-
-    def place(self, points: np.ndarray) -> np.ndarray:
-        return np.round(np.asarray(points, dtype=float) / self.step) * self.step
-
-    def value(self, value: float) -> float:
-        return float(significant(np.array([value]), self.bits)[0])
-
-    def vector(self, vector: np.ndarray | tuple[float, float]) -> tuple[float, float]:
-        """Components to ``bits`` significant bits; one below 2^-bits of the other is a zero."""
-        v = np.asarray(vector, dtype=float)
-        v = np.where(np.abs(v) < 2.0 ** -self.bits * np.abs(v).max(initial=0.0), 0.0, v)
-        out = significant(v, self.bits)
-        return float(out[0]), float(out[1])
 
 
 def _unit(vector: np.ndarray) -> tuple[float, float]:
@@ -177,30 +132,30 @@ def _block_order(blocks: list, step: float) -> np.ndarray:
     return np.lexsort(np.round(keys / step).T[::-1])
 
 
-def _point(point: tuple[float, float], frame: CanonicalFrame, exact: _Exact) -> tuple[float, float]:
-    x = exact.place((frame.matrix @ np.asarray(point, dtype=float) + frame.offset) / frame.unit)
+def _point(point: tuple[float, float], frame: CanonicalFrame) -> tuple[float, float]:
+    x = (frame.matrix @ np.asarray(point, dtype=float) + frame.offset) / frame.unit
     return float(x[0]), float(x[1])
 
 
-def _vector(vector: tuple[float, float], frame: CanonicalFrame) -> np.ndarray:
-    return frame.matrix @ np.asarray(vector, dtype=float)
+def _vector(vector: tuple[float, float], frame: CanonicalFrame) -> tuple[float, float]:
+    x = frame.matrix @ np.asarray(vector, dtype=float)
+    return float(x[0]), float(x[1])
 
 
-def _load(load: PointLoad, frame: CanonicalFrame, exact: _Exact) -> PointLoad:
-    point = None if load.point is None else _point(load.point, frame, exact)  # None: the block's centroid
-    return dataclasses.replace(load, point=point, dead=exact.vector(_vector(load.dead, frame) / exact.force),
-                               live=exact.vector(_vector(load.live, frame) / exact.force))
+def _load(load: PointLoad, frame: CanonicalFrame) -> PointLoad:
+    point = None if load.point is None else _point(load.point, frame)  # None: the block's centroid
+    return dataclasses.replace(load, point=point, dead=_vector(load.dead, frame),
+                               live=_vector(load.live, frame))
 
 
-def _tie(tie: Tie, frame: CanonicalFrame, exact: _Exact) -> Tie:
-    return dataclasses.replace(tie, from_point=_point(tie.from_point, frame, exact),
-                               to_point=_point(tie.to_point, frame, exact),
-                               strength=exact.value(tie.strength / exact.force))
+def _tie(tie: Tie, frame: CanonicalFrame) -> Tie:
+    return dataclasses.replace(tie, from_point=_point(tie.from_point, frame), to_point=_point(tie.to_point, frame))
 
 
-def _settlement(settlement: Settlement | None, frame: CanonicalFrame, exact: _Exact) -> Settlement | None:
+def _settlement(settlement: Settlement | None, frame: CanonicalFrame) -> Settlement | None:
     if settlement is None:
         return None
-    about = _point(settlement.about, frame, exact)
-    return Settlement(translation=exact.vector(_vector(settlement.translation, frame) / frame.unit),
+    about = _point(settlement.about, frame)
+    translation = np.asarray(_vector(settlement.translation, frame)) / frame.unit
+    return Settlement(translation=(float(translation[0]), float(translation[1])),
                       rotation=frame.handedness * settlement.rotation, about=about)

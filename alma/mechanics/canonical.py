@@ -1,10 +1,9 @@
 """The canonical model of the friction search, and motions carried back to the drawing's model.
 
-:func:`alma.geometry.canonical.canonical_scene` writes the structure in exact binary numbers
-(positions on a grid, magnitudes to a fixed number of bits, in units the structure defines), so
-the model built from it is the same for every writing of the structure on one machine.  Its
-data are then rounded to fewer bits (:func:`snapped`), so that what a different CPU or BLAS
-changes in the last bits of the build does not reach the search.
+:func:`alma.geometry.canonical.canonical_scene` fixes the frame, the vertices and the order of
+the blocks; the model built from it is then snapped to a binary grid (:func:`snapped`), so that
+the round-off of a change of units or unit weight (forces are in mean block weights, lengths in
+√ mean block area) leaves no trace in the data the search sees.
 """
 from __future__ import annotations
 
