@@ -22,6 +22,7 @@ from one set of points (:mod:`alma.mechanics.canonical`).
 Point loads, ties and settlements move with their blocks; block ids, materials and joint
 overrides are kept.  :class:`CanonicalFrame` maps motions back to the drawing's frame.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -82,27 +83,42 @@ def canonical_scene(scene: Scene, settings: CanonicalSettings = CanonicalSetting
     turned = [b.vertices @ matrix.T for b in scene.blocks]
     corner = np.concatenate(turned).min(axis=0)
     # Areas about each polygon's own first vertex: far from the origin the shoelace sum cancels.
-    free = ([polygon_area(v - v[0]) for v, b in zip(turned, scene.blocks, strict=True) if not b.fixed]
-            or [polygon_area(turned[0] - turned[0][0])])
+    free = [polygon_area(v - v[0]) for v, b in zip(turned, scene.blocks, strict=True) if not b.fixed] or [
+        polygon_area(turned[0] - turned[0][0])
+    ]
     unit = float(np.sqrt(np.mean(np.abs(free))))
-    step = 2.0 ** -settings.grid_bits
+    step = 2.0**-settings.grid_bits
     frame = CanonicalFrame(matrix, -corner, unit, np.zeros(0, dtype=int))
-    force = scene.unit_weight * unit ** 2 * scene.thickness  # kN per canonical force unit
-    exact = _Exact(2.0 ** -settings.snap_bits, settings.value_bits, force)
-    blocks = [dataclasses.replace(b, vertices=_clean(exact.place((v - corner) / unit), step, settings),
-                                  settlement=_settlement(b.settlement, frame, exact),
-                                  weight=None if b.weight is None else exact.value(b.weight / force))
-              for b, v in zip(scene.blocks, turned, strict=True)]
+    force = scene.unit_weight * unit**2 * scene.thickness  # kN per canonical force unit
+    exact = _Exact(2.0**-settings.snap_bits, settings.value_bits, force)
+    blocks = [
+        dataclasses.replace(
+            b,
+            vertices=_clean(exact.place((v - corner) / unit), step, settings),
+            settlement=_settlement(b.settlement, frame, exact),
+            weight=None if b.weight is None else exact.value(b.weight / force),
+        )
+        for b, v in zip(scene.blocks, turned, strict=True)
+    ]
     frame = dataclasses.replace(frame, order=_block_order(blocks, step))
     canonical = dataclasses.replace(
-        scene, blocks=tuple(blocks[i] for i in frame.order), gravity=(0.0, -1.0),
+        scene,
+        blocks=tuple(blocks[i] for i in frame.order),
+        gravity=(0.0, -1.0),
         live_load_direction=exact.vector(_unit(matrix @ np.asarray(scene.live_load_direction, dtype=float))),
-        unit_weight=1.0, thickness=1.0, cohesion=exact.value(scene.cohesion * unit * scene.thickness / force),
-        joint_overrides=tuple(dataclasses.replace(o, cohesion=None if o.cohesion is None else
-                                                  exact.value(o.cohesion * unit * scene.thickness / force))
-                              for o in scene.joint_overrides),
+        unit_weight=1.0,
+        thickness=1.0,
+        cohesion=exact.value(scene.cohesion * unit * scene.thickness / force),
+        joint_overrides=tuple(
+            dataclasses.replace(
+                o, cohesion=None if o.cohesion is None else exact.value(o.cohesion * unit * scene.thickness / force)
+            )
+            for o in scene.joint_overrides
+        ),
         loads=tuple(_load(load, frame, exact) for load in scene.loads),
-        ties=tuple(_tie(tie, frame, exact) for tie in scene.ties), validated=False)
+        ties=tuple(_tie(tie, frame, exact) for tie in scene.ties),
+        validated=False,
+    )
     return canonical.validate(), frame
 
 
@@ -131,7 +147,7 @@ class _Exact:
     def vector(self, vector: np.ndarray | tuple[float, float]) -> tuple[float, float]:
         """Components to ``bits`` significant bits; one below 2^-bits of the other is a zero."""
         v = np.asarray(vector, dtype=float)
-        v = np.where(np.abs(v) < 2.0 ** -self.bits * np.abs(v).max(initial=0.0), 0.0, v)
+        v = np.where(np.abs(v) < 2.0**-self.bits * np.abs(v).max(initial=0.0), 0.0, v)
         out = significant(v, self.bits)
         return float(out[0]), float(out[1])
 
@@ -162,7 +178,7 @@ def _clean(vertices: np.ndarray, step: float, settings: CanonicalSettings) -> np
     keep = vertices[distinct] if distinct.sum() >= 3 else vertices
     a, b = keep - np.roll(keep, 1, axis=0), np.roll(keep, -1, axis=0) - keep
     cross = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
-    corner = cross > settings.collinear * np.maximum((a ** 2).sum(axis=1), (b ** 2).sum(axis=1))
+    corner = cross > settings.collinear * np.maximum((a**2).sum(axis=1), (b**2).sum(axis=1))
     if corner.sum() >= 3:
         keep = keep[corner]
     grid = np.round(keep / step)
@@ -172,8 +188,9 @@ def _clean(vertices: np.ndarray, step: float, settings: CanonicalSettings) -> np
 
 def _block_order(blocks: list, step: float) -> np.ndarray:
     """Blocks by centroid y, then x, then area, then the first vertex (compared on the grid ``step``)."""
-    keys = np.array([[*polygon_centroid(b.vertices)[::-1], polygon_area(b.vertices), *b.vertices[0][::-1]]
-                     for b in blocks])
+    keys = np.array(
+        [[*polygon_centroid(b.vertices)[::-1], polygon_area(b.vertices), *b.vertices[0][::-1]] for b in blocks]
+    )
     return np.lexsort(np.round(keys / step).T[::-1])
 
 
@@ -188,19 +205,29 @@ def _vector(vector: tuple[float, float], frame: CanonicalFrame) -> np.ndarray:
 
 def _load(load: PointLoad, frame: CanonicalFrame, exact: _Exact) -> PointLoad:
     point = None if load.point is None else _point(load.point, frame, exact)  # None: the block's centroid
-    return dataclasses.replace(load, point=point, dead=exact.vector(_vector(load.dead, frame) / exact.force),
-                               live=exact.vector(_vector(load.live, frame) / exact.force))
+    return dataclasses.replace(
+        load,
+        point=point,
+        dead=exact.vector(_vector(load.dead, frame) / exact.force),
+        live=exact.vector(_vector(load.live, frame) / exact.force),
+    )
 
 
 def _tie(tie: Tie, frame: CanonicalFrame, exact: _Exact) -> Tie:
-    return dataclasses.replace(tie, from_point=_point(tie.from_point, frame, exact),
-                               to_point=_point(tie.to_point, frame, exact),
-                               strength=exact.value(tie.strength / exact.force))
+    return dataclasses.replace(
+        tie,
+        from_point=_point(tie.from_point, frame, exact),
+        to_point=_point(tie.to_point, frame, exact),
+        strength=exact.value(tie.strength / exact.force),
+    )
 
 
 def _settlement(settlement: Settlement | None, frame: CanonicalFrame, exact: _Exact) -> Settlement | None:
     if settlement is None:
         return None
     about = _point(settlement.about, frame, exact)
-    return Settlement(translation=exact.vector(_vector(settlement.translation, frame) / frame.unit),
-                      rotation=frame.handedness * settlement.rotation, about=about)
+    return Settlement(
+        translation=exact.vector(_vector(settlement.translation, frame) / frame.unit),
+        rotation=frame.handedness * settlement.rotation,
+        about=about,
+    )

@@ -6,6 +6,7 @@ the model built from it is the same for every writing of the structure on one ma
 data are then rounded to fewer bits (:func:`snapped`), so that what a different CPU or BLAS
 changes in the last bits of the build does not reach the search.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -38,10 +39,15 @@ def _snap_matrix(matrix: sp.csc_matrix | None, bits: int) -> sp.csc_matrix | Non
 def snapped(model: Model, bits: int) -> Model:
     """``model`` with its dimensionless data rounded to ``bits`` significant bits (:func:`_snap`)."""
     return dataclasses.replace(
-        model, centroid=_snap(model.centroid, bits), normal_part=_snap_matrix(model.normal_part, bits),
-        tangent_part=_snap_matrix(model.tangent_part, bits), dead=_snap(model.dead, bits),
-        live=_snap(model.live, bits), bounded=_snap_matrix(model.bounded, bits),
-        capacity=_snap(model.capacity, bits))
+        model,
+        centroid=_snap(model.centroid, bits),
+        normal_part=_snap_matrix(model.normal_part, bits),
+        tangent_part=_snap_matrix(model.tangent_part, bits),
+        dead=_snap(model.dead, bits),
+        live=_snap(model.live, bits),
+        bounded=_snap_matrix(model.bounded, bits),
+        capacity=_snap(model.capacity, bits),
+    )
 
 
 def mechanism_to_drawing(u: np.ndarray, canonical: Model, frame: CanonicalFrame, model: Model) -> np.ndarray:
@@ -55,8 +61,9 @@ def mechanism_to_drawing(u: np.ndarray, canonical: Model, frame: CanonicalFrame,
     moves = np.asarray(u, dtype=float).reshape(-1, 3)
     target = model.free_index[frame.order[canonical.free_blocks]]  # drawing's free index of each canonical one
     to_mm = canonical.length_scale * frame.unit
-    centre_mm = (((canonical.centroid * canonical.length_scale + canonical.origin) * frame.unit - frame.offset)
-                 @ frame.matrix)
+    centre_mm = (
+        (canonical.centroid * canonical.length_scale + canonical.origin) * frame.unit - frame.offset
+    ) @ frame.matrix
     centre = (centre_mm - model.origin) / model.length_scale  # canonical centroids, drawing model units
     omega = frame.handedness * moves[:, 2]
     velocity = (moves[:, :2] @ frame.matrix) * (to_mm / model.length_scale)

@@ -1,4 +1,5 @@
 """Incremental large-displacement analysis: the capacity curve α(d) (SPEC §3 ``alma push``)."""
+
 from alma.push.curve import PUSH_MODELS, PushPoint, PushResult, push
 
 __all__ = ["PUSH_MODELS", "PushPoint", "PushResult", "push"]

@@ -24,6 +24,7 @@ with the largest translation, ties by id): s |t| in mm; when no support translat
 rotation s |r| in rad (scale 1 rad).  Steps and accuracy are relative to L = √(free area) for
 a translation, so units, origin and block order do not change the steps taken.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -113,18 +114,40 @@ class SettlementCapacity:
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON object of ``alma settle --capacity``."""
-        points = [{"s": p.d, "factor": p.d / self.measure, "alpha": finite(p.alpha),
-                   "mechanism_changed": p.mechanism_changed, "status": str(p.status),
-                   "cracked": [list(j) for j in c]} for p, c in zip(self.curve.curve, self.cracks, strict=True)]
-        return {"status": str(self.status), "message": self.message, "support": self.support, "unit": self.unit,
-                "s_u": finite(self.s_u), "s_u_bracket": [finite(x) for x in self.bracket],
-                "factor_u": finite(self.factor_u), "alpha_0": finite(self.curve.alpha_c),
-                "cracked_u": [list(j) for j in self.cracked_u], "curve": points,
-                "solves": self.curve.solves, "end": self.curve.end}
+        points = [
+            {
+                "s": p.d,
+                "factor": p.d / self.measure,
+                "alpha": finite(p.alpha),
+                "mechanism_changed": p.mechanism_changed,
+                "status": str(p.status),
+                "cracked": [list(j) for j in c],
+            }
+            for p, c in zip(self.curve.curve, self.cracks, strict=True)
+        ]
+        return {
+            "status": str(self.status),
+            "message": self.message,
+            "support": self.support,
+            "unit": self.unit,
+            "s_u": finite(self.s_u),
+            "s_u_bracket": [finite(x) for x in self.bracket],
+            "factor_u": finite(self.factor_u),
+            "alpha_0": finite(self.curve.alpha_c),
+            "cracked_u": [list(j) for j in self.cracked_u],
+            "curve": points,
+            "solves": self.curve.solves,
+            "end": self.curve.end,
+        }
 
 
-def settlement_capacity(scene: Scene, *, steps: int | None = None, settings: Settings | None = None,
-                        push_settings: PushSettings | None = None) -> SettlementCapacity:
+def settlement_capacity(
+    scene: Scene,
+    *,
+    steps: int | None = None,
+    settings: Settings | None = None,
+    push_settings: PushSettings | None = None,
+) -> SettlementCapacity:
     """The settlement at which ``scene`` can no longer carry its dead load (module docstring).
 
     Parameters
@@ -158,8 +181,7 @@ def settlement_capacity(scene: Scene, *, steps: int | None = None, settings: Set
     free = np.array([not b.fixed for b in scene.blocks])
     ctx = _Context(supports, float(np.sqrt(np.abs(areas[free]).sum())), settings)
     scale = ctx.length if supports.unit == "mm" else 1.0
-    run = _Run(scene, "associative", settings, p, scale, supports.control, 1.0,
-               mover=functools.partial(_move, ctx))
+    run = _Run(scene, "associative", settings, p, scale, supports.control, 1.0, mover=functools.partial(_move, ctx))
     support = scene.blocks[supports.control].id
     try:
         start = _configuration(ctx, run, 0.0, Pose.rest(len(scene.blocks)), find_joints(scene))
@@ -168,8 +190,13 @@ def settlement_capacity(scene: Scene, *, steps: int | None = None, settings: Set
         return _failed(drawn, Status.NOT_CONVERGED, supports, support, f"before any settlement: {exc}")
     if not (start.result.status == Status.OPTIMAL and start.alpha > 0):
         status = Status.NO_EQUILIBRIUM if start.result.status == Status.OPTIMAL else start.result.status
-        return _failed(start.result, status, supports, support, f"before any settlement: {start.result.message} "
-                       f"(α = {start.alpha:.6g})")
+        return _failed(
+            start.result,
+            status,
+            supports,
+            support,
+            f"before any settlement: {start.result.message} (α = {start.alpha:.6g})",
+        )
     # Any settlement cracks the intact structure (a spreading arch takes its hinges at once): α
     # may drop at s = 0⁺, so push's steps start from the first cracked configuration, whose
     # slope, not the jump, sets their length.
@@ -191,10 +218,12 @@ def settlement_capacity(scene: Scene, *, steps: int | None = None, settings: Set
 def _failed(result: Result, status: Status, supports: _Supports, support: str, message: str) -> SettlementCapacity:
     """No curve: the structure does not stand at s = 0, or its first step failed (``result``: the
     analysis of the scene as drawn)."""
-    empty = PushResult(result.status, result.message, "associative", support, (), math.nan, (math.nan, math.nan), 1,
-                       result)
-    return SettlementCapacity(status, message, support, supports.unit, math.nan, (math.nan, math.nan), math.nan,
-                              empty, (), supports.measure)
+    empty = PushResult(
+        result.status, result.message, "associative", support, (), math.nan, (math.nan, math.nan), 1, result
+    )
+    return SettlementCapacity(
+        status, message, support, supports.unit, math.nan, (math.nan, math.nan), math.nan, empty, (), supports.measure
+    )
 
 
 def _capacity(ctx: _Context, curve: PushResult, support: str) -> SettlementCapacity:
@@ -207,12 +236,25 @@ def _capacity(ctx: _Context, curve: PushResult, support: str) -> SettlementCapac
         bracket = curve.d0_bracket
     s_u = curve.d0 if math.isfinite(curve.d0) else 0.5 * (bracket[0] + bracket[1])
     cracks = tuple(ctx.cracks.get(p.d, ()) for p in curve.curve)
-    message = curve.message.replace("d0 = ", "s_u = ").replace(" mm", f" {unit}") if unit == "rad" else \
-        curve.message.replace("d0 = ", "s_u = ")
+    message = (
+        curve.message.replace("d0 = ", "s_u = ").replace(" mm", f" {unit}")
+        if unit == "rad"
+        else curve.message.replace("d0 = ", "s_u = ")
+    )
     if curve.status == Status.LIMIT_REACHED or not math.isfinite(s_u):
         message = f"the structure still carries its dead load at the last settlement tried: {message}"
-    result = SettlementCapacity(curve.status, message, support, unit, s_u, bracket, s_u / ctx.supports.measure,
-                                curve, cracks, ctx.supports.measure)
+    result = SettlementCapacity(
+        curve.status,
+        message,
+        support,
+        unit,
+        s_u,
+        bracket,
+        s_u / ctx.supports.measure,
+        curve,
+        cracks,
+        ctx.supports.measure,
+    )
     return result
 
 
@@ -220,8 +262,10 @@ def _supports(scene: Scene) -> _Supports:
     """The settling supports and the control one (largest translation, then rotation; ties by id)."""
     rows = [(i, b.id, b.settlement) for i, b in enumerate(scene.blocks) if b.settlement is not None]
     if not rows:
-        raise SettleError("no support of the scene has a 'settlement' (a fixed block's prescribed motion, "
-                          "SPEC §2): there is no settlement to grow")
+        raise SettleError(
+            "no support of the scene has a 'settlement' (a fixed block's prescribed motion, "
+            "SPEC §2): there is no settlement to grow"
+        )
     index = np.array([i for i, _, _ in rows])
     t = np.array([m.translation for _, _, m in rows], dtype=np.float64).reshape(-1, 2)
     r = np.array([m.rotation for _, _, m in rows], dtype=np.float64)
@@ -273,16 +317,21 @@ def _configuration(ctx: _Context, run: _Run, s: float, pose: Pose, joints: Joint
         # The settlement LP's dual is the dead load's own equilibrium (α = 0): it has none here,
         # although a field carries α_c > 0 of live load (the structure leans on the live load):
         # the dead load is lost, which is the capacity's question.
-        result = dataclasses.replace(result, status=Status.NO_EQUILIBRIUM, alpha=-math.inf,
-                                     message=f"the dead load alone has no equilibrium ({crack.message}); "
-                                             f"α_c = {result.alpha:.6g} needs the live load's help")
+        result = dataclasses.replace(
+            result,
+            status=Status.NO_EQUILIBRIUM,
+            alpha=-math.inf,
+            message=f"the dead load alone has no equilibrium ({crack.message}); "
+            f"α_c = {result.alpha:.6g} needs the live load's help",
+        )
     if crack.status == Status.OPTIMAL:
         bodies = _bodies(here, crack, sup, s, ctx.length)
     elif not (math.isfinite(result.alpha) and result.alpha > 0):
         bodies = _bodies(here, None, sup, s, ctx.length)  # the curve ends here: no step leaves it
     else:
-        raise MotionError(f"the settlement mechanism at s = {d:.6g} {sup.unit} is not certified "
-                          f"({crack.status}: {crack.message})")
+        raise MotionError(
+            f"the settlement mechanism at s = {d:.6g} {sup.unit} is not certified ({crack.status}: {crack.message})"
+        )
     contacts = classify(built.joints, bodies, built.friction)
     ctx.cracks[d] = _cracked(here, built.joints, bodies, ctx.length)
     return _State(d, pose, result, bodies, contacts, signature(here, result, contacts), built)
@@ -325,8 +374,14 @@ def _cracked(scene: Scene, joints: Joints, bodies: Bodies, length: float) -> tup
     omega = np.where(bodies.of_block >= 0, bodies.omega[np.maximum(bodies.of_block, 0)], 0.0)
     moving |= np.abs(omega[joints.block_b] - omega[joints.block_a]) * length > MOTION_TOLERANCE * scale
     ids = scene.block_ids
-    return tuple(sorted({tuple(sorted((ids[i], ids[j]))) for i, j in
-                         zip(joints.block_a[moving].tolist(), joints.block_b[moving].tolist(), strict=True)}))
+    return tuple(
+        sorted(
+            {
+                tuple(sorted((ids[i], ids[j])))
+                for i, j in zip(joints.block_a[moving].tolist(), joints.block_b[moving].tolist(), strict=True)
+            }
+        )
+    )
 
 
 def _move(ctx: _Context, run: _Run, state: _State, d: float) -> _State:
@@ -343,13 +398,16 @@ def _move(ctx: _Context, run: _Run, state: _State, d: float) -> _State:
     args = (z0, None, 0.0, ctx.length, run.push, prescribed)
     contacts = face_first(displaced(run.scene, state.pose), state.contacts)
     on_support = np.isin(contacts.a, sup.index) | np.isin(contacts.b, sup.index)
-    tries = (contacts,
-             # as push does: sliding points kept closed may over-constrain a dilatant mechanism
-             dataclasses.replace(contacts, sliding=np.zeros_like(contacts.sliding)),
-             # a block hinged to a fixed support and resting on a settling one by a corner (a lintel
-             # over a sinking pier) slides on it at second order: its corner stays on the face only
-             dataclasses.replace(contacts, hinge=contacts.hinge & ~on_support,
-                                 sliding=contacts.sliding | (contacts.hinge & on_support)))
+    tries = (
+        contacts,
+        # as push does: sliding points kept closed may over-constrain a dilatant mechanism
+        dataclasses.replace(contacts, sliding=np.zeros_like(contacts.sliding)),
+        # a block hinged to a fixed support and resting on a settling one by a corner (a lintel
+        # over a sinking pier) slides on it at second order: its corner stays on the face only
+        dataclasses.replace(
+            contacts, hinge=contacts.hinge & ~on_support, sliding=contacts.sliding | (contacts.hinge & on_support)
+        ),
+    )
     for k, kept in enumerate(tries):
         try:
             z = corrected(bodies, kept, *args)
