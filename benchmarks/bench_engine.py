@@ -92,7 +92,8 @@ def _one(scene, engine: str, backend: str) -> dict:
 def _one_ipx(scene) -> dict:
     """HiGHS IPX (interior point, crossover off) on the same kinematic LP, its pair passed to
     alma's certificate: a reference, not one of alma's engines."""
-    from alma.associative.lp import _certified, _kinematic_form
+    from alma.associative.lp import _certified
+    from alma.associative.lp_forms import _kinematic_form
     from alma.backends.highs_backend import conic_lp, quiet_highs
     from alma.backends.termination import SolverResult, termination
     from alma.geometry.contacts import find_joints

@@ -14,7 +14,8 @@ import time
 
 import numpy as np
 
-from alma.associative.lp import _certified, _kinematic_form
+from alma.associative.lp import _certified
+from alma.associative.lp_forms import _kinematic_form
 from alma.backends.highs_backend import conic_lp, quiet_highs
 from alma.backends.termination import SolverResult, termination
 from alma.geometry.contacts import find_joints

@@ -284,7 +284,7 @@ def test_auto_chooses_by_size(monkeypatch):
 def test_crossed_bounds_are_not_certified():
     """A lower bound above the upper one (measured on test_mixed_tiny_and_huge through a trial
     engine setting: [0.011901605, 0.011899563], relative gap −2.0e-6) proves nothing."""
-    from alma.associative.lp import _judge
+    from alma.associative.lp_forms import _judge
     from alma.settings import AssociativeSettings
     from alma.status import Status
 
@@ -315,7 +315,7 @@ def _bounded_wall() -> alma.Model:
 def test_auxiliary_elimination_is_the_exact_schur_complement():
     """U diag(d_eff) Uᵀ equals the Schur complement of the v block of H_aug D H_augᵀ, and
     reduce → solve → expand solves the augmented system."""
-    from alma.associative.lp import _engine_form
+    from alma.associative.lp_forms import _engine_form
     from alma.engine.auxiliary import auxiliary_rows
 
     model = _bounded_wall()

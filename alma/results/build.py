@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from alma.associative.lp import LPSolution
+from alma.associative.lp_forms import LPSolution
 from alma.mechanics.model import Model
 from alma.results.joints import bounded_forces, multipliers_to_forces, physical
 from alma.results.types import AssociativeResult, Bounds, Comparison, NonAssociativeResult, finite
