@@ -4,7 +4,7 @@ For every paper panel up to ``--max-blocks`` blocks (all three frictions), the a
 solved once, then each method alone:
 
 - ``lp``                     the exact state of the associative mechanism (its dilatant openings
-                             read as slips), :func:`alma.nonassociative.states.exact_state`;
+                             read as slips), :func:`alma.nonassociative.exact_states.exact_state`;
 - ``gilbert(s, r, k)``       one Gilbert iterative-LP run from N̄ = s·N_LP, relaxation r, k
                              slope-halving steps (every entry of ``SearchSettings.gilbert_fast``/``gilbert_thorough``);
 - ``effort=fast``, ``effort=thorough``  alma's default searches (all their starts, lowest
@@ -37,9 +37,10 @@ import alma
 from alma.associative.lp import solve_lp
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
+from alma.nonassociative.exact_states import exact_state
 from alma.nonassociative.gilbert import gilbert
 from alma.nonassociative.search import solve_nonassociative
-from alma.nonassociative.states import CollapseState, exact_state
+from alma.nonassociative.states import CollapseState
 from alma.settings import SearchSettings
 
 ROOT = Path(__file__).resolve().parents[1]

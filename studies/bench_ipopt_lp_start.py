@@ -11,7 +11,7 @@ For every paper panel up to ``--max-blocks`` blocks (all three frictions):
 - ``ipopt from LP``: :func:`alma.nonassociative.nlp.ipopt_polish` from the LP mechanism, no seed
   forces (the Scholtes relaxation driven 1e-2 → 1e-8), each relaxed solve within
   ``--ipopt-iterations`` IPOPT iterations; its mechanism is turned into an exact state and
-  verified like every other candidate (:func:`alma.nonassociative.states.exact_state`);
+  verified like every other candidate (:func:`alma.nonassociative.exact_states.exact_state`);
 - ``alma default``: ``alma.solve(scene, "nonassociative")`` (its work budgets).
 
 IPOPT on the full problem does not scale (prototype: 16 s at 52 blocks, 195 s at 126), so the

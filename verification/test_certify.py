@@ -161,7 +161,7 @@ def test_milp_state_beside_short_block_is_a_verified_collapse_state():
     """The certificate's optimum on COLUMN_BESIDE_SHORT_BLOCK is a genuine collapse state at 0.5
     (checked by alma's own exact-state verification), below the associative α = 1."""
     from alma.mechanics.contact_points import ContactPoints
-    from alma.nonassociative.states import exact_state
+    from alma.nonassociative.exact_states import exact_state
 
     model, alpha_lp, mechanisms, best = _inputs(alma.Scene.from_dict(COLUMN_BESIDE_SHORT_BLOCK))
     assert alpha_lp == pytest.approx(1.0, rel=1e-7)

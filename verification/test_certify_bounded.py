@@ -23,8 +23,8 @@ from alma.associative.lp import solve_lp
 from alma.certify.milp import certify
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
+from alma.nonassociative.exact_states import exact_state
 from alma.nonassociative.search import solve_nonassociative
-from alma.nonassociative.states import exact_state
 from alma.settings import CertifySettings
 
 

@@ -171,7 +171,7 @@ def test_associative_mechanism_read_as_slips_gives_the_sliding_state():
     from alma.associative.lp import solve_lp
     from alma.mechanics.contact_points import ContactPoints
     from alma.mechanics.model import build_model
-    from alma.nonassociative.states import exact_state
+    from alma.nonassociative.exact_states import exact_state
 
     model = build_model(alma.paper_panel("running", "2:1", "4:1", 0.27))
     lp = solve_lp(model)

@@ -14,9 +14,9 @@ from hypothesis import HealthCheck, assume, given, settings, strategies as st
 import alma
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
+from alma.nonassociative.exact_states import exact_state
 from alma.nonassociative.rocking import rocking_candidates
 from alma.nonassociative.starts import rocking_start
-from alma.nonassociative.states import exact_state
 
 from helpers import assemblies, single_block_scene
 

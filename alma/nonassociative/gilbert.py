@@ -18,8 +18,9 @@ import numpy as np
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.cap_lp import CapLP, ClosestField
+from alma.nonassociative.exact_states import exact_state
 from alma.nonassociative.limits import Cap, Work, no_cap
-from alma.nonassociative.states import CollapseState, Tally, active_set, bounded_active_set, exact_state, lower, verify
+from alma.nonassociative.states import CollapseState, Tally, active_set, bounded_active_set, lower, verify
 from alma.nonassociative.static_lps import StaticLP, static_lp_clarabel
 from alma.settings import StateTolerances
 

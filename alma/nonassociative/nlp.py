@@ -11,7 +11,7 @@ d = −Gᵀu = d⁺ − d⁻ (d± ≥ 0): (capacity − τ) d⁺ ≤ ε (a colum
 capacity), τ d⁻ ≤ ε (one that moves against itself carries nothing).  A tiny regularisation of
 the slips keeps multipliers of unloaded points bounded.  Sparse Jacobians and
 exact Hessians come from CasADi.  The result is only a start: its mechanism is
-turned into an exact, verified state by :func:`alma.nonassociative.states.exact_state`.
+turned into an exact, verified state by :func:`alma.nonassociative.exact_states.exact_state`.
 Each relaxed solve is bounded by IPOPT's iteration count, never by its clock.
 """
 
@@ -22,8 +22,9 @@ import numpy as np
 from alma.backends.ipopt_backend import ComplementarityData, solve_relaxations
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
+from alma.nonassociative.exact_states import exact_state
 from alma.nonassociative.limits import Cap, no_cap
-from alma.nonassociative.states import CollapseState, ExactLimits, exact_state
+from alma.nonassociative.states import CollapseState, ExactLimits
 
 
 def ipopt_polish(

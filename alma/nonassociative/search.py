@@ -40,10 +40,11 @@ from alma.geometry.canonical import CanonicalFrame
 from alma.mechanics.canonical import mechanism_to_drawing
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
+from alma.nonassociative.exact_states import fast_exact_state
 from alma.nonassociative.limits import Cap
 from alma.nonassociative.policy import make_start, parse_kind, plan, resolve_effort, start_name, wanted
 from alma.nonassociative.starts import Context
-from alma.nonassociative.states import CollapseState, ExactLimits, Tally, fast_exact_state, lowest
+from alma.nonassociative.states import CollapseState, ExactLimits, Tally, lowest
 from alma.settings import CertifySettings, SearchSettings
 from alma.status import Status
 
@@ -196,7 +197,7 @@ def carried_back(
 
     Each verified canonical state's mechanism is carried to ``model``'s frame and blocks
     (:func:`~alma.mechanics.canonical.mechanism_to_drawing`) and made exact there, its active set
-    fixed (:func:`~alma.nonassociative.states.fast_exact_state`), lowest α first, until one
+    fixed (:func:`~alma.nonassociative.exact_states.fast_exact_state`), lowest α first, until one
     verifies on ``model`` itself; that state is the answer and takes its candidate's place.  The
     other candidates keep their canonical α and forces, their mechanisms carried back (what the
     MILP's start reads).

@@ -16,11 +16,12 @@ from alma.backends.linprog_backend import LPMethod
 from alma.certify.milp import certify
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
+from alma.nonassociative.exact_states import exact_state, fast_exact_state
 from alma.nonassociative.gilbert import gilbert, projected_gilbert
 from alma.nonassociative.limits import Cap, Work, no_cap
 from alma.nonassociative.nlp import ipopt_polish
 from alma.nonassociative.rocking import rocking_candidates
-from alma.nonassociative.states import CollapseState, ExactLimits, Tally, exact_state, fast_exact_state, lowest
+from alma.nonassociative.states import CollapseState, ExactLimits, Tally, lowest
 from alma.settings import CertifySettings, SearchSettings
 
 

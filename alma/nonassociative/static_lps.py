@@ -203,7 +203,7 @@ def static_lp_clarabel(
 
     Much faster than simplex on large scenes; its mechanism is the interior-point
     one (a blend on degenerate faces), so states built from it are always passed
-    through :func:`alma.nonassociative.states.exact_state` before they count.
+    through :func:`alma.nonassociative.exact_states.exact_state` before they count.
     """
     P, k = points.count, model.n_bounded
     n = model.dead.shape[0]

@@ -24,9 +24,10 @@ import numpy as np
 from alma.associative.lp import solve_lp
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
+from alma.nonassociative.exact_states import exact_state
 from alma.nonassociative.gilbert import gilbert
 from alma.nonassociative.limits import Work
-from alma.nonassociative.states import CollapseState, Tally, exact_state, verify
+from alma.nonassociative.states import CollapseState, Tally, verify
 from alma.settings import StateTolerances
 from alma.status import Status
 
