@@ -40,7 +40,7 @@ from alma.geometry.loads import Settlement
 from alma.geometry.scene import Scene
 from alma.mechanics.model import build_model
 from alma.push.corrector import corrected
-from alma.push.curve import PushPoint, PushResult, _curve, _Run, _State
+from alma.push.curve import _curve
 from alma.push.motion import (
     Bodies,
     MotionError,
@@ -53,6 +53,7 @@ from alma.push.motion import (
     predictor,
     signature,
 )
+from alma.push.result import PushPoint, PushResult, _Run, _State
 from alma.results.joints import MOTION_TOLERANCE
 from alma.results.types import Result, finite
 from alma.settings import PushSettings, Settings
@@ -91,7 +92,7 @@ class SettlementCapacity:
 
     ``s_u`` is in ``unit`` (mm of the control support's translation, or rad of its rotation);
     ``factor_u`` = s_u / that measure (the multiple of the scene's settlement at capacity);
-    ``curve`` is push's :class:`~alma.push.curve.PushResult` whose abscissa ``d`` is the
+    ``curve`` is push's :class:`~alma.push.result.PushResult` whose abscissa ``d`` is the
     settlement (its ``control`` the control support).
     """
 
