@@ -190,9 +190,10 @@ def _solve_pair(
     interior point's record).
 
     alma's interior point (``alma.engine``) takes Eq. 10 with the bounded forces' dissipation
-    variables as auxiliary rows (:func:`~alma.associative.lp_forms._engine_form`); when it does not converge Clarabel solves
-    the problem and the note says so.  Its normal-equations pattern comes from ``patterns`` when
-    the same structure was solved before, and goes there (the caller's cache, not the model).
+    variables as auxiliary rows (:func:`~alma.associative.lp_forms._engine_form`); when it does not
+    converge Clarabel solves the problem and the note says so.  Its normal-equations pattern comes
+    from ``patterns`` when the same structure was solved before, and goes there (the caller's
+    cache, not the model).
     """
     if (
         choose(
