@@ -12,15 +12,21 @@ subparser's ``func`` is a handler ``handler(args) -> int`` returning the exit co
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import io
 import sys
 from pathlib import Path
 from typing import Any
 
 from alma.cli.json_output import dumps
+from alma.cli.study_inputs import (
+    _design_argument,
+    _error,
+    _guarded,
+    _positive_int,
+    _study_rows_for_anova,
+    _with_strengths,
+)
 from alma.settings import EFFORTS
-from alma.study.design import PAPER_DESIGN, load_design
 
 __all__ = ["anova_handler", "compare_handler", "doe_handler", "paper_handler", "register"]
 
@@ -173,46 +179,6 @@ def register(subparsers: Any) -> None:
     p.set_defaults(func=compare_handler)
 
 
-def _positive_int(text: str) -> int:
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
-    if n < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
-    return n
-
-
-def _guarded(run: Any) -> tuple[Any, int | None]:
-    """``run()`` and None, or None and the exit code of its failure (130 interrupted, 2 bad
-    input, 1 a failed run), the message on stderr."""
-    try:
-        return run(), None
-    except KeyboardInterrupt:
-        return None, 130
-    except ValueError as exc:
-        _error(str(exc))
-        return None, 2
-    except (RuntimeError, OSError) as exc:
-        _error(str(exc))
-        return None, 1
-
-
-def _error(message: str) -> None:
-    print(f"alma: error: {message}", file=sys.stderr)
-
-
-def _design_argument(args: argparse.Namespace):
-    """(design or None, failed): the ``--design`` file, its error printed if it cannot be read."""
-    if not getattr(args, "design", None):
-        return None, False
-    try:
-        return load_design(args.design), False
-    except ValueError as exc:
-        _error(str(exc))
-        return None, True
-
-
 # ------------------------------------------------------------------------------------------
 # alma doe
 # ------------------------------------------------------------------------------------------
@@ -252,21 +218,6 @@ def doe_handler(args: argparse.Namespace) -> int:
         print(f"{failed} failed, e.g.: {first}", file=sys.stderr)
         return 1
     return 0
-
-
-def _with_strengths(design: Any, text: str) -> Any:
-    """``design`` (default the paper's) with the compressive-strength levels of ``--compressive-strength``."""
-    levels = [t.strip() for t in text.split(",")]
-    if not all(levels):
-        raise ValueError(f"--compressive-strength: expected MPa levels separated by commas, got {text!r}")
-    try:
-        values = tuple(float(t) for t in levels)
-    except ValueError:
-        raise ValueError(f"--compressive-strength: expected numbers (MPa), got {text!r}") from None
-    try:
-        return dataclasses.replace(design or PAPER_DESIGN, compressive_strength=values)
-    except ValueError as exc:
-        raise ValueError(f"--compressive-strength: {exc}") from None
 
 
 # ------------------------------------------------------------------------------------------
@@ -325,22 +276,6 @@ def _load_for_anova(path: Path, model: str | None, pd: Any, load_results: Any) -
         return load_results(buf)
     except ValueError as exc:
         raise ValueError(str(exc).replace(str(buf), f"{path} (model {model})")) from None
-
-
-def _study_rows_for_anova(path: Path, rows: Any, model: str | None, load_results: Any) -> Any:
-    """The sound rows of a study's results file, of one contact model, checked as Table 5's."""
-    models = [m for m in dict.fromkeys(rows["model"].str.strip()) if m]
-    if model is None and len(models) > 1:
-        raise ValueError(f"{path}: rows of several models ({', '.join(models)}); choose one with --model")
-    if model is not None:
-        if model not in models:
-            raise ValueError(f"{path}: no rows of model {model!r} (found: {', '.join(models) or 'none'})")
-        rows = rows[rows["model"].str.strip() == model]
-    buf = io.StringIO(rows.to_csv(index=False))
-    try:
-        return load_results(buf)
-    except ValueError as exc:
-        raise ValueError(str(exc).replace(str(buf), str(path))) from None
 
 
 # ------------------------------------------------------------------------------------------
