@@ -33,8 +33,8 @@ import pandas as pd
 
 import alma
 from alma.report.plot import MechanismPicture, plot_side_by_side
-from alma.study.compare_report import start_times, write_report
-from alma.study.compare_stats import _statistics
+from alma.study.compare_report import write_report
+from alma.study.compare_stats import _statistics, start_times
 from alma.study.compare_table import COMPARE_COLUMNS, DIFFER_TOLERANCE, CompareReport, _panel_name, compare_table
 from alma.study.doe import PAPER_DESIGN, RESULTS_FILE, Design, load_design, picture_path, read_results, run_doe
 
