@@ -12,7 +12,7 @@ import pytest
 from hypothesis import example, given, settings, strategies as st
 
 import alma
-import alma.associative.lp as lp_module
+import alma.associative.lp_crushing as lp_crushing_module
 from alma.associative.crushing import crushing_dissipation
 from alma.cli.main import main
 from alma.geometry.scene import SceneError
@@ -81,7 +81,7 @@ def test_absent_key_takes_the_rigid_path(monkeypatch):
     def refuse(*args, **kwargs):
         raise AssertionError("the cone program ran on a scene without compressive_strength")
 
-    monkeypatch.setattr(lp_module, "solve_static_crushing", refuse)
+    monkeypatch.setattr(lp_crushing_module, "solve_static_crushing", refuse)
     scene = alma.Scene.from_dict(stack())
     assert build_model(scene).crushing.size == 0
     out = alma.solve(scene).to_dict()
