@@ -6,6 +6,7 @@ random example was drawn.  ``explore`` draws fresh random examples and keeps the
 finds in ``.hypothesis/``: ``make explore``.  Each failure found that way becomes an
 ``@example`` of its test (see verification/test_certify.py).
 """
+
 try:
     from hypothesis import settings
 except ImportError:  # pragma: no cover - hypothesis is a test dependency

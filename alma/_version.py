@@ -4,6 +4,7 @@ setuptools-scm writes it from git when the package is built or installed
 (``[tool.setuptools_scm]`` in pyproject.toml): ``X.Y.Z`` on a tagged commit, ``X.Y.(Z+1).devN``
 N commits after the tag.  An editable install keeps the version of its last ``pip install``.
 """
+
 from importlib.metadata import PackageNotFoundError, version
 
 try:

@@ -11,6 +11,7 @@ solves, branch-and-bound nodes), so the same input gives the same answer on any 
 only clock is :attr:`Settings.time_limit`, a user's hard cap whose cut is reported as
 ``limit_reached``.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -37,8 +38,7 @@ def _check_choice(owner: object, name: str, allowed: tuple[str, ...]) -> None:
     """A clear error when the field ``name`` of ``owner`` is not one of ``allowed``."""
     value = getattr(owner, name)
     if value not in allowed:
-        raise ValueError(f"{type(owner).__name__}.{name} must be one of {', '.join(map(repr, allowed))}, "
-                         f"got {value!r}")
+        raise ValueError(f"{type(owner).__name__}.{name} must be one of {', '.join(map(repr, allowed))}, got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -210,7 +210,14 @@ class SearchSettings:
     gilbert_fast: tuple[tuple[float, float, int], ...] = ((0.0, 1.0, 1), (1.0, 0.5, 0))
     #: Gilbert starts of "thorough": the fast ones first, then slower variants.
     gilbert_thorough: tuple[tuple[float, float, int], ...] = (
-        (0.0, 1.0, 1), (1.0, 0.5, 0), (0.0, 1.0, 4), (1.0, 0.5, 4), (0.5, 0.5, 1), (2.0, 1.0, 1), (1.0, 1.0, 0))
+        (0.0, 1.0, 1),
+        (1.0, 0.5, 0),
+        (0.0, 1.0, 4),
+        (1.0, 0.5, 4),
+        (0.5, 0.5, 1),
+        (2.0, 1.0, 1),
+        (1.0, 1.0, 0),
+    )
     #: Turned-table starts (alma.nonassociative.tilted): the table's turn in degrees, each running
     #: Gilbert's (0.5, 0.5, 1) on the turned problem; LACT³'s Portal reaches its lowest state at 10°.
     tilt_degrees: tuple[float, ...] = (10.0, 20.0)

@@ -17,6 +17,7 @@ least work on the prescribed motion: for a spreading arch, the minimum thrust.  
 the two values meet at the optimum, and an admissible pair certifies W* from both sides.
 Units: mm, rad, kN, kN·mm (work in kN·mm).
 """
+
 from __future__ import annotations
 
 import math
@@ -41,6 +42,7 @@ from alma.mechanics.model import Model, build_model
 from alma.results.joints import MOTION_TOLERANCE, multipliers_to_forces, physical, states_from_relative
 from alma.results.types import BlockMotion, Bounds, JointResult, finite
 from alma.settings import AssociativeSettings
+from alma.settle_power import bounded_support_power, support_power, support_relative
 from alma.status import Status
 
 
@@ -69,17 +71,33 @@ class SettlementResult:
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON object of ``alma settle`` (SPEC §3)."""
-        return {"status": str(self.status), "message": self.message, "work": finite(self.work),
-                "bounds": {"lower": finite(self.bounds.lower), "upper": finite(self.bounds.upper)},
-                "reactions": [dict(r) for r in self.reactions],
-                "blocks": [{"id": b.id, "u": list(b.u)} for b in self.blocks],
-                "joints": [{"blocks": list(j.blocks), "N": j.N, "T": j.T, "M": j.M, "state": j.state,
-                            "opening": list(j.opening), "slip": j.slip} for j in self.joints],
-                "residuals": {k: finite(v) for k, v in self.residuals.items()}, "timings": dict(self.timings)}
+        return {
+            "status": str(self.status),
+            "message": self.message,
+            "work": finite(self.work),
+            "bounds": {"lower": finite(self.bounds.lower), "upper": finite(self.bounds.upper)},
+            "reactions": [dict(r) for r in self.reactions],
+            "blocks": [{"id": b.id, "u": list(b.u)} for b in self.blocks],
+            "joints": [
+                {
+                    "blocks": list(j.blocks),
+                    "N": j.N,
+                    "T": j.T,
+                    "M": j.M,
+                    "state": j.state,
+                    "opening": list(j.opening),
+                    "slip": j.slip,
+                }
+                for j in self.joints
+            ],
+            "residuals": {k: finite(v) for k, v in self.residuals.items()},
+            "timings": dict(self.timings),
+        }
 
 
-def settle(scene: Scene, settings: AssociativeSettings | None = None, joints: Joints | None = None,
-           crisp: float | None = None) -> SettlementResult:
+def settle(
+    scene: Scene, settings: AssociativeSettings | None = None, joints: Joints | None = None, crisp: float | None = None
+) -> SettlementResult:
     """The settlement mechanism of ``scene`` and its certified dead-load work (module docstring).
 
     ``joints``: the scene's contacts when they are not its flat ones alone (a displaced
@@ -93,13 +111,17 @@ def settle(scene: Scene, settings: AssociativeSettings | None = None, joints: Jo
         joints = found if joints is None else joints
     # An explicit zero settlement is answered (nothing moves, work 0); none at all is a mistake.
     if not any(b.settlement is not None for b in scene.blocks):
-        raise SettleError("no support of the scene has a 'settlement' (a fixed block's prescribed motion, "
-                          "SPEC §2): there is nothing to settle")
+        raise SettleError(
+            "no support of the scene has a 'settlement' (a fixed block's prescribed motion, "
+            "SPEC §2): there is nothing to settle"
+        )
     t0 = time.perf_counter()
     model = build_model(scene, joints)
     if model.crushes:
-        raise SceneError("compressive_strength: the settlement analysis takes infinitely strong blocks only; "
-                         "remove compressive_strength from the scene")
+        raise SceneError(
+            "compressive_strength: the settlement analysis takes infinitely strong blocks only; "
+            "remove compressive_strength from the scene"
+        )
     h, g = support_power(model), bounded_support_power(model)
     H, q = model.equilibrium, model.n_bounded
     n, k = H.shape
@@ -113,19 +135,30 @@ def settle(scene: Scene, settings: AssociativeSettings | None = None, joints: Jo
     sol = solve_conic_lp(q_cost, A, b, 0, k + 2 * q, tolerance=s.tolerance, max_iter=s.max_iter)
     timings = {"build_s": 0.0, "solve_s": sol.solve_time}
     if sol.status in (Status.NO_EQUILIBRIUM, Status.NO_COLLAPSE):
-        message = ("the structure cannot carry its dead load: the settlement mechanism is unbounded"
-                   if sol.status == Status.NO_EQUILIBRIUM else "the prescribed settlements are incompatible")
+        message = (
+            "the structure cannot carry its dead load: the settlement mechanism is unbounded"
+            if sol.status == Status.NO_EQUILIBRIUM
+            else "the prescribed settlements are incompatible"
+        )
         return _empty(model, Status(sol.status), message, timings)
     # With no settlement at all u = 0 is the mechanism (nothing moves); the LP still gives the field.
     moves = h.any() or g.any()
     x = _vertex(q_cost, A, b, sol.x, k, n, crisp) if moves and crisp is not None else sol.x
     u = x[:n] if moves else np.zeros(n)
-    fields = np.clip(sol.duals[:k + q], 0.0, np.concatenate([np.full(k, np.inf), capacity]))
+    fields = np.clip(sol.duals[: k + q], 0.0, np.concatenate([np.full(k, np.inf), capacity]))
     field = types.SimpleNamespace(dead=model.dead, live=np.zeros(n))
     # _repair_field reads only .dead and .live of its model: the settlement's field carries no live load.
-    fields, _, static_residual = _repair_field(sp.hstack([H, G]).tocsc(), field, fields, 0.0,  # type: ignore[arg-type]
-                                               np.concatenate([np.full(k, np.inf), capacity]), 0.0,
-                                               s.residual_tolerance, s.gap_tolerance, s.feral_min_rows)
+    fields, _, static_residual = _repair_field(
+        sp.hstack([H, G]).tocsc(),
+        field,  # type: ignore[arg-type]
+        fields,
+        0.0,
+        np.concatenate([np.full(k, np.inf), capacity]),
+        0.0,
+        s.residual_tolerance,
+        s.gap_tolerance,
+        s.feral_min_rows,
+    )
     mu, tau = fields[:k], fields[k:]
     power = H.T @ u + h
     size = float((abs(H.T) @ np.abs(u)).max(initial=0.0)) + float(np.abs(h).max(initial=0.0))
@@ -136,15 +169,28 @@ def settle(scene: Scene, settings: AssociativeSettings | None = None, joints: Jo
     upper = float(h @ mu + g @ tau) * scale if static_residual <= s.residual_tolerance else math.inf
     gap = (upper - lower) / max(1.0, abs(upper)) if math.isfinite(lower) and math.isfinite(upper) else math.inf
     status = Status.OPTIMAL if gap <= s.gap_tolerance else Status.NOT_CONVERGED
-    message = (f"certified: relative gap {gap:.1e}" if status == Status.OPTIMAL else
-               f"relative gap {gap:.2e}, residuals static {static_residual:.1e}, kinematic {kinematic_residual:.1e}")
+    message = (
+        f"certified: relative gap {gap:.1e}"
+        if status == Status.OPTIMAL
+        else f"relative gap {gap:.2e}, residuals static {static_residual:.1e}, kinematic {kinematic_residual:.1e}"
+    )
     timings["certify_s"] = time.perf_counter() - t0 - sol.solve_time
-    return _result(model, status, message, u, mu, tau, Bounds(lower, upper),
-                   {"static_equilibrium": static_residual, "kinematic_compatibility": kinematic_residual}, timings)
+    return _result(
+        model,
+        status,
+        message,
+        u,
+        mu,
+        tau,
+        Bounds(lower, upper),
+        {"static_equilibrium": static_residual, "kinematic_compatibility": kinematic_residual},
+        timings,
+    )
 
 
-def _vertex(cost: np.ndarray, A: sp.csc_matrix, b: np.ndarray, x: np.ndarray, k: int, n: int,
-            slack: float) -> np.ndarray:
+def _vertex(
+    cost: np.ndarray, A: sp.csc_matrix, b: np.ndarray, x: np.ndarray, k: int, n: int, slack: float
+) -> np.ndarray:
     """A vertex of the kinematic LP's optimal face: the least total power of the generators
     (Σ (Hᵀu + h), the L1 norm of the joints' relative motion) plus the bounded forces'
     dissipation variables, among the motions whose dead-load work is within ``slack`` (relative)
@@ -169,12 +215,15 @@ def after_settlement(scene: Scene, result: SettlementResult | None = None) -> Sc
     them)."""
     result = settle(scene) if result is None else result
     if result.status != Status.OPTIMAL:
-        raise ValueError(f"the settlement analysis did not certify its mechanism ({result.status}: "
-                         f"{result.message}); the opened joints are not known")
+        raise ValueError(
+            f"the settlement analysis did not certify its mechanism ({result.status}: "
+            f"{result.message}); the opened joints are not known"
+        )
     opened = {(min(a, b), max(a, b)) for a, b in result.opened}
     kept = tuple(o for o in scene.joint_overrides if tuple(sorted(o.blocks)) not in opened)
-    lost = tuple(JointOverride(blocks=pair, friction=_friction_of(scene, pair), cohesion=0.0)
-                 for pair in sorted(opened))
+    lost = tuple(
+        JointOverride(blocks=pair, friction=_friction_of(scene, pair), cohesion=0.0) for pair in sorted(opened)
+    )
     return replace(scene, joint_overrides=kept + lost, validated=False).validate()
 
 
@@ -185,82 +234,17 @@ def _friction_of(scene: Scene, pair: tuple[str, str]) -> float | None:
     return None
 
 
-def support_power(model: Model) -> np.ndarray:
-    """h: for each generator column of H, the power of its force under the supports' settlements.
-
-    A generator of joint k at point p is the force n ± f t on block b (and its opposite on
-    block a); with supports moving rigidly, its power is (n ± f t) · (v_b(p) − v_a(p)) over the
-    supports among a and b (:func:`support_relative`).  Dimensionless.
-    """
-    rel = support_relative(model)
-    f = model.friction[:, None]
-    h = np.stack([rel[..., 0] + f * rel[..., 1], rel[..., 0] - f * rel[..., 1]], axis=2)  # (m, point, ±)
-    return h.ravel()
-
-
-def bounded_support_power(model: Model) -> np.ndarray:
-    """g: for each bounded-force column of G (:func:`alma.mechanics.forces.bounded_columns`: the
-    cohesive shears ±t of each cohesive joint, then the ties), the power of its unit force under
-    the supports' settlements, per ``length_scale``.  Dimensionless."""
-    scene, joints = model.scene, model.joints
-    if not model.n_bounded:
-        return np.zeros(0)
-    cohesive = np.flatnonzero(joint_values(scene, joints, "cohesion", scene.cohesion) > 0)
-    centre = joints.centre[cohesive]
-    slip = np.einsum("kx,kx->k", _support_velocity(model, joints.block_b[cohesive], centre)
-                     - _support_velocity(model, joints.block_a[cohesive], centre), joints.tangent[cohesive])
-    shear = np.stack([slip, -slip], axis=1).ravel()  # columns +t, −t of each cohesive joint
-    if not scene.ties:
-        return shear / model.length_scale
-    index = {b.id: i for i, b in enumerate(scene.blocks)}
-    a = np.array([t.from_point for t in scene.ties], dtype=float)
-    b = np.array([t.to_point for t in scene.ties], dtype=float)
-    d = (b - a) / np.hypot(*(b - a).T)[:, None]  # the tie's pull on its "from" end
-    v_from = _support_velocity(model, np.array([index[t.from_block] for t in scene.ties]), a)
-    v_to = _support_velocity(model, np.array([index[t.to_block] for t in scene.ties]), b)
-    tie = np.einsum("kx,kx->k", v_from - v_to, d)
-    return np.concatenate([shear, tie]) / model.length_scale
-
-
-def _support_velocity(model: Model, block: np.ndarray, point: np.ndarray) -> np.ndarray:
-    """(k, 2) mm: the settlement velocity d + r × (p − c) of scene block ``block[i]`` at
-    ``point[i]`` (zero for a block without settlement)."""
-    moves, centre = _settlement_table(model.scene)
-    d, r, c = moves[block, :2], moves[block, 2:3], centre[block]
-    arm = point - c
-    return d + r * np.stack([-arm[:, 1], arm[:, 0]], axis=-1)
-
-
-def _settlement_table(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
-    """(n_blocks, 3) settlements (d_x, d_y, r) and (n_blocks, 2) their ``about`` points."""
-    moves = np.zeros((len(scene.blocks), 3))
-    centre = np.zeros((len(scene.blocks), 2))
-    for i, block in enumerate(scene.blocks):  # the few settling supports, not the blocks' loop
-        if block.settlement is not None:
-            moves[i] = (*block.settlement.translation, block.settlement.rotation)
-            centre[i] = block.settlement.about
-    return moves, centre
-
-
-def support_relative(model: Model) -> np.ndarray:
-    """(m, point, (normal, tangent)): relative velocity v_b − v_a of each joint's contact points
-    due to the supports' settlements (v_s(p) = d + r × (p − c)), per ``length_scale``."""
-    joints = model.joints
-    moves, centre = _settlement_table(model.scene)  # d_x, d_y, r; about
-    points = np.stack([joints.start, joints.end], axis=1)  # (m, 2, 2) mm
-
-    def velocity(block: np.ndarray) -> np.ndarray:  # (m, 2, 2): support velocity at each point
-        d, r, c = moves[block, None, :2], moves[block, None, 2:3], centre[block, None, :]
-        arm = points - c
-        return d + r * np.stack([-arm[..., 1], arm[..., 0]], axis=-1)
-
-    relative = (velocity(joints.block_b) - velocity(joints.block_a)) / model.length_scale
-    return np.stack([np.einsum("mpx,mx->mp", relative, joints.normal),
-                     np.einsum("mpx,mx->mp", relative, joints.tangent)], axis=2)
-
-
-def _result(model: Model, status: Status, message: str, u: np.ndarray, mu: np.ndarray, tau: np.ndarray,
-            bounds: Bounds, residuals: dict[str, float], timings: dict[str, float]) -> SettlementResult:
+def _result(
+    model: Model,
+    status: Status,
+    message: str,
+    u: np.ndarray,
+    mu: np.ndarray,
+    tau: np.ndarray,
+    bounds: Bounds,
+    residuals: dict[str, float],
+    timings: dict[str, float],
+) -> SettlementResult:
     normal, shear = multipliers_to_forces(model, mu)
     shear = shear + _cohesive_shear(model, tau)
     form = physical(model, u / model.n_free, normal, shear, True)
@@ -272,14 +256,20 @@ def _result(model: Model, status: Status, message: str, u: np.ndarray, mu: np.nd
     support = support_relative(model)
     rel = (ContactPoints.from_model(model).relative_velocities(u) + support) * model.length_scale
     # Motions are real displacements here: the scale is the largest of the blocks' and supports'.
-    scale = max(float(np.abs(rel).max(initial=0.0)), float(np.abs(support).max(initial=0.0)) * model.length_scale,
-                float(np.abs(u).max(initial=0.0)) * model.length_scale, 1e-300)
+    scale = max(
+        float(np.abs(rel).max(initial=0.0)),
+        float(np.abs(support).max(initial=0.0)) * model.length_scale,
+        float(np.abs(u).max(initial=0.0)) * model.length_scale,
+        1e-300,
+    )
     states = states_from_relative(rel, model.friction, MOTION_TOLERANCE * scale, dilatant=True)
-    joints = replace(joints, state=np.asarray(states, dtype=str), slip=rel[:, :, 1].mean(axis=1),
-                     opening=rel[:, :, 0].copy())
+    joints = replace(
+        joints, state=np.asarray(states, dtype=str), slip=rel[:, :, 1].mean(axis=1), opening=rel[:, :, 0].copy()
+    )
     work = 0.5 * (bounds.lower + bounds.upper) if math.isfinite(bounds.lower + bounds.upper) else bounds.lower
-    return SettlementResult(status, message, work, bounds, _reactions(model, normal, shear, tau), blocks,
-                            joints, residuals, timings)
+    return SettlementResult(
+        status, message, work, bounds, _reactions(model, normal, shear, tau), blocks, joints, residuals, timings
+    )
 
 
 def _cohesive_shear(model: Model, tau: np.ndarray) -> np.ndarray:
@@ -289,7 +279,7 @@ def _cohesive_shear(model: Model, tau: np.ndarray) -> np.ndarray:
     scene = model.scene
     cohesive = np.flatnonzero(joint_values(scene, model.joints, "cohesion", scene.cohesion) > 0)
     if cohesive.size:
-        net = tau[0:2 * cohesive.size:2] - tau[1:2 * cohesive.size:2]
+        net = tau[0 : 2 * cohesive.size : 2] - tau[1 : 2 * cohesive.size : 2]
         out[2 * cohesive] += 0.5 * net
         out[2 * cohesive + 1] += 0.5 * net
     return out
@@ -323,14 +313,15 @@ def _empty(model: Model, status: Status, message: str, timings: dict[str, float]
     return SettlementResult(status, message, bound, Bounds(bound, bound), (), (), (), {}, timings)
 
 
-def _with_ties(model: Model, support: int, points: np.ndarray, forces: np.ndarray,
-               tau: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _with_ties(
+    model: Model, support: int, points: np.ndarray, forces: np.ndarray, tau: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """``points`` and ``forces`` (kN) on scene block ``support`` with the pulls of the ties
     anchored on it appended (a tie's tension τ pulls each end towards the other)."""
     scene = model.scene
     if not scene.ties:
         return points, forces
-    tension = tau[tau.shape[0] - len(scene.ties):] * model.force_scale
+    tension = tau[tau.shape[0] - len(scene.ties) :] * model.force_scale
     extra_at, extra_force = [], []
     for t, pull in zip(scene.ties, tension, strict=True):  # the scene's few ties
         a, b = np.asarray(t.from_point, dtype=float), np.asarray(t.to_point, dtype=float)

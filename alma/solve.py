@@ -1,4 +1,5 @@
 """The public entry point: ``alma.solve(scene, model=...)``."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -27,29 +28,69 @@ MODELS = ("associative", "nonassociative", "both")
 
 # One signature per model, so that a call names its result's type (the body is the last one).
 @overload
-def solve(scene: Scene | Model, model: Literal["associative"] = ..., *, settings: Settings | None = ...,
-          tolerance: float | None = ..., joints: Joints | None = ..., effort: str | None = ...,
-          certify: bool = ..., time_limit: float | None = ..., patterns: PatternCache | None = ...
-          ) -> AssociativeResult: ...
+def solve(
+    scene: Scene | Model,
+    model: Literal["associative"] = ...,
+    *,
+    settings: Settings | None = ...,
+    tolerance: float | None = ...,
+    joints: Joints | None = ...,
+    effort: str | None = ...,
+    certify: bool = ...,
+    time_limit: float | None = ...,
+    patterns: PatternCache | None = ...,
+) -> AssociativeResult: ...
 @overload
-def solve(scene: Scene | Model, model: Literal["nonassociative"], *, settings: Settings | None = ...,
-          tolerance: float | None = ..., joints: Joints | None = ..., effort: str | None = ...,
-          certify: bool = ..., time_limit: float | None = ..., patterns: PatternCache | None = ...
-          ) -> NonAssociativeResult: ...
+def solve(
+    scene: Scene | Model,
+    model: Literal["nonassociative"],
+    *,
+    settings: Settings | None = ...,
+    tolerance: float | None = ...,
+    joints: Joints | None = ...,
+    effort: str | None = ...,
+    certify: bool = ...,
+    time_limit: float | None = ...,
+    patterns: PatternCache | None = ...,
+) -> NonAssociativeResult: ...
 @overload
-def solve(scene: Scene | Model, model: Literal["both"], *, settings: Settings | None = ...,
-          tolerance: float | None = ..., joints: Joints | None = ..., effort: str | None = ...,
-          certify: bool = ..., time_limit: float | None = ..., patterns: PatternCache | None = ...
-          ) -> Comparison: ...
+def solve(
+    scene: Scene | Model,
+    model: Literal["both"],
+    *,
+    settings: Settings | None = ...,
+    tolerance: float | None = ...,
+    joints: Joints | None = ...,
+    effort: str | None = ...,
+    certify: bool = ...,
+    time_limit: float | None = ...,
+    patterns: PatternCache | None = ...,
+) -> Comparison: ...
 @overload
-def solve(scene: Scene | Model, model: str = ..., *, settings: Settings | None = ...,
-          tolerance: float | None = ..., joints: Joints | None = ..., effort: str | None = ...,
-          certify: bool = ..., time_limit: float | None = ..., patterns: PatternCache | None = ...
-          ) -> AssociativeResult | NonAssociativeResult | Comparison: ...
-def solve(scene: Scene | Model, model: str = "associative", *, settings: Settings | None = None,
-          tolerance: float | None = None, joints: Joints | None = None, effort: str | None = None,
-          certify: bool = False, time_limit: float | None = None, patterns: PatternCache | None = None
-          ) -> AssociativeResult | NonAssociativeResult | Comparison:
+def solve(
+    scene: Scene | Model,
+    model: str = ...,
+    *,
+    settings: Settings | None = ...,
+    tolerance: float | None = ...,
+    joints: Joints | None = ...,
+    effort: str | None = ...,
+    certify: bool = ...,
+    time_limit: float | None = ...,
+    patterns: PatternCache | None = ...,
+) -> AssociativeResult | NonAssociativeResult | Comparison: ...
+def solve(
+    scene: Scene | Model,
+    model: str = "associative",
+    *,
+    settings: Settings | None = None,
+    tolerance: float | None = None,
+    joints: Joints | None = None,
+    effort: str | None = None,
+    certify: bool = False,
+    time_limit: float | None = None,
+    patterns: PatternCache | None = None,
+) -> AssociativeResult | NonAssociativeResult | Comparison:
     """Collapse multiplier and mechanism of a scene.
 
     Parameters
@@ -87,26 +128,32 @@ def solve(scene: Scene | Model, model: str = "associative", *, settings: Setting
     if model not in MODELS:
         raise ValueError(f"model must be one of {MODELS}, got {model!r}")
     if certify and model == "associative":
-        raise ValueError("certify applies to the non-associative model (the associative result is "
-                         "certified by its static and kinematic bounds): use model='nonassociative' or 'both'")
+        raise ValueError(
+            "certify applies to the non-associative model (the associative result is "
+            "certified by its static and kinematic bounds): use model='nonassociative' or 'both'"
+        )
     built, timings = _build(scene, joints)
     if built.crushes and model != "associative":
-        raise SceneError("compressive_strength: the non-associative model (Eq. 9) takes no finite compressive "
-                         "strength (its verifier and certificate check the Coulomb cones only); solve with "
-                         "model='associative', or remove compressive_strength")
+        raise SceneError(
+            "compressive_strength: the non-associative model (Eq. 9) takes no finite compressive "
+            "strength (its verifier and certificate check the Coulomb cones only); solve with "
+            "model='associative', or remove compressive_strength"
+        )
     lp = solve_lp(built, settings.associative, time_limit=settings.time_limit, patterns=patterns)
     timings.update(solve_s=lp.solve_time, certify_s=lp.certify_time)
     warned = built.joints.warnings
-    assoc = dataclasses.replace(associative_result(built, _crisp(built, lp, settings, timings), timings),
-                                warnings=warned)
+    assoc = dataclasses.replace(
+        associative_result(built, _crisp(built, lp, settings, timings), timings), warnings=warned
+    )
     if model == "associative":
         return assoc
     nl = dataclasses.replace(_nonassociative(built, lp, assoc, settings, certify, patterns), warnings=warned)
     return comparison(assoc, nl) if model == "both" else nl
 
 
-def _settings(settings: Settings | None, tolerance: float | None, effort: str | None,
-              time_limit: float | None) -> Settings:
+def _settings(
+    settings: Settings | None, tolerance: float | None, effort: str | None, time_limit: float | None
+) -> Settings:
     """``settings`` with the keyword overrides applied, checked before any work is done."""
     s = settings if settings is not None else Settings()
     if not isinstance(s, Settings):
@@ -130,8 +177,15 @@ def _crisp(built: Model, lp, settings: Settings, timings: dict[str, float]):
     if not (s.crisp_mechanism and lp.status == "optimal" and not built.n_bounded and not built.crushes):
         return lp
     t0 = time.perf_counter()
-    u, why = crisp_mechanism(built, lp.upper, s.gap_tolerance * 5e-3, lp.multipliers, lp.mechanism,
-                             max_blocks_capped=s.crisp_capped_blocks, time_limit=settings.time_limit)
+    u, why = crisp_mechanism(
+        built,
+        lp.upper,
+        s.gap_tolerance * 5e-3,
+        lp.multipliers,
+        lp.mechanism,
+        max_blocks_capped=s.crisp_capped_blocks,
+        time_limit=settings.time_limit,
+    )
     timings["crisp_s"] = time.perf_counter() - t0
     if u is None:
         return dataclasses.replace(lp, message=f"{lp.message}; {why}, the interior point's mechanism is shown")
@@ -169,27 +223,39 @@ def _search(built: Model, settings: Settings, patterns: PatternCache | None) -> 
     answer, solution = _search_at(unrounded, frame, built, settings, settings.search.canonical_bits, patterns)
     fallback = settings.search.fallback_bits
     # Again at the fallback's precision only when canonical states verified there and none here.
-    if (fallback is not None and answer.status == Status.NOT_CONVERGED and solution.best is not None
-            and not solution.stopped_by_limit):
+    if (
+        fallback is not None
+        and answer.status == Status.NOT_CONVERGED
+        and solution.best is not None
+        and not solution.stopped_by_limit
+    ):
         answer, _ = _search_at(unrounded, frame, built, settings, fallback, patterns)
     return answer
 
 
-def _search_at(unrounded: Model, frame: CanonicalFrame, built: Model, settings: Settings, bits: int,
-               patterns: PatternCache | None) -> tuple[NonAssociativeSolution, NonAssociativeSolution]:
+def _search_at(
+    unrounded: Model, frame: CanonicalFrame, built: Model, settings: Settings, bits: int, patterns: PatternCache | None
+) -> tuple[NonAssociativeSolution, NonAssociativeSolution]:
     """The search on the canonical model rounded to ``bits`` bits: (the answer on ``built``, the
     canonical search's own solution)."""
     canonical = snapped(unrounded, bits)
     lp = solve_lp(canonical, settings.associative, time_limit=settings.time_limit, patterns=patterns)
-    solution = solve_nonassociative(canonical, lp.mechanism if lp.solved else None,
-                                    lp.multipliers if lp.solved else None, effort=settings.search.effort,
-                                    settings=settings.search, time_limit=settings.time_limit,
-                                    associative_alpha=lp.alpha if lp.solved else None, certify=settings.certify)
+    solution = solve_nonassociative(
+        canonical,
+        lp.mechanism if lp.solved else None,
+        lp.multipliers if lp.solved else None,
+        effort=settings.search.effort,
+        settings=settings.search,
+        time_limit=settings.time_limit,
+        associative_alpha=lp.alpha if lp.solved else None,
+        certify=settings.certify,
+    )
     return carried_back(solution, canonical, frame, built, settings.search), solution
 
 
-def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settings,
-                    certify: bool, patterns: PatternCache | None) -> NonAssociativeResult:
+def _nonassociative(
+    built: Model, lp, assoc: AssociativeResult, settings: Settings, certify: bool, patterns: PatternCache | None
+) -> NonAssociativeResult:
     """Eq. 9: the search from the LP's mechanism and field, and the MILP proof if asked."""
     t0 = started = time.perf_counter()
     timings = dict(assoc.timings)
@@ -205,8 +271,9 @@ def _nonassociative(built: Model, lp, assoc: AssociativeResult, settings: Settin
         best = solution.best.alpha if solution.best is not None else None
         # The user's cap covers the search and the proof together: the proof gets what is left.
         left = None if settings.time_limit is None else max(0.0, settings.time_limit - (time.perf_counter() - started))
-        certificate = certify_milp(built, lp.alpha, mechanisms, settings=settings.certify, time_limit=left,
-                                   alpha_best=best)
+        certificate = certify_milp(
+            built, lp.alpha, mechanisms, settings=settings.certify, time_limit=left, alpha_best=best
+        )
         timings["certification_s"] = certificate.time_s
     return nonassociative_result(built, assoc, solution, timings, certificate, radenkovic)
 

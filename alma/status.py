@@ -3,6 +3,7 @@
 Each backend maps its solver's own statuses onto these in one table (``alma.backends``); the
 certificate, not a solver's flag, decides between them.
 """
+
 from __future__ import annotations
 
 from enum import StrEnum

@@ -12,6 +12,7 @@ R(90°) g₀ (horizontal for the default gravity), certified by the LP's own bou
 LP proves α ≥ 0 and as collapsing when it proves α < 0.  The number of steps is a work budget,
 not a time.  Angles in degrees.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -53,15 +54,27 @@ class TiltResult:
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON object of SPEC §3 for ``alma tilt``."""
+
         def num(x: float) -> float | None:
             return float(x) if math.isfinite(x) else None
-        return {"status": str(self.status), "message": self.message, "angle_deg": num(self.angle_deg),
-                "bounds_deg": [num(self.bounds_deg[0]), num(self.bounds_deg[1])],
-                "method": self.method, "steps": self.steps}
+
+        return {
+            "status": str(self.status),
+            "message": self.message,
+            "angle_deg": num(self.angle_deg),
+            "bounds_deg": [num(self.bounds_deg[0]), num(self.bounds_deg[1])],
+            "method": self.method,
+            "steps": self.steps,
+        }
 
 
-def tilt(scene: Scene, *, settings: TiltSettings | None = None, associative: AssociativeSettings | None = None,
-         method: str = "auto") -> TiltResult:
+def tilt(
+    scene: Scene,
+    *,
+    settings: TiltSettings | None = None,
+    associative: AssociativeSettings | None = None,
+    method: str = "auto",
+) -> TiltResult:
     """The critical tilt angle of ``scene`` on a tilting table (degrees).
 
     ``method``: "auto" (exact where the problem is homogeneous, see the module docstring),
@@ -75,14 +88,21 @@ def tilt(scene: Scene, *, settings: TiltSettings | None = None, associative: Ass
         raise ValueError(f"method must be 'auto', 'exact' or 'bisection', got {method!r}")
     homogeneous = _homogeneous(scene)
     if method == "exact" and not homogeneous:
-        raise ValueError("the exact tilt angle needs self-weight as the only load, no cohesion, no ties and "
-                         "no compressive strength")
+        raise ValueError(
+            "the exact tilt angle needs self-weight as the only load, no cohesion, no ties and no compressive strength"
+        )
     s = settings or TiltSettings()
     if _stands(scene, 0.0, associative, backwards=True) is False:
         # α of Eq. 10 is the largest multiplier carried: the level table must also carry the
         # reversed load, or the structure already falls the other way.
-        return TiltResult(Status.NO_EQUILIBRIUM, "the structure cannot stand on the level table (it falls "
-                          "towards −x)", math.nan, (-math.inf, 0.0), method, 1)
+        return TiltResult(
+            Status.NO_EQUILIBRIUM,
+            "the structure cannot stand on the level table (it falls towards −x)",
+            math.nan,
+            (-math.inf, 0.0),
+            method,
+            1,
+        )
     if method == "bisection" or not homogeneous:
         return _bisection(scene, s, associative)
     return _exact(scene, associative)
@@ -95,10 +115,13 @@ def tilted(scene: Scene, degrees: float, *, backwards: bool = False) -> Scene:
     g0 = np.asarray(scene.gravity, dtype=float)
     gravity = _rotate(g0, theta)
     live = _rotate(g0, theta + (-1 if backwards else 1) * math.pi / 2)
-    loads = tuple(dataclasses.replace(load, dead=tuple(_rotate(np.asarray(load.dead), theta)), live=(0.0, 0.0))
-                  for load in scene.loads)
-    return dataclasses.replace(scene, gravity=tuple(gravity), live_load_direction=tuple(live),
-                               live_self_weight=True, loads=loads)
+    loads = tuple(
+        dataclasses.replace(load, dead=tuple(_rotate(np.asarray(load.dead), theta)), live=(0.0, 0.0))
+        for load in scene.loads
+    )
+    return dataclasses.replace(
+        scene, gravity=tuple(gravity), live_load_direction=tuple(live), live_self_weight=True, loads=loads
+    )
 
 
 def _homogeneous(scene: Scene) -> bool:
@@ -106,27 +129,46 @@ def _homogeneous(scene: Scene) -> bool:
     compressive strength: its capacity does not scale with the loads)."""
     g0 = np.asarray(scene.gravity, dtype=float)
     live = np.asarray(scene.live_load_direction, dtype=float)
-    return (not scene.loads and not scene.ties and scene.cohesion == 0 and scene.compressive_strength is None
-            and all(not o.cohesion and o.compressive_strength is None for o in scene.joint_overrides)
-            and scene.live_self_weight and np.allclose(live, _rotate(g0, math.pi / 2), atol=1e-12))
+    return (
+        not scene.loads
+        and not scene.ties
+        and scene.cohesion == 0
+        and scene.compressive_strength is None
+        and all(not o.cohesion and o.compressive_strength is None for o in scene.joint_overrides)
+        and scene.live_self_weight
+        and np.allclose(live, _rotate(g0, math.pi / 2), atol=1e-12)
+    )
 
 
 def _exact(scene: Scene, associative: AssociativeSettings | None) -> TiltResult:
     lp = solve_lp(build_model(scene), associative)
     if lp.status == Status.NO_COLLAPSE:
-        return TiltResult(Status.NO_COLLAPSE, "no mechanism: the structure stands at any tilt up to 90°",
-                          90.0, (90.0, math.inf), "exact", 2)
+        return TiltResult(
+            Status.NO_COLLAPSE,
+            "no mechanism: the structure stands at any tilt up to 90°",
+            90.0,
+            (90.0, math.inf),
+            "exact",
+            2,
+        )
     if lp.status == Status.NO_EQUILIBRIUM or (lp.status == Status.OPTIMAL and lp.upper < 0):
-        return TiltResult(Status.NO_EQUILIBRIUM, "the structure cannot stand on the level table",
-                          math.nan, (-math.inf, 0.0), "exact", 2)
+        return TiltResult(
+            Status.NO_EQUILIBRIUM,
+            "the structure cannot stand on the level table",
+            math.nan,
+            (-math.inf, 0.0),
+            "exact",
+            2,
+        )
     to_deg = lambda a: math.degrees(math.atan(a)) if math.isfinite(a) else (90.0 if a > 0 else -90.0)  # noqa: E731
     bounds = (to_deg(lp.lower), to_deg(lp.upper))
     message = f"θ_c = atan(α_c) of the horizontal self-weight load; {lp.message}"
     return TiltResult(lp.status, message, to_deg(lp.alpha), bounds, "exact", 2)
 
 
-def _stands(scene: Scene, degrees: float, associative: AssociativeSettings | None, *,
-            backwards: bool = False) -> bool | None:
+def _stands(
+    scene: Scene, degrees: float, associative: AssociativeSettings | None, *, backwards: bool = False
+) -> bool | None:
     """True when the LP proves the structure stands at ``degrees``, False when it proves collapse,
     None when it proves neither (``backwards``: against the live load turned back)."""
     lp = solve_lp(build_model(tilted(scene, degrees, backwards=backwards)), associative)
@@ -142,12 +184,17 @@ def _stands(scene: Scene, degrees: float, associative: AssociativeSettings | Non
 def _bisection(scene: Scene, s: TiltSettings, associative: AssociativeSettings | None) -> TiltResult:
     first = _stands(scene, 0.0, associative)
     if first is False:
-        return TiltResult(Status.NO_EQUILIBRIUM, "the structure cannot stand on the level table",
-                          math.nan, (-math.inf, 0.0), "bisection", 2)
+        return TiltResult(
+            Status.NO_EQUILIBRIUM,
+            "the structure cannot stand on the level table",
+            math.nan,
+            (-math.inf, 0.0),
+            "bisection",
+            2,
+        )
     last = _stands(scene, 90.0, associative)
     if last is True:
-        return TiltResult(Status.NO_COLLAPSE, "the structure stands at 90°", 90.0, (90.0, math.inf),
-                          "bisection", 3)
+        return TiltResult(Status.NO_COLLAPSE, "the structure stands at 90°", 90.0, (90.0, math.inf), "bisection", 3)
     lo, hi, steps, unproven = 0.0, 90.0, 3, first is None or last is None
     while hi - lo > s.tolerance_deg and steps < s.max_steps:
         mid = 0.5 * (lo + hi)
@@ -159,8 +206,11 @@ def _bisection(scene: Scene, s: TiltSettings, associative: AssociativeSettings |
         lo, hi = (mid, hi) if verdict else (lo, mid)
     closed = hi - lo <= s.tolerance_deg and not unproven
     status = Status.OPTIMAL if closed else Status.NOT_CONVERGED
-    message = (f"certified bracket of {hi - lo:.1e}° after {steps} LP solves" if closed else
-               f"bracket [{lo:.9f}°, {hi:.9f}°] after {steps} LP solves; an LP proved neither side")
+    message = (
+        f"certified bracket of {hi - lo:.1e}° after {steps} LP solves"
+        if closed
+        else f"bracket [{lo:.9f}°, {hi:.9f}°] after {steps} LP solves; an LP proved neither side"
+    )
     return TiltResult(status, message, 0.5 * (lo + hi), (lo, hi), "bisection", steps)
 
 

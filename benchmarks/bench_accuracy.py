@@ -28,6 +28,7 @@ is ~15 minutes on 2 shared cores); a solve that hits ``--time-limit`` counts as 
 
     .venv/bin/python -m benchmarks.bench_accuracy [--cases default|full|quick] [--repeat 3]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -40,88 +41,14 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-import scipy.sparse as sp
 from scipy.optimize import OptimizeWarning, linprog
 
 import alma
 from alma.associative.lp import solve_lp
 from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS
-from benchmarks.bench_lp import plain_clarabel
+from benchmarks.accuracy_methods import DEFAULT_NAME, DEFAULT_TOLERANCE, method_table
 
 ROOT = Path(__file__).resolve().parents[1]
-
-DEFAULT_TOLERANCE = 1e-11
-TOLERANCES = (1e-6, 1e-8, 1e-10, 1e-11)
-
-
-# ----------------------------------------------------------------------------- methods
-def alma_method(tol: float):
-    def run(model, time_limit):
-        r = alma.solve(model, tolerance=tol)
-        return r.alpha, r.status
-    return run
-
-
-def _static_arrays(model):
-    H = model.equilibrium
-    k = H.shape[1]
-    A = sp.hstack([H, sp.csc_matrix(model.live.reshape(-1, 1))]).tocsc()
-    c = np.zeros(k + 1)
-    c[-1] = -1.0
-    bounds = [(0, None)] * k + [(None, None)]
-    return c, A, bounds
-
-
-def highs_static(method: str, crossover: bool = True):
-    def run(model, time_limit):
-        c, A, bounds = _static_arrays(model)
-        options: dict[str, float | str] = {"time_limit": float(time_limit)}
-        if not crossover:
-            options["run_crossover"] = "off"  # passed to HiGHS verbatim by SciPy
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", OptimizeWarning)
-            res = linprog(c, A_eq=A, b_eq=-model.dead, bounds=bounds, method=method, options=options)
-        if res.status != 0:
-            return math.nan, f"status {res.status}: {res.message[:40]}"
-        return float(res.x[-1]), "optimal"
-    return run
-
-
-def cvxpy_kinematic(solver: str):
-    def run(model, time_limit):
-        import cvxpy as cp
-
-        H = model.equilibrium
-        u = cp.Variable(H.shape[0])
-        problem = cp.Problem(cp.Minimize(-model.dead @ u), [model.live @ u == 1, H.T @ u >= 0])
-        kwargs = {"time_limit": float(time_limit)}
-        try:
-            with warnings.catch_warnings():  # "Solution may be inaccurate": reported via the status
-                warnings.simplefilter("ignore", UserWarning)
-                problem.solve(solver=solver, **kwargs)
-        except cp.error.SolverError as exc:  # pragma: no cover - reported, not raised
-            return math.nan, f"error: {exc}"[:50]
-        if problem.status != cp.OPTIMAL:
-            return (float(problem.value) if problem.value is not None else math.nan), str(problem.status)
-        return float(problem.value), "optimal"
-    return run
-
-
-def method_table():
-    methods = {}
-    for tol in TOLERANCES:
-        name = f"alma tol={tol:.0e}" + (" (default)" if tol == DEFAULT_TOLERANCE else "")
-        methods[name] = alma_method(tol)
-    methods["clarabel plain"] = plain_clarabel
-    methods["highs-ipm"] = highs_static("highs-ipm")
-    methods["highs-ipm no crossover"] = highs_static("highs-ipm", crossover=False)
-    methods["highs-ds"] = highs_static("highs-ds")
-    methods["cvxpy CLARABEL"] = cvxpy_kinematic("CLARABEL")
-    methods["cvxpy HIGHS"] = cvxpy_kinematic("HIGHS")
-    return methods
-
-
-DEFAULT_NAME = f"alma tol={DEFAULT_TOLERANCE:.0e} (default)"
 
 
 # ----------------------------------------------------------------------------- reference
@@ -140,14 +67,30 @@ def reference(model, time_limit: float) -> dict:
     k = H.shape[1]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", OptimizeWarning)
-        res = linprog(-model.dead, A_ub=-H.T, b_ub=np.zeros(k), A_eq=model.live.reshape(1, -1), b_eq=[1.0],
-                      bounds=(None, None), method="highs-ds", options=tight)
+        res = linprog(
+            -model.dead,
+            A_ub=-H.T,
+            b_ub=np.zeros(k),
+            A_eq=model.live.reshape(1, -1),
+            b_eq=[1.0],
+            bounds=(None, None),
+            method="highs-ds",
+            options=tight,
+        )
     check = float(res.fun) if res.status == 0 else math.nan
-    return dict(alpha_ref=mid, ref_lower=lp.lower, ref_upper=lp.upper, ref_status=lp.status,
-                ref_gap=(lp.upper - lp.lower) / abs(mid), ref_mu_min=float(mu.min(initial=0.0)),
-                ref_static_residual=static_res, ref_flow_residual=flow_res,
-                ref_upper_recomputed_diff=abs(upper - lp.upper) / abs(mid),
-                check_highs_ds_tight=check, check_agreement=abs(check - mid) / abs(mid))
+    return dict(
+        alpha_ref=mid,
+        ref_lower=lp.lower,
+        ref_upper=lp.upper,
+        ref_status=lp.status,
+        ref_gap=(lp.upper - lp.lower) / abs(mid),
+        ref_mu_min=float(mu.min(initial=0.0)),
+        ref_static_residual=static_res,
+        ref_flow_residual=flow_res,
+        ref_upper_recomputed_diff=abs(upper - lp.upper) / abs(mid),
+        check_highs_ds_tight=check,
+        check_agreement=abs(check - mid) / abs(mid),
+    )
 
 
 # ----------------------------------------------------------------------------- cases
@@ -180,8 +123,13 @@ def cases(which: str):
     for bond, pr, br, f in panels:
         result.append((f"{bond} {pr} {br} f={f:g}", "panel", partial(alma.paper_panel, bond, pr, br, f)))
     for courses, per_course in walls:
-        result.append((f"running wall {courses}x{per_course}", "wall",
-                       partial(alma.wall, "running", 240.0 * per_course, 60.0 * courses, 240.0)))
+        result.append(
+            (
+                f"running wall {courses}x{per_course}",
+                "wall",
+                partial(alma.wall, "running", 240.0 * per_course, 60.0 * courses, 240.0),
+            )
+        )
     return result
 
 
@@ -215,30 +163,53 @@ def run(which: str, repeat: int, single_above: float, time_limit: float, out: Pa
         for method, fn in methods.items():
             t, n_runs, (alpha, status) = timed(fn, model, repeat, single_above, time_limit)
             err = abs(alpha - ref["alpha_ref"]) / abs(ref["alpha_ref"]) if math.isfinite(alpha) else math.inf
-            rows.append(dict(case=name, kind=kind, blocks=model.n_free, joints=model.n_joints, method=method,
-                             time_s=t, runs=n_runs, alpha=alpha, status=status, rel_error=err, **ref))
+            rows.append(
+                dict(
+                    case=name,
+                    kind=kind,
+                    blocks=model.n_free,
+                    joints=model.n_joints,
+                    method=method,
+                    time_s=t,
+                    runs=n_runs,
+                    alpha=alpha,
+                    status=status,
+                    rel_error=err,
+                    **ref,
+                )
+            )
         done = pd.DataFrame([r for r in rows if r["case"] == name])
-        print(f"[{time.perf_counter() - t_start:6.0f} s] {name:32s} {model.n_free:5d} blocks  "
-              f"ref {ref['alpha_ref']:.10f}  gap {ref['ref_gap']:.1e}  ds-check {ref['check_agreement']:.1e}  "
-              + " ".join(f"{e:.0e}" for e in done.rel_error), flush=True)
+        print(
+            f"[{time.perf_counter() - t_start:6.0f} s] {name:32s} {model.n_free:5d} blocks  "
+            f"ref {ref['alpha_ref']:.10f}  gap {ref['ref_gap']:.1e}  ds-check {ref['check_agreement']:.1e}  "
+            + " ".join(f"{e:.0e}" for e in done.rel_error),
+            flush=True,
+        )
         pd.DataFrame(rows).to_csv(out / "accuracy_cases.csv", index=False)
     return pd.DataFrame(rows)
 
 
 def summarise(df: pd.DataFrame) -> pd.DataFrame:
     g = df.groupby("method", sort=False)
-    summary = pd.DataFrame({
-        "cases": g.size(),
-        "not_solved": g.apply(lambda d: int((~np.isfinite(d.rel_error)).sum())),
-        "non_optimal_status": g.apply(lambda d: int((d.status != "optimal").sum())),
-        "total_time_s": g.time_s.sum(),
-        "median_time_s": g.time_s.median(),
-        "time_vs_default": g.time_s.sum() / df[df.method == DEFAULT_NAME].time_s.sum(),
-        "max_rel_error": g.apply(lambda d: float(d.rel_error[np.isfinite(d.rel_error)].max())
-                                 if np.isfinite(d.rel_error).any() else math.inf),
-        "median_rel_error": g.rel_error.median(),
-        "worst_case": g.apply(lambda d: d.case.iloc[int(np.argmax(np.nan_to_num(d.rel_error.values, posinf=1e300)))]),
-    })
+    summary = pd.DataFrame(
+        {
+            "cases": g.size(),
+            "not_solved": g.apply(lambda d: int((~np.isfinite(d.rel_error)).sum())),
+            "non_optimal_status": g.apply(lambda d: int((d.status != "optimal").sum())),
+            "total_time_s": g.time_s.sum(),
+            "median_time_s": g.time_s.median(),
+            "time_vs_default": g.time_s.sum() / df[df.method == DEFAULT_NAME].time_s.sum(),
+            "max_rel_error": g.apply(
+                lambda d: (
+                    float(d.rel_error[np.isfinite(d.rel_error)].max()) if np.isfinite(d.rel_error).any() else math.inf
+                )
+            ),
+            "median_rel_error": g.rel_error.median(),
+            "worst_case": g.apply(
+                lambda d: d.case.iloc[int(np.argmax(np.nan_to_num(d.rel_error.values, posinf=1e300)))]
+            ),
+        }
+    )
     return summary.reset_index()
 
 
@@ -249,14 +220,14 @@ def pareto(summary: pd.DataFrame) -> tuple[bool, list[str]]:
     for _, row in summary.iterrows():
         if row.method == DEFAULT_NAME:
             continue
-        if (row.total_time_s < d.total_time_s and row.max_rel_error < d.max_rel_error
-                and row.not_solved <= d.not_solved):
+        if row.total_time_s < d.total_time_s and row.max_rel_error < d.max_rel_error and row.not_solved <= d.not_solved:
             dominating.append(row.method)
     return not dominating, dominating
 
 
 def plot(summary: pd.DataFrame, df: pd.DataFrame, path: Path) -> None:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -267,9 +238,16 @@ def plot(summary: pd.DataFrame, df: pd.DataFrame, path: Path) -> None:
         is_default = row.method == DEFAULT_NAME
         marker = "*" if is_default else ("o" if row.method.startswith("alma") else "s")
         color = "C3" if is_default else f"C{i % 10}"
-        ax.scatter(row.total_time_s, err, s=220 if is_default else 60, marker=marker,
-                   facecolors="none" if row.not_solved else color, edgecolors="k" if is_default else color,
-                   linewidths=1.5, zorder=3)
+        ax.scatter(
+            row.total_time_s,
+            err,
+            s=220 if is_default else 60,
+            marker=marker,
+            facecolors="none" if row.not_solved else color,
+            edgecolors="k" if is_default else color,
+            linewidths=1.5,
+            zorder=3,
+        )
         label = row.method + (f" ({row.not_solved} hit the time limit; max over the rest)" if row.not_solved else "")
         ax.annotate(label, (row.total_time_s, err), textcoords="offset points", xytext=(6, 4), fontsize=8)
     ax.axhline(floor, color="0.6", ls=":", lw=1)
@@ -286,13 +264,21 @@ def plot(summary: pd.DataFrame, df: pd.DataFrame, path: Path) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--cases", choices=("quick", "default", "largest", "full"), default="default",
-                        help="default: the 36 panel geometries at f=0.6 + a 2,020-block running-bond wall; "
-                             "largest: default + the 4 largest panels at f=0.27 and 1.0; "
-                             "full: all 108 panels + 2,020- and 5,025-block walls (about an hour)")
+    parser.add_argument(
+        "--cases",
+        choices=("quick", "default", "largest", "full"),
+        default="default",
+        help="default: the 36 panel geometries at f=0.6 + a 2,020-block running-bond wall; "
+        "largest: default + the 4 largest panels at f=0.27 and 1.0; "
+        "full: all 108 panels + 2,020- and 5,025-block walls (about an hour)",
+    )
     parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--single-above", type=float, default=4.0,
-                        help="a solve whose first run takes longer than this (s) is not repeated")
+    parser.add_argument(
+        "--single-above",
+        type=float,
+        default=4.0,
+        help="a solve whose first run takes longer than this (s) is not repeated",
+    )
     parser.add_argument("--time-limit", type=float, default=30.0, help="per solve (s)")
     parser.add_argument("--out", default=str(ROOT / "benchmarks" / "results"))
     parser.add_argument("--replot", action="store_true", help="redraw the plot from accuracy*.csv only")
@@ -313,23 +299,35 @@ def main() -> None:
     plot(summary, df, out / "accuracy.png")
 
     fmt = lambda x: f"{x:.3g}"  # noqa: E731
-    print(f"\n== run time against error, {df.case.nunique()} cases ({args.cases}); times: median of "
-          f"{args.repeat} runs (1 run above {args.single_above:g} s), limit {args.time_limit:g} s ==")
+    print(
+        f"\n== run time against error, {df.case.nunique()} cases ({args.cases}); times: median of "
+        f"{args.repeat} runs (1 run above {args.single_above:g} s), limit {args.time_limit:g} s =="
+    )
     print(summary.to_string(index=False, float_format=fmt))
     ref = df.drop_duplicates("case")
-    print(f"\nreference: alma tol=1e-11 certified interval; max relative gap {ref.ref_gap.max():.2e}; "
-          f"statuses {sorted(set(ref.ref_status))}; re-checked: min μ {ref.ref_mu_min.min():.1e}, "
-          f"max static residual {ref.ref_static_residual.max():.1e}, max flow-rule residual "
-          f"{ref.ref_flow_residual.max():.1e}")
+    print(
+        f"\nreference: alma tol=1e-11 certified interval; max relative gap {ref.ref_gap.max():.2e}; "
+        f"statuses {sorted(set(ref.ref_status))}; re-checked: min μ {ref.ref_mu_min.min():.1e}, "
+        f"max static residual {ref.ref_static_residual.max():.1e}, max flow-rule residual "
+        f"{ref.ref_flow_residual.max():.1e}"
+    )
     agree = ref.check_agreement
     bad = ref[~(agree <= 1e-9)]
-    print(f"independent check (HiGHS dual simplex, kinematic LP, feasibility tol 1e-10): max |Δα|/α "
-          f"{agree.max():.2e}, median {agree.median():.2e}; {len(bad)} of {len(ref)} cases disagree by more "
-          f"than 1e-9" + (": " + ", ".join(f"{c} ({a:.1e})" for c, a in zip(bad.case, bad.check_agreement, strict=True))
-                          if len(bad) else ""))
+    print(
+        f"independent check (HiGHS dual simplex, kinematic LP, feasibility tol 1e-10): max |Δα|/α "
+        f"{agree.max():.2e}, median {agree.median():.2e}; {len(bad)} of {len(ref)} cases disagree by more "
+        f"than 1e-9"
+        + (
+            ": " + ", ".join(f"{c} ({a:.1e})" for c, a in zip(bad.case, bad.check_agreement, strict=True))
+            if len(bad)
+            else ""
+        )
+    )
     on_front, dominating = pareto(summary)
-    print(f"\ndefault ({DEFAULT_NAME}) on the Pareto front: {'YES' if on_front else 'NO'}"
-          + ("" if on_front else f" — dominated by {', '.join(dominating)}"))
+    print(
+        f"\ndefault ({DEFAULT_NAME}) on the Pareto front: {'YES' if on_front else 'NO'}"
+        + ("" if on_front else f" — dominated by {', '.join(dominating)}")
+    )
     print(f"written: {out / 'accuracy.csv'}, {out / 'accuracy_cases.csv'}, {out / 'accuracy.png'}")
 
 

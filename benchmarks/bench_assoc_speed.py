@@ -17,6 +17,7 @@ QDLDL named explicitly ("plain qdldl").  Times are medians of ``--repeat`` runs 
 
     python -m benchmarks.bench_assoc_speed [--repeat 3] [--walls 1000,3000] [--doe]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -63,12 +64,26 @@ def largest_panel(repeat: int) -> pd.DataFrame:
         t_qdldl.append(t)
     assert result is not None and plain is not None, "repeat must be at least 1"
     alma_s, plain_s = statistics.median(t_alma), statistics.median(t_plain)
-    return pd.DataFrame([dict(case="english 1:2 1:1 f=0.6", blocks=model.n_free, joints=model.n_joints,
-                              status=result.status, alpha=result.alpha, gap=result.bounds.gap,
-                              iterations=result.extra["iterations"], solve_s=result.timings["solve_s"],
-                              certify_s=result.timings["certify_s"], alma_end_to_end_s=alma_s,
-                              plain_s=plain_s, plain_iterations=plain[2], plain_qdldl_s=statistics.median(t_qdldl),
-                              alma_over_plain=alma_s / plain_s)])
+    return pd.DataFrame(
+        [
+            dict(
+                case="english 1:2 1:1 f=0.6",
+                blocks=model.n_free,
+                joints=model.n_joints,
+                status=result.status,
+                alpha=result.alpha,
+                gap=result.bounds.gap,
+                iterations=result.extra["iterations"],
+                solve_s=result.timings["solve_s"],
+                certify_s=result.timings["certify_s"],
+                alma_end_to_end_s=alma_s,
+                plain_s=plain_s,
+                plain_iterations=plain[2],
+                plain_qdldl_s=statistics.median(t_qdldl),
+                alma_over_plain=alma_s / plain_s,
+            )
+        ]
+    )
 
 
 def whole_table(repeat: int, doe: bool) -> pd.DataFrame:
@@ -94,14 +109,24 @@ def whole_table(repeat: int, doe: bool) -> pd.DataFrame:
         if doe:
             with tempfile.TemporaryDirectory() as tmp:
                 t0 = time.perf_counter()
-                subprocess.run([sys.executable, "-m", "alma.cli", "doe", "--workers", "2", "--out", tmp],
-                               check=True, cwd=ROOT, capture_output=True)
+                subprocess.run(
+                    [sys.executable, "-m", "alma.cli", "doe", "--workers", "2", "--out", tmp],
+                    check=True,
+                    cwd=ROOT,
+                    capture_output=True,
+                )
                 doe_runs.append(time.perf_counter() - t0)
     alma_s = statistics.median(r[0] for r in alma_runs)
     plain_s = statistics.median(r[0] for r in plain_runs)
-    row = dict(case="108 panels, one process", alma_s=alma_s, certified=alma_runs[0][2],
-               iterations=alma_runs[0][1], plain_s=plain_s, plain_iterations=plain_runs[0][1],
-               alma_over_plain=alma_s / plain_s)
+    row = dict(
+        case="108 panels, one process",
+        alma_s=alma_s,
+        certified=alma_runs[0][2],
+        iterations=alma_runs[0][1],
+        plain_s=plain_s,
+        plain_iterations=plain_runs[0][1],
+        alma_over_plain=alma_s / plain_s,
+    )
     if doe:
         row["doe_workers2_wall_s"] = statistics.median(doe_runs)
     return pd.DataFrame([row])
@@ -123,11 +148,24 @@ def walls(sizes: list[int], repeat: int, single_above: int, plain_limit: float) 
             t_plain.append(t)
         assert result is not None and plain is not None, "repeat must be at least 1"
         alma_s, plain_s = statistics.median(t_alma), statistics.median(t_plain)
-        rows.append(dict(blocks=model.n_free, joints=model.n_joints, status=result.status, alpha=result.alpha,
-                         gap=result.bounds.gap, iterations=result.extra["iterations"],
-                         solve_s=result.timings["solve_s"], certify_s=result.timings["certify_s"],
-                         alma_s=alma_s, plain_s=plain_s, plain_status=plain[1], plain_iterations=plain[2],
-                         alma_over_plain=alma_s / plain_s, runs=runs))
+        rows.append(
+            dict(
+                blocks=model.n_free,
+                joints=model.n_joints,
+                status=result.status,
+                alpha=result.alpha,
+                gap=result.bounds.gap,
+                iterations=result.extra["iterations"],
+                solve_s=result.timings["solve_s"],
+                certify_s=result.timings["certify_s"],
+                alma_s=alma_s,
+                plain_s=plain_s,
+                plain_status=plain[1],
+                plain_iterations=plain[2],
+                alma_over_plain=alma_s / plain_s,
+                runs=runs,
+            )
+        )
     return pd.DataFrame(rows)
 
 
@@ -136,8 +174,9 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--walls", default="1000,3000", help="wall sizes in blocks ('' for none)")
     parser.add_argument("--single-above", type=int, default=5000, help="walls above this: one run")
-    parser.add_argument("--plain-time-limit", type=float, default=120.0,
-                        help="time limit of the plain Clarabel baseline on walls [s]")
+    parser.add_argument(
+        "--plain-time-limit", type=float, default=120.0, help="time limit of the plain Clarabel baseline on walls [s]"
+    )
     parser.add_argument("--doe", action="store_true", help="also time `alma doe --workers 2` (subprocess)")
     parser.add_argument("--skip-table", action="store_true")
     args = parser.parse_args()

@@ -11,6 +11,7 @@ problem costs (more iterations).
 
     python -m benchmarks.bench_bounded [--repeat 5] [--sweep]      (make bench-bounded)
 """
+
 from __future__ import annotations
 
 import argparse
@@ -37,8 +38,12 @@ def cases() -> dict[str, alma.Scene]:
     for height in (690.0, 1410.0, 2130.0, 2850.0):
         chained = with_chain(chained, height, 5.0)
     chained = chained.validate()
-    return {"plain": panel, "cohesion 5 kPa": _cohesive(panel, 5.0), "4 chains": chained,
-            "cohesion + chains": _cohesive(chained, 5.0)}
+    return {
+        "plain": panel,
+        "cohesion 5 kPa": _cohesive(panel, 5.0),
+        "4 chains": chained,
+        "cohesion + chains": _cohesive(chained, 5.0),
+    }
 
 
 def _table(scenes: dict[str, alma.Scene], repeat: int) -> list[tuple]:
@@ -49,8 +54,19 @@ def _table(scenes: dict[str, alma.Scene], repeat: int) -> list[tuple]:
             model = alma.build_model(scene)
             seconds, lp = median_time(partial(solve_lp, model, engine=engine), repeat)
             base = base or (seconds, lp.iterations)
-            rows.append((engine, name, seconds, seconds / base[0], lp.iterations, lp.iterations / base[1],
-                         1e3 * seconds / max(lp.iterations, 1), str(lp.status), lp.alpha))
+            rows.append(
+                (
+                    engine,
+                    name,
+                    seconds,
+                    seconds / base[0],
+                    lp.iterations,
+                    lp.iterations / base[1],
+                    1e3 * seconds / max(lp.iterations, 1),
+                    str(lp.status),
+                    lp.alpha,
+                )
+            )
     return rows
 
 
@@ -62,8 +78,10 @@ def main(argv: list[str] | None = None) -> int:
     scenes = cases()
     if args.sweep:
         scenes.update({f"c = {c:g} kPa": _cohesive(scenes["plain"], c) for c in SWEEP})
-    print(f"{'engine':<9} {'case':<20} {'median s':>9} {'x plain':>8} {'iterations':>10} {'x plain':>8} "
-          f"{'ms/iter':>8} {'status':>9} {'alpha':>10}")
+    print(
+        f"{'engine':<9} {'case':<20} {'median s':>9} {'x plain':>8} {'iterations':>10} {'x plain':>8} "
+        f"{'ms/iter':>8} {'status':>9} {'alpha':>10}"
+    )
     for engine, name, s, rs, it, ri, ms, status, alpha in _table(scenes, args.repeat):
         print(f"{engine:<9} {name:<20} {s:9.3f} {rs:8.2f} {it:10d} {ri:8.2f} {ms:8.2f} {status:>9} {alpha:10.6f}")
     return 0

@@ -24,6 +24,7 @@ writes ``certify[_cC][_overrides]_<backends>.csv`` (one row per scene and certif
 ``--nodes N`` gives every certificate a budget of N nodes (with a generous ``--time-limit``, a
 comparison that does not depend on the machine's load).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -45,10 +46,12 @@ from alma.settings import CertifySettings
 #: branching, the default) with and without the bilinear energy balance
 #: (CertifySettings.scip_energy), and SCIP with its own neighbourhood branching (``scip-neighbourhood``,
 #: the default before issue 31's second pass).
-BACKENDS = {"highs": CertifySettings(),
-            "scip": CertifySettings(backend="scip"),
-            "scip-noenergy": CertifySettings(backend="scip", scip_energy=False),
-            "scip-neighbourhood": CertifySettings(backend="scip", scip_parameters=())}
+BACKENDS = {
+    "highs": CertifySettings(),
+    "scip": CertifySettings(backend="scip"),
+    "scip-noenergy": CertifySettings(backend="scip", scip_energy=False),
+    "scip-neighbourhood": CertifySettings(backend="scip", scip_parameters=()),
+}
 
 
 def with_overrides(scene: alma.Scene, friction: float = 0.4) -> alma.Scene:
@@ -57,30 +60,49 @@ def with_overrides(scene: alma.Scene, friction: float = 0.4) -> alma.Scene:
     joints = find_joints(scene)
     fixed = {i for i, b in enumerate(scene.blocks) if b.fixed}
     data = scene.to_dict()
-    data["joints"] = [{"blocks": [scene.blocks[a].id, scene.blocks[b].id], "friction": friction, "cohesion": 0.0}
-                      for a, b in zip(joints.block_a, joints.block_b, strict=True) if a in fixed or b in fixed]
+    data["joints"] = [
+        {"blocks": [scene.blocks[a].id, scene.blocks[b].id], "friction": friction, "cohesion": 0.0}
+        for a, b in zip(joints.block_a, joints.block_b, strict=True)
+        if a in fixed or b in fixed
+    ]
     return alma.Scene.from_dict(data)
 
 
 def side_by_side(k: int, f: float, b: float = 1.0, h: float = 2.0, cohesion: float = 0.0) -> alma.Scene:
     blocks = [{"id": "g", "vertices": [[-b, -1], [(k + 1) * b, -1], [(k + 1) * b, 0], [-b, 0]], "fixed": True}]
-    blocks += [{"id": f"b{i}", "vertices": [[i * b, 0], [(i + 1) * b, 0], [(i + 1) * b, h], [i * b, h]]}
-               for i in range(k)]
-    return alma.Scene.from_dict({"friction": f, "blocks": blocks, "cohesion": cohesion,
-                                 "name": f"{k} blocks side by side, f={f:g}"})
+    blocks += [
+        {"id": f"b{i}", "vertices": [[i * b, 0], [(i + 1) * b, 0], [(i + 1) * b, h], [i * b, h]]} for i in range(k)
+    ]
+    return alma.Scene.from_dict(
+        {"friction": f, "blocks": blocks, "cohesion": cohesion, "name": f"{k} blocks side by side, f={f:g}"}
+    )
 
 
 def families(cohesion: float = 0.0) -> dict[str, list[tuple[str, alma.Scene]]]:
     out: dict[str, list[tuple[str, alma.Scene]]] = {}
     size = dict(b=100.0, h=200.0) if cohesion else {}
     for f in (1.0, 0.6):
-        out[f"side{f:g}"] = [(f"side-by-side k={k} f={f:g}", side_by_side(k, f, cohesion=cohesion, **size))
-                             for k in range(2, 21)]
-    out["stack"] = [(f"stack {c}x{r}", alma.wall("stack", c * 120.0, r * 60.0, 120.0, friction=0.6))
-                    for c, r in [(2, 3), (3, 3), (4, 3), (4, 4), (5, 4), (6, 4), (6, 5), (8, 5)]]
-    out["running"] = [(f"running {int(L)}x{r * 60}", alma.wall("running", L, r * 60.0, 120.0, friction=0.6))
-                      for L, r in [(360.0, 2), (360.0, 3), (360.0, 4), (480.0, 3), (480.0, 4), (600.0, 4),
-                                   (480.0, 6), (600.0, 6), (600.0, 7)]]
+        out[f"side{f:g}"] = [
+            (f"side-by-side k={k} f={f:g}", side_by_side(k, f, cohesion=cohesion, **size)) for k in range(2, 21)
+        ]
+    out["stack"] = [
+        (f"stack {c}x{r}", alma.wall("stack", c * 120.0, r * 60.0, 120.0, friction=0.6))
+        for c, r in [(2, 3), (3, 3), (4, 3), (4, 4), (5, 4), (6, 4), (6, 5), (8, 5)]
+    ]
+    out["running"] = [
+        (f"running {int(L)}x{r * 60}", alma.wall("running", L, r * 60.0, 120.0, friction=0.6))
+        for L, r in [
+            (360.0, 2),
+            (360.0, 3),
+            (360.0, 4),
+            (480.0, 3),
+            (480.0, 4),
+            (600.0, 4),
+            (480.0, 6),
+            (600.0, 6),
+            (600.0, 7),
+        ]
+    ]
     for family in ("stack", "running"):
         out[family] = [(name, dataclasses.replace(scene, cohesion=cohesion)) for name, scene in out[family]]
     return out
@@ -100,15 +122,25 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--time-limit", type=float, default=60.0)
     parser.add_argument("--families", default="side1,side0.6,stack,running")
-    parser.add_argument("--formulations", "--backends", dest="formulations", default="highs",
-                        help=f"comma-separated certificates among {', '.join(BACKENDS)}")
+    parser.add_argument(
+        "--formulations",
+        "--backends",
+        dest="formulations",
+        default="highs",
+        help=f"comma-separated certificates among {', '.join(BACKENDS)}",
+    )
     parser.add_argument("--only", default="", help="comma-separated scene names to run (default: every size)")
-    parser.add_argument("--overrides", action="store_true",
-                        help="override the joints on the ground: friction 0.4, no cohesion")
+    parser.add_argument(
+        "--overrides", action="store_true", help="override the joints on the ground: friction 0.4, no cohesion"
+    )
     parser.add_argument("--cohesion", type=float, default=0.0, help="cohesion on every joint, kPa")
-    parser.add_argument("--nodes", type=int, default=0,
-                        help="branch-and-bound node budget of every certificate (default: CertifySettings's); "
-                             "a budget in nodes compares backends whatever the machine's load")
+    parser.add_argument(
+        "--nodes",
+        type=int,
+        default=0,
+        help="branch-and-bound node budget of every certificate (default: CertifySettings's); "
+        "a budget in nodes compares backends whatever the machine's load",
+    )
     parser.add_argument("--stop-after", type=int, default=2, help="unproven sizes in a row before a family stops")
     parser.add_argument("--out", default=str(Path(__file__).resolve().parent / "results"))
     args = parser.parse_args(argv)
@@ -128,26 +160,48 @@ def main(argv: list[str] | None = None) -> None:
             model, alpha_lp, mechanisms, best = search(scene)
             points = 2 * model.n_joints
             for formulation in formulations:
-                row = dict(family=family, scene=name, blocks=model.n_free, points=points, formulation=formulation,
-                           alpha_best=best, alpha_lp=alpha_lp)
+                row = dict(
+                    family=family,
+                    scene=name,
+                    blocks=model.n_free,
+                    points=points,
+                    formulation=formulation,
+                    alpha_best=best,
+                    alpha_lp=alpha_lp,
+                )
                 if misses[formulation] >= args.stop_after:
                     row.update(status="skipped", lower=np.nan, upper=best, gap=np.nan, seconds=np.nan)
                 else:
                     chosen_settings = BACKENDS[formulation]
                     if args.nodes:
                         chosen_settings = dataclasses.replace(chosen_settings, node_limit=args.nodes)
-                    cert = certify(model, alpha_lp, mechanisms, time_limit=args.time_limit, alpha_best=best,
-                                   settings=chosen_settings)
+                    cert = certify(
+                        model,
+                        alpha_lp,
+                        mechanisms,
+                        time_limit=args.time_limit,
+                        alpha_best=best,
+                        settings=chosen_settings,
+                    )
                     upper = min(best, cert.upper) if best is not None else cert.upper
                     proven = cert.status == "proven"
                     misses[formulation] = 0 if proven else misses[formulation] + 1
-                    row.update(status=cert.status, lower=cert.lower, upper=upper, gap=upper - cert.lower,
-                               seconds=cert.time_s, velocity_bound_active=cert.velocity_bound_active,
-                               nodes=cert.nodes)
+                    row.update(
+                        status=cert.status,
+                        lower=cert.lower,
+                        upper=upper,
+                        gap=upper - cert.lower,
+                        seconds=cert.time_s,
+                        velocity_bound_active=cert.velocity_bound_active,
+                        nodes=cert.nodes,
+                    )
                 rows.append(row)
-                print(f"{name:28s} {row['blocks']:3d} blocks {points:4d} pts  {formulation:8s} {row['status']:10s} "
-                      f"lower {row['lower']:.6f}  upper {row['upper']:.6f}  gap {row['gap']:.2e}  "
-                      f"{row['seconds']:6.2f} s", flush=True)
+                print(
+                    f"{name:28s} {row['blocks']:3d} blocks {points:4d} pts  {formulation:8s} {row['status']:10s} "
+                    f"lower {row['lower']:.6f}  upper {row['upper']:.6f}  gap {row['gap']:.2e}  "
+                    f"{row['seconds']:6.2f} s",
+                    flush=True,
+                )
     df = pd.DataFrame(rows)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -155,19 +209,33 @@ def main(argv: list[str] | None = None) -> None:
     csv = out / f"{stem}_{'_'.join(formulations)}.csv"
     df.to_csv(csv, index=False)
 
-    wide = df.pivot_table(index=["family", "scene", "blocks", "points"], columns="formulation",
-                          values=["lower", "gap", "seconds"], aggfunc="first", sort=False)
-    status = df.pivot_table(index=["family", "scene", "blocks", "points"], columns="formulation",
-                            values="status", aggfunc="first", sort=False)
-    print("\nscene                         blocks points | " + " | ".join(
-        f"{f}: status lower upper gap seconds" for f in formulations))
+    wide = df.pivot_table(
+        index=["family", "scene", "blocks", "points"],
+        columns="formulation",
+        values=["lower", "gap", "seconds"],
+        aggfunc="first",
+        sort=False,
+    )
+    status = df.pivot_table(
+        index=["family", "scene", "blocks", "points"],
+        columns="formulation",
+        values="status",
+        aggfunc="first",
+        sort=False,
+    )
+    print(
+        "\nscene                         blocks points | "
+        + " | ".join(f"{f}: status lower upper gap seconds" for f in formulations)
+    )
     for key in status.index:
         family, scene, blocks, points = key
         upper = df[(df.scene == scene)].upper.iloc[0]
         cells = []
         for f in formulations:
-            cells.append(f"{status.loc[key, f]:10s} {wide.loc[key, ('lower', f)]:.6f} {upper:.6f} "
-                         f"{wide.loc[key, ('gap', f)]:.1e} {wide.loc[key, ('seconds', f)]:6.2f}")
+            cells.append(
+                f"{status.loc[key, f]:10s} {wide.loc[key, ('lower', f)]:.6f} {upper:.6f} "
+                f"{wide.loc[key, ('gap', f)]:.1e} {wide.loc[key, ('seconds', f)]:6.2f}"
+            )
         print(f"{scene:29s} {blocks:6d} {points:6d} | " + " | ".join(cells))
     print(f"\nlargest scene proven within {args.time_limit:g} s:")
     for family in chosen:
@@ -177,8 +245,9 @@ def main(argv: list[str] | None = None) -> None:
                 print(f"  {family:10s} {f:8s} none")
             else:
                 top = proven.sort_values("blocks").iloc[-1]
-                print(f"  {family:10s} {f:8s} {top.scene} ({top.blocks} blocks, {top.points} points, "
-                      f"{top.seconds:.1f} s)")
+                print(
+                    f"  {family:10s} {f:8s} {top.scene} ({top.blocks} blocks, {top.points} points, {top.seconds:.1f} s)"
+                )
     print(f"\nwrote {csv}")
 
 

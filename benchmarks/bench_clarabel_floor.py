@@ -20,6 +20,7 @@ script measures, with alma's own Clarabel call (:func:`alma.associative.solve_lp
 
 Writes benchmarks/results/clarabel_floor.csv (one row per case and tolerance).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -77,12 +78,24 @@ def measure(case: str, scene, tolerances: list[float], repeat: int, probe_iterat
         runs = [solve_lp(model, tolerance=tol) for _ in range(repeat)]
         sol = runs[-1]
         gap = (sol.upper - sol.lower) / max(1.0, abs(sol.upper))
-        rows.append(dict(case=case, blocks=model.n_free, joints=model.n_joints, tolerance=tol,
-                         status=sol.status, iterations=sol.iterations, gap=gap,
-                         solve_s=statistics.median(r.solve_time for r in runs),
-                         certify_s=statistics.median(r.certify_time for r in runs),
-                         joints_build_s=joints_build_s, setup_s=setup_s, per_iter_s=per_iter_s,
-                         factor_s=factor_s, factor_share=factor_s / per_iter_s))
+        rows.append(
+            dict(
+                case=case,
+                blocks=model.n_free,
+                joints=model.n_joints,
+                tolerance=tol,
+                status=sol.status,
+                iterations=sol.iterations,
+                gap=gap,
+                solve_s=statistics.median(r.solve_time for r in runs),
+                certify_s=statistics.median(r.certify_time for r in runs),
+                joints_build_s=joints_build_s,
+                setup_s=setup_s,
+                per_iter_s=per_iter_s,
+                factor_s=factor_s,
+                factor_share=factor_s / per_iter_s,
+            )
+        )
     certified = [r for r in rows if r["status"] == "optimal"]
     if certified:
         fewest = min(certified, key=lambda r: r["iterations"])
@@ -105,8 +118,13 @@ def main() -> None:
     cases = [("largest paper panel", alma.paper_panel("english", "1:2", "1:1", 0.6), args.repeat)]
     for n in (int(s) for s in args.walls.split(",") if s):
         courses, per_course = wall_shape(n)
-        cases.append((f"wall {n}", alma.wall("running", 240.0 * per_course, 60.0 * courses, 240.0),
-                      1 if n > 5000 else args.repeat))
+        cases.append(
+            (
+                f"wall {n}",
+                alma.wall("running", 240.0 * per_course, 60.0 * courses, 240.0),
+                1 if n > 5000 else args.repeat,
+            )
+        )
     rows = []
     args.out.mkdir(parents=True, exist_ok=True)
     pd.set_option("display.width", 250)
@@ -122,10 +140,12 @@ def main() -> None:
         target = TARGETS.get(case)
         floor = first.get("floor_s", float("nan"))
         verdict = "" if target is None else f" (target {target:g} s: {'below' if floor <= target else 'ABOVE'})"
-        print(f"{case}: {int(first.blocks)} blocks, per iteration {first.per_iter_s:.4g} s "
-              f"(KKT refactorisation {first.factor_s:.4g} s, {first.factor_share:.0%}), setup {first.setup_s:.4g} s, "
-              f"fewest certified iterations {first.get('fewest_certified_iterations', float('nan')):.0f}, "
-              f"floor {floor:.4g} s{verdict}")
+        print(
+            f"{case}: {int(first.blocks)} blocks, per iteration {first.per_iter_s:.4g} s "
+            f"(KKT refactorisation {first.factor_s:.4g} s, {first.factor_share:.0%}), setup {first.setup_s:.4g} s, "
+            f"fewest certified iterations {first.get('fewest_certified_iterations', float('nan')):.0f}, "
+            f"floor {floor:.4g} s{verdict}"
+        )
 
 
 if __name__ == "__main__":

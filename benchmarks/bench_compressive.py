@@ -8,6 +8,7 @@ iterations, solve and certificate seconds.
 
     python benchmarks/bench_compressive.py [--sigma 2] [--wall 5000] [--skip-wall]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -23,13 +24,18 @@ def measure(name: str, scene: alma.Scene, sigma: float) -> None:
     """Solve ``scene`` rigid and at ``sigma`` MPa; one line each and their time ratio."""
     joints = find_joints(scene)
     rows = []
-    for label, s in (("rigid LP", scene), (f"cone σ_c={sigma:g} MPa",
-                                            dataclasses.replace(scene, compressive_strength=sigma))):
+    for label, s in (
+        ("rigid LP", scene),
+        (f"cone σ_c={sigma:g} MPa", dataclasses.replace(scene, compressive_strength=sigma)),
+    ):
         r = alma.solve(s, joints=joints)
         t = r.timings
         rows.append(t["solve_s"] + t["certify_s"])
-        print(f"{name:28s} {label:20s} {r.n_blocks:6d} blocks  {r.status!s:14s} α = {r.alpha:.9f}  "
-              f"{r.iterations:4d} it  solve {t['solve_s']:7.2f} s  certificate {t['certify_s']:6.2f} s", flush=True)
+        print(
+            f"{name:28s} {label:20s} {r.n_blocks:6d} blocks  {r.status!s:14s} α = {r.alpha:.9f}  "
+            f"{r.iterations:4d} it  solve {t['solve_s']:7.2f} s  certificate {t['certify_s']:6.2f} s",
+            flush=True,
+        )
     print(f"{name:28s} cone / LP (solve + certificate): {rows[1] / rows[0]:.1f}x", flush=True)
 
 
@@ -42,8 +48,9 @@ def main() -> None:
     measure("largest panel (english 1:2 1:1)", paper_panel("english", "1:2", "1:1", 0.6), args.sigma)
     if not args.skip_wall:
         courses, per_course = wall_shape(args.wall)
-        measure(f"running wall ~{args.wall}", alma.wall("running", 240.0 * per_course, 60.0 * courses, 240.0),
-                args.sigma)
+        measure(
+            f"running wall ~{args.wall}", alma.wall("running", 240.0 * per_course, 60.0 * courses, 240.0), args.sigma
+        )
 
 
 if __name__ == "__main__":

@@ -7,6 +7,7 @@ for at most 20 % of the solve on the largest paper panel.
 
     python -m benchmarks.bench_crisp [--largest] [--out benchmarks/results/crisp.csv]   (make bench-crisp)
 """
+
 from __future__ import annotations
 
 import argparse
@@ -31,11 +32,21 @@ def run(case: tuple) -> dict:
     t0 = time.perf_counter()
     lp = solve_lp(model)
     t1 = time.perf_counter()
-    u, why = crisp_mechanism(model, lp.upper, s.gap_tolerance * 5e-3, lp.multipliers, lp.mechanism,
-                             max_blocks_capped=s.crisp_capped_blocks)
+    u, why = crisp_mechanism(
+        model, lp.upper, s.gap_tolerance * 5e-3, lp.multipliers, lp.mechanism, max_blocks_capped=s.crisp_capped_blocks
+    )
     t2 = time.perf_counter()
-    return {"bond": case[0], "panel": case[1], "blocks": case[2], "friction": case[3], "free_blocks": model.n_free,
-            "solve_s": t1 - t0, "crisp_s": t2 - t1, "found": u is not None, "how": why}
+    return {
+        "bond": case[0],
+        "panel": case[1],
+        "blocks": case[2],
+        "friction": case[3],
+        "free_blocks": model.n_free,
+        "solve_s": t1 - t0,
+        "crisp_s": t2 - t1,
+        "found": u is not None,
+        "how": why,
+    }
 
 
 def main() -> None:
@@ -43,19 +54,27 @@ def main() -> None:
     parser.add_argument("--largest", action="store_true", help="only the largest paper panel")
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/crisp.csv"))
     args = parser.parse_args()
-    cases = [LARGEST] if args.largest else list(itertools.product(BONDS, ["2:1", "1:1", "1:2"], ["4:1", "2:1", "1:1"],
-                                                                  [0.27, 0.6, 1.0]))
+    cases = (
+        [LARGEST]
+        if args.largest
+        else list(itertools.product(BONDS, ["2:1", "1:1", "1:2"], ["4:1", "2:1", "1:1"], [0.27, 0.6, 1.0]))
+    )
     rows = []
     for case in cases:
         rows.append(run(case))
         r = rows[-1]
-        print(f"{' '.join(map(str, case)):28s} {r['free_blocks']:5d} blocks  solve {r['solve_s']:.3f} s  "
-              f"crisp {r['crisp_s']:.3f} s  {r['how']}", flush=True)
+        print(
+            f"{' '.join(map(str, case)):28s} {r['free_blocks']:5d} blocks  solve {r['solve_s']:.3f} s  "
+            f"crisp {r['crisp_s']:.3f} s  {r['how']}",
+            flush=True,
+        )
     table = pd.DataFrame(rows)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     table.to_csv(args.out, index=False)
-    print(f"solve {table.solve_s.sum():.2f} s, crisp {table.crisp_s.sum():.2f} s "
-          f"({table.crisp_s.sum() / table.solve_s.sum():.2f}x), a vertex on {int(table.found.sum())} of {len(table)}")
+    print(
+        f"solve {table.solve_s.sum():.2f} s, crisp {table.crisp_s.sum():.2f} s "
+        f"({table.crisp_s.sum() / table.solve_s.sum():.2f}x), a vertex on {int(table.found.sum())} of {len(table)}"
+    )
 
 
 if __name__ == "__main__":

@@ -19,6 +19,7 @@ column for reference.  The 100,000-block wall: ``--walls 100000 --clarabel-walls
 
 Writes benchmarks/results/engine.csv (and engine_panels.csv with ``--panels``).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -65,19 +66,34 @@ def _one(scene, engine: str, backend: str) -> dict:
     else:
         lp = solve_lp(model, engine="ipm", ipm_settings=IPMSettings(backend=backend))
         tm = lp.engine
-        row.update(backend=backend, pattern_s=tm.get("pattern_s"), factor_s=tm.get("factor_s"),
-                   solves_s=tm.get("solve_s"), factorisations=tm.get("factorisations"), solves=tm.get("solves"),
-                   engine_status="optimal" if tm else "fell back to Clarabel")
-    row.update(total_s=time.perf_counter() - t0, solve_s=lp.solve_time, certify_s=lp.certify_time,
-               status=lp.status, alpha=lp.alpha, lower=lp.lower, upper=lp.upper, iterations=lp.iterations,
-               gap=(lp.upper - lp.lower) / max(1.0, abs(lp.upper)))
+        row.update(
+            backend=backend,
+            pattern_s=tm.get("pattern_s"),
+            factor_s=tm.get("factor_s"),
+            solves_s=tm.get("solve_s"),
+            factorisations=tm.get("factorisations"),
+            solves=tm.get("solves"),
+            engine_status="optimal" if tm else "fell back to Clarabel",
+        )
+    row.update(
+        total_s=time.perf_counter() - t0,
+        solve_s=lp.solve_time,
+        certify_s=lp.certify_time,
+        status=lp.status,
+        alpha=lp.alpha,
+        lower=lp.lower,
+        upper=lp.upper,
+        iterations=lp.iterations,
+        gap=(lp.upper - lp.lower) / max(1.0, abs(lp.upper)),
+    )
     return row
 
 
 def _one_ipx(scene) -> dict:
     """HiGHS IPX (interior point, crossover off) on the same kinematic LP, its pair passed to
     alma's certificate: a reference, not one of alma's engines."""
-    from alma.associative.lp import _certified, _kinematic_form
+    from alma.associative.lp import _certified
+    from alma.associative.lp_forms import _kinematic_form
     from alma.backends.highs_backend import conic_lp, quiet_highs
     from alma.backends.termination import SolverResult, termination
     from alma.geometry.contacts import find_joints
@@ -96,13 +112,30 @@ def _one_ipx(scene) -> dict:
     t2 = time.perf_counter()
     raw = str(h.getModelStatus()).rsplit(".", 1)[-1]
     sol = h.getSolution()
-    pair = SolverResult(termination("highs", raw), raw, np.asarray(sol.col_value, float),
-                        -np.asarray(sol.row_dual, float), int(h.getInfo().ipm_iteration_count), t2 - t1, "HiGHS IPX")
+    pair = SolverResult(
+        termination("highs", raw),
+        raw,
+        np.asarray(sol.col_value, float),
+        -np.asarray(sol.row_dual, float),
+        int(h.getInfo().ipm_iteration_count),
+        t2 - t1,
+        "HiGHS IPX",
+    )
     lp_sol = _certified(model, model.equilibrium, s, pair, "HiGHS IPX", "", {})
-    return dict(blocks=model.n_free, build_s=t1 - t0, total_s=time.perf_counter() - t0, solve_s=t2 - t1,
-                certify_s=lp_sol.certify_time, status=lp_sol.status, alpha=lp_sol.alpha, lower=lp_sol.lower,
-                upper=lp_sol.upper, iterations=pair.iterations, engine_status=raw,
-                gap=(lp_sol.upper - lp_sol.lower) / max(1.0, abs(lp_sol.upper)))
+    return dict(
+        blocks=model.n_free,
+        build_s=t1 - t0,
+        total_s=time.perf_counter() - t0,
+        solve_s=t2 - t1,
+        certify_s=lp_sol.certify_time,
+        status=lp_sol.status,
+        alpha=lp_sol.alpha,
+        lower=lp_sol.lower,
+        upper=lp_sol.upper,
+        iterations=pair.iterations,
+        engine_status=raw,
+        gap=(lp_sol.upper - lp_sol.lower) / max(1.0, abs(lp_sol.upper)),
+    )
 
 
 def worker(case: str, engine: str, backend: str, repeat: int) -> dict:
@@ -117,8 +150,13 @@ def worker(case: str, engine: str, backend: str, repeat: int) -> dict:
     for key in ("build_s", "total_s", "solve_s", "certify_s", "pattern_s", "factor_s", "solves_s"):
         if key in out:
             out[key] = statistics.median(r[key] for r in runs)
-    out.update(case=case, engine=engine, repeat=repeat, library_load_s=load_s,
-               peak_rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
+    out.update(
+        case=case,
+        engine=engine,
+        repeat=repeat,
+        library_load_s=load_s,
+        peak_rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
+    )
     if "factorisations" in out and out["iterations"]:
         out["per_iteration_s"] = (out["factor_s"] + out["solves_s"]) / max(out["factorisations"], 1)
         out["factor_share"] = out["factor_s"] / max(out["solve_s"], 1e-12)
@@ -141,8 +179,7 @@ def panels_worker(engine: str, backend: str) -> dict:
         total += time.perf_counter() - t0
         certified += lp.status == "optimal" and "Clarabel used" not in lp.message
         iterations += lp.iterations
-    return dict(engine=engine, panels=len(table5()), certified=certified, solve_certify_s=total,
-                iterations=iterations)
+    return dict(engine=engine, panels=len(table5()), certified=certified, solve_certify_s=total, iterations=iterations)
 
 
 def _spawn(args: list[str]) -> dict:
@@ -159,8 +196,11 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--walls", default="1000,5000,10000,20000")
     parser.add_argument("--clarabel-walls", default=None, help="walls also solved by Clarabel (default: --walls)")
-    parser.add_argument("--ipx-walls", default="1000,5000,10000",
-                        help="walls also solved by HiGHS IPX, crossover off (a reference; slow: ~2 min at 10,000)")
+    parser.add_argument(
+        "--ipx-walls",
+        default="1000,5000,10000",
+        help="walls also solved by HiGHS IPX, crossover off (a reference; slow: ~2 min at 10,000)",
+    )
     parser.add_argument("--ipx-repeat", type=int, default=1)
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--backend", default="auto")
@@ -206,8 +246,24 @@ def _report(df) -> None:
     import pandas as pd
 
     pd.set_option("display.width", 250)
-    cols = ["case", "engine", "backend", "blocks", "status", "iterations", "total_s", "solve_s", "certify_s",
-            "pattern_s", "factor_s", "solves_s", "per_iteration_s", "peak_rss_mb", "gap", "alpha"]
+    cols = [
+        "case",
+        "engine",
+        "backend",
+        "blocks",
+        "status",
+        "iterations",
+        "total_s",
+        "solve_s",
+        "certify_s",
+        "pattern_s",
+        "factor_s",
+        "solves_s",
+        "per_iteration_s",
+        "peak_rss_mb",
+        "gap",
+        "alpha",
+    ]
     print("\n== end to end (joints + build + solve + certificate), medians ==")
     print(df[[c for c in cols if c in df]].to_string(index=False, float_format=lambda x: f"{x:.4g}"))
     ok = df[df.get("status", pd.Series(dtype=str)) == "optimal"] if "status" in df else df.iloc[:0]

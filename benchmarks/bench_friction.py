@@ -11,6 +11,7 @@ paper's 108 panels.
 ``--perturb``: every scene solved again with its data perturbed by 1e-12 relative (unit weight,
 a translation, the block order reversed); the table then gives |Δα_NL| / α_NL.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -38,11 +39,18 @@ def _courses(full_even, full_odd, window_odd, window_even, layout):
 WALLS = {
     1: [list(_RUN[i % 2]) for i in range(6)],
     2: [list(_RUN[i % 2]) for i in range(10)],
-    3: _courses([1, 1, 1, 1], [.5, 1, 1, 1, .5], [.5, 1, -1, 1, .5], [1, .5, -1, .5, 1], "EUEuwuwuEUE"),
-    4: _courses([.5, 1, 1, 1, 1, .5], [1] * 5, [1, -1, 1, -1, 1], [.5, .5, -1, .5, .5, -1, .5, .5], "EUEuwuwuEUE"),
-    5: _courses([.5, 1, 1, .5], [1] * 3, [1, -1, 1], [.5, .5, -1, .5, .5], "EUEuwuwuEUEuwuwuEUE"),
-    6: _courses([.5] + [1] * 6 + [.5], [1] * 7, [.5, 1, -1, 1, 1, -1, 1, .5],
-                [1, .5, -1, .5, 1, .5, -1, .5, 1], "EUEUuwuwuUEUuwuwuUEUE"),
+    3: _courses([1, 1, 1, 1], [0.5, 1, 1, 1, 0.5], [0.5, 1, -1, 1, 0.5], [1, 0.5, -1, 0.5, 1], "EUEuwuwuEUE"),
+    4: _courses(
+        [0.5, 1, 1, 1, 1, 0.5], [1] * 5, [1, -1, 1, -1, 1], [0.5, 0.5, -1, 0.5, 0.5, -1, 0.5, 0.5], "EUEuwuwuEUE"
+    ),
+    5: _courses([0.5, 1, 1, 0.5], [1] * 3, [1, -1, 1], [0.5, 0.5, -1, 0.5, 0.5], "EUEuwuwuEUEuwuwuEUE"),
+    6: _courses(
+        [0.5] + [1] * 6 + [0.5],
+        [1] * 7,
+        [0.5, 1, -1, 1, 1, -1, 1, 0.5],
+        [1, 0.5, -1, 0.5, 1, 0.5, -1, 0.5, 1],
+        "EUEUuwuwuUEUuwuwuUEUE",
+    ),
 }
 #: The lowest α_NL alma recorded for each wall before the canonical search (issue 30's table).
 WALL_REFERENCE = {1: 0.638982, 2: 0.557520, 3: 0.355817, 4: 0.263736, 5: 0.208629, 6: 0.295769}
@@ -57,29 +65,54 @@ def stack_with_cohesion() -> Scene:
         for col in range(3):
             x, y = 300 * col, 150 * row
             blocks.append({"id": f"b{row}{col}", "vertices": [[x, y], [x + 300, y], [x + 300, y + 150], [x, y + 150]]})
-    return Scene.from_dict({"name": "stack 3x4, cohesion", "thickness": 120, "unit_weight": 18, "friction": 0.6,
-                            "cohesion": 0.5, "blocks": blocks,
-                            "joints": [{"blocks": ["b10", "b11"], "friction": 0.4, "cohesion": 0.0},
-                                       {"blocks": ["b21", "b22"], "friction": 0.5}]})
+    return Scene.from_dict(
+        {
+            "name": "stack 3x4, cohesion",
+            "thickness": 120,
+            "unit_weight": 18,
+            "friction": 0.6,
+            "cohesion": 0.5,
+            "blocks": blocks,
+            "joints": [
+                {"blocks": ["b10", "b11"], "friction": 0.4, "cohesion": 0.0},
+                {"blocks": ["b21", "b22"], "friction": 0.5},
+            ],
+        }
+    )
 
 
 def scenes(args) -> list[tuple[str, Scene, float | None]]:
     out: list[tuple[str, Scene, float | None]] = [
-        (f"F&TL wall {k}", alma.coursed_wall(WALLS[k], 400.0, 175.0, friction=FRICTION, thickness=1000.0,
-                                             unit_weight=10.0), WALL_REFERENCE[k]) for k in WALLS]
+        (
+            f"F&TL wall {k}",
+            alma.coursed_wall(WALLS[k], 400.0, 175.0, friction=FRICTION, thickness=1000.0, unit_weight=10.0),
+            WALL_REFERENCE[k],
+        )
+        for k in WALLS
+    ]
     out.append(("stack 3x4 cohesion", stack_with_cohesion(), None))
     if args.lact3:
         for name, phi in LACT3:
-            scene = alma.load_scene(Path(args.lact3) / name, friction=math.tan(math.radians(phi)), thickness=1.0,
-                                    unit_weight=25.0, supports="lowest")
+            scene = alma.load_scene(
+                Path(args.lact3) / name,
+                friction=math.tan(math.radians(phi)),
+                thickness=1.0,
+                unit_weight=25.0,
+                supports="lowest",
+            )
             out.append((f"LACT3 {name}", scene, None))
     if args.panels:
         for bond in ("running", "stack", "english", "flemish"):
             for pr in ("2:1", "1:1", "1:2"):
                 for br in ("4:1", "2:1", "1:1"):
                     for f in (0.27, 0.6, 1.0):
-                        out.append((f"{bond} {pr} {br} f={f}", alma.paper_panel(bond=bond, panel_ratio=pr,
-                                                                                block_ratio=br, friction=f), None))
+                        out.append(
+                            (
+                                f"{bond} {pr} {br} f={f}",
+                                alma.paper_panel(bond=bond, panel_ratio=pr, block_ratio=br, friction=f),
+                                None,
+                            )
+                        )
     return out
 
 
@@ -104,11 +137,22 @@ def measure(name: str, scene: Scene, reference: float | None, perturb: bool) -> 
     result = alma.solve(scene, model="nonassociative")
     assert isinstance(result, NonAssociativeResult)
     search_s = result.timings.get("nonassociative_s", math.nan)
-    row = {"scene": name, "blocks": result.n_blocks, "assoc_s": assoc_s, "search_s": search_s,
-           "ratio": search_s / assoc_s, "start": result.start or "", "status": str(result.status),
-           "alpha_nl": result.alpha, "reference": reference if reference is not None else math.nan,
-           "starts": "; ".join(f"{r['start']}={r['alpha'] if r['alpha'] is not None else math.nan:.6f}"
-                                f"{'' if r['verified'] else '?'}/{r['time_s']:.2f}s" for r in result.starts)}
+    row = {
+        "scene": name,
+        "blocks": result.n_blocks,
+        "assoc_s": assoc_s,
+        "search_s": search_s,
+        "ratio": search_s / assoc_s,
+        "start": result.start or "",
+        "status": str(result.status),
+        "alpha_nl": result.alpha,
+        "reference": reference if reference is not None else math.nan,
+        "starts": "; ".join(
+            f"{r['start']}={r['alpha'] if r['alpha'] is not None else math.nan:.6f}"
+            f"{'' if r['verified'] else '?'}/{r['time_s']:.2f}s"
+            for r in result.starts
+        ),
+    }
     if perturb:
         other = alma.solve(perturbed(scene), model="nonassociative")
         row["perturbed_rel"] = abs(other.alpha - result.alpha) / max(abs(result.alpha), 1e-300)
@@ -150,14 +194,18 @@ def main() -> int:
             continue
         row = measure(name, scene, reference, args.perturb)
         rows.append(row)
-        line = (f"| {name} | {row['blocks']} | {row['assoc_s']:.3f} | {row['search_s']:.2f} | {row['ratio']:.0f} | "
-                f"{row['start']} | {row['status']} | {row['alpha_nl']:.6f} | {row['reference']:.6f} |")
+        line = (
+            f"| {name} | {row['blocks']} | {row['assoc_s']:.3f} | {row['search_s']:.2f} | {row['ratio']:.0f} | "
+            f"{row['start']} | {row['status']} | {row['alpha_nl']:.6f} | {row['reference']:.6f} |"
+        )
         print(line + (f" {row['perturbed_rel']:.1e} |" if args.perturb else ""), flush=True)
         if args.starts:
             print("    " + row["starts"], flush=True)
     total_a, total_s = sum(r["assoc_s"] for r in rows), sum(r["search_s"] for r in rows)
-    print(f"\ntotal: associative {total_a:.2f} s, search {total_s:.1f} s, ratio {total_s / total_a:.0f}; "
-          f"median ratio {statistics.median(r['ratio'] for r in rows):.0f}")
+    print(
+        f"\ntotal: associative {total_a:.2f} s, search {total_s:.1f} s, ratio {total_s / total_a:.0f}; "
+        f"median ratio {statistics.median(r['ratio'] for r in rows):.0f}"
+    )
     print("start kept:", dict(Counter(r["start"].split("(")[0] for r in rows).most_common()))
     if args.out:
         with open(args.out, "w", newline="") as handle:

@@ -16,6 +16,7 @@ a copy without it (``--alma``) for the whole difference.
     .venv/bin/python -m benchmarks.bench_joints --panel english:1:2:1:1 [--repeat 5]
     .venv/bin/python -m benchmarks.bench_joints [--sizes 1000,3000,...] [--repeat 5] [--alma DIR]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -46,8 +47,7 @@ def worker(n: int, repeat: int, far: float = 0.0, panel: str = "") -> dict:
     if far:
         data = scene.to_dict()
         x = 240.0 * per_course + far
-        data["blocks"].append({"id": "far", "fixed": True,
-                               "vertices": [[x, 0], [x + 240, 0], [x + 240, 60], [x, 60]]})
+        data["blocks"].append({"id": "far", "fixed": True, "vertices": [[x, 0], [x + 240, 0], [x + 240, 60], [x, 60]]})
         scene = alma.Scene.from_dict(data)
     base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     times = []
@@ -56,9 +56,18 @@ def worker(n: int, repeat: int, far: float = 0.0, panel: str = "") -> dict:
         joints = find_joints(scene)
         times.append(time.perf_counter() - t0)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
-    return dict(target=n, blocks=len(scene.blocks), joints=joints.count, joints_s=statistics.median(times),
-                min_s=min(times), rss_scene_mb=base, rss_peak_mb=peak, rss_above_scene_mb=peak - base,
-                snap_s=_snap_time(scene, repeat), alma=str(Path(alma.__file__).parent))
+    return dict(
+        target=n,
+        blocks=len(scene.blocks),
+        joints=joints.count,
+        joints_s=statistics.median(times),
+        min_s=min(times),
+        rss_scene_mb=base,
+        rss_peak_mb=peak,
+        rss_above_scene_mb=peak - base,
+        snap_s=_snap_time(scene, repeat),
+        alma=str(Path(alma.__file__).parent),
+    )
 
 
 def _snap_time(scene, repeat: int) -> float | None:
@@ -106,12 +115,18 @@ def main() -> None:
         if "error" in r:
             print(f"{n}: worker failed: {r['error']}", flush=True)
             continue
-        print(f"{r['blocks']:7d} blocks {r['joints']:7d} joints: find_joints median {r['joints_s']:.4f} s "
-              f"(min {r['min_s']:.4f}), peak RSS {r['rss_peak_mb']:.0f} MB "
-              f"({r['rss_above_scene_mb']:.0f} MB above the scene)  [{r['alma']}]", flush=True)
+        print(
+            f"{r['blocks']:7d} blocks {r['joints']:7d} joints: find_joints median {r['joints_s']:.4f} s "
+            f"(min {r['min_s']:.4f}), peak RSS {r['rss_peak_mb']:.0f} MB "
+            f"({r['rss_above_scene_mb']:.0f} MB above the scene)  [{r['alma']}]",
+            flush=True,
+        )
         if r.get("snap_s") is not None:
-            print(f"{'':15s}snapping's own work: median {r['snap_s']:.4f} s, "
-                  f"{r['snap_s'] / r['joints_s']:.2f} of find_joints", flush=True)
+            print(
+                f"{'':15s}snapping's own work: median {r['snap_s']:.4f} s, "
+                f"{r['snap_s'] / r['joints_s']:.2f} of find_joints",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":

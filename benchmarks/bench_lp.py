@@ -8,6 +8,7 @@ meaningful on a shared, noisy machine.
 
     python -m benchmarks.bench_lp [--repeat 3] [--out benchmarks/results]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -41,8 +42,9 @@ def plain_clarabel_solution(model, time_limit: float | None = None, method: str 
     settings.direct_solve_method = method
     if time_limit is not None:
         settings.time_limit = float(time_limit)
-    return clarabel.DefaultSolver(sp.csc_matrix((n, n)), -model.dead, A, b,
-                                  [clarabel.ZeroConeT(1), clarabel.NonnegativeConeT(k)], settings).solve()
+    return clarabel.DefaultSolver(
+        sp.csc_matrix((n, n)), -model.dead, A, b, [clarabel.ZeroConeT(1), clarabel.NonnegativeConeT(k)], settings
+    ).solve()
 
 
 def plain_clarabel(model, time_limit: float | None = None) -> tuple[float, str]:
@@ -59,16 +61,29 @@ def largest_panels(repeat: int) -> pd.DataFrame:
         t_build, model = median_time(partial(build_model, scene, joints), repeat)
         t_alma, result = median_time(partial(alma.solve, model), repeat)
         t_plain, _ = median_time(partial(plain_clarabel, model), repeat)
-        rows.append(dict(bond=bond, blocks=model.n_free, joints=model.n_joints, alpha=result.alpha,
-                         gap=result.bounds.gap, status=result.status, joints_s=t_joints, build_s=t_build,
-                         solve_s=result.timings["solve_s"], certify_s=result.timings["certify_s"],
-                         alma_total_s=t_joints + t_build + t_alma, plain_clarabel_s=t_plain,
-                         ratio=(t_joints + t_build + t_alma) / t_plain))
+        rows.append(
+            dict(
+                bond=bond,
+                blocks=model.n_free,
+                joints=model.n_joints,
+                alpha=result.alpha,
+                gap=result.bounds.gap,
+                status=result.status,
+                joints_s=t_joints,
+                build_s=t_build,
+                solve_s=result.timings["solve_s"],
+                certify_s=result.timings["certify_s"],
+                alma_total_s=t_joints + t_build + t_alma,
+                plain_clarabel_s=t_plain,
+                ratio=(t_joints + t_build + t_alma) / t_plain,
+            )
+        )
     return pd.DataFrame(rows)
 
 
 def whole_table(repeat: int) -> pd.DataFrame:
     """The 108 panels: each geometry built once, re-solved for its three frictions."""
+
     def run(solver) -> float:
         t0 = time.perf_counter()
         for bond in BONDS:
@@ -81,8 +96,16 @@ def whole_table(repeat: int) -> pd.DataFrame:
 
     alma_s = statistics.median(run(alma.solve) for _ in range(repeat))
     plain_s = statistics.median(run(plain_clarabel) for _ in range(repeat))
-    return pd.DataFrame([dict(case="108 panels, associative, certified", alma_s=alma_s,
-                              plain_clarabel_s=plain_s, ratio=alma_s / plain_s)])
+    return pd.DataFrame(
+        [
+            dict(
+                case="108 panels, associative, certified",
+                alma_s=alma_s,
+                plain_clarabel_s=plain_s,
+                ratio=alma_s / plain_s,
+            )
+        ]
+    )
 
 
 def walls(repeat: int) -> pd.DataFrame:
@@ -92,9 +115,18 @@ def walls(repeat: int) -> pd.DataFrame:
         t_joints, joints = median_time(partial(find_joints, scene), repeat)
         t_build, model = median_time(partial(build_model, scene, joints), repeat)
         t_solve, result = median_time(partial(alma.solve, model), 1)
-        rows.append(dict(blocks=model.n_free, joints=model.n_joints, joints_s=t_joints, build_s=t_build,
-                         solve_and_certify_s=t_solve, status=result.status, alpha=result.alpha,
-                         build_fraction=(t_joints + t_build) / t_solve))
+        rows.append(
+            dict(
+                blocks=model.n_free,
+                joints=model.n_joints,
+                joints_s=t_joints,
+                build_s=t_build,
+                solve_and_certify_s=t_solve,
+                status=result.status,
+                alpha=result.alpha,
+                build_fraction=(t_joints + t_build) / t_solve,
+            )
+        )
     return pd.DataFrame(rows)
 
 

@@ -4,7 +4,7 @@ For every paper panel up to ``--max-blocks`` blocks (all three frictions), the a
 solved once, then each method alone:
 
 - ``lp``                     the exact state of the associative mechanism (its dilatant openings
-                             read as slips), :func:`alma.nonassociative.states.exact_state`;
+                             read as slips), :func:`alma.nonassociative.exact_states.exact_state`;
 - ``gilbert(s, r, k)``       one Gilbert iterative-LP run from N̄ = s·N_LP, relaxation r, k
                              slope-halving steps (every entry of ``SearchSettings.gilbert_fast``/``gilbert_thorough``);
 - ``effort=fast``, ``effort=thorough``  alma's default searches (all their starts, lowest
@@ -20,6 +20,7 @@ Times are medians of ``--repeat`` runs in one process (the machine is shared).
 Writes benchmarks/results/nonassociative.csv (one row per panel and method),
 nonassociative_summary.csv and nonassociative.png (median time against mean error).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -36,9 +37,10 @@ import alma
 from alma.associative.lp import solve_lp
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
+from alma.nonassociative.exact_states import exact_state
 from alma.nonassociative.gilbert import gilbert
 from alma.nonassociative.search import solve_nonassociative
-from alma.nonassociative.states import CollapseState, exact_state
+from alma.nonassociative.states import CollapseState
 from alma.settings import SearchSettings
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -61,12 +63,14 @@ def paper_geometries(max_blocks: int) -> list[tuple[int, str, str, str]]:
 def methods(model, points, lp) -> dict[str, Callable[[], CollapseState | None]]:
     n_lp = lp.multipliers.reshape(-1, 2).sum(axis=1)
     out: dict[str, Callable[[], CollapseState | None]] = {
-        "lp": lambda: exact_state(model, points, lp.mechanism, "lp", dilatant=True)}
+        "lp": lambda: exact_state(model, points, lp.mechanism, "lp", dilatant=True)
+    }
     settings = SearchSettings()
     starts = dict.fromkeys(settings.gilbert_fast + settings.gilbert_thorough)
     for scale, relaxation, steps in starts:
-        out[f"gilbert({scale:g}, {relaxation:g}, {steps})"] = partial(_gilbert, model, points, scale * n_lp,
-                                                                       relaxation, steps)
+        out[f"gilbert({scale:g}, {relaxation:g}, {steps})"] = partial(
+            _gilbert, model, points, scale * n_lp, relaxation, steps
+        )
     for effort in ("fast", "thorough"):
         out[f"effort={effort}"] = partial(_search, model, lp, effort)
     return out
@@ -100,21 +104,39 @@ def main() -> None:
                     state = run()
                     times.append(time.perf_counter() - t0)
                 ok = state is not None and state.verified
-                rows.append(dict(bond=bond, panel_ratio=panel_ratio, block_ratio=block_ratio, friction=friction,
-                                 blocks=n, alpha_lp=lp.alpha, method=name,
-                                 alpha=state.alpha if state is not None and ok else np.nan, verified=ok,
-                                 time_s=statistics.median(times)))
+                rows.append(
+                    dict(
+                        bond=bond,
+                        panel_ratio=panel_ratio,
+                        block_ratio=block_ratio,
+                        friction=friction,
+                        blocks=n,
+                        alpha_lp=lp.alpha,
+                        method=name,
+                        alpha=state.alpha if state is not None and ok else np.nan,
+                        verified=ok,
+                        time_s=statistics.median(times),
+                    )
+                )
             print(f"{bond:8s} {panel_ratio} {block_ratio} f={friction:<4g} {n:5d} blocks done", flush=True)
     table = pd.DataFrame(rows)
     keys = ["bond", "panel_ratio", "block_ratio", "friction"]
     table["alpha_ref"] = table.groupby(keys)["alpha"].transform("min")
     table["error"] = table["alpha"] - table["alpha_ref"]
     table.to_csv(RESULTS / "nonassociative.csv", index=False)
-    summary = table.groupby("method").agg(
-        panels=("verified", "size"), verified=("verified", "sum"),
-        reaches_best=("error", lambda e: int((e <= 1e-6).sum())),
-        mean_error=("error", "mean"), max_error=("error", "max"),
-        median_time_s=("time_s", "median"), total_time_s=("time_s", "sum")).sort_values("total_time_s")
+    summary = (
+        table.groupby("method")
+        .agg(
+            panels=("verified", "size"),
+            verified=("verified", "sum"),
+            reaches_best=("error", lambda e: int((e <= 1e-6).sum())),
+            mean_error=("error", "mean"),
+            max_error=("error", "max"),
+            median_time_s=("time_s", "median"),
+            total_time_s=("time_s", "sum"),
+        )
+        .sort_values("total_time_s")
+    )
     summary.to_csv(RESULTS / "nonassociative_summary.csv")
     with pd.option_context("display.width", 160, "display.max_columns", 20):
         print(summary.to_string(float_format=lambda v: f"{v:.4g}"))
@@ -122,6 +144,7 @@ def main() -> None:
     print(f"states above the associative α (Radenkovic violated by a local state): {len(above)}")
 
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -129,9 +152,13 @@ def main() -> None:
     for name, row in summary.iterrows():
         marker = "*" if name == "effort=fast" else ("s" if name == "effort=thorough" else "o")
         ax.scatter(row["median_time_s"], row["mean_error"] + 1e-6, marker=marker, s=80 if marker != "o" else 30)
-        ax.annotate(f"{name} ({int(row['verified'])}/{int(row['panels'])})",
-                    (row["median_time_s"], row["mean_error"] + 1e-6), fontsize=7, xytext=(3, 3),
-                    textcoords="offset points")
+        ax.annotate(
+            f"{name} ({int(row['verified'])}/{int(row['panels'])})",
+            (row["median_time_s"], row["mean_error"] + 1e-6),
+            fontsize=7,
+            xytext=(3, 3),
+            textcoords="offset points",
+        )
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("median time per panel [s]")

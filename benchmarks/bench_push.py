@@ -6,6 +6,7 @@ shared machine can measure); the curve's LP solves and its status are printed be
 
     python benchmarks/bench_push.py [--bond english --panel-ratio 1:1 --block-ratio 2:1 --steps 40]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -25,8 +26,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--steps", type=int, default=40)
     parser.add_argument("--repeat", type=int, default=3, help="single solves timed (the median is used)")
     args = parser.parse_args(argv)
-    panel = alma.paper_panel(bond=args.bond, panel_ratio=args.panel_ratio, block_ratio=args.block_ratio,
-                             friction=args.friction)
+    panel = alma.paper_panel(
+        bond=args.bond, panel_ratio=args.panel_ratio, block_ratio=args.block_ratio, friction=args.friction
+    )
     n = sum(not b.fixed for b in panel.blocks)
     singles = []
     for _ in range(args.repeat):
@@ -37,12 +39,22 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     curve = alma.push(panel, steps=args.steps)
     total = time.perf_counter() - t0
-    out = {"panel": f"{args.bond} {args.panel_ratio} {args.block_ratio} f={args.friction}", "free_blocks": n,
-           "single_solve_s": round(single, 3), "curve_s": round(total, 3), "ratio": round(total / single, 1),
-           "target_ratio": args.steps, "solves": curve.solves, "points": len(curve.curve),
-           "status": str(curve.status), "d0_mm": curve.d0 if curve.d0 == curve.d0 else None,
-           "end": curve.end.get("reason"), "alpha_c": curve.alpha_c,
-           "mechanism_changes": sum(p.mechanism_changed for p in curve.curve), "message": curve.message}
+    out = {
+        "panel": f"{args.bond} {args.panel_ratio} {args.block_ratio} f={args.friction}",
+        "free_blocks": n,
+        "single_solve_s": round(single, 3),
+        "curve_s": round(total, 3),
+        "ratio": round(total / single, 1),
+        "target_ratio": args.steps,
+        "solves": curve.solves,
+        "points": len(curve.curve),
+        "status": str(curve.status),
+        "d0_mm": curve.d0 if curve.d0 == curve.d0 else None,
+        "end": curve.end.get("reason"),
+        "alpha_c": curve.alpha_c,
+        "mechanism_changes": sum(p.mechanism_changed for p in curve.curve),
+        "message": curve.message,
+    }
     print(json.dumps(out, indent=1))
     return 0
 

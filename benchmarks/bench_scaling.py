@@ -14,6 +14,7 @@ sizes ≥ 100 blocks (below that fixed per-call costs dominate).
 
     .venv/bin/python -m benchmarks.bench_scaling [--sizes 10,30,...] [--repeat 3]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -62,10 +63,18 @@ def worker(n: int, repeat: int, solve_runs: int) -> dict:
         times_j.append(t1 - t0)
         times_b.append(t2 - t1)
     built = maxrss_mb()
-    out: dict[str, Any] = dict(target=n, blocks=model.n_free, joints=model.n_joints, courses=courses,
-                               per_course=per_course, joints_s=statistics.median(times_j),
-                               build_s=statistics.median(times_b), rss_base_mb=base, rss_build_mb=built,
-                               solve_runs=solve_runs)
+    out: dict[str, Any] = dict(
+        target=n,
+        blocks=model.n_free,
+        joints=model.n_joints,
+        courses=courses,
+        per_course=per_course,
+        joints_s=statistics.median(times_j),
+        build_s=statistics.median(times_b),
+        rss_base_mb=base,
+        rss_build_mb=built,
+        solve_runs=solve_runs,
+    )
     if solve_runs:
         solve, certify, total = [], [], []
         for _ in range(solve_runs):
@@ -74,10 +83,16 @@ def worker(n: int, repeat: int, solve_runs: int) -> dict:
             total.append(time.perf_counter() - t0)
             solve.append(result.timings["solve_s"])
             certify.append(result.timings["certify_s"])
-        out.update(solve_s=statistics.median(solve), certify_s=statistics.median(certify),
-                   solve_total_s=statistics.median(total), status=result.status, alpha=result.alpha,
-                   gap=result.bounds.gap, iterations=result.extra.get("iterations"),
-                   rss_solve_mb=maxrss_mb())
+        out.update(
+            solve_s=statistics.median(solve),
+            certify_s=statistics.median(certify),
+            solve_total_s=statistics.median(total),
+            status=result.status,
+            alpha=result.alpha,
+            gap=result.bounds.gap,
+            iterations=result.extra.get("iterations"),
+            rss_solve_mb=maxrss_mb(),
+        )
     return out
 
 
@@ -94,8 +109,11 @@ def fit(x, y) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--sizes", default=",".join(map(str, SIZES)))
-    parser.add_argument("--build-only", default=",".join(map(str, BUILD_ONLY)),
-                        help="sizes timed for joints and build only ('' for none)")
+    parser.add_argument(
+        "--build-only",
+        default=",".join(map(str, BUILD_ONLY)),
+        help="sizes timed for joints and build only ('' for none)",
+    )
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--out", default=str(ROOT / "benchmarks" / "results"))
     parser.add_argument("--worker", type=int, help=argparse.SUPPRESS)
@@ -115,16 +133,25 @@ def main() -> None:
     t_start = time.perf_counter()
     for n in sizes + build_only:
         solve_runs = 0 if n in build_only and n not in sizes else (3 if n <= 3000 else 1)
-        row = run_worker("benchmarks.bench_scaling",
-                         ["--worker", str(n), "--repeat", str(args.repeat), "--solve-runs", str(solve_runs)])
+        row = run_worker(
+            "benchmarks.bench_scaling",
+            ["--worker", str(n), "--repeat", str(args.repeat), "--solve-runs", str(solve_runs)],
+        )
         if "error" in row:
             print(f"size {n}: worker failed: {row['error']}", flush=True)
             rows.append(dict(target=n, status="worker failed"))
             continue
         rows.append(row)
-        print(f"[{time.perf_counter() - t_start:6.0f} s] {row['blocks']:6d} blocks: joints {row['joints_s']:.3g} s, "
-              f"build {row['build_s']:.3g} s" + (f", solve {row['solve_s']:.3g} s, certify {row['certify_s']:.3g} s, "
-                                                 f"{row['status']}" if solve_runs else ""), flush=True)
+        print(
+            f"[{time.perf_counter() - t_start:6.0f} s] {row['blocks']:6d} blocks: joints {row['joints_s']:.3g} s, "
+            f"build {row['build_s']:.3g} s"
+            + (
+                f", solve {row['solve_s']:.3g} s, certify {row['certify_s']:.3g} s, {row['status']}"
+                if solve_runs
+                else ""
+            ),
+            flush=True,
+        )
     df = pd.DataFrame(rows)
     df["joints_build_s"] = df.joints_s + df.build_s
     df["build_fraction_of_solve"] = df.joints_build_s / (df.solve_s + df.certify_s)
@@ -146,10 +173,25 @@ def main() -> None:
     exp_df.to_csv(out / "scaling_exponents.csv", index=False)
 
     pd.set_option("display.width", 250)
-    cols = ["blocks", "joints", "joints_s", "build_s", "solve_s", "certify_s", "build_fraction_of_solve",
-            "status", "gap", "iterations", "rss_base_mb", "rss_build_mb", "rss_solve_mb"]
-    print(f"\n== scaling, running-bond walls (joints/build: median of {args.repeat}; solve: median of 3 up to "
-          f"3,000 blocks, else 1 run) ==")
+    cols = [
+        "blocks",
+        "joints",
+        "joints_s",
+        "build_s",
+        "solve_s",
+        "certify_s",
+        "build_fraction_of_solve",
+        "status",
+        "gap",
+        "iterations",
+        "rss_base_mb",
+        "rss_build_mb",
+        "rss_solve_mb",
+    ]
+    print(
+        f"\n== scaling, running-bond walls (joints/build: median of {args.repeat}; solve: median of 3 up to "
+        f"3,000 blocks, else 1 run) =="
+    )
     print(df[[c for c in cols if c in df]].to_string(index=False, float_format=lambda x: f"{x:.3g}"))
     print(f"\n== fitted exponents (time or memory ∝ blocks^k, least squares on log–log, sizes ≥ {FIT_FROM}) ==")
     print(exp_df.to_string(index=False, float_format=lambda x: f"{x:.2f}"))
@@ -159,12 +201,17 @@ def main() -> None:
 
 def plot(df, exps, path: Path) -> None:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 5))
-    for col, label in (("joints_s", "joint detection"), ("build_s", "model build"), ("solve_s", "solve (Clarabel)"),
-                       ("certify_s", "certification")):
+    for col, label in (
+        ("joints_s", "joint detection"),
+        ("build_s", "model build"),
+        ("solve_s", "solve (Clarabel)"),
+        ("certify_s", "certification"),
+    ):
         d = df[df[col].notna()] if col in df else df.iloc[:0]
         ax.loglog(d.blocks, d[col], "o-", label=f"{label} (k = {exps.get(col, float('nan')):.2f})")
     ax.set_xlabel("blocks")

@@ -10,6 +10,7 @@ joint, the ground joint included.  The markdown has one line per panel (α rigid
 strength with α / α rigid, marked when not ``optimal``) and a summary per strength: panels
 certified, the least, mean and largest α / α rigid, and the solver's seconds.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -41,8 +42,13 @@ def panel_table(df: pd.DataFrame) -> str:
     for key, panel in rows.groupby(FACTORS, sort=True):
         by = panel.set_index("compressive_strength")
         rigid = by.loc[0.0]
-        out = [key[0], key[1], key[2], f"{key[3]:g}", f"{rigid['alpha_c']:.6f}"
-               + ("" if rigid["status"] == "optimal" else f" ({rigid['status']})")]
+        out = [
+            key[0],
+            key[1],
+            key[2],
+            f"{key[3]:g}",
+            f"{rigid['alpha_c']:.6f}" + ("" if rigid["status"] == "optimal" else f" ({rigid['status']})"),
+        ]
         for s in strengths:
             if s not in by.index:
                 out.append("—")
@@ -57,8 +63,10 @@ def panel_table(df: pd.DataFrame) -> str:
 def summary_table(df: pd.DataFrame) -> str:
     """Markdown: per strength, the panels certified, α / α rigid (min, mean, max), solver seconds."""
     rows, strengths = _ratios(df)
-    lines = ["| σ_c | certified (`optimal`) | α / α rigid: min | mean | max | solve + certificate, total s |",
-             "|---|---|---|---|---|---|"]
+    lines = [
+        "| σ_c | certified (`optimal`) | α / α rigid: min | mean | max | solve + certificate, total s |",
+        "|---|---|---|---|---|---|",
+    ]
     for s in [0.0, *strengths]:
         part = rows[rows["compressive_strength"] == s]
         seconds = float((part["solve_s"] + part["certify_s"]).sum())
@@ -74,10 +82,12 @@ def summary_table(df: pd.DataFrame) -> str:
 
 def document(df: pd.DataFrame) -> str:
     """The whole docs/compressive_table.md."""
-    return (TITLE + "\nα (associative, certified unless marked) with infinitely strong blocks and with σ_c on "
-            "every joint; in brackets α / α rigid.  Produced by `alma doe --compressive-strength 0,2,5,10` and "
-            "`python -m benchmarks.compressive_panels RESULTS.csv --table docs/compressive_table.md` "
-            "(docs/compressive.md).\n\n" + summary_table(df) + "\n" + panel_table(df))
+    return (
+        TITLE + "\nα (associative, certified unless marked) with infinitely strong blocks and with σ_c on "
+        "every joint; in brackets α / α rigid.  Produced by `alma doe --compressive-strength 0,2,5,10` and "
+        "`python -m benchmarks.compressive_panels RESULTS.csv --table docs/compressive_table.md` "
+        "(docs/compressive.md).\n\n" + summary_table(df) + "\n" + panel_table(df)
+    )
 
 
 def main() -> None:

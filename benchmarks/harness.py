@@ -7,6 +7,7 @@ which ``make bench-lp`` does), imports alma as installed and this harness as
 Times are medians of ``repeat`` runs (``time.perf_counter``, seconds).  On a shared machine only
 ratios taken within one run are meaningful; ``machine()`` records the load beside the figures.
 """
+
 from __future__ import annotations
 
 import csv
@@ -73,8 +74,10 @@ def table5() -> tuple[tuple[str, str, str, float, float], ...]:
     """Rows (bond, panel_ratio, block_ratio, friction, alpha_c) of the paper's Table 5 (the
     108 panels; the published α is read from verification/data, never from alma)."""
     with open(TABLE5, newline="") as handle:
-        return tuple((r["bond"], str(r["panel_ratio"]), str(r["block_ratio"]), float(r["friction"]),
-                      float(r["alpha_c"])) for r in csv.DictReader(handle))
+        return tuple(
+            (r["bond"], str(r["panel_ratio"]), str(r["block_ratio"]), float(r["friction"]), float(r["alpha_c"]))
+            for r in csv.DictReader(handle)
+        )
 
 
 @cache
@@ -105,8 +108,13 @@ def print_table(rows: Sequence[Mapping[str, Any]], columns: Sequence[str] | None
 def machine() -> dict[str, Any]:
     """Where and under what load the figures were taken."""
     load = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
-    return {"python": platform.python_version(), "platform": platform.platform(), "cpus": os.cpu_count(),
-            "load_average_1_5_15": list(load), "alma": str(alma.__version__)}
+    return {
+        "python": platform.python_version(),
+        "platform": platform.platform(),
+        "cpus": os.cpu_count(),
+        "load_average_1_5_15": list(load),
+        "alma": str(alma.__version__),
+    }
 
 
 def write_json(path: str | os.PathLike[str], rows: Sequence[Mapping[str, Any]], **extra: Any) -> Path:
@@ -128,12 +136,18 @@ def _plain(value: Any) -> Any:
 
 
 # ----------------------------------------------------------------------------- subprocess workers
-def run_worker(module: str, args: Sequence[str], env: Mapping[str, str] | None = None,
-               cwd: str | os.PathLike[str] = ROOT) -> dict[str, Any]:
+def run_worker(
+    module: str, args: Sequence[str], env: Mapping[str, str] | None = None, cwd: str | os.PathLike[str] = ROOT
+) -> dict[str, Any]:
     """Run ``python -m module args`` in a fresh process (its peak memory its own) and read the
     JSON object on the last line of its stdout; ``{"error": stderr}`` when it fails."""
-    proc = subprocess.run([sys.executable, "-m", module, *args], capture_output=True, text=True, cwd=cwd,
-                          env=None if env is None else dict(env))
+    proc = subprocess.run(
+        [sys.executable, "-m", module, *args],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        env=None if env is None else dict(env),
+    )
     if proc.returncode != 0:
         return {"error": f"exit {proc.returncode}: {proc.stderr[-1500:]}"}
     return json.loads(proc.stdout.strip().splitlines()[-1])

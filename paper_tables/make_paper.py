@@ -5,6 +5,7 @@
 The same as ``alma paper --out DIR``: this script passes the published tables of
 ``paper_tables/data/`` to :func:`alma.paper.tables.make_paper`, which does the work.
 """
+
 from __future__ import annotations
 
 import sys

@@ -7,6 +7,7 @@ process.  Medians, the ratio, and the bounds of each (they must agree to round-o
 
     python -m studies.bench_certificate [--walls 5000,10000,20000] [--repeat 3]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -41,9 +42,17 @@ def measure(blocks: int, repeat: int) -> list[dict]:
             t0 = time.perf_counter()
             last[name] = lp_module._certified(model, model.equilibrium, forced, pair, "ipm", "", {})
             times[name].append(time.perf_counter() - t0)
-    return [dict(blocks=model.n_free, gram=name, certify_s=statistics.median(times[name]),
-                 status=str(last[name].status), lower=last[name].lower, upper=last[name].upper)
-            for name in BACKENDS]
+    return [
+        dict(
+            blocks=model.n_free,
+            gram=name,
+            certify_s=statistics.median(times[name]),
+            status=str(last[name].status),
+            lower=last[name].lower,
+            upper=last[name].upper,
+        )
+        for name in BACKENDS
+    ]
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -55,8 +64,11 @@ def main(argv: list[str] | None = None) -> int:
     for blocks in (int(w) for w in args.walls.split(",") if w):
         rows = measure(blocks, args.repeat)
         for r in rows:
-            print(f"{r['blocks']:7d} {r['gram']:>6} {r['certify_s']:10.3f} {r['status']:>8} "
-                  f"{r['lower']:14.11f} {r['upper']:14.11f}", flush=True)
+            print(
+                f"{r['blocks']:7d} {r['gram']:>6} {r['certify_s']:10.3f} {r['status']:>8} "
+                f"{r['lower']:14.11f} {r['upper']:14.11f}",
+                flush=True,
+            )
         print(f"{'':7} qdldl/feral {rows[0]['certify_s'] / rows[1]['certify_s']:.2f}")
     return 0
 

@@ -19,6 +19,7 @@ measured:
 
     python -m studies.bench_crisp_floor [--case english 1:2 1:1 0.6]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -47,8 +48,15 @@ def held_null_vector(model, lp, t: float) -> dict:
     seconds = time.perf_counter() - t0
     x = V[:, 0] / (model.live @ V[:, 0])
     power = H.T @ x
-    return dict(held=len(held), eig=w, seconds=seconds, v1=V[:, 0], alpha=float(-model.dead @ x),
-                violation=float(-power.min() / np.abs(power).max()), mu_min=float(mu[held].min()))
+    return dict(
+        held=len(held),
+        eig=w,
+        seconds=seconds,
+        v1=V[:, 0],
+        alpha=float(-model.dead @ x),
+        violation=float(-power.min() / np.abs(power).max()),
+        mu_min=float(mu[held].min()),
+    )
 
 
 def uniqueness_bound(model, lp, null: dict) -> float:
@@ -75,9 +83,14 @@ def clp_values_pass(model, lp) -> str:
     A = sp.vstack([sp.csr_matrix(model.live), H.T.tocsr()]).tocoo()
     clp = CyClpSimplex()
     inf = clp.getCoinInfinity()
-    clp.loadProblem(CyCoinPackedMatrix(True, A.row.astype(np.int32), A.col.astype(np.int32), A.data.astype(float)),
-                    np.full(n, -inf), np.full(n, inf), -np.asarray(model.dead, float).ravel(),
-                    np.r_[scale, np.zeros(m)], np.r_[scale, np.full(m, inf)])
+    clp.loadProblem(
+        CyCoinPackedMatrix(True, A.row.astype(np.int32), A.col.astype(np.int32), A.data.astype(float)),
+        np.full(n, -inf),
+        np.full(n, inf),
+        -np.asarray(model.dead, float).ravel(),
+        np.r_[scale, np.zeros(m)],
+        np.r_[scale, np.full(m, inf)],
+    )
     clp.logLevel = 0
     clp.primalVariableSolution[:] = lp.mechanism * scale  # a view of CLP's column values
     status = clp.getStatusArray()  # a view of CLP's status bytes; the low 3 bits: 4 = superbasic
@@ -87,14 +100,17 @@ def clp_values_pass(model, lp) -> str:
     seconds = time.perf_counter() - t0
     u = np.array(clp.primalVariableSolution) / scale
     power = H.T @ u
-    return (f"{outcome} after {clp.iteration} pivots, {seconds:.2f} s; α {-(model.dead @ u) / (model.live @ u):.12f}, "
-            f"flow-rule violation {-power.min() / np.abs(power).max():.1e}")
+    return (
+        f"{outcome} after {clp.iteration} pivots, {seconds:.2f} s; α {-(model.dead @ u) / (model.live @ u):.12f}, "
+        f"flow-rule violation {-power.min() / np.abs(power).max():.1e}"
+    )
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--case", nargs=4, default=["english", "1:2", "1:1", "0.6"],
-                        metavar=("BOND", "PANEL", "BLOCKS", "F"))
+    parser.add_argument(
+        "--case", nargs=4, default=["english", "1:2", "1:1", "0.6"], metavar=("BOND", "PANEL", "BLOCKS", "F")
+    )
     parser.add_argument("--thresholds", default="1e-7,3e-7,1e-6,1e-5")
     args = parser.parse_args()
     bond, panel, blocks, friction = args.case
@@ -102,16 +118,20 @@ def main() -> None:
     t0 = time.perf_counter()
     lp = solve_lp(model)
     solve = time.perf_counter() - t0
-    print(f"{' '.join(args.case)}: {model.n_free} free blocks, {model.equilibrium.shape[1]} generators; "
-          f"solve {solve:.3f} s (20 %: {0.2 * solve:.3f} s); certified α ∈ [{lp.lower:.12f}, {lp.upper:.12f}]")
+    print(
+        f"{' '.join(args.case)}: {model.n_free} free blocks, {model.equilibrium.shape[1]} generators; "
+        f"solve {solve:.3f} s (20 %: {0.2 * solve:.3f} s); certified α ∈ [{lp.lower:.12f}, {lp.upper:.12f}]"
+    )
     s, mu = _relative(model.equilibrium.T @ lp.mechanism), _relative(lp.multipliers)
     print(f"1. ambiguous generators (s and μ both < 1e-4 of their largest): {int(((s < 1e-4) & (mu < 1e-4)).sum())}")
     for t in map(float, args.thresholds.split(",")):
         null = held_null_vector(model, lp, t)
-        print(f"2. μ ≥ {t:.0e} max: {null['held']} held, eigenvalues {null['eig'][0]:.1e} {null['eig'][1]:.1e} "
-              f"({null['seconds']:.3f} s); null vector α {null['alpha']:.12f}, flow-rule violation "
-              f"{null['violation']:.1e}\n"
-              f"3.   diameter bound of the optimal face / ‖u‖∞: {uniqueness_bound(model, lp, null):.1e}")
+        print(
+            f"2. μ ≥ {t:.0e} max: {null['held']} held, eigenvalues {null['eig'][0]:.1e} {null['eig'][1]:.1e} "
+            f"({null['seconds']:.3f} s); null vector α {null['alpha']:.12f}, flow-rule violation "
+            f"{null['violation']:.1e}\n"
+            f"3.   diameter bound of the optimal face / ‖u‖∞: {uniqueness_bound(model, lp, null):.1e}"
+        )
     print(f"4. CLP values pass: {clp_values_pass(model, lp)}")
 
 

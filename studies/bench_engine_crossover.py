@@ -8,6 +8,7 @@ with ``--cohesion C`` (kPa on every joint) the same for the bounded-force proble
 
     python -m studies.bench_engine_crossover [--repeat 2] [--cohesion 0]
 """
+
 from __future__ import annotations
 
 import argparse

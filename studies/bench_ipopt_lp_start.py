@@ -11,7 +11,7 @@ For every paper panel up to ``--max-blocks`` blocks (all three frictions):
 - ``ipopt from LP``: :func:`alma.nonassociative.nlp.ipopt_polish` from the LP mechanism, no seed
   forces (the Scholtes relaxation driven 1e-2 → 1e-8), each relaxed solve within
   ``--ipopt-iterations`` IPOPT iterations; its mechanism is turned into an exact state and
-  verified like every other candidate (:func:`alma.nonassociative.states.exact_state`);
+  verified like every other candidate (:func:`alma.nonassociative.exact_states.exact_state`);
 - ``alma default``: ``alma.solve(scene, "nonassociative")`` (its work budgets).
 
 IPOPT on the full problem does not scale (prototype: 16 s at 52 blocks, 195 s at 126), so the
@@ -23,6 +23,7 @@ against the LP start's own exact state on every panel.
 Writes benchmarks/results/ipopt_lp_start.csv (one row per panel, written as each finishes, and
 resumed from on a second run) and ipopt_lp_start.png (α of each against the other).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -46,8 +47,7 @@ RESULTS = ROOT / "benchmarks" / "results"
 TIE = 1e-7
 
 
-def run_panel(bond: str, panel_ratio: str, block_ratio: str, friction: float,
-              ipopt_iterations: int) -> dict:
+def run_panel(bond: str, panel_ratio: str, block_ratio: str, friction: float, ipopt_iterations: int) -> dict:
     scene = alma.paper_panel(bond, panel_ratio, block_ratio, friction)
     model = build_model(scene)
     lp = solve_lp(model)
@@ -70,15 +70,28 @@ def run_panel(bond: str, panel_ratio: str, block_ratio: str, friction: float,
         verdict = "equal"
     else:
         verdict = "neither verified"
-    return dict(bond=bond, panel_ratio=panel_ratio, block_ratio=block_ratio, friction=friction,
-                blocks=model.n_free, alpha_lp=lp.alpha, alpha_ipopt=alpha_ipopt, ipopt_verified=ipopt_ok,
-                ipopt_returned=state is not None, ipopt_s=ipopt_s, alpha_alma=alpha_alma,
-                alma_status=result.status, alma_start=result.extra.get("start", ""), alma_s=alma_s,
-                verdict=verdict)
+    return dict(
+        bond=bond,
+        panel_ratio=panel_ratio,
+        block_ratio=block_ratio,
+        friction=friction,
+        blocks=model.n_free,
+        alpha_lp=lp.alpha,
+        alpha_ipopt=alpha_ipopt,
+        ipopt_verified=ipopt_ok,
+        ipopt_returned=state is not None,
+        ipopt_s=ipopt_s,
+        alpha_alma=alpha_alma,
+        alma_status=result.status,
+        alma_start=result.extra.get("start", ""),
+        alma_s=alma_s,
+        verdict=verdict,
+    )
 
 
 def plot(table: pd.DataFrame, path: Path) -> None:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -86,8 +99,7 @@ def plot(table: pd.DataFrame, path: Path) -> None:
     both = table[table.ipopt_verified & (table.alma_status == "optimal")]
     ax.scatter(both.alpha_ipopt, both.alpha_alma, s=18, label="both verified")
     only = table[~table.ipopt_verified & (table.alma_status == "optimal")]
-    ax.scatter(only.alpha_lp, only.alpha_alma, s=18, marker="x",
-               label="IPOPT failed (x = α_LP)")
+    ax.scatter(only.alpha_lp, only.alpha_alma, s=18, marker="x", label="IPOPT failed (x = α_LP)")
     hi = float(np.nanmax(table[["alpha_lp", "alpha_alma"]].to_numpy())) * 1.05
     ax.plot([0, hi], [0, hi], color="grey", lw=0.8)
     ax.set_xlabel("α from IPOPT started at the LP solution")
@@ -116,9 +128,12 @@ def main() -> None:
             if (bond, panel_ratio, block_ratio, str(friction)) in seen:
                 continue
             row = run_panel(bond, panel_ratio, block_ratio, friction, args.ipopt_iterations)
-            print(f"{bond:8s} {panel_ratio} {block_ratio} f={friction:<4} {row['blocks']:4d} blocks  "
-                  f"LP {row['alpha_lp']:.4f}  IPOPT {row['alpha_ipopt']:.4f} ({row['ipopt_s']:.1f} s)  "
-                  f"alma {row['alpha_alma']:.4f} ({row['alma_s']:.1f} s)  {row['verdict']}", flush=True)
+            print(
+                f"{bond:8s} {panel_ratio} {block_ratio} f={friction:<4} {row['blocks']:4d} blocks  "
+                f"LP {row['alpha_lp']:.4f}  IPOPT {row['alpha_ipopt']:.4f} ({row['ipopt_s']:.1f} s)  "
+                f"alma {row['alpha_alma']:.4f} ({row['alma_s']:.1f} s)  {row['verdict']}",
+                flush=True,
+            )
             done = pd.concat([done, pd.DataFrame([row])], ignore_index=True)
             done.to_csv(csv, index=False)  # each panel as it finishes: a rerun resumes
     table = done
@@ -131,10 +146,14 @@ def main() -> None:
     both = lower[lower.ipopt_verified]
     if len(both):
         drop = both.alpha_ipopt - both.alpha_alma
-        print(f"  where both verified and alma lower: {len(both)} cases, by median {drop.median():.4f}, "
-              f"at most {drop.max():.4f}")
-    print(f"  IPOPT verified {int(table.ipopt_verified.sum())}/{len(table)}; "
-          f"median time {table.ipopt_s.median():.1f} s, alma median {table.alma_s.median():.1f} s")
+        print(
+            f"  where both verified and alma lower: {len(both)} cases, by median {drop.median():.4f}, "
+            f"at most {drop.max():.4f}"
+        )
+    print(
+        f"  IPOPT verified {int(table.ipopt_verified.sum())}/{len(table)}; "
+        f"median time {table.ipopt_s.median():.1f} s, alma median {table.alma_s.median():.1f} s"
+    )
     plot(table, out / "ipopt_lp_start.png")
 
 

@@ -7,6 +7,7 @@ LP solves.  Times are noisy on a shared machine; the LP solves are not.
 
     python -m studies.bench_nonassociative_bounded [--cohesion 5] [--chain 2]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -24,11 +25,14 @@ def row(label: str, scene: alma.Scene) -> str:
     nl, lp = both.nonassociative, both.associative
     verified = sum(1 for c in nl.candidates if c["verified"])
     lower = nl.search["radenkovic_lower_bound"]
-    starts = ", ".join(f"{s['start']}={s['alpha']:.6f}" if s["alpha"] is not None else f"{s['start']}=-"
-                       for s in nl.starts)
-    return (f"{label:34s} LP {lp.alpha:.6f}  Radenkovic {lower if lower is None else round(lower, 6)}  "
-            f"NL {nl.alpha:.6f} ({nl.status}, {nl.start})  verified {verified}/{len(nl.candidates)}  "
-            f"search {nl.timings['nonassociative_s']:.2f} s\n      {starts}")
+    starts = ", ".join(
+        f"{s['start']}={s['alpha']:.6f}" if s["alpha"] is not None else f"{s['start']}=-" for s in nl.starts
+    )
+    return (
+        f"{label:34s} LP {lp.alpha:.6f}  Radenkovic {lower if lower is None else round(lower, 6)}  "
+        f"NL {nl.alpha:.6f} ({nl.status}, {nl.start})  verified {verified}/{len(nl.candidates)}  "
+        f"search {nl.timings['nonassociative_s']:.2f} s\n      {starts}"
+    )
 
 
 def main() -> None:

@@ -9,6 +9,7 @@ same iterations and α.
 
     python -m studies.bench_pattern_reuse [--walls 1000,5000,20000] [--repeat 2]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -53,8 +54,11 @@ def main() -> None:
             for shared in (False, True):
                 pattern, total, answers = one_pass(geometry, shared)
                 seen.setdefault(shared, answers)
-                print(f"{geometry.n_free} blocks {'shared' if shared else 'fresh '}: pattern {pattern:.3f} s, "
-                      f"three solves {total:.3f} s, iterations {[a[0] for a in answers]}", flush=True)
+                print(
+                    f"{geometry.n_free} blocks {'shared' if shared else 'fresh '}: pattern {pattern:.3f} s, "
+                    f"three solves {total:.3f} s, iterations {[a[0] for a in answers]}",
+                    flush=True,
+                )
         same = seen[False] == seen[True]
         print(f"{geometry.n_free} blocks: fresh and shared give the same iterations and alpha: {same}")
 

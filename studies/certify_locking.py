@@ -16,6 +16,7 @@ scenes, at t = 0.5 α_NL.
 
     python -m studies.certify_locking [--walls 1,3] [--share 0.5]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -34,8 +35,9 @@ from benchmarks.bench_friction import FRICTION, WALLS
 
 
 def ferris_wall(k: int) -> alma.Scene:
-    return alma.coursed_wall(WALLS[k], 400.0, 175.0, friction=FRICTION, thickness=1000.0, unit_weight=10.0,
-                             name=f"Ferris & Tin-Loi wall {k}")
+    return alma.coursed_wall(
+        WALLS[k], 400.0, 175.0, friction=FRICTION, thickness=1000.0, unit_weight=10.0, name=f"Ferris & Tin-Loi wall {k}"
+    )
 
 
 def _feasible(h) -> bool:
@@ -61,11 +63,21 @@ def locked_joints(model, points: ContactPoints, t: float) -> np.ndarray:
         pts = np.flatnonzero(joint_of == j)
         blocked = []
         for sign in (1.0, -1.0):  # slip +t: T = −f N; slip −t: T = +f N
-            rows = sp.csr_matrix((np.r_[sign * np.ones(pts.size), f[pts]],
-                                  (np.r_[np.arange(pts.size), np.arange(pts.size)], np.r_[1 + P + pts, 1 + pts])),
-                                 shape=(pts.size, 1 + 2 * P))
-            h = highs_backend.new_model(np.zeros(1 + 2 * P), col_lo, col_hi, sp.vstack([A, rows]),
-                                        np.r_[lo, np.zeros(pts.size)], np.r_[hi, np.zeros(pts.size)])
+            rows = sp.csr_matrix(
+                (
+                    np.r_[sign * np.ones(pts.size), f[pts]],
+                    (np.r_[np.arange(pts.size), np.arange(pts.size)], np.r_[1 + P + pts, 1 + pts]),
+                ),
+                shape=(pts.size, 1 + 2 * P),
+            )
+            h = highs_backend.new_model(
+                np.zeros(1 + 2 * P),
+                col_lo,
+                col_hi,
+                sp.vstack([A, rows]),
+                np.r_[lo, np.zeros(pts.size)],
+                np.r_[hi, np.zeros(pts.size)],
+            )
             blocked.append(not _feasible(h))
         out[j] = all(blocked)
     return out
@@ -78,9 +90,13 @@ def beta(model, points: ContactPoints, locked: np.ndarray, ell: np.ndarray) -> f
     m = first.size
     tj = points.tangent[:, first].T
     # x = (u, g⁺, g⁻) with γ = g⁺ − g⁻
-    A = sp.vstack([sp.hstack([points.normal.T, sp.csr_matrix((P, 2 * m))]),
-                   sp.hstack([sp.csr_matrix(model.live[None, :]), sp.csr_matrix((1, 2 * m))]),
-                   sp.hstack([tj, -sp.identity(m), sp.identity(m)])])
+    A = sp.vstack(
+        [
+            sp.hstack([points.normal.T, sp.csr_matrix((P, 2 * m))]),
+            sp.hstack([sp.csr_matrix(model.live[None, :]), sp.csr_matrix((1, 2 * m))]),
+            sp.hstack([tj, -sp.identity(m), sp.identity(m)]),
+        ]
+    )
     lo = np.r_[np.zeros(P), model.n_free, np.zeros(m)]
     hi = np.r_[np.full(P, np.inf), model.n_free, np.zeros(m)]
     w = points.friction[first] * ell
@@ -112,9 +128,12 @@ def main(argv: list[str] | None = None) -> None:
         locked = locked_joints(model, points, t)
         ell = joint_normal_minima(model, points, first, t, max_pivots=200_000, cap=Cap(None))
         b = beta(model, points, locked, np.maximum(ell, 0.0))
-        print(f"wall {k}: α_NL {result.alpha:.6f}, t = {t:.6f}; joints {first.size}, locked {int(locked.sum())}, "
-              f"ℓ_j > 0 on {int((ell > 1e-9).sum())}; β_K = {b:.6g}; bound min(t, β_K) = {min(t, max(b, 0.0)):.6g} "
-              f"({time.perf_counter() - t0:.1f} s)", flush=True)
+        print(
+            f"wall {k}: α_NL {result.alpha:.6f}, t = {t:.6f}; joints {first.size}, locked {int(locked.sum())}, "
+            f"ℓ_j > 0 on {int((ell > 1e-9).sum())}; β_K = {b:.6g}; bound min(t, β_K) = {min(t, max(b, 0.0)):.6g} "
+            f"({time.perf_counter() - t0:.1f} s)",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

@@ -7,6 +7,7 @@ are GPL-3 and are not copied into alma: fetch the repository and pass its ``samp
 
     python -m studies.lact3_tilt PATH/TO/LACT3_v1.0/sample
 """
+
 from __future__ import annotations
 
 import math
@@ -24,14 +25,21 @@ def main(folder: str) -> None:
     print("| drawing | blocks | joints | alma θ_c [°] | certified bounds [°] | LACT³ [°] | difference [°] | time [s] |")
     print("|---|---|---|---|---|---|---|---|")
     for name, phi, published in CASES:
-        scene = alma.load_scene(Path(folder) / name, friction=math.tan(math.radians(phi)), thickness=1.0,
-                                unit_weight=25.0, supports="lowest")
+        scene = alma.load_scene(
+            Path(folder) / name,
+            friction=math.tan(math.radians(phi)),
+            thickness=1.0,
+            unit_weight=25.0,
+            supports="lowest",
+        )
         start = time.perf_counter()
         result = alma.tilt(scene)
         seconds = time.perf_counter() - start
         lo, hi = result.bounds_deg
-        print(f"| {name} | {len(scene.blocks)} | {alma.find_joints(scene).count} | {result.angle_deg:.4f} | "
-              f"[{lo:.6f}, {hi:.6f}] | {published:.2f} | {result.angle_deg - published:+.4f} | {seconds:.2f} |")
+        print(
+            f"| {name} | {len(scene.blocks)} | {alma.find_joints(scene).count} | {result.angle_deg:.4f} | "
+            f"[{lo:.6f}, {hi:.6f}] | {published:.2f} | {result.angle_deg - published:+.4f} | {seconds:.2f} |"
+        )
 
 
 if __name__ == "__main__":

@@ -11,6 +11,7 @@ on 2 idle cores; run it from the top of a clone, before and after the change:
     python -m studies.solver_layer_answers record after.json
     python -m studies.solver_layer_answers compare before.json after.json
 """
+
 from __future__ import annotations
 
 import argparse
@@ -25,8 +26,12 @@ from alma.geometry.scene import Scene
 from benchmarks.bench_friction import FRICTION, WALLS, stack_with_cohesion
 from verification.test_friction_invariance import QUICK, SLOW
 
-PANELS = (("running", "1:1", "2:1", 0.6), ("stack", "1:2", "1:1", 0.27), ("english", "2:1", "4:1", 0.6),
-          ("flemish", "1:1", "1:1", 1.0))
+PANELS = (
+    ("running", "1:1", "2:1", 0.6),
+    ("stack", "1:2", "1:1", 0.27),
+    ("english", "2:1", "4:1", 0.6),
+    ("flemish", "1:1", "1:1", 1.0),
+)
 
 
 def _from_dict(make: Callable[[], dict]) -> Scene:
@@ -62,10 +67,15 @@ def record(path: str, only: str | None) -> None:
         both = alma.solve(make(), model="both")
         a, n = both.associative, both.nonassociative
         assert a is not None and n is not None
-        out[name] = {"assoc_alpha": repr(a.alpha), "assoc_status": str(a.status),
-                     "assoc_bounds": repr((a.bounds.lower, a.bounds.upper)),
-                     "nl_alpha": repr(n.alpha), "nl_status": str(n.status), "nl_start": n.start,
-                     "starts": [(s["start"], repr(s["alpha"]), s["verified"]) for s in n.starts]}
+        out[name] = {
+            "assoc_alpha": repr(a.alpha),
+            "assoc_status": str(a.status),
+            "assoc_bounds": repr((a.bounds.lower, a.bounds.upper)),
+            "nl_alpha": repr(n.alpha),
+            "nl_status": str(n.status),
+            "nl_start": n.start,
+            "starts": [(s["start"], repr(s["alpha"]), s["verified"]) for s in n.starts],
+        }
         print(f"{name}: {time.perf_counter() - t0:.1f} s, α_NL {n.alpha!r} {n.status} {n.start}", flush=True)
     with open(path, "w") as handle:
         json.dump(out, handle, indent=1)
@@ -75,8 +85,13 @@ def compare(before: str, after: str) -> int:
     with open(before) as a_file, open(after) as b_file:
         a, b = json.load(a_file), json.load(b_file)
     differences = [f"{name}: missing" for name in a if name not in b]
-    differences += [f"{name} {key}: {a[name][key]} -> {b[name][key]}" for name in a if name in b
-                    for key in a[name] if a[name][key] != b[name][key]]
+    differences += [
+        f"{name} {key}: {a[name][key]} -> {b[name][key]}"
+        for name in a
+        if name in b
+        for key in a[name]
+        if a[name][key] != b[name][key]
+    ]
     for line in differences:
         print(line)
     print(f"{len(a)} scenes compared, {len(differences)} differences (every float compared by repr)")

@@ -1,5 +1,6 @@
 """The API's contract: one status vocabulary, typed results, ``both`` whole, checks before work,
 study keys that follow every setting."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -20,8 +21,15 @@ def _stack(block_ratio: str) -> alma.Scene:
 
 
 def test_statuses_are_one_vocabulary():
-    assert {str(s) for s in Status} == {"optimal", "feasible", "no_collapse", "no_equilibrium",
-                                        "not_converged", "limit_reached", "invalid_input"}
+    assert {str(s) for s in Status} == {
+        "optimal",
+        "feasible",
+        "no_collapse",
+        "no_equilibrium",
+        "not_converged",
+        "limit_reached",
+        "invalid_input",
+    }
     assert Status.OPTIMAL == "optimal" and json.dumps(Status.FEASIBLE) == '"feasible"'
 
 

@@ -4,6 +4,7 @@ the module-level imports form no cycle.
 A function-local ``import alma…`` hides an edge of the import graph (the usual reason is to
 dodge a cycle); imports under ``if TYPE_CHECKING:`` are annotations only and do not count.
 """
+
 from __future__ import annotations
 
 import ast
@@ -21,8 +22,13 @@ ALMA = Path(__file__).resolve().parents[1] / "alma"
 #: scipy.stats and matplotlib for every command (``import alma.cli.main`` 1.6 s → 4.3 s,
 #: measured); the modules they import do not import ``alma.cli``, so no cycle hides here.
 LAZY = {
-    "alma/cli/study.py": {"alma.study.doe", "alma.stats.anova", "alma.study.store", "alma.paper.tables",
-                          "alma.study.compare"},
+    "alma/cli/study.py": {
+        "alma.study.doe",
+        "alma.stats.anova",
+        "alma.study.store",
+        "alma.paper.tables",
+        "alma.study.compare",
+    }
 }
 
 
@@ -33,7 +39,8 @@ def _modules(root: Path = ALMA) -> dict[str, Path]:
 def _type_checking(node: ast.If) -> bool:
     test = node.test
     return (isinstance(test, ast.Name) and test.id == "TYPE_CHECKING") or (
-        isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING")
+        isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING"
+    )
 
 
 def _module_name(path: Path, root: Path) -> str:
@@ -79,13 +86,10 @@ def imports(path: Path, root: Path = ALMA) -> tuple[set[str], list[tuple[int, st
                     local.extend((child.lineno, name) for name in names)
                 else:
                     top.update(names)
-            walk(child, nested or isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef,
-                                                     ast.Lambda)))
+            walk(child, nested or isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef, ast.Lambda)))
 
     walk(ast.parse(path.read_text(encoding="utf-8"), filename=str(path)), False)
     return top, local
-
-
 
 
 def test_alma_modules_are_imported_at_module_level():
@@ -116,7 +120,7 @@ def _cycle(graph: dict[str, set[str]]) -> list[str]:
         stack.append(node)
         for nxt in sorted(graph.get(node, ())):
             if state.get(nxt) == 1:
-                return [*stack[stack.index(nxt):], nxt]
+                return [*stack[stack.index(nxt) :], nxt]
             if nxt not in state and (found := visit(nxt)):
                 return found
         stack.pop()
@@ -162,7 +166,8 @@ def test_the_checks_see_what_they_look_for(tmp_path):
         "if TYPE_CHECKING:\n    from alma.geometry.scene import Scene\n"
         "def f():\n    import numpy\n    from alma.mechanics import model\n"
         "    if TYPE_CHECKING:\n        import alma.results\n"
-        "class C:\n    def g(self):\n        from ..solve import solve\n        import alma.tilt\n")
+        "class C:\n    def g(self):\n        from ..solve import solve\n        import alma.tilt\n"
+    )
     top, local = imports(module, root)
     assert top == {"alma.status", "alma.geometry.edges"}
     assert local == [(9, "alma.mechanics.model"), (14, "alma.solve"), (15, "alma.tilt")]
@@ -176,8 +181,14 @@ def test_a_solve_writes_nothing_into_its_model():
     model = alma.build_model(alma.paper_panel("stack", "2:1", "4:1", 0.6))
 
     def state() -> bytes:
-        return pickle.dumps([*(getattr(model, f.name) for f in dataclasses.fields(model)), model.equilibrium,
-                             model.equilibrium.indices, model.contact_points])
+        return pickle.dumps(
+            [
+                *(getattr(model, f.name) for f in dataclasses.fields(model)),
+                model.equilibrium,
+                model.equilibrium.indices,
+                model.contact_points,
+            ]
+        )
 
     before = state()
     patterns = PatternCache()

@@ -1,4 +1,5 @@
 """The solver layer: one result type, one table of terminations per solver, one meaning per form."""
+
 from __future__ import annotations
 
 import clarabel
@@ -57,11 +58,14 @@ A = sp.csc_matrix(np.array([[1.0, 1.0], [-1.0, 0.0], [0.0, -1.0]]))
 B = np.array([1.0, 0.0, 0.0])
 
 
-@pytest.mark.parametrize("solve", [
-    lambda q, b: solve_conic_lp(q, A, b, 1, 2, tolerance=1e-10, max_iter=100),
-    lambda q, b: solve_conic_form(q, A, b, 1),
-    lambda q, b: solve_conic_form(q, A, b, 1, solver="ipm"),
-])
+@pytest.mark.parametrize(
+    "solve",
+    [
+        lambda q, b: solve_conic_lp(q, A, b, 1, 2, tolerance=1e-10, max_iter=100),
+        lambda q, b: solve_conic_form(q, A, b, 1),
+        lambda q, b: solve_conic_form(q, A, b, 1, solver="ipm"),
+    ],
+)
 def test_conic_adapters_agree(solve):
     """Clarabel and HiGHS give the same x and the same duals (q + Aᵀz = 0) on one LP, and read an
     infeasible and an unbounded one alike."""
@@ -69,25 +73,52 @@ def test_conic_adapters_agree(solve):
     assert sol.termination.solved and sol.status is Status.OPTIMAL
     assert np.allclose(sol.x, [1.0, 0.0], atol=1e-8)
     assert np.allclose(Q + A.T @ sol.duals, 0.0, atol=1e-8)
-    assert solve(Q, np.array([-1.0, 0.0, 0.0])).termination in (Termination.INFEASIBLE,
-                                                                Termination.INFEASIBLE_OR_UNBOUNDED)
+    assert solve(Q, np.array([-1.0, 0.0, 0.0])).termination in (
+        Termination.INFEASIBLE,
+        Termination.INFEASIBLE_OR_UNBOUNDED,
+    )
     A_ray = sp.csc_matrix(np.array([[1.0, -1.0], [-1.0, 0.0], [0.0, -1.0]]))  # x0 = x1 ≥ 0: a ray
-    ray = {"Clarabel": lambda: solve_conic_lp(-Q, A_ray, np.zeros(3), 1, 2, tolerance=1e-10, max_iter=100),
-           "HiGHS": lambda: solve_conic_form(-Q, A_ray, np.zeros(3), 1)}[sol.solver.split()[0]]()
+    ray = {
+        "Clarabel": lambda: solve_conic_lp(-Q, A_ray, np.zeros(3), 1, 2, tolerance=1e-10, max_iter=100),
+        "HiGHS": lambda: solve_conic_form(-Q, A_ray, np.zeros(3), 1),
+    }[sol.solver.split()[0]]()
     assert ray.termination is Termination.UNBOUNDED and ray.status is Status.NO_EQUILIBRIUM
 
 
 def test_linprog_adapter_duals_follow_the_conic_convention():
-    sol = solve_lp(Q, A_ub=None, b_ub=None, A_eq=sp.csr_matrix(np.array([[1.0, 1.0]])), b_eq=np.array([1.0]),
-                   bounds=[(0, None), (0, None)], method=LPMethod.SIMPLEX, max_iterations=100)
+    sol = solve_lp(
+        Q,
+        A_ub=None,
+        b_ub=None,
+        A_eq=sp.csr_matrix(np.array([[1.0, 1.0]])),
+        b_eq=np.array([1.0]),
+        bounds=[(0, None), (0, None)],
+        method=LPMethod.SIMPLEX,
+        max_iterations=100,
+    )
     assert sol.termination is Termination.OPTIMAL and np.allclose(sol.x, [1.0, 0.0])
     assert np.allclose(sol.duals, [-1.0])  # q₀ + 1 · z = 0 on the active column x0
-    infeasible = solve_lp(Q, A_ub=None, b_ub=None, A_eq=sp.csr_matrix(np.array([[1.0, 1.0]])),
-                          b_eq=np.array([-1.0]), bounds=[(0, None), (0, None)], max_iterations=100)
+    infeasible = solve_lp(
+        Q,
+        A_ub=None,
+        b_ub=None,
+        A_eq=sp.csr_matrix(np.array([[1.0, 1.0]])),
+        b_eq=np.array([-1.0]),
+        bounds=[(0, None), (0, None)],
+        max_iterations=100,
+    )
     assert infeasible.termination is Termination.INFEASIBLE and infeasible.status is Status.NO_EQUILIBRIUM
     with pytest.raises(ValueError, match="linprog"):
-        solve_lp(Q, A_ub=None, b_ub=None, A_eq=sp.csr_matrix(np.ones((1, 2))), b_eq=np.ones(1), bounds=None,
-                 method=LPMethod.CLARABEL, max_iterations=10)
+        solve_lp(
+            Q,
+            A_ub=None,
+            b_ub=None,
+            A_eq=sp.csr_matrix(np.ones((1, 2))),
+            b_eq=np.ones(1),
+            bounds=None,
+            method=LPMethod.CLARABEL,
+            max_iterations=10,
+        )
 
 
 def test_warm_lp_resolves_as_a_cold_one():
@@ -106,8 +137,16 @@ def test_warm_lp_resolves_as_a_cold_one():
 
 def test_updatable_qp_follows_its_data():
     """min ½x² − t x, x ≥ 0 (one row −x ≤ 0): x = max(t, 0) as t changes between solves."""
-    qp = UpdatableQP(sp.csc_matrix(np.eye(1)), np.zeros(1), sp.csc_matrix(np.array([[-1.0]])), np.zeros(1), 0, 1,
-                     tolerance=1e-10, max_iter=100)
+    qp = UpdatableQP(
+        sp.csc_matrix(np.eye(1)),
+        np.zeros(1),
+        sp.csc_matrix(np.array([[-1.0]])),
+        np.zeros(1),
+        0,
+        1,
+        tolerance=1e-10,
+        max_iter=100,
+    )
     for t in (2.0, -1.0, 0.5):
         sol = qp.solve(np.array([-t]), np.zeros(1))
         assert sol.termination.solved and abs(sol.x[0] - max(t, 0.0)) < 1e-7

@@ -1,5 +1,6 @@
 """The benchmarks' harness, and every benchmark and study importable as a module of the clone
 (no ``sys.path`` edits), each make target naming one that exists."""
+
 from __future__ import annotations
 
 import importlib
@@ -14,12 +15,29 @@ import pytest
 from benchmarks import harness
 
 ROOT = Path(__file__).resolve().parents[1]
-MODULES = sorted(f"{p.parent.name}.{p.stem}" for folder in ("benchmarks", "studies")
-                 for p in (ROOT / folder).glob("*.py") if p.stem != "__init__")
+MODULES = sorted(
+    f"{p.parent.name}.{p.stem}"
+    for folder in ("benchmarks", "studies")
+    for p in (ROOT / folder).glob("*.py")
+    if p.stem != "__init__"
+)
 # Every bench target the Makefile had before its pattern rule, still a name that works.
-TARGETS = ("bench", "bench-assoc", "bench-accuracy", "bench-scaling", "bench-joints", "bench-nonassociative",
-           "bench-certify", "bench-ipopt", "bench-floor", "bench-bounded", "bench-engine", "bench-crisp",
-           "bench-crisp-floor", "bench-first-order")
+TARGETS = (
+    "bench",
+    "bench-assoc",
+    "bench-accuracy",
+    "bench-scaling",
+    "bench-joints",
+    "bench-nonassociative",
+    "bench-certify",
+    "bench-ipopt",
+    "bench-floor",
+    "bench-bounded",
+    "bench-engine",
+    "bench-crisp",
+    "bench-crisp-floor",
+    "bench-first-order",
+)
 
 
 def test_timed_takes_medians_and_keeps_the_last_value():
@@ -61,8 +79,9 @@ def test_module_imports_without_path_edits(module):
 
 @pytest.mark.skipif(shutil.which("make") is None, reason="needs make")
 def test_every_bench_target_runs_an_existing_module():
-    done = subprocess.run(["make", "-n", *TARGETS, "STAMP=Makefile"], cwd=ROOT, capture_output=True, text=True,
-                          check=True)
+    done = subprocess.run(
+        ["make", "-n", *TARGETS, "STAMP=Makefile"], cwd=ROOT, capture_output=True, text=True, check=True
+    )
     # A clean clone's file times can make the venv stamp look stale, so the dry run may also list the
     # bootstrap's `python -m pip`: only the benchmark and study modules are counted.
     modules = re.findall(r"python -m ((?:benchmarks|studies)\.\S+)", done.stdout)

@@ -1,5 +1,6 @@
 """The canonical drawing (alma.geometry.canonical) and model (alma.mechanics.canonical): the data
 the friction search sees are the same, bit for bit, however one structure is written."""
+
 from __future__ import annotations
 
 import json
@@ -22,8 +23,9 @@ def _panel() -> dict:
     return data
 
 
-def _rewrite(data: dict, angle: float, mirror: bool, shift: tuple[float, float], length: float, force: float,
-             seed: int) -> dict:
+def _rewrite(
+    data: dict, angle: float, mirror: bool, shift: tuple[float, float], length: float, force: float, seed: int
+) -> dict:
     """Turned by ``angle`` (mirrored first), moved by ``shift`` mm, in units of ``length`` mm, forces
     × ``force``, blocks shuffled and polygons started elsewhere (``seed``)."""
     c, s = math.cos(angle), math.sin(angle)
@@ -45,8 +47,8 @@ def _rewrite(data: dict, angle: float, mirror: bool, shift: tuple[float, float],
     out["gravity"] = list(map(float, matrix @ np.array([0.0, -1.0])))
     out["live_load"] = {"direction": list(map(float, matrix @ np.array([1.0, 0.0])))}
     out["thickness"] *= length
-    out["unit_weight"] *= force / length ** 3
-    out["cohesion"] *= force / length ** 2
+    out["unit_weight"] *= force / length**3
+    out["cohesion"] *= force / length**2
     return out
 
 
@@ -59,10 +61,14 @@ REFERENCE = _canonical(_panel())
 
 
 @settings(max_examples=15, deadline=None, derandomize=True)
-@given(angle=st.floats(-math.pi, math.pi), mirror=st.booleans(),
-       shift=st.tuples(st.floats(-1e5, 1e5), st.floats(-1e5, 1e5)),  # a site frame 100 m away
-       length=st.sampled_from([1.0, 1e-3, 25.4]), force=st.sampled_from([1.0, 1e-2, 9.81]),
-       seed=st.integers(0, 2 ** 31 - 1))
+@given(
+    angle=st.floats(-math.pi, math.pi),
+    mirror=st.booleans(),
+    shift=st.tuples(st.floats(-1e5, 1e5), st.floats(-1e5, 1e5)),  # a site frame 100 m away
+    length=st.sampled_from([1.0, 1e-3, 25.4]),
+    force=st.sampled_from([1.0, 1e-2, 9.81]),
+    seed=st.integers(0, 2**31 - 1),
+)
 def test_the_search_sees_the_same_model(angle, mirror, shift, length, force, seed):
     scene, _, model = _canonical(_rewrite(_panel(), angle, mirror, shift, length, force, seed))
     ref_scene, _, ref = REFERENCE
@@ -77,8 +83,12 @@ def test_the_search_sees_the_same_model(angle, mirror, shift, length, force, see
 
 
 def test_redundant_vertices_are_dropped_and_polygons_start_low_left():
-    data = {"blocks": [{"id": "g", "fixed": True, "vertices": [[0, 0], [5, 0], [10, 0], [10, 0.5], [10, 1], [0, 1]]},
-                       {"id": "b", "vertices": [[4, 3], [2, 3], [2, 1], [3, 1], [4, 1]]}]}
+    data = {
+        "blocks": [
+            {"id": "g", "fixed": True, "vertices": [[0, 0], [5, 0], [10, 0], [10, 0.5], [10, 1], [0, 1]]},
+            {"id": "b", "vertices": [[4, 3], [2, 3], [2, 1], [3, 1], [4, 1]]},
+        ]
+    }
     scene, frame = canonical_scene(alma.Scene.from_dict(data))
     assert [b.id for b in scene.blocks] == ["g", "b"]
     assert [len(b.vertices) for b in scene.blocks] == [4, 4]  # the collinear ones gone

@@ -8,6 +8,7 @@
   does not prune these problems in HiGHS 1.15), an LP that ends unbounded, a node budget that
   stops the tree before it closes.
 """
+
 from __future__ import annotations
 
 import ast
@@ -37,8 +38,9 @@ def _imports(path: Path) -> set[str]:
 
 @pytest.mark.parametrize("path", sorted(CERTIFY.glob("*.py")), ids=lambda p: p.name)
 def test_certify_imports_no_solver_package(path):
-    bad = {name for name in _imports(path) for solver in SOLVER_MODULES
-           if name == solver or name.startswith(solver + ".")}
+    bad = {
+        name for name in _imports(path) for solver in SOLVER_MODULES if name == solver or name.startswith(solver + ".")
+    }
     assert not bad, f"{path.name} imports {sorted(bad)}: solver calls belong in alma/backends/"
 
 
@@ -72,8 +74,9 @@ def test_solve_milp_without_a_solution_below_a_bound_is_pruned():
     # The objective as a row ≤ −14 (the optimum is −13): the tree closes without a solution.
     cost, lo, hi, A, row_lo, row_hi = _knapsack()
     A = sp.vstack([A, sp.csr_matrix(cost[None, :])])
-    out = highs_backend.solve_milp(cost, lo, hi, A, np.r_[row_lo, -np.inf], np.r_[row_hi, -14.0],
-                                   np.ones(3, dtype=bool), **MIP)
+    out = highs_backend.solve_milp(
+        cost, lo, hi, A, np.r_[row_lo, -np.inf], np.r_[row_hi, -14.0], np.ones(3, dtype=bool), **MIP
+    )
     assert out.status == "pruned" and out.x is None
 
 
@@ -112,7 +115,8 @@ def test_warm_maximum_solves_one_objective_after_another():
 
 
 def test_warm_maximum_says_when_an_lp_is_unbounded():
-    h = highs_backend.new_model(np.zeros(2), np.zeros(2), np.full(2, np.inf), sp.csr_matrix([[1.0, -1.0]]),
-                                np.array([-np.inf]), np.array([1.0]))
+    h = highs_backend.new_model(
+        np.zeros(2), np.zeros(2), np.full(2, np.inf), sp.csr_matrix([[1.0, -1.0]]), np.array([-np.inf]), np.array([1.0])
+    )
     message = highs_backend.warm_maximum(h, np.array([1.0, 1.0]), 1000)
     assert isinstance(message, str) and message.startswith("ended ") and "nbounded" in message

@@ -3,6 +3,7 @@
 The interval of the friction model is printed as [lower, α_NL] with what each side is, in the
 text and in the JSON (``bounds.lower_is``, ``bounds.upper_is``); never ``nan`` or ``inf``.
 """
+
 from __future__ import annotations
 
 import json
@@ -16,7 +17,9 @@ from alma.results.types import Bounds
 
 SCENE = {
     "name": "single block on the ground",
-    "thickness": 120, "unit_weight": 18.0, "friction": 0.6,
+    "thickness": 120,
+    "unit_weight": 18.0,
+    "friction": 0.6,
     "blocks": [
         {"id": "ground", "vertices": [[-100, -50], [400, -50], [400, 0], [-100, 0]], "fixed": True},
         {"id": "b1", "vertices": [[0, 0], [240, 0], [240, 60], [0, 60]]},

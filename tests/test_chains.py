@@ -1,4 +1,5 @@
 """``alma panel --chain HEIGHT:STRENGTH [--anchored]``: chains across a panel."""
+
 from __future__ import annotations
 
 import json
@@ -40,9 +41,45 @@ def test_chain_errors_name_the_chain():
 
 
 def test_panel_command_takes_chains(capsys):
-    assert main(["panel", "--bond", "running", "--panel-ratio", "1:2", "--block-ratio", "4:1", "--friction", "0.6",
-                 "--chain", "1410:5", "--chain", "2850:5", "--json"]) == 0
+    assert (
+        main(
+            [
+                "panel",
+                "--bond",
+                "running",
+                "--panel-ratio",
+                "1:2",
+                "--block-ratio",
+                "4:1",
+                "--friction",
+                "0.6",
+                "--chain",
+                "1410:5",
+                "--chain",
+                "2850:5",
+                "--json",
+            ]
+        )
+        == 0
+    )
     out = json.loads(capsys.readouterr().out)
     assert [t["id"] for t in out["ties"]] == ["chain1", "chain2"] and out["status"] == "optimal"
-    assert main(["panel", "--bond", "running", "--panel-ratio", "1:2", "--block-ratio", "4:1", "--friction", "0.6",
-                 "--chain", "oops", "--json"]) == 2
+    assert (
+        main(
+            [
+                "panel",
+                "--bond",
+                "running",
+                "--panel-ratio",
+                "1:2",
+                "--block-ratio",
+                "4:1",
+                "--friction",
+                "0.6",
+                "--chain",
+                "oops",
+                "--json",
+            ]
+        )
+        == 2
+    )

@@ -1,4 +1,5 @@
 """Command-line contract of SPEC §3 (exit codes, one JSON object, scene export)."""
+
 from __future__ import annotations
 
 import json
@@ -11,7 +12,10 @@ from alma.cli.main import main
 
 SCENE = {
     "name": "single block on the ground",
-    "thickness": 120, "unit_weight": 18.0, "friction": 0.6, "cohesion": 0.0,
+    "thickness": 120,
+    "unit_weight": 18.0,
+    "friction": 0.6,
+    "cohesion": 0.0,
     "blocks": [
         {"id": "ground", "vertices": [[-100, -50], [400, -50], [400, 0], [-100, 0]], "fixed": True},
         {"id": "b1", "vertices": [[0, 0], [240, 0], [240, 60], [0, 60]]},
@@ -56,8 +60,27 @@ def test_missing_file_exit_code_2(tmp_path, capsys):
 def test_panel_export_scene_round_trip(tmp_path, capsys):
     out_scene = tmp_path / "panel.json"
     plot = tmp_path / "panel.png"
-    assert main(["panel", "--bond", "running", "--panel-ratio", "2:1", "--block-ratio", "4:1",
-                 "--friction", "0.6", "--json", "--export-scene", str(out_scene), "--plot", str(plot)]) == 0
+    assert (
+        main(
+            [
+                "panel",
+                "--bond",
+                "running",
+                "--panel-ratio",
+                "2:1",
+                "--block-ratio",
+                "4:1",
+                "--friction",
+                "0.6",
+                "--json",
+                "--export-scene",
+                str(out_scene),
+                "--plot",
+                str(plot),
+            ]
+        )
+        == 0
+    )
     first = json.loads(capsys.readouterr().out)
     assert plot.stat().st_size > 10_000
     assert main(["solve", str(out_scene), "--json"]) == 0
@@ -66,8 +89,24 @@ def test_panel_export_scene_round_trip(tmp_path, capsys):
 
 
 def test_model_both_reports_ratio(capsys):
-    code = main(["panel", "--bond", "stack", "--panel-ratio", "2:1", "--block-ratio", "4:1",
-                 "--friction", "0.6", "--model", "both", "--json", "--effort", "fast"])
+    code = main(
+        [
+            "panel",
+            "--bond",
+            "stack",
+            "--panel-ratio",
+            "2:1",
+            "--block-ratio",
+            "4:1",
+            "--friction",
+            "0.6",
+            "--model",
+            "both",
+            "--json",
+            "--effort",
+            "fast",
+        ]
+    )
     assert code == 0
     out = json.loads(capsys.readouterr().out)
     assert out["model"] == "both"
@@ -77,8 +116,9 @@ def test_model_both_reports_ratio(capsys):
 
 
 def test_certify_needs_nonassociative_model(capsys):
-    code = main(["panel", "--bond", "stack", "--panel-ratio", "2:1", "--block-ratio", "4:1",
-                 "--friction", "0.6", "--certify"])
+    code = main(
+        ["panel", "--bond", "stack", "--panel-ratio", "2:1", "--block-ratio", "4:1", "--friction", "0.6", "--certify"]
+    )
     assert code == 2
     assert "non-associative" in capsys.readouterr().err
 
@@ -86,8 +126,9 @@ def test_certify_needs_nonassociative_model(capsys):
 def test_console_script_entry_point(tmp_path):
     path = tmp_path / "scene.json"
     path.write_text(json.dumps(SCENE))
-    proc = subprocess.run([sys.executable, "-m", "alma.cli", "solve", str(path), "--json"],
-                          capture_output=True, text=True, check=True)
+    proc = subprocess.run(
+        [sys.executable, "-m", "alma.cli", "solve", str(path), "--json"], capture_output=True, text=True, check=True
+    )
     assert json.loads(proc.stdout)["status"] == "optimal"
 
 
@@ -97,8 +138,12 @@ def test_certify_json_stdout_is_one_object(tmp_path):
     blocks += [{"id": f"b{i}", "vertices": [[i, 0], [i + 1, 0], [i + 1, 2], [i, 2]]} for i in range(3)]
     path = tmp_path / "three.json"
     path.write_text(json.dumps({"friction": 1.0, "blocks": blocks}))
-    proc = subprocess.run([sys.executable, "-m", "alma.cli", "solve", str(path), "--model", "nonassociative",
-                           "--certify", "--json"], capture_output=True, text=True, check=True)
+    proc = subprocess.run(
+        [sys.executable, "-m", "alma.cli", "solve", str(path), "--model", "nonassociative", "--certify", "--json"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     out = json.loads(proc.stdout)
     assert out["alpha"] == pytest.approx(0.5, abs=1e-7)
     assert out["certificate"]["status"] == "proven"

@@ -10,6 +10,7 @@ option can switch it off (issue 32).  Two layers of tests:
 - a few runs of ``python -m alma.cli`` in fresh processes with the installed highspy, which
   ``make test-latest-subset`` runs against the newest releases.
 """
+
 from __future__ import annotations
 
 import json
@@ -28,7 +29,10 @@ BANNER = b"Running HiGHS 9.9.9 (simulated banner on fd 1)\n"
 
 SCENE = {
     "name": "two blocks on the ground",
-    "thickness": 120, "unit_weight": 18.0, "friction": 0.6, "cohesion": 0.0,
+    "thickness": 120,
+    "unit_weight": 18.0,
+    "friction": 0.6,
+    "cohesion": 0.0,
     "blocks": [
         {"id": "ground", "vertices": [[-100, -50], [500, -50], [500, 0], [-100, 0]], "fixed": True},
         {"id": "b1", "vertices": [[0, 0], [200, 0], [200, 100], [0, 100]]},
@@ -77,8 +81,21 @@ COMMANDS = [
     ["settle", "settle.json"],
     ["tilt", "s.json"],
     ["wall", "--bond", "running", "--width", "480", "--height", "180", "--block", "240x60"],
-    ["wall", "--bond", "running", "--width", "480", "--height", "180", "--block", "240x60", "--model", "both",
-     "--effort", "fast"],
+    [
+        "wall",
+        "--bond",
+        "running",
+        "--width",
+        "480",
+        "--height",
+        "180",
+        "--block",
+        "240x60",
+        "--model",
+        "both",
+        "--effort",
+        "fast",
+    ],
     ["arch", "--span", "1000", "--rise", "500", "--thickness", "150", "--voussoirs", "5"],
     ["anova", "results.csv"],
     ["anova", "results.csv", "--order", "1"],
@@ -112,14 +129,18 @@ def test_the_banner_is_dropped_and_earlier_output_kept(loud_highs, capfd):
     assert out == "before\nafter\n"
 
 
-@pytest.mark.parametrize("argv", [
-    ["solve", "s.json", "--model", "both", "--certify"],
-    ["panel", *PANEL, "--model", "nonassociative", "--effort", "fast"],
-    ["solve", "s.json", "--crisp"],
-])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["solve", "s.json", "--model", "both", "--certify"],
+        ["panel", *PANEL, "--model", "nonassociative", "--effort", "fast"],
+        ["solve", "s.json", "--crisp"],
+    ],
+)
 def test_fresh_process_stdout_is_one_json_object(scenes, argv):
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]))
-    done = subprocess.run([sys.executable, "-m", "alma.cli", *argv, "--json"], capture_output=True, text=True,
-                          env=env, timeout=300)
+    done = subprocess.run(
+        [sys.executable, "-m", "alma.cli", *argv, "--json"], capture_output=True, text=True, env=env, timeout=300
+    )
     assert done.returncode == 0, done.stderr
     _one_object(done.stdout)

@@ -1,6 +1,7 @@
 """The scene options every scene-reading command shares (SPEC §3): solve, tilt and settle read a
 DXF drawing of LACT³'s convention (every block on layer 0, supports the lowest blocks) the same
 way, and a JSON scene takes an option as a replacement of its own top-level value."""
+
 from __future__ import annotations
 
 import json
@@ -36,8 +37,19 @@ def block_dxf(tmp_path):
 
 
 def test_tilt_reads_a_dxf_with_the_scene_options(block_dxf, capsys):
-    argv = ["tilt", str(block_dxf), "--supports", "lowest", "--friction", "0.577", "--thickness", "1",
-            "--unit-weight", "25", "--json"]
+    argv = [
+        "tilt",
+        str(block_dxf),
+        "--supports",
+        "lowest",
+        "--friction",
+        "0.577",
+        "--thickness",
+        "1",
+        "--unit-weight",
+        "25",
+        "--json",
+    ]
     assert main(argv) == 0
     out = json.loads(capsys.readouterr().out)
     # A block of b/h = 2 on a tilting table slides first: tan θ_c = f.
@@ -66,9 +78,15 @@ def test_solve_and_tilt_read_one_drawing_alike(block_dxf, capsys):
 
 
 def test_a_json_scene_takes_the_options_as_its_top_level_values(tmp_path, capsys):
-    data = {"thickness": 120, "unit_weight": 18, "friction": 0.6, "blocks": [
-        {"id": "ground", "vertices": _rect(-200, -50, 400, 0), "fixed": True},
-        {"id": "b1", "vertices": _rect(0, 0, 200, 100)}]}
+    data = {
+        "thickness": 120,
+        "unit_weight": 18,
+        "friction": 0.6,
+        "blocks": [
+            {"id": "ground", "vertices": _rect(-200, -50, 400, 0), "fixed": True},
+            {"id": "b1", "vertices": _rect(0, 0, 200, 100)},
+        ],
+    }
     path = tmp_path / "s.json"
     path.write_text(json.dumps(data))
     assert main(["tilt", str(path), "--friction", "0.3", "--json"]) == 0

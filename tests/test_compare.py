@@ -5,6 +5,7 @@ second per non-associative solve with ``--effort fast``) goes through the real c
 the ANOVA of the ratio and the "which factors change" paragraph are checked on a synthetic
 balanced 108-panel table whose answer is known by construction.
 """
+
 from __future__ import annotations
 
 import csv
@@ -31,8 +32,7 @@ def tiny_run(tmp_path_factory):
     design = base / "tiny.toml"
     design.write_text(TINY)
     out = base / "out"
-    argv = ["compare", "--out", str(out), "--design", str(design), "--workers", "2",
-            "--effort", "fast", "--quiet"]
+    argv = ["compare", "--out", str(out), "--design", str(design), "--workers", "2", "--effort", "fast", "--quiet"]
     code = main(argv)
     return out, argv, code
 
@@ -40,8 +40,12 @@ def tiny_run(tmp_path_factory):
 def test_compare_cli_writes_table_report_and_figures(tiny_run):
     out, _, code = tiny_run
     assert code == 0
-    table = pd.read_csv(out / "compare.csv", dtype={"panel_ratio": str, "block_ratio": str},
-                        keep_default_na=False, na_values={"alpha_lp_start": [""], "lp_start_gain": [""]})
+    table = pd.read_csv(
+        out / "compare.csv",
+        dtype={"panel_ratio": str, "block_ratio": str},
+        keep_default_na=False,
+        na_values={"alpha_lp_start": [""], "lp_start_gain": [""]},
+    )
     assert list(table.columns) == list(compare_mod.COMPARE_COLUMNS)
     assert len(table) == 3
     assert sorted(table["friction"]) == [0.27, 0.6, 1.0]
@@ -69,9 +73,19 @@ def test_compare_cli_writes_table_report_and_figures(tiny_run):
     assert row.ratio < 0.9
 
     md = (out / "compare.md").read_text()
-    for text in ("## Summary", "| Panels | 3 |", "Largest gap", "Median gap", "LP-started candidate",
-                 "Failures (status error) | 0", "Wall time", "### ANOVA of α_NL", "### ANOVA of α_NL/α_LP",
-                 "Which factors change their effect", "## All panels"):
+    for text in (
+        "## Summary",
+        "| Panels | 3 |",
+        "Largest gap",
+        "Median gap",
+        "LP-started candidate",
+        "Failures (status error) | 0",
+        "Wall time",
+        "### ANOVA of α_NL",
+        "### ANOVA of α_NL/α_LP",
+        "Which factors change their effect",
+        "## All panels",
+    ):
         assert text in md, text
     assert f"{1 - table['ratio'].min():.4f}" in md  # the largest gap, printed
     # Where the search time goes: every start that ran is recorded, the winner among them.
@@ -248,8 +262,17 @@ def synthetic_table(seed: int = 7) -> pd.DataFrame:
     for p, b, bond, f in PAPER_DESIGN.panels():
         a_lp = f * {"2:1": 0.9, "1:1": 0.7, "1:2": 0.5}[p] + rng.normal(0, 0.01)
         a_nl = a_lp * (0.7 if bond == "stack" else 1.0) * (1 + rng.normal(0, 0.005))
-        rows.append({"panel_ratio": p, "block_ratio": b, "bond": bond, "friction": f,
-                     "alpha_lp": a_lp, "alpha_nl": a_nl, "ratio": a_nl / a_lp})
+        rows.append(
+            {
+                "panel_ratio": p,
+                "block_ratio": b,
+                "bond": bond,
+                "friction": f,
+                "alpha_lp": a_lp,
+                "alpha_nl": a_nl,
+                "ratio": a_nl / a_lp,
+            }
+        )
     return pd.DataFrame(rows)
 
 
@@ -275,8 +298,10 @@ def test_anova_of_the_ratio_on_a_balanced_table():
 
 def test_changes_paragraph_is_computed_from_the_numbers():
     df = synthetic_table()
-    stats = {key: compare_stats._run_anova(df, key, label) for key, label in
-             (("alpha_lp", "α_LP"), ("alpha_nl", "α_NL"), ("ratio", "α_NL/α_LP"))}
+    stats = {
+        key: compare_stats._run_anova(df, key, label)
+        for key, label in (("alpha_lp", "α_LP"), ("alpha_nl", "α_NL"), ("ratio", "α_NL/α_LP"))
+    }
     assert all(a.result is not None and a.order == 2 for a in stats.values())
     (text,) = compare_report._changes_paragraph(df, stats)
     changed, _, unchanged = text.partition("It is unchanged for")
@@ -285,8 +310,10 @@ def test_changes_paragraph_is_computed_from_the_numbers():
         assert name in unchanged, name
     # Same α in both models: the ratio ANOVA is undefined and no factor changes.
     same = df.assign(alpha_nl=df["alpha_lp"], ratio=1.0)
-    stats = {key: compare_stats._run_anova(same, key, label) for key, label in
-             (("alpha_lp", "α_LP"), ("alpha_nl", "α_NL"), ("ratio", "α_NL/α_LP"))}
+    stats = {
+        key: compare_stats._run_anova(same, key, label)
+        for key, label in (("alpha_lp", "α_LP"), ("alpha_nl", "α_NL"), ("ratio", "α_NL/α_LP"))
+    }
     assert stats["ratio"].result is None and "same on every panel" in stats["ratio"].note
     (text,) = compare_report._changes_paragraph(same, stats)
     assert "no factor changes its effect" in text
@@ -296,12 +323,14 @@ def test_anova_with_unverified_panels_is_unbalanced_and_says_so():
     df = synthetic_table()
     # The largest panels fail in practice: leave out every 1:2 panel with 1:1 blocks in flemish
     # bond and a few scattered ones.
-    lost = ((df["panel_ratio"] == "1:2") & (df["block_ratio"] == "1:1") & (df["bond"] == "flemish")) \
-        | df.index.isin([5, 40, 77])
+    lost = ((df["panel_ratio"] == "1:2") & (df["block_ratio"] == "1:1") & (df["bond"] == "flemish")) | df.index.isin(
+        [5, 40, 77]
+    )
     df.loc[lost, ["alpha_nl", "ratio"]] = np.nan
     stats = {
         "alpha_nl": compare_stats._run_anova(df, "alpha_nl", "α_NL"),
-        "ratio": compare_stats._run_anova(df, "ratio", "α_NL/α_LP")}
+        "ratio": compare_stats._run_anova(df, "ratio", "α_NL/α_LP"),
+    }
     for a in stats.values():
         assert a.result is not None and a.order == 2
         assert a.result.n == 108 - int(lost.sum()) and a.result.dfe == a.result.n - 40
@@ -341,8 +370,10 @@ def test_paper_nonassociative_option_reaches_make_paper(monkeypatch, tmp_path, c
     monkeypatch.setattr(tables, "make_paper", fake_make_paper)
     data = tmp_path / "data"
     data.mkdir()
-    assert main(["paper", "--out", str(tmp_path / "p"), "--published", str(data), "--nonassociative",
-                 "--effort", "fast"]) == 0
+    assert (
+        main(["paper", "--out", str(tmp_path / "p"), "--published", str(data), "--nonassociative", "--effort", "fast"])
+        == 0
+    )
     assert (tmp_path / "p" / "kw.json").read_text() == '{"nonassociative": true, "effort": "fast"}'
     assert (tmp_path / "p" / "published.txt").read_text() == str(data)
     assert "non-associative comparison: c.md" in capsys.readouterr().out

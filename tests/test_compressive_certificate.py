@@ -1,6 +1,7 @@
 """The certificate of finite compressive strength (issue 34): the anchored blend that puts the
 stress field inside every cone, the mechanism counted with its exact crushing dissipation, and
 the margins as settings.  The panels are paper panels the first version left ``not_converged``."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -94,8 +95,9 @@ def test_anchor_solve_certifies_a_field_left_outside_a_cone(monkeypatch):
 
 
 def test_no_anchor_solve_when_the_field_is_inside(monkeypatch):
-    monkeypatch.setattr(cone_field_module, "solve_static_crushing",
-                        lambda *a, **k: pytest.fail("anchor solve on an admissible field"))
+    monkeypatch.setattr(
+        cone_field_module, "solve_static_crushing", lambda *a, **k: pytest.fail("anchor solve on an admissible field")
+    )
     lp = solve_lp(panel_model("running", "2:1", "4:1", 0.6, 2.0))
     assert lp.status == Status.OPTIMAL and "anchor" not in lp.message
 
@@ -119,7 +121,7 @@ def test_margins_are_settings_and_enter_the_digest():
     wide = CrushingSettings(cone_margin=1e-3)
     _, _, b, _, _, _ = static_cone_form(model, model.equilibrium, margins=uniform_margins(model, wide))
     root = np.sqrt(model.crushing[np.isfinite(model.crushing)])
-    assert np.allclose(b[-3 * 2 * root.size::3], np.repeat(root, 2) * (1.0 - 1e-3), rtol=1e-15)
+    assert np.allclose(b[-3 * 2 * root.size :: 3], np.repeat(root, 2) * (1.0 - 1e-3), rtol=1e-15)
     base = Settings()
     other = Settings(associative=AssociativeSettings(crushing=wide))
     assert base.digest() != other.digest()

@@ -1,5 +1,6 @@
 """``compressive_strength`` (SPEC §2, issue 34): the key, its overrides, the CLI option, refusals,
 the crushing state, and a scene without it solved exactly as before."""
+
 from __future__ import annotations
 
 import copy
@@ -11,7 +12,7 @@ import pytest
 from hypothesis import example, given, settings, strategies as st
 
 import alma
-import alma.associative.lp as lp_module
+import alma.associative.lp_crushing as lp_crushing_module
 from alma.associative.crushing import crushing_dissipation
 from alma.cli.main import main
 from alma.geometry.scene import SceneError
@@ -23,9 +24,16 @@ W = B * H * T * 18.0 * 1e-9  # kN
 
 
 def block(sigma: float | None = None, **extra) -> dict:
-    data = {"thickness": T, "unit_weight": 18.0, "friction": 10.0,
-            "blocks": [{"id": "g", "vertices": [[-300, -100], [540, -100], [540, 0], [-300, 0]], "fixed": True},
-                       {"id": "b1", "vertices": [[0, 0], [B, 0], [B, H], [0, H]]}], **extra}
+    data = {
+        "thickness": T,
+        "unit_weight": 18.0,
+        "friction": 10.0,
+        "blocks": [
+            {"id": "g", "vertices": [[-300, -100], [540, -100], [540, 0], [-300, 0]], "fixed": True},
+            {"id": "b1", "vertices": [[0, 0], [B, 0], [B, H], [0, H]]},
+        ],
+        **extra,
+    }
     if sigma is not None:
         data["compressive_strength"] = sigma
     return data
@@ -69,10 +77,11 @@ def test_absent_key_takes_the_rigid_path(monkeypatch):
     """Without the key the model has no crushing data, the cone program is never called and the
     joints carry no new fields: the result is the rigid model's (byte-identical JSON apart from
     timings; measured against the commit before this feature in docs/compressive.md)."""
+
     def refuse(*args, **kwargs):
         raise AssertionError("the cone program ran on a scene without compressive_strength")
 
-    monkeypatch.setattr(lp_module, "solve_static_crushing", refuse)
+    monkeypatch.setattr(lp_crushing_module, "solve_static_crushing", refuse)
     scene = alma.Scene.from_dict(stack())
     assert build_model(scene).crushing.size == 0
     out = alma.solve(scene).to_dict()
@@ -125,8 +134,27 @@ def test_cli_option(tmp_path, capsys):
 
 def test_cli_panel_option(tmp_path, capsys):
     path = tmp_path / "panel.json"
-    assert main(["panel", "--bond", "stack", "--panel-ratio", "2:1", "--block-ratio", "4:1", "--friction",
-                 "0.6", "--compressive-strength", "2", "--export-scene", str(path), "--json"]) == 0
+    assert (
+        main(
+            [
+                "panel",
+                "--bond",
+                "stack",
+                "--panel-ratio",
+                "2:1",
+                "--block-ratio",
+                "4:1",
+                "--friction",
+                "0.6",
+                "--compressive-strength",
+                "2",
+                "--export-scene",
+                str(path),
+                "--json",
+            ]
+        )
+        == 0
+    )
     out = json.loads(capsys.readouterr().out)
     assert out["status"] == "optimal" and "capacity" in out["joints"][0]
     assert json.loads(path.read_text())["compressive_strength"] == 2.0
@@ -158,8 +186,9 @@ def test_closed_form_dissipation_is_the_sup(g, c):
     model = types.SimpleNamespace(crushing=np.array([c]))
     nu = cp.Variable(4, nonneg=True)
     N = cp.sum(nu)
-    problem = cp.Problem(cp.Maximize(-np.array(g) @ nu),
-                         [cp.square(N) <= 2 * (nu[0] + nu[1]), cp.square(N) <= 2 * (nu[2] + nu[3])])
+    problem = cp.Problem(
+        cp.Maximize(-np.array(g) @ nu), [cp.square(N) <= 2 * (nu[0] + nu[1]), cp.square(N) <= 2 * (nu[2] + nu[3])]
+    )
     problem.solve(solver=cp.CLARABEL, tol_gap_abs=1e-9, tol_gap_rel=1e-9, tol_feas=1e-9)
     assert problem.status == "optimal"
     assert crushing_dissipation(model, np.array(g)) == pytest.approx(c * problem.value, rel=1e-7, abs=1e-8 * c)

@@ -1,4 +1,5 @@
 """Joint detection: collinear, facing, overlapping edges in any orientation."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -67,8 +68,10 @@ def test_near_miss_is_reported_naming_the_blocks():
 
 
 def test_contact_tolerance_is_a_scene_setting():
-    blocks = [{"id": "g", "fixed": True, "vertices": [[0, -10], [100, -10], [100, 0], [0, 0]]},
-              {"id": "b", "vertices": [[0, 0.1], [100, 0.1], [100, 20], [0, 20]]}]
+    blocks = [
+        {"id": "g", "fixed": True, "vertices": [[0, -10], [100, -10], [100, 0], [0, 0]]},
+        {"id": "b", "vertices": [[0, 0.1], [100, 0.1], [100, 20], [0, 20]]},
+    ]
     with pytest.raises(alma.SceneError, match="touches nothing"):
         alma.Scene.from_dict({"blocks": blocks})
     scene = alma.Scene.from_dict({"blocks": blocks, "contact_tolerance": 0.005})
@@ -79,8 +82,10 @@ def test_contact_tolerance_is_a_scene_setting():
 
 
 def test_overlap_deeper_than_the_tolerance_is_refused():
-    blocks = [{"id": "g", "fixed": True, "vertices": [[0, -10], [100, -10], [100, 0], [0, 0]]},
-              {"id": "b", "vertices": [[0, -0.1], [100, -0.1], [100, 20], [0, 20]]}]
+    blocks = [
+        {"id": "g", "fixed": True, "vertices": [[0, -10], [100, -10], [100, 0], [0, 0]]},
+        {"id": "b", "vertices": [[0, -0.1], [100, -0.1], [100, 20], [0, 20]]},
+    ]
     with pytest.raises(alma.SceneError, match="'g' and 'b' overlap"):
         alma.Scene.from_dict({"blocks": blocks})
 

@@ -5,6 +5,7 @@ search once paired every edge of a course with every other (its slack grew with 
 from the drawing's centre), so that 40,000 blocks and one far block needed > 17 GB.  Memory is
 measured with tracemalloc (numpy's buffers are traced), not with the clock.
 """
+
 from __future__ import annotations
 
 import tracemalloc
@@ -23,8 +24,9 @@ from alma.geometry.scene import Scene
 def _wall(far: float | None) -> Scene:
     data = alma.wall("running", 240.0 * 25, 60.0 * 40, 240.0).to_dict()
     if far is not None:
-        data["blocks"].append({"id": "far", "fixed": True,
-                               "vertices": [[far, 0], [far + 240, 0], [far + 240, 60], [far, 60]]})
+        data["blocks"].append(
+            {"id": "far", "fixed": True, "vertices": [[far, 0], [far + 240, 0], [far + 240, 60], [far, 60]]}
+        )
     return Scene.from_dict(data)
 
 

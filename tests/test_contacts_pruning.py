@@ -7,6 +7,7 @@ detection tolerances: rotations (including near the 0 ≡ π wrap of the line an
 translations, length scales 1e-3 to 1e4, tiny and huge blocks mixed, overlaps and gaps of a few
 detection tolerances, edges tilted by a few angle tolerances.  The joints must be identical, bit for bit.
 """
+
 from __future__ import annotations
 
 import math
@@ -53,8 +54,9 @@ def _random_scene(seed: int) -> Scene:
         x_prev = (x0, x - x0)
         y += height
     xs = np.concatenate([p[:, 0] for p in polys])
-    ground = np.array([[xs.min() - lref, -lref], [xs.max() + lref, -lref], [xs.max() + lref, 0.0],
-                       [xs.min() - lref, 0.0]])
+    ground = np.array(
+        [[xs.min() - lref, -lref], [xs.max() + lref, -lref], [xs.max() + lref, 0.0], [xs.min() - lref, 0.0]]
+    )
     polys.insert(0, ground)
     tol = CONTACT.tolerance * lref  # about the contact tolerance (the median block is near lref)
     for k in range(1, len(polys)):  # perturbations at the scale of the detection tolerances
@@ -68,13 +70,24 @@ def _random_scene(seed: int) -> Scene:
             polys[k] = (p - p[0]) @ np.array([[c, -s], [s, c]]).T + p[0]
         elif kind == 3:  # slide so the end points meet within a few tolerances
             p[:, 0] += rng.choice([-1, 1]) * rng.uniform(0, 30) * tol
-    theta = rng.choice([0.0, rng.uniform(0, 2 * math.pi), math.pi / 2, math.pi, 3 * math.pi / 2,
-                        math.pi / 2 + rng.uniform(-1e-9, 1e-9), rng.uniform(-1e-9, 1e-9)])
+    theta = rng.choice(
+        [
+            0.0,
+            rng.uniform(0, 2 * math.pi),
+            math.pi / 2,
+            math.pi,
+            3 * math.pi / 2,
+            math.pi / 2 + rng.uniform(-1e-9, 1e-9),
+            rng.uniform(-1e-9, 1e-9),
+        ]
+    )
     c, s = math.cos(theta), math.sin(theta)
     scale = 10.0 ** rng.uniform(-3, 4) / lref
     shift = rng.uniform(-1, 1, 2) * 10.0 ** rng.uniform(0, 6) * lref * scale
-    blocks = tuple(Block(id=f"b{k}", vertices=scale * p @ np.array([[c, -s], [s, c]]).T + shift, fixed=k == 0)
-                   for k, p in enumerate(polys))
+    blocks = tuple(
+        Block(id=f"b{k}", vertices=scale * p @ np.array([[c, -s], [s, c]]).T + shift, fixed=k == 0)
+        for k, p in enumerate(polys)
+    )
     return Scene(blocks=blocks)
 
 
@@ -106,6 +119,7 @@ def test_interval_join_matches_all_pairs(seed):
     lox, loy = rng.integers(0, 10, nx).astype(float), rng.integers(0, 10, ny).astype(float)
     hix, hiy = lox + rng.integers(0, 4, nx), loy + rng.integers(0, 4, ny)
     x, y = contacts._overlapping_intervals(gx, lox, hix, gy, loy, hiy)
-    expected = {(a, b) for a in range(nx) for b in range(ny)
-                if gx[a] == gy[b] and max(lox[a], loy[b]) <= min(hix[a], hiy[b])}
+    expected = {
+        (a, b) for a in range(nx) for b in range(ny) if gx[a] == gy[b] and max(lox[a], loy[b]) <= min(hix[a], hiy[b])
+    }
     assert sorted(zip(x.tolist(), y.tolist(), strict=True)) == sorted(expected)

@@ -1,4 +1,5 @@
 """DXF drawings in and out (SPEC §2): cleaning, supports, errors naming the polyline, round trip."""
+
 from __future__ import annotations
 
 import json
@@ -86,16 +87,32 @@ def test_round_trip_keeps_joints_and_alpha(tmp_path):
     panel = alma.paper_panel("english", "2:1", "2:1", 0.6)
     path = tmp_path / "panel.dxf"
     write_dxf(panel, path)
-    back = alma.load_scene(path, thickness=panel.thickness, unit_weight=panel.unit_weight,
-                           friction=panel.friction)
+    back = alma.load_scene(path, thickness=panel.thickness, unit_weight=panel.unit_weight, friction=panel.friction)
     assert alma.find_joints(back).count == alma.find_joints(panel).count
     assert alma.solve(back).alpha == pytest.approx(alma.solve(panel).alpha, rel=1e-9)
 
 
 def test_cli_solves_a_dxf_with_materials_and_exports_one(tmp_path, capsys):
     out = tmp_path / "panel.dxf"
-    assert main(["panel", "--bond", "stack", "--panel-ratio", "2:1", "--block-ratio", "4:1",
-                 "--friction", "0.6", "--export-scene", str(out), "--json"]) == 0
+    assert (
+        main(
+            [
+                "panel",
+                "--bond",
+                "stack",
+                "--panel-ratio",
+                "2:1",
+                "--block-ratio",
+                "4:1",
+                "--friction",
+                "0.6",
+                "--export-scene",
+                str(out),
+                "--json",
+            ]
+        )
+        == 0
+    )
     panel_alpha = json.loads(capsys.readouterr().out)["alpha"]
     assert main(["solve", str(out), "--friction", "0.6", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["alpha"] == pytest.approx(panel_alpha, rel=1e-9)

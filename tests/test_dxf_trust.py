@@ -2,6 +2,7 @@
 3-D polylines, block INSERTs, arcs (bulges), open polylines, drawings without blocks, and the
 export of everything a drawing cannot hold.  Every drawing is made here with ezdxf.
 """
+
 from __future__ import annotations
 
 import json
@@ -91,6 +92,7 @@ def test_a_polyline_mirrored_in_cad_is_placed_by_its_ocs(tmp_path):
 def test_a_mirrored_2d_polyline_with_an_arc_is_the_lwpolyline(tmp_path):
     """The old POLYLINE entity, mirrored (extrusion −Z, OCS x = −x) with a bulged top, reads as
     the plain LWPOLYLINE drawn in the world (the mirror turns the bulge's sense too)."""
+
     def drawing(kind: str) -> Path:
         doc = _doc()
         msp = doc.modelspace()
@@ -117,7 +119,8 @@ def test_plane_3d_polylines_are_read_and_others_refused(tmp_path):
     for pts in (BRICK, WALL):
         msp.add_polyline3d([(x, y, 7.5) for x, y in pts], close=True)
     assert _alpha(_save(doc, tmp_path / "p3d.dxf"), **MATERIALS) == pytest.approx(
-        _alpha(_plain(tmp_path), **MATERIALS), rel=1e-9)
+        _alpha(_plain(tmp_path), **MATERIALS), rel=1e-9
+    )
     tilted = msp.add_polyline3d([(x, y, 0.1 * x) for x, y in BRICK], close=True)
     with pytest.raises(alma.SceneError, match=f"3-D polyline {tilted.dxf.handle} does not lie in a plane"):
         alma.load_scene(_save(doc, tmp_path / "tilted.dxf"), **MATERIALS)
@@ -138,8 +141,9 @@ def test_block_inserts_nested_rotated_and_arrayed_are_exploded(tmp_path):
     scene = alma.load_scene(_save(doc, tmp_path / "inserts.dxf"), **MATERIALS)
     assert len(scene.blocks) == 3 and [b.fixed for b in scene.blocks] == [True, False, False]
     assert scene.blocks[1].id.startswith("masonry/")  # layer 0 inside takes the insert's layer
-    assert _alpha(tmp_path / "inserts.dxf", **MATERIALS) == pytest.approx(_alpha(_plain(tmp_path), **MATERIALS),
-                                                                          rel=1e-9)
+    assert _alpha(tmp_path / "inserts.dxf", **MATERIALS) == pytest.approx(
+        _alpha(_plain(tmp_path), **MATERIALS), rel=1e-9
+    )
     arrayed = _doc()
     row = arrayed.blocks.new("ROW")
     row.add_lwpolyline([(0, 0), (100, 0), (100, 50), (0, 50)], close=True)
@@ -162,9 +166,9 @@ def test_an_arc_side_is_chords_within_the_stated_sagitta(tmp_path):
     msp.add_lwpolyline([(0, 0, 0), (250, 0, 0), (250, 120, 1.0), (0, 120, 0)], format="xyb", close=True)
     scene = alma.load_scene(_save(doc, tmp_path / "arc.dxf"), **MATERIALS)
     block = scene.blocks[1]
-    exact = 250 * 120 + math.pi * r ** 2 / 2
+    exact = 250 * 120 + math.pi * r**2 / 2
     step = 2 * math.acos(1 - DRAWING.arc_sagitta)
-    assert block.area < exact and (exact - block.area) / (math.pi * r ** 2 / 2) <= step ** 2 / 6 * 1.01
+    assert block.area < exact and (exact - block.area) / (math.pi * r**2 / 2) <= step**2 / 6 * 1.01
     top = block.vertices[block.vertices[:, 1] > 120 + 1e-9]
     assert np.allclose(np.hypot(top[:, 0] - 125, top[:, 1] - 120), r)  # on the arc
     assert len(top) == math.ceil(math.pi / step) - 1
@@ -177,8 +181,12 @@ def test_two_blocks_sharing_an_arc_share_its_chords(tmp_path):
     doc = _doc()
     msp = doc.modelspace()
     # The seat runs along the arc from (250, 0) to (0, 0) below y = 0 (clockwise, bulge −1)...
-    msp.add_lwpolyline([(-100, -300, 0), (350, -300, 0), (350, 0, 0), (250, 0, -1.0), (0, 0, 0), (-100, 0, 0)],
-                       format="xyb", close=True, dxfattribs={"layer": "support"})
+    msp.add_lwpolyline(
+        [(-100, -300, 0), (350, -300, 0), (350, 0, 0), (250, 0, -1.0), (0, 0, 0), (-100, 0, 0)],
+        format="xyb",
+        close=True,
+        dxfattribs={"layer": "support"},
+    )
     # ... and the block's bottom is the same arc from (0, 0) to (250, 0) (counter-clockwise, bulge 1).
     msp.add_lwpolyline([(0, 0, 1.0), (250, 0, 0), (250, 100, 0), (0, 100, 0)], format="xyb", close=True)
     scene = alma.load_scene(_save(doc, tmp_path / "seat.dxf"), **MATERIALS)
@@ -224,14 +232,25 @@ def _everything() -> alma.Scene:
     """A façade with overburden, cohesion, a tie, a joint override, a settlement, a weight."""
     wall = alma.wall("running", 1440.0, 720.0, 240.0, 60.0, openings=[(480, 240, 480, 240)], overburden_kpa=50.0)
     data = wall.to_dict()
-    data.update(cohesion=5.0, friction=0.55, unit_weight=20.0, thickness=250.0, gravity=[0.05, -1.0],
-                live_load={"direction": [0.8, 0.6], "self_weight": True})
+    data.update(
+        cohesion=5.0,
+        friction=0.55,
+        unit_weight=20.0,
+        thickness=250.0,
+        gravity=[0.05, -1.0],
+        live_load={"direction": [0.8, 0.6], "self_weight": True},
+    )
     free = [b for b in data["blocks"] if not b.get("fixed")]
     ground = next(b for b in data["blocks"] if b.get("fixed"))
     top = max(free, key=lambda b: min(v[1] for v in b["vertices"]))
-    data["ties"] = [{"id": "chain", "from": {"block": top["id"], "point": np.mean(top["vertices"], axis=0).tolist()},
-                     "to": {"block": ground["id"], "point": np.mean(ground["vertices"], axis=0).tolist()},
-                     "strength": 3.0}]
+    data["ties"] = [
+        {
+            "id": "chain",
+            "from": {"block": top["id"], "point": np.mean(top["vertices"], axis=0).tolist()},
+            "to": {"block": ground["id"], "point": np.mean(ground["vertices"], axis=0).tolist()},
+            "strength": 3.0,
+        }
+    ]
     low = min(free, key=lambda b: min(v[1] for v in b["vertices"]))
     data["joints"] = [{"blocks": [ground["id"], low["id"]], "friction": 0.4, "cohesion": 0.0}]
     ground["settlement"] = {"translation": [0.0, -1.0], "rotation": 0.0, "about": [0.0, 0.0]}
@@ -257,8 +276,9 @@ def test_export_keeps_what_a_drawing_cannot_hold(name, tmp_path):
         for block in data["blocks"]:
             block.pop("vertices")
     assert read == original  # ids, supports, materials, loads, ties, overrides, settlements
-    assert np.array_equal(np.concatenate([b.vertices for b in back.blocks]),
-                          np.concatenate([b.vertices for b in scene.blocks]))
+    assert np.array_equal(
+        np.concatenate([b.vertices for b in back.blocks]), np.concatenate([b.vertices for b in scene.blocks])
+    )
     a, b = alma.solve(scene), alma.solve(back)
     assert a.status == b.status and a.alpha == pytest.approx(b.alpha, rel=1e-9, abs=1e-12)
 
@@ -274,8 +294,27 @@ def test_the_overburden_survives_the_cli_export(tmp_path, capsys):
     from alma.cli import main
 
     out = tmp_path / "facade.dxf"
-    assert main(["wall", "--bond", "running", "--width", "1440", "--height", "720", "--block", "240x60",
-                 "--overburden", "50", "--export-scene", str(out), "--json"]) == 0
+    assert (
+        main(
+            [
+                "wall",
+                "--bond",
+                "running",
+                "--width",
+                "1440",
+                "--height",
+                "720",
+                "--block",
+                "240x60",
+                "--overburden",
+                "50",
+                "--export-scene",
+                str(out),
+                "--json",
+            ]
+        )
+        == 0
+    )
     alpha = json.loads(capsys.readouterr().out)["alpha"]
     assert main(["solve", str(out), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["alpha"] == pytest.approx(alpha, rel=1e-9)
@@ -301,14 +340,20 @@ def _with_brick(kind: str):
     return doc, e.dxf.handle
 
 
-@pytest.mark.parametrize("kind, message", [
-    ("nan bulge", "polyline {h}: vertex 0 is not a finite number"),
-    ("inf vertex", "polyline {h}: vertex 2 is not a finite number"),
-    ("full circle bulge", "polyline {h}: the bulge 1e\\+308 at vertex 0 draws an arc of nearly a full circle"),
-    ("damaged record", "alma record ALMA_SCENE is damaged"),
-    ("stretched arc", "every closed polyline is a support, and the drawing's other entities are not blocks "
-                      "\\(1 ELLIPSE, 3 LINE\\)"),
-])
+@pytest.mark.parametrize(
+    "kind, message",
+    [
+        ("nan bulge", "polyline {h}: vertex 0 is not a finite number"),
+        ("inf vertex", "polyline {h}: vertex 2 is not a finite number"),
+        ("full circle bulge", "polyline {h}: the bulge 1e\\+308 at vertex 0 draws an arc of nearly a full circle"),
+        ("damaged record", "alma record ALMA_SCENE is damaged"),
+        (
+            "stretched arc",
+            "every closed polyline is a support, and the drawing's other entities are not blocks "
+            "\\(1 ELLIPSE, 3 LINE\\)",
+        ),
+    ],
+)
 def test_bad_entities_are_refused_by_name(kind, message, tmp_path):
     doc, handle = _with_brick(kind)
     with pytest.raises(alma.SceneError, match=message.format(h=handle)):

@@ -1,5 +1,6 @@
 """alma.engine: the normal-matrix pattern, the factorisation backends, the interior point for
 Eq. 10, and the hook in ``solve_lp`` (the certificate, not the engine, decides every status)."""
+
 from __future__ import annotations
 
 import ast
@@ -103,9 +104,15 @@ def test_a_pattern_is_not_reused_for_another_structure(wall):
 
 def _same(a, b) -> bool:
     """Two LP solutions equal bit for bit (α, bounds, u, μ, iterations)."""
-    return (a.status == b.status and a.iterations == b.iterations and a.alpha == b.alpha and a.lower == b.lower
-            and a.upper == b.upper and np.array_equal(a.mechanism, b.mechanism)
-            and np.array_equal(a.multipliers, b.multipliers))
+    return (
+        a.status == b.status
+        and a.iterations == b.iterations
+        and a.alpha == b.alpha
+        and a.lower == b.lower
+        and a.upper == b.upper
+        and np.array_equal(a.mechanism, b.mechanism)
+        and np.array_equal(a.multipliers, b.multipliers)
+    )
 
 
 def test_the_frictions_of_a_geometry_share_one_pattern(wall):
@@ -128,7 +135,8 @@ def test_a_pattern_serves_only_its_own_structure(wall):
     solve_lp(wall, engine="ipm", patterns=patterns)
     zero = wall.with_friction(0.0)
     assert structure_key(zero.equilibrium, zero.equilibrium.shape[0]) != structure_key(
-        wall.equilibrium, wall.equilibrium.shape[0])
+        wall.equilibrium, wall.equilibrium.shape[0]
+    )
     cached = solve_lp(zero, engine="ipm", patterns=patterns)
     assert (len(patterns), patterns.hits) == (2, 0)
     assert _same(cached, solve_lp(zero, engine="ipm"))
@@ -146,8 +154,9 @@ def test_solve_lp_writes_nothing_into_the_model(wall):
     model = wall.with_friction(0.5)
 
     def state() -> bytes:
-        return pickle.dumps([*(getattr(model, f.name) for f in dataclasses.fields(model)), model.equilibrium,
-                             model.equilibrium.indices])
+        return pickle.dumps(
+            [*(getattr(model, f.name) for f in dataclasses.fields(model)), model.equilibrium, model.equilibrium.indices]
+        )
 
     before = state()
     first = solve_lp(model, engine="ipm", patterns=PatternCache())
@@ -213,8 +222,7 @@ def test_unknown_backend_and_engine_are_refused(wall):
 @pytest.mark.parametrize("backend", available_backends())
 def test_ipm_agrees_with_clarabel_and_is_certified(wall, backend):
     clarabel = solve_lp(wall, engine="clarabel")
-    raw = solve_eq10(wall.equilibrium, wall.dead, wall.live, NORMALISATION * wall.n_free,
-                     IPMSettings(backend=backend))
+    raw = solve_eq10(wall.equilibrium, wall.dead, wall.live, NORMALISATION * wall.n_free, IPMSettings(backend=backend))
     assert raw.status == "optimal" and raw.backend == backend
     assert abs(raw.alpha - clarabel.alpha) <= 1e-7 * max(1.0, abs(clarabel.alpha))
     assert float(raw.mu.min()) >= 0.0
@@ -276,7 +284,7 @@ def test_auto_chooses_by_size(monkeypatch):
 def test_crossed_bounds_are_not_certified():
     """A lower bound above the upper one (measured on test_mixed_tiny_and_huge through a trial
     engine setting: [0.011901605, 0.011899563], relative gap −2.0e-6) proves nothing."""
-    from alma.associative.lp import _judge
+    from alma.associative.lp_forms import _judge
     from alma.settings import AssociativeSettings
     from alma.status import Status
 
@@ -293,15 +301,21 @@ def _bounded_wall() -> alma.Model:
     free = [b for b in data["blocks"] if not b.get("fixed")]
     a, b = free[0], free[-1]
     data["cohesion"] = 2.0
-    data["ties"] = [{"id": "t", "from": {"block": a["id"], "point": a["vertices"][0]},
-                     "to": {"block": b["id"], "point": b["vertices"][2]}, "strength": 0.5}]
+    data["ties"] = [
+        {
+            "id": "t",
+            "from": {"block": a["id"], "point": a["vertices"][0]},
+            "to": {"block": b["id"], "point": b["vertices"][2]},
+            "strength": 0.5,
+        }
+    ]
     return alma.build_model(alma.Scene.from_dict(data))
 
 
 def test_auxiliary_elimination_is_the_exact_schur_complement():
     """U diag(d_eff) Uᵀ equals the Schur complement of the v block of H_aug D H_augᵀ, and
     reduce → solve → expand solves the augmented system."""
-    from alma.associative.lp import _engine_form
+    from alma.associative.lp_forms import _engine_form
     from alma.engine.auxiliary import auxiliary_rows
 
     model = _bounded_wall()

@@ -1,5 +1,6 @@
 """The HTML report (issues 18, 36, ``--html``): one self-contained page that parses, says the
 result in words, fits the structure in its SVG and has a legend entry for every mark it draws."""
+
 from __future__ import annotations
 
 import json
@@ -70,9 +71,13 @@ def _parse(path) -> tuple[_Page, str]:
 
 
 def _single_block() -> alma.Scene:
-    return alma.Scene(blocks=(
-        alma.Block("ground", np.array([[-100, -50], [400, -50], [400, 0], [-100, 0]], float), fixed=True),
-        alma.Block("b", np.array([[0, 0], [100, 0], [100, 400], [0, 400]], float))), friction=0.6)
+    return alma.Scene(
+        blocks=(
+            alma.Block("ground", np.array([[-100, -50], [400, -50], [400, 0], [-100, 0]], float), fixed=True),
+            alma.Block("b", np.array([[0, 0], [100, 0], [100, 400], [0, 400]], float)),
+        ),
+        friction=0.6,
+    )
 
 
 def _check_page(path, scene: alma.Scene) -> _Page:
@@ -136,8 +141,29 @@ def test_the_carried_marks_are_drawn_displaced_as_the_png_draws_them(tmp_path):
 
 def test_both_models_side_by_side_at_one_scale_through_the_command_line(tmp_path, capsys):
     out = tmp_path / "both.html"
-    assert main(["panel", "--bond", "stack", "--panel-ratio", "2:1", "--block-ratio", "2:1", "--friction", "0.6",
-                 "--model", "both", "--effort", "fast", "--html", str(out), "--json"]) == 0
+    assert (
+        main(
+            [
+                "panel",
+                "--bond",
+                "stack",
+                "--panel-ratio",
+                "2:1",
+                "--block-ratio",
+                "2:1",
+                "--friction",
+                "0.6",
+                "--model",
+                "both",
+                "--effort",
+                "fast",
+                "--html",
+                str(out),
+                "--json",
+            ]
+        )
+        == 0
+    )
     result = json.loads(capsys.readouterr().out)
     scene = alma.paper_panel("stack", "2:1", "2:1", 0.6)
     page = _check_page(out, scene)
@@ -153,14 +179,27 @@ def test_the_examples_pages_fit_and_explain_every_mark(tmp_path):
     for name in ("portal", "wall_with_window", "arch"):
         scene = alma.load_scene(EXAMPLES / f"{name}.json")
         page = _check_page(write_html(scene, alma.solve(scene), tmp_path / f"{name}.html"), scene)
-        assert {"hinge", "crack", "support", "live"} <= {a["data-mark"] for _, a in page.svgs[0]["marks"]} or \
-            name == "wall_with_window"
+        assert {"hinge", "crack", "support", "live"} <= {
+            a["data-mark"] for _, a in page.svgs[0]["marks"]
+        } or name == "wall_with_window"
 
 
 def test_settle_and_tilt_write_pages(tmp_path, capsys):
     scene = alma.load_scene(EXAMPLES / "settlement.json")
-    assert main(["settle", str(EXAMPLES / "settlement.json"), "--html", str(tmp_path / "s.html"),
-                 "--plot", str(tmp_path / "s.png"), "--json"]) == 0
+    assert (
+        main(
+            [
+                "settle",
+                str(EXAMPLES / "settlement.json"),
+                "--html",
+                str(tmp_path / "s.html"),
+                "--plot",
+                str(tmp_path / "s.png"),
+                "--json",
+            ]
+        )
+        == 0
+    )
     settled = json.loads(capsys.readouterr().out)
     page = _check_page(tmp_path / "s.html", scene)
     used = {a["data-mark"] for _, a in page.svgs[0]["marks"]}
@@ -169,8 +208,20 @@ def test_settle_and_tilt_write_pages(tmp_path, capsys):
     assert f"{opened} joints open" in " ".join(page.text)
     assert (tmp_path / "s.png").stat().st_size > 10_000
     portal = alma.load_scene(EXAMPLES / "portal.json")
-    assert main(["tilt", str(EXAMPLES / "portal.json"), "--html", str(tmp_path / "t.html"),
-                 "--plot", str(tmp_path / "t.png"), "--json"]) == 0
+    assert (
+        main(
+            [
+                "tilt",
+                str(EXAMPLES / "portal.json"),
+                "--html",
+                str(tmp_path / "t.html"),
+                "--plot",
+                str(tmp_path / "t.png"),
+                "--json",
+            ]
+        )
+        == 0
+    )
     tilted = json.loads(capsys.readouterr().out)
     page = _check_page(tmp_path / "t.html", portal)
     used = {a["data-mark"] for _, a in page.svgs[0]["marks"]}
@@ -201,12 +252,28 @@ def test_numbers_read_as_words():
 
 
 def test_a_tilt_that_finds_no_equilibrium_still_writes_a_page_without_nan(tmp_path, capsys):
-    data = {"name": "a leaning block", "blocks": [
-        {"id": "g", "vertices": [[-500, -50], [500, -50], [500, 0], [-500, 0]], "fixed": True},
-        {"id": "b", "vertices": [[0, 0], [100, 0], [400, 300], [300, 300]]}]}
+    data = {
+        "name": "a leaning block",
+        "blocks": [
+            {"id": "g", "vertices": [[-500, -50], [500, -50], [500, 0], [-500, 0]], "fixed": True},
+            {"id": "b", "vertices": [[0, 0], [100, 0], [400, 300], [300, 300]]},
+        ],
+    }
     (tmp_path / "lean.json").write_text(json.dumps(data))
-    assert main(["tilt", str(tmp_path / "lean.json"), "--html", str(tmp_path / "t.html"),
-                 "--plot", str(tmp_path / "t.png"), "--json"]) == 0
+    assert (
+        main(
+            [
+                "tilt",
+                str(tmp_path / "lean.json"),
+                "--html",
+                str(tmp_path / "t.html"),
+                "--plot",
+                str(tmp_path / "t.png"),
+                "--json",
+            ]
+        )
+        == 0
+    )
     assert json.loads(capsys.readouterr().out)["status"] == "no_equilibrium"
     page = _check_page(tmp_path / "t.html", alma.Scene.from_dict(data))
     assert "No equilibrium" in " ".join(page.text) and NOT_PROVEN in " ".join(page.text)

@@ -1,4 +1,5 @@
 """The joints of a result are columns read as JointResult objects (alma.results.joint_table)."""
+
 import json
 
 import numpy as np

@@ -2,6 +2,7 @@
 
 The per-file ignores that remain each carry their own reason, no mypy override silences errors,
 and the calls ruff may see in default arguments (B008, RUF009) are frozen dataclasses."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -19,8 +20,11 @@ def test_no_file_is_left_out_of_the_lint():
     assert "owned by another change this round" not in TEXT
     assert not (ROOT / "tools" / "lint_baseline.py").exists()
     # Tests' bare asserts and loop names; the HTML page's inline JavaScript: rules with a reason.
-    assert RUFF["per-file-ignores"] == {"tests/**": ["B011", "B007"], "verification/**": ["B011", "B007"],
-                                        "alma/report/page.py": ["E501"]}
+    assert RUFF["per-file-ignores"] == {
+        "tests/**": ["B011", "B007"],
+        "verification/**": ["B011", "B007"],
+        "alma/report/page.py": ["E501"],
+    }
     assert [o for o in CONFIG["tool"]["mypy"]["overrides"] if o.get("ignore_errors")] == []
     assert "lint-baseline" not in (ROOT / "Makefile").read_text()
 

@@ -1,4 +1,5 @@
 """The sparse model (Eqs. 1–8) and the LP result object."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -9,11 +10,15 @@ from alma.mechanics.model import build_model
 
 
 def test_single_block_matrices():
-    scene = alma.Scene.from_dict({
-        "friction": 0.5,
-        "blocks": [{"id": "g", "vertices": [[-1, -1], [3, -1], [3, 0], [-1, 0]], "fixed": True},
-                   {"id": "b", "vertices": [[0, 0], [2, 0], [2, 1], [0, 1]]}],
-    })
+    scene = alma.Scene.from_dict(
+        {
+            "friction": 0.5,
+            "blocks": [
+                {"id": "g", "vertices": [[-1, -1], [3, -1], [3, 0], [-1, 0]], "fixed": True},
+                {"id": "b", "vertices": [[0, 0], [2, 0], [2, 1], [0, 1]]},
+            ],
+        }
+    )
     m = build_model(scene)
     H = m.equilibrium.toarray()
     assert H.shape == (3, 4)
@@ -44,22 +49,39 @@ def test_result_to_dict_is_json():
 
 def test_no_equilibrium_and_no_collapse():
     # A block leaning on nothing but a vertical wall to its left cannot stand.
-    leaning = alma.Scene.from_dict({"blocks": [
-        {"id": "wall", "vertices": [[-10, 0], [0, 0], [0, 100], [-10, 100]], "fixed": True},
-        {"id": "b", "vertices": [[0, 10], [20, 10], [20, 30], [0, 30]]}]})
+    leaning = alma.Scene.from_dict(
+        {
+            "blocks": [
+                {"id": "wall", "vertices": [[-10, 0], [0, 0], [0, 100], [-10, 100]], "fixed": True},
+                {"id": "b", "vertices": [[0, 10], [20, 10], [20, 30], [0, 30]]},
+            ]
+        }
+    )
     assert alma.solve(leaning).status == "no_equilibrium"
     # A block in a tight slot under a fixed lid cannot move in +x: the live load does no work.
-    boxed = alma.Scene.from_dict({"friction": 0.5, "blocks": [
-        {"id": "floor", "vertices": [[-10, -10], [30, -10], [30, 0], [-10, 0]], "fixed": True},
-        {"id": "right", "vertices": [[20, 0], [30, 0], [30, 20], [20, 20]], "fixed": True},
-        {"id": "b", "vertices": [[0, 0], [20, 0], [20, 20], [0, 20]]}]})
+    boxed = alma.Scene.from_dict(
+        {
+            "friction": 0.5,
+            "blocks": [
+                {"id": "floor", "vertices": [[-10, -10], [30, -10], [30, 0], [-10, 0]], "fixed": True},
+                {"id": "right", "vertices": [[20, 0], [30, 0], [30, 20], [20, 20]], "fixed": True},
+                {"id": "b", "vertices": [[0, 0], [20, 0], [20, 20], [0, 20]]},
+            ],
+        }
+    )
     assert alma.solve(boxed).status == "no_collapse"
 
 
 def test_cohesion_solved_by_both_models_and_certified():
-    scene = alma.Scene.from_dict({"cohesion": 0.1, "blocks": [
-        {"id": "g", "vertices": [[-1, -1], [3, -1], [3, 0], [-1, 0]], "fixed": True},
-        {"id": "b", "vertices": [[0, 0], [2, 0], [2, 1], [0, 1]]}]})
+    scene = alma.Scene.from_dict(
+        {
+            "cohesion": 0.1,
+            "blocks": [
+                {"id": "g", "vertices": [[-1, -1], [3, -1], [3, 0], [-1, 0]], "fixed": True},
+                {"id": "b", "vertices": [[0, 0], [2, 0], [2, 1], [0, 1]]},
+            ],
+        }
+    )
     assert alma.solve(scene).status == "optimal"
     polish = alma.Settings(search=alma.SearchSettings(ipopt_blocks=60))  # the IPOPT start, asked for
     result = alma.solve(scene, model="nonassociative", effort="thorough", certify=True, settings=polish)
@@ -94,9 +116,14 @@ def test_h_and_contact_points_are_built_once_per_model():
 def test_a_joint_open_at_both_ends_is_separating_even_when_it_slips():
     from alma.results.joints import joint_states
 
-    scene = alma.Scene.from_dict({"blocks": [
-        {"id": "ground", "vertices": [[-100, -50], [400, -50], [400, 0], [-100, 0]], "fixed": True},
-        {"id": "b", "vertices": [[0, 0], [240, 0], [240, 60], [0, 60]]}]})
+    scene = alma.Scene.from_dict(
+        {
+            "blocks": [
+                {"id": "ground", "vertices": [[-100, -50], [400, -50], [400, 0], [-100, 0]], "fixed": True},
+                {"id": "b", "vertices": [[0, 0], [240, 0], [240, 60], [0, 60]]},
+            ]
+        }
+    )
     model = alma.build_model(scene)
     lift_and_slide = np.array([1.0, 0.5, 0.0])  # up and sideways: both ends open, and it slips
     states, rel = joint_states(model, lift_and_slide)

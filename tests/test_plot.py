@@ -1,5 +1,6 @@
 """Pictures of mechanisms (issues 19, 36): the drawing layer (rigid parts, the crack, hinges, the
 line of thrust, loads, supports) and its PNG, the same picture as the HTML's SVG."""
+
 from __future__ import annotations
 
 import matplotlib
@@ -92,11 +93,15 @@ def test_the_png_draws_the_marks_where_the_drawing_places_them(tmp_path):
     drawing = draw(scene, alma.solve(scene))
     fig, ax = plt.subplots()
     render_axes(ax, drawing)
-    polygons = [p.vertices[:-1] if len(p.vertices) > 4 else p.vertices
-                for c in ax.collections if isinstance(c, PolyCollection) for p in c.get_paths()]
+    polygons = [
+        p.vertices[:-1] if len(p.vertices) > 4 else p.vertices
+        for c in ax.collections
+        if isinstance(c, PolyCollection)
+        for p in c.get_paths()
+    ]
     blocks = [drawing.placed(m) for m in drawing.marks if m.cls.startswith("block-")]
     for b in blocks:
-        assert any(len(p) >= len(b) and np.allclose(p[:len(b)], b) for p in polygons)
+        assert any(len(p) >= len(b) and np.allclose(p[: len(b)], b) for p in polygons)
     assert ax.get_xlim() == drawing.box[::2] and ax.get_ylim() == drawing.box[1::2]
     plt.close(fig)
     assert plot_mechanism(scene, alma.solve(scene), tmp_path / "m.png").stat().st_size > 10_000
@@ -142,8 +147,10 @@ def test_the_picture_does_not_depend_on_the_block_order(order):
 
     def marks(s):
         d = draw(s, alma.solve(s))
-        return sorted((m.cls, m.stroke or "", m.fill or "", tuple(np.round(np.sort(d.placed(m), axis=0), 3).ravel()))
-                      for m in d.marks)
+        return sorted(
+            (m.cls, m.stroke or "", m.fill or "", tuple(np.round(np.sort(d.placed(m), axis=0), 3).ravel()))
+            for m in d.marks
+        )
 
     assert marks(scene) == marks(shuffled)
 

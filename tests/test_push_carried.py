@@ -1,4 +1,5 @@
 """alma.push.carried: tie ends carried by their blocks, and the rest length that makes a tie slack."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -13,11 +14,25 @@ from alma.push.motion import Pose, displaced
 
 
 def _scene():
-    return alma.Scene.from_dict({"thickness": 100, "unit_weight": 20, "friction": 0.6, "blocks": [
-        {"id": "ground", "vertices": [[-1000, -100], [1000, -100], [1000, 0], [-1000, 0]], "fixed": True},
-        {"id": "b", "vertices": [[0, 0], [200, 0], [200, 500], [0, 500]]}],
-        "ties": [{"id": "t", "from": {"block": "b", "point": [0, 500]},
-                  "to": {"block": "ground", "point": [-1000, 0]}, "strength": 1.0}]})
+    return alma.Scene.from_dict(
+        {
+            "thickness": 100,
+            "unit_weight": 20,
+            "friction": 0.6,
+            "blocks": [
+                {"id": "ground", "vertices": [[-1000, -100], [1000, -100], [1000, 0], [-1000, 0]], "fixed": True},
+                {"id": "b", "vertices": [[0, 0], [200, 0], [200, 500], [0, 500]]},
+            ],
+            "ties": [
+                {
+                    "id": "t",
+                    "from": {"block": "b", "point": [0, 500]},
+                    "to": {"block": "ground", "point": [-1000, 0]},
+                    "strength": 1.0,
+                }
+            ],
+        }
+    )
 
 
 def _with_lengths(scene, lengths):

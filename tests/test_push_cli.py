@@ -1,4 +1,5 @@
 """``alma push`` and ``alma seismic`` on the command line (SPEC §3)."""
+
 from __future__ import annotations
 
 import json
@@ -7,9 +8,16 @@ import sys
 
 import pytest
 
-ROCKING = {"name": "slender block", "thickness": 120, "unit_weight": 18, "friction": 0.8, "blocks": [
-    {"id": "ground", "vertices": [[-500, -100], [800, -100], [800, 0], [-500, 0]], "fixed": True},
-    {"id": "wall", "vertices": [[0, 0], [240, 0], [240, 600], [0, 600]]}]}
+ROCKING = {
+    "name": "slender block",
+    "thickness": 120,
+    "unit_weight": 18,
+    "friction": 0.8,
+    "blocks": [
+        {"id": "ground", "vertices": [[-500, -100], [800, -100], [800, 0], [-500, 0]], "fixed": True},
+        {"id": "wall", "vertices": [[0, 0], [240, 0], [240, 600], [0, 600]]},
+    ],
+}
 SITE = 'ag = 0.2\nF0 = 2.4\nTc_star = 0.3\nsoil = "B"\n'
 
 
@@ -35,8 +43,9 @@ def test_push_json_is_one_object_with_the_spec_fields(files):
 
 
 def test_seismic_json(files):
-    out = _alma("seismic", "scene.json", "--site", "site.toml", "--steps", "8", "--json", "--html", "check.html",
-                cwd=files)
+    out = _alma(
+        "seismic", "scene.json", "--site", "site.toml", "--steps", "8", "--json", "--html", "check.html", cwd=files
+    )
     assert out.returncode == 0, out.stderr
     data = json.loads(out.stdout)
     for key in ("alpha0", "M_star", "e_star", "a0_star", "demand", "safety_index", "d0_star", "du_star", "Ts"):
@@ -59,10 +68,15 @@ def test_push_html_has_one_frame_per_step_under_a_slider(files):
     assert page.count('style="display:none"') == steps - 1
 
 
-@pytest.mark.parametrize("args, word", [(("push", "scene.json", "--control", "nope"), "nope"),
-                                        (("push", "scene.json", "--control", "ground"), "fixed"),
-                                        (("seismic", "scene.json", "--site", "missing.toml"), "missing.toml"),
-                                        (("push", "scene.json", "--plot", "scene.json"), "input")])
+@pytest.mark.parametrize(
+    "args, word",
+    [
+        (("push", "scene.json", "--control", "nope"), "nope"),
+        (("push", "scene.json", "--control", "ground"), "fixed"),
+        (("seismic", "scene.json", "--site", "missing.toml"), "missing.toml"),
+        (("push", "scene.json", "--plot", "scene.json"), "input"),
+    ],
+)
 def test_bad_input_exits_2_with_one_json_object(files, args, word):
     out = _alma(*args, "--json", cwd=files)
     assert out.returncode == 2
@@ -92,8 +106,18 @@ def test_push_refuses_a_bad_compressive_strength_by_name(files, value):
 
 
 def test_seismic_takes_the_compressive_strength(files):
-    out = _alma("seismic", "scene.json", "--site", "site.toml", "--steps", "8", "--compressive-strength", "0.05",
-                "--json", cwd=files)
+    out = _alma(
+        "seismic",
+        "scene.json",
+        "--site",
+        "site.toml",
+        "--steps",
+        "8",
+        "--compressive-strength",
+        "0.05",
+        "--json",
+        cwd=files,
+    )
     assert out.returncode == 0, out.stderr
     data = json.loads(out.stdout)
     assert data["alpha0"] == pytest.approx(0.3136, abs=1e-7)  # (b − W/(σ_c t))/h

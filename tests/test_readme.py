@@ -8,6 +8,7 @@ environment this test already runs in, are listed in ``EXCLUDED`` with the reaso
 runs the quick commands in one process through ``alma.cli.main``; ``make test-slow`` runs them
 again as written, by bash, then the whole-study commands and the python blocks.
 """
+
 from __future__ import annotations
 
 import os
@@ -31,7 +32,7 @@ SHIPPED = ("examples", "paper_tables/data", "verification/data/table5_collapse_m
 _STUDY = "the 108 panels with both models (~10 min on 2 cores); `alma compare` runs here on examples/small.toml"
 EXCLUDED: dict[str, str] = {
     "make demo": "builds .venv with pip (minutes, the network); CI's `make test` builds the same venv, and the "
-                 "command it then runs (`alma panel ... --plot`) runs here",
+    "command it then runs (`alma panel ... --plot`) runs here",
     ". .venv/bin/activate": "sources the venv that `make demo` built; here PATH leads to the alma under test",
     "make test": "this suite itself",
     "make compare": _STUDY,
@@ -40,12 +41,14 @@ EXCLUDED: dict[str, str] = {
     "alma paper --out paper/ --nonassociative": "runs the 108-panel comparison of both models first: " + _STUDY,
 }
 # Whole studies (108 or 432 panels): a minute or more each on 2 cores, so in the slow test.
-SLOW: frozenset[str] = frozenset({
-    "alma doe --out results/ --workers 2",
-    "alma paper --out paper/",
-    "alma doe --out chain_study/ --design examples/design_chain.toml --workers 2",
-    "alma anova chain_study/results.csv",
-})
+SLOW: frozenset[str] = frozenset(
+    {
+        "alma doe --out results/ --workers 2",
+        "alma paper --out paper/",
+        "alma doe --out chain_study/ --design examples/design_chain.toml --workers 2",
+        "alma anova chain_study/results.csv",
+    }
+)
 
 
 def _blocks(text: str, languages: tuple[str, ...]) -> list[str]:
@@ -59,8 +62,7 @@ def shell_commands(text: str) -> list[str]:
     commands = []
     for body in _blocks(text, ("sh", "bash", "shell")):
         joined = re.sub(r"\\\n\s*", " ", body)
-        commands += [line.strip() for line in joined.splitlines()
-                     if line.strip() and not line.strip().startswith("#")]
+        commands += [line.strip() for line in joined.splitlines() if line.strip() and not line.strip().startswith("#")]
     return commands
 
 
@@ -90,8 +92,12 @@ def test_every_exclusion_names_a_readme_command():
 
 def test_the_files_the_readme_names_are_shipped():
     """Every path a command reads from the clone (examples/, verification/, paper_tables/) exists."""
-    named = {word for c in COMMANDS for word in shlex.split(c, comments=True)
-             if word.startswith(("examples/", "verification/", "paper_tables/"))}
+    named = {
+        word
+        for c in COMMANDS
+        for word in shlex.split(c, comments=True)
+        if word.startswith(("examples/", "verification/", "paper_tables/"))
+    }
     named |= set(re.findall(r"\"(examples/[^\"]+)\"", "\n".join(PYTHON_BLOCKS)))
     assert named, "the README names no shipped file"
     missing = sorted(p for p in named if not (ROOT / p).exists())
@@ -112,16 +118,24 @@ def _clone_like(tmp: Path) -> dict[str, str]:
     for shim in shims.iterdir():
         shim.chmod(0o755)
     pythonpath = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH", "")) if p)
-    return dict(os.environ, PATH=f"{shims}{os.pathsep}{os.environ.get('PATH', '')}", PYTHONPATH=pythonpath,
-                MPLBACKEND="Agg")
+    return dict(
+        os.environ, PATH=f"{shims}{os.pathsep}{os.environ.get('PATH', '')}", PYTHONPATH=pythonpath, MPLBACKEND="Agg"
+    )
 
 
 def _run_all(commands: list[str], tmp: Path, env: dict[str, str]) -> list[str]:
     """Run the commands in order in ``tmp``; the failures, each with the end of its stderr."""
     failures = []
     for command in commands:
-        done = subprocess.run(["bash", "-c", command], cwd=tmp, env=env, capture_output=True, text=True,
-                              timeout=900, stdin=subprocess.DEVNULL)
+        done = subprocess.run(
+            ["bash", "-c", command],
+            cwd=tmp,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=900,
+            stdin=subprocess.DEVNULL,
+        )
         if done.returncode != 0:
             failures.append(f"exit {done.returncode}: {command}\n{done.stderr[-1500:]}")
     return failures
@@ -159,8 +173,15 @@ def test_the_readme_studies_and_python_run(tmp_path):
     failures = _run_all([c for c in COMMANDS if key(c) in SLOW], tmp_path, env)
     assert (tmp_path / "results" / "results.csv").is_file()
     for body in PYTHON_BLOCKS:
-        done = subprocess.run([sys.executable, "-c", body], cwd=tmp_path, env=env, capture_output=True,
-                              text=True, timeout=900, stdin=subprocess.DEVNULL)
+        done = subprocess.run(
+            [sys.executable, "-c", body],
+            cwd=tmp_path,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=900,
+            stdin=subprocess.DEVNULL,
+        )
         if done.returncode != 0:
             failures.append(f"exit {done.returncode}: python block\n{body}\n{done.stderr[-1500:]}")
     assert not failures, "\n\n".join(failures)

@@ -1,5 +1,6 @@
 """Settings: every tuned number in one place, choices checked on construction, all of them hashed
 and reachable from ``alma.solve`` (issue 35, item 3)."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -30,17 +31,22 @@ from alma.study.keys import panel_key
 def _column(k: int, f: float = 0.6) -> alma.Scene:
     """k square blocks stacked on the ground."""
     blocks = [{"id": "ground", "vertices": [[-200, -100], [300, -100], [300, 0], [-200, 0]], "fixed": True}]
-    blocks += [{"id": f"c{i}", "vertices": [[0, 100 * i], [100, 100 * i], [100, 100 * i + 100], [0, 100 * i + 100]]}
-               for i in range(k)]
+    blocks += [
+        {"id": f"c{i}", "vertices": [[0, 100 * i], [100, 100 * i], [100, 100 * i + 100], [0, 100 * i + 100]]}
+        for i in range(k)
+    ]
     return alma.Scene.from_dict({"thickness": 100, "unit_weight": 20, "friction": f, "blocks": blocks})
 
 
-@pytest.mark.parametrize(("make", "field", "allowed"), [
-    (lambda v: AssociativeSettings(engine=v), "AssociativeSettings.engine", ENGINES),
-    (lambda v: SearchSettings(effort=v), "SearchSettings.effort", EFFORTS),
-    (lambda v: CertifySettings(backend=v), "CertifySettings.backend", CERTIFY_BACKENDS),
-    (lambda v: IPMSettings(backend=v), "IPMSettings.backend", FACTORISATIONS),
-])
+@pytest.mark.parametrize(
+    ("make", "field", "allowed"),
+    [
+        (lambda v: AssociativeSettings(engine=v), "AssociativeSettings.engine", ENGINES),
+        (lambda v: SearchSettings(effort=v), "SearchSettings.effort", EFFORTS),
+        (lambda v: CertifySettings(backend=v), "CertifySettings.backend", CERTIFY_BACKENDS),
+        (lambda v: IPMSettings(backend=v), "IPMSettings.backend", FACTORISATIONS),
+    ],
+)
 def test_choices_are_checked_on_construction(make, field, allowed):
     for value in allowed:
         make(value)
@@ -63,22 +69,26 @@ def test_the_interior_point_settings_are_alma_settings():
     assert AssociativeSettings().ipm == IPMSettings()
 
 
-@pytest.mark.parametrize("changed", [
-    {"associative": AssociativeSettings(ipm=IPMSettings(backend="qdldl"))},
-    {"associative": AssociativeSettings(ipm=IPMSettings(qdldl_max_rows=1))},
-    {"associative": AssociativeSettings(auto_min_blocks=10)},
-    {"associative": AssociativeSettings(auto_min_blocks_bounded=10)},
-    {"associative": AssociativeSettings(feral_min_rows=10)},
-    {"search": SearchSettings(states=StateTolerances(active=1e-5))},
-    {"search": SearchSettings(states=StateTolerances(energy=1e-5))},
-])
+@pytest.mark.parametrize(
+    "changed",
+    [
+        {"associative": AssociativeSettings(ipm=IPMSettings(backend="qdldl"))},
+        {"associative": AssociativeSettings(ipm=IPMSettings(qdldl_max_rows=1))},
+        {"associative": AssociativeSettings(auto_min_blocks=10)},
+        {"associative": AssociativeSettings(auto_min_blocks_bounded=10)},
+        {"associative": AssociativeSettings(feral_min_rows=10)},
+        {"search": SearchSettings(states=StateTolerances(active=1e-5))},
+        {"search": SearchSettings(states=StateTolerances(energy=1e-5))},
+    ],
+)
 def test_every_moved_number_is_hashed(changed):
     """A change of any number moved into the settings changes the digest and the study key."""
     other = Settings(**changed)
     assert other.digest() != Settings().digest()
     model = "associative" if "associative" in changed else "nonassociative"
-    assert (panel_key("2:1", "4:1", "stack", 0.6, model, version="x", revision="y", settings=other)
-            != panel_key("2:1", "4:1", "stack", 0.6, model, version="x", revision="y", settings=Settings()))
+    assert panel_key("2:1", "4:1", "stack", 0.6, model, version="x", revision="y", settings=other) != panel_key(
+        "2:1", "4:1", "stack", 0.6, model, version="x", revision="y", settings=Settings()
+    )
 
 
 def test_ipm_settings_reach_the_interior_point_from_solve():
@@ -87,8 +97,9 @@ def test_ipm_settings_reach_the_interior_point_from_solve():
     short = Settings(associative=AssociativeSettings(engine="ipm", ipm=IPMSettings(max_iter=1, backend="qdldl")))
     result = alma.solve(scene, settings=short)
     assert "after 1 iterations, Clarabel used" in result.message
-    full = alma.solve(scene, settings=Settings(associative=AssociativeSettings(engine="ipm",
-                                                                               ipm=IPMSettings(backend="qdldl"))))
+    full = alma.solve(
+        scene, settings=Settings(associative=AssociativeSettings(engine="ipm", ipm=IPMSettings(backend="qdldl")))
+    )
     assert "Clarabel used" not in full.message and "alma-ipm/qdldl" in full.message
     assert result.alpha == pytest.approx(full.alpha, rel=1e-7)
 

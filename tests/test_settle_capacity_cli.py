@@ -1,4 +1,5 @@
 """``alma settle SCENE --capacity`` (issue 33, item 4): one JSON object, a picture, clear errors."""
+
 from __future__ import annotations
 
 import json
@@ -13,12 +14,23 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 # A lintel on a fixed support and on a frictionless pier that sinks (verification/test_settlement_capacity.py):
 # s_u = (b − c) f / √(1 + f²) = 300 · 0.5 / √1.25 mm.
-LINTEL = {"name": "lintel over a sinking pier", "thickness": 100, "unit_weight": 20, "friction": 0.5,
-          "blocks": [{"id": "support", "vertices": [[-200, -100], [100, -100], [100, 0], [-200, 0]], "fixed": True},
-                     {"id": "pier", "vertices": [[100, -100], [700, -100], [700, 0], [100, 0]], "fixed": True,
-                      "settlement": {"translation": [0, -1]}},
-                     {"id": "lintel", "vertices": [[0, 0], [400, 0], [400, 300], [0, 300]]}],
-          "joints": [{"blocks": ["lintel", "pier"], "friction": 0.0}]}
+LINTEL = {
+    "name": "lintel over a sinking pier",
+    "thickness": 100,
+    "unit_weight": 20,
+    "friction": 0.5,
+    "blocks": [
+        {"id": "support", "vertices": [[-200, -100], [100, -100], [100, 0], [-200, 0]], "fixed": True},
+        {
+            "id": "pier",
+            "vertices": [[100, -100], [700, -100], [700, 0], [100, 0]],
+            "fixed": True,
+            "settlement": {"translation": [0, -1]},
+        },
+        {"id": "lintel", "vertices": [[0, 0], [400, 0], [400, 300], [0, 300]]},
+    ],
+    "joints": [{"blocks": ["lintel", "pier"], "friction": 0.0}],
+}
 
 
 def _alma(*args, cwd):
@@ -40,8 +52,11 @@ def test_capacity_json_is_one_object_with_s_u_the_curve_and_the_cracks(tmp_path)
     assert lo <= data["s_u"] <= hi and hi - lo < 1e-4
     assert data["factor_u"] == pytest.approx(data["s_u"])  # the scene's settlement is 1 mm
     first, last = data["curve"][0], data["curve"][-1]
-    assert first["s"] == 0.0 and first["alpha"] > 0 and sorted(first["cracked"]) == [["lintel", "pier"],
-                                                                                     ["lintel", "support"]]
+    assert (
+        first["s"] == 0.0
+        and first["alpha"] > 0
+        and sorted(first["cracked"]) == [["lintel", "pier"], ["lintel", "support"]]
+    )
     assert last["alpha"] is None or last["alpha"] <= 0
     assert (tmp_path / "cap.png").stat().st_size > 0
 
@@ -89,11 +104,10 @@ def _zero_settlement() -> dict:
     return scene
 
 
-@pytest.mark.parametrize(("scene", "words"), [
-    (_without_settlement(), "settlement"),
-    (_settlement_on_a_free_block(), "lintel"),
-    (_zero_settlement(), "zero"),
-])
+@pytest.mark.parametrize(
+    ("scene", "words"),
+    [(_without_settlement(), "settlement"), (_settlement_on_a_free_block(), "lintel"), (_zero_settlement(), "zero")],
+)
 def test_bad_scene_is_refused_with_exit_2(tmp_path, scene, words):
     out = _alma("settle", "scene.json", "--capacity", "--json", cwd=_scene(tmp_path, scene))
     assert out.returncode == 2
@@ -101,8 +115,9 @@ def test_bad_scene_is_refused_with_exit_2(tmp_path, scene, words):
     assert json.loads(out.stdout)["status"] == "invalid_input"
 
 
-@pytest.mark.parametrize("extra", [["--steps", "0"], ["--html", "scene.json"], ["--plot", "scene.json"],
-                                   ["--plot", "nowhere/cap.png"]])
+@pytest.mark.parametrize(
+    "extra", [["--steps", "0"], ["--html", "scene.json"], ["--plot", "scene.json"], ["--plot", "nowhere/cap.png"]]
+)
 def test_bad_options_are_refused_with_exit_2(tmp_path, extra):
     out = _alma("settle", "scene.json", "--capacity", *extra, cwd=_scene(tmp_path, LINTEL))
     assert out.returncode == 2 and "Traceback" not in out.stderr and "invalid input" in out.stderr

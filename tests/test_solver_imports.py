@@ -4,6 +4,7 @@ Fails when a module outside ``alma/backends/`` imports a solver package (HiGHS, 
 CasADi/IPOPT, SCIP, scipy's ``linprog``/``milp``).  ``alma/engine/`` is alma's own interior point
 with its factorisation backends (QDLDL, feral), which are the product, not an adapter.
 """
+
 from __future__ import annotations
 
 import ast
@@ -30,14 +31,19 @@ def solver_imports(path: Path) -> list[str]:
 
 
 def test_no_solver_import_outside_backends():
-    offenders = {str(p.relative_to(ALMA.parent)): solver_imports(p) for p in sorted(ALMA.rglob("*.py"))
-                 if p.relative_to(ALMA).parts[0] not in EXEMPT}
+    offenders = {
+        str(p.relative_to(ALMA.parent)): solver_imports(p)
+        for p in sorted(ALMA.rglob("*.py"))
+        if p.relative_to(ALMA).parts[0] not in EXEMPT
+    }
     assert {k: v for k, v in offenders.items() if v} == {}
 
 
 def test_the_check_sees_solver_imports(tmp_path):
     """The check itself: top-level, aliased, function-local and scipy imports are all found."""
     module = tmp_path / "m.py"
-    module.write_text("import highspy\nimport casadi as ca\nfrom scipy.optimize import linprog, minimize\n"
-                      "def f():\n    import clarabel\n    from qdldl import Solver\n")
+    module.write_text(
+        "import highspy\nimport casadi as ca\nfrom scipy.optimize import linprog, minimize\n"
+        "def f():\n    import clarabel\n    from qdldl import Solver\n"
+    )
     assert solver_imports(module) == ["highspy", "casadi", "scipy.optimize.linprog", "clarabel", "qdldl"]

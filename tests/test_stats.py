@@ -11,12 +11,7 @@ import pandas as pd
 import pytest
 
 from alma.stats import anova as anova_mod
-from alma.stats.anova import (
-    RESULT_COLUMNS,
-    anova,
-    load_results,
-    press_balanced,
-)
+from alma.stats.anova import RESULT_COLUMNS, anova, load_results, press_balanced
 from alma.stats.effects import equivalent_t, tukey_bond
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -40,17 +35,19 @@ def test_order1_pools_all_interactions(df):
     r = anova(df, order=1)
     # 107 total - 9 main-effect DoF = 98.
     assert r.dfe == 98
-    assert [x.source for x in r.rows] == [
-        "Model", "Linear", "Panel", "Block", "Bond", "Friction", "Error", "Total",
-    ]
+    assert [x.source for x in r.rows] == ["Model", "Linear", "Panel", "Block", "Bond", "Friction", "Error", "Total"]
 
 
 def test_order3_error_is_the_four_way_interaction(df):
     r = anova(df, order=3)
     # Single replicate of 3x3x4x3: only the 4-way interaction is left, (2)(2)(3)(2) = 24 DoF.
     assert r.dfe == 24
-    three_way = {"Panel*Block*Bond": 12, "Panel*Block*Friction": 8,
-                 "Panel*Bond*Friction": 12, "Block*Bond*Friction": 12}
+    three_way = {
+        "Panel*Block*Bond": 12,
+        "Panel*Block*Friction": 8,
+        "Panel*Bond*Friction": 12,
+        "Block*Bond*Friction": 12,
+    }
     for name, dof in three_way.items():
         assert r.row(name).dof == dof
     assert r.row("Three-Way Interactions").dof == 44
@@ -130,8 +127,13 @@ def test_missing_column_is_named(tmp_path, df, column):
 
 @pytest.mark.parametrize(
     ("column", "value"),
-    [("bond", "herringbone"), ("panel_ratio", "3:1"), ("block_ratio", "5:1"),
-     ("friction", "rough"), ("alpha_c", "nan")],
+    [
+        ("bond", "herringbone"),
+        ("panel_ratio", "3:1"),
+        ("block_ratio", "5:1"),
+        ("friction", "rough"),
+        ("alpha_c", "nan"),
+    ],
 )
 def test_bad_level_or_value_is_named(tmp_path, df, column, value):
     bad = df.astype({column: object})

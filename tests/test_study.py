@@ -5,6 +5,7 @@ Small designs only (the 2:1 panel with 4:1 blocks solves in ~20 ms): results equ
 LocalCluster on loopback gives the local results; design files; ``alma anova`` on the
 published Table 5 prints Table 2; bad input exits with code 2.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -29,13 +30,24 @@ ROOT = Path(__file__).resolve().parents[1]
 TABLE5 = ROOT / "verification" / "data" / "table5_collapse_multipliers.csv"
 TABLE2 = ROOT / "verification" / "data" / "table2_anova.csv"
 
-SMALL = Design(panel_ratio=("2:1",), block_ratio=("4:1",), bond=("running", "english"),
-               friction=(0.27, 0.60))
+SMALL = Design(panel_ratio=("2:1",), block_ratio=("4:1",), bond=("running", "english"), friction=(0.27, 0.60))
 # 2 panel ratios x 2 block ratios x 4 bonds x 3 frictions = 48 panels, ~3 s on one core:
 # long enough to be killed midway, and every factor has >= 2 levels (ANOVA-able).
 MEDIUM = Design(panel_ratio=("2:1", "1:1"), block_ratio=("4:1", "2:1"))
-VALUE_COLUMNS = ["panel_ratio", "block_ratio", "bond", "friction", "model", "status",
-                 "alpha_c", "alpha_lower", "alpha_upper", "gap", "mechanism_class", "key"]
+VALUE_COLUMNS = [
+    "panel_ratio",
+    "block_ratio",
+    "bond",
+    "friction",
+    "model",
+    "status",
+    "alpha_c",
+    "alpha_lower",
+    "alpha_upper",
+    "gap",
+    "mechanism_class",
+    "key",
+]
 
 
 def cli(argv: list[str]) -> int:
@@ -65,23 +77,23 @@ def test_paper_design_is_table1_in_table5_order():
 
 def test_design_files_toml_and_json(tmp_path):
     toml = tmp_path / "d.toml"
-    toml.write_text('panel_ratio = ["2:1"]\nblock_ratios = ["4:1", "1:1"]\nbond = "Stack"\n'
-                    "friction = [0.27, 1]\n")
+    toml.write_text('panel_ratio = ["2:1"]\nblock_ratios = ["4:1", "1:1"]\nbond = "Stack"\nfriction = [0.27, 1]\n')
     d = load_design(toml)
-    assert d == Design(panel_ratio=("2:1",), block_ratio=("4:1", "1:1"), bond=("stack",),
-                       friction=(0.27, 1.0))
+    assert d == Design(panel_ratio=("2:1",), block_ratio=("4:1", "1:1"), bond=("stack",), friction=(0.27, 1.0))
     assert len(d) == 4
     js = tmp_path / "d.json"
     js.write_text(json.dumps({"design": {"friction": [0.6]}}))
     d = load_design(js)
     assert d.friction == (0.6,) and d.bond == PAPER_DESIGN.bond  # missing factors: the paper's
-    for text, match in [('{"bonds": ["herringbone"]}', "bad bond level 'herringbone'"),
-                        ('{"friction": [-0.1]}', "bad friction level"),
-                        ('{"friction": ["x"]}', "bad friction level"),
-                        ('{"panel_ratio": ["3:1"]}', "bad panel_ratio level"),
-                        ('{"friction": [0.6, 0.6]}', "repeated friction"),
-                        ('{"unit_weight": 18}', "unknown key 'unit_weight'"),
-                        ('{"friction": [0.6]', "not valid JSON")]:
+    for text, match in [
+        ('{"bonds": ["herringbone"]}', "bad bond level 'herringbone'"),
+        ('{"friction": [-0.1]}', "bad friction level"),
+        ('{"friction": ["x"]}', "bad friction level"),
+        ('{"panel_ratio": ["3:1"]}', "bad panel_ratio level"),
+        ('{"friction": [0.6, 0.6]}', "repeated friction"),
+        ('{"unit_weight": 18}', "unknown key 'unit_weight'"),
+        ('{"friction": [0.6]', "not valid JSON"),
+    ]:
         bad = tmp_path / "bad.json"
         bad.write_text(text)
         with pytest.raises(ValueError, match=match):
@@ -95,13 +107,15 @@ def test_design_files_toml_and_json(tmp_path):
 def test_key_depends_on_every_factor_and_model():
     base = panel_key("2:1", "4:1", "running", 0.27, "associative")
     assert base == panel_key("2:1", "4:1", "running", 0.2700000000000001, "associative")
-    others = {panel_key("1:1", "4:1", "running", 0.27, "associative"),
-              panel_key("2:1", "2:1", "running", 0.27, "associative"),
-              panel_key("2:1", "4:1", "stack", 0.27, "associative"),
-              panel_key("2:1", "4:1", "running", 0.6, "associative"),
-              panel_key("2:1", "4:1", "running", 0.27, "nonassociative"),
-              panel_key("2:1", "4:1", "running", 0.27, "associative", version="9.9"),
-              panel_key("2:1", "4:1", "running", 0.27, "associative", settings={"tolerance": 1e-6})}
+    others = {
+        panel_key("1:1", "4:1", "running", 0.27, "associative"),
+        panel_key("2:1", "2:1", "running", 0.27, "associative"),
+        panel_key("2:1", "4:1", "stack", 0.27, "associative"),
+        panel_key("2:1", "4:1", "running", 0.6, "associative"),
+        panel_key("2:1", "4:1", "running", 0.27, "nonassociative"),
+        panel_key("2:1", "4:1", "running", 0.27, "associative", version="9.9"),
+        panel_key("2:1", "4:1", "running", 0.27, "associative", settings={"tolerance": 1e-6}),
+    }
     assert base not in others and len(others) == 7
 
 
@@ -136,13 +150,11 @@ def test_rerun_skips_and_new_level_only_solves_new_panels(tmp_path, capfd):
     again = run_doe(tmp_path, workers=2, design=SMALL, progress=True)
     assert path.read_bytes() == before  # nothing solved, nothing appended
     assert "4/4 (4 resumed)" in capfd.readouterr().err
-    bigger = Design(panel_ratio=("2:1",), block_ratio=("4:1",), bond=("running", "english"),
-                    friction=(0.27, 0.60, 1.0))
+    bigger = Design(panel_ratio=("2:1",), block_ratio=("4:1",), bond=("running", "english"), friction=(0.27, 0.60, 1.0))
     df = run_doe(tmp_path, workers=1, design=bigger, progress=False)
     assert len(df) == 6 and path.read_bytes().startswith(before)
     assert len(read_results(path)) == 6
-    pd.testing.assert_frame_equal(df[df["friction"] < 1][VALUE_COLUMNS].reset_index(drop=True),
-                                  again[VALUE_COLUMNS])
+    pd.testing.assert_frame_equal(df[df["friction"] < 1][VALUE_COLUMNS].reset_index(drop=True), again[VALUE_COLUMNS])
 
 
 def test_partial_last_line_and_header_only_are_tolerated(tmp_path, small_local):
@@ -197,8 +209,12 @@ def _data_rows(path: Path) -> int:
 def test_killed_study_resumes_without_loss_or_duplicates(tmp_path):
     out = tmp_path / "killed"
     path = out / "results.csv"
-    proc = subprocess.Popen([sys.executable, "-c", _KILLED_STUDY.format(root=str(ROOT), out=str(out))],
-                            start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    proc = subprocess.Popen(
+        [sys.executable, "-c", _KILLED_STUDY.format(root=str(ROOT), out=str(out))],
+        start_new_session=True,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+    )
     try:
         deadline = time.monotonic() + 60
         while _data_rows(path) < 8 and proc.poll() is None and time.monotonic() < deadline:
@@ -274,11 +290,11 @@ def test_forked_workers_never_collect_the_parents_objects(tmp_path, monkeypatch)
 def test_dask_local_cluster_equals_local_run(tmp_path, small_local, monkeypatch):
     distributed = pytest.importorskip("distributed")
     monkeypatch.setenv("PYTHONPATH", str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  host="127.0.0.1", dashboard_address=None) as cluster:
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None
+    ) as cluster:
         assert cluster.scheduler_address.startswith("tcp://127.0.0.1:")
-        df = run_doe(tmp_path, workers=None, scheduler=cluster.scheduler_address,
-                     design=SMALL, progress=False)
+        df = run_doe(tmp_path, workers=None, scheduler=cluster.scheduler_address, design=SMALL, progress=False)
     pd.testing.assert_frame_equal(df[VALUE_COLUMNS], small_local[VALUE_COLUMNS])
 
 
@@ -287,8 +303,9 @@ def test_dask_local_cluster_equals_local_run(tmp_path, small_local, monkeypatch)
 
 def test_doe_command(tmp_path, capsys):
     design = tmp_path / "small.toml"
-    design.write_text('panel_ratio = ["2:1"]\nblock_ratio = ["4:1"]\nbond = ["running", "english"]\n'
-                      "friction = [0.27, 0.6]\n")
+    design.write_text(
+        'panel_ratio = ["2:1"]\nblock_ratio = ["4:1"]\nbond = ["running", "english"]\nfriction = [0.27, 0.6]\n'
+    )
     out = tmp_path / "doe"
     assert cli(["doe", "--out", str(out), "--design", str(design), "--workers", "1", "--quiet"]) == 0
     assert "4 results in" in capsys.readouterr().out
@@ -312,7 +329,7 @@ def test_anova_command_prints_table2(capsys):
     t2 = pd.read_csv(TABLE2, dtype=str, keep_default_na=False)
     for r in t2.itertuples():
         printed = [v for v in (r.dof, r.adj_ss, r.adj_ms, r.f_value, r.p_value) if v]
-        assert lines[r.source][-len(printed):] == printed, r.source
+        assert lines[r.source][-len(printed) :] == printed, r.source
     assert "R-sq       = 96.75%" in text and "R-sq(pred) = 91.81%" in text
 
     assert cli(["anova", str(TABLE5), "--json"]) == 0
@@ -329,7 +346,7 @@ def test_anova_command_bad_input_exit_2(tmp_path, capsys):
         "empty.csv": "",
         "no_alpha.csv": "panel_ratio,block_ratio,bond,friction\n2:1,4:1,running,0.27\n",
         "bad_level.csv": TABLE5.read_text().replace("Running", "Herringbone", 1).replace("running", "herringbone", 1),
-        "garbage.csv": "\x00\x01 not a csv\n\"unterminated\n",
+        "garbage.csv": '\x00\x01 not a csv\n"unterminated\n',
     }
     for name, text in cases.items():
         p = tmp_path / name

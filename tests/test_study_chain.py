@@ -5,6 +5,7 @@ factor and resume from one; a level > 0 is :func:`alma.geometry.chains.with_chai
 design's height, solved by the associative LP; ``alma anova`` then has the Chain rows.  Small
 designs only (the 2:1 and 1:1 panels with 4:1 and 2:1 blocks solve in milliseconds).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -26,8 +27,9 @@ ROOT = Path(__file__).resolve().parents[1]
 TABLE5 = ROOT / "verification" / "data" / "table5_collapse_multipliers.csv"
 VALUES = ["panel_ratio", "block_ratio", "bond", "friction", "chain", "model", "status", "alpha_c", "key"]
 # Every factor at two levels (the ANOVA needs them all varying): 32 runs, ~2 s on one core.
-FACTORS_TOML = ('panel_ratio = ["2:1", "1:1"]\nblock_ratio = ["4:1", "2:1"]\nbond = ["running", "stack"]\n'
-                "friction = [0.27, 0.6]\n")
+FACTORS_TOML = (
+    'panel_ratio = ["2:1", "1:1"]\nblock_ratio = ["4:1", "2:1"]\nbond = ["running", "stack"]\nfriction = [0.27, 0.6]\n'
+)
 
 
 def cli(argv: list[str]) -> int:
@@ -47,13 +49,16 @@ def test_design_file_takes_the_chain_and_checks_it(tmp_path):
     assert (d.chain_y("2:1"), Design().chain_y("2:1"), Design().chain_y("1:2")) == (390.0, 690.0, 2850.0)
     assert load_design(ROOT / "examples" / "design_chain.toml").chain == (0.0, 0.25, 1.0, 5.0)
     assert Design(chain=[0]) == PAPER_DESIGN and len(PAPER_DESIGN) == 108
-    for text, match in [("chain = [-1]", "bad chain level -1"), ("chain = [1, 1]", "repeated chain level"),
-                        ('chain = ["strong"]', "bad chain level 'strong'"),
-                        ("chain = []", "chain needs at least one"),
-                        ("chain_height = 0", "bad chain_height 0"),
-                        ("chain_height = [1.0]", "chain_height takes one value"),
-                        ('chain_anchored = "yes"', "bad chain_anchored 'yes'"),
-                        ("chain_strength = [5]", "unknown key")]:
+    for text, match in [
+        ("chain = [-1]", "bad chain level -1"),
+        ("chain = [1, 1]", "repeated chain level"),
+        ('chain = ["strong"]', "bad chain level 'strong'"),
+        ("chain = []", "chain needs at least one"),
+        ("chain_height = 0", "bad chain_height 0"),
+        ("chain_height = [1.0]", "chain_height takes one value"),
+        ('chain_anchored = "yes"', "bad chain_anchored 'yes'"),
+        ("chain_strength = [5]", "unknown key"),
+    ]:
         path.write_text(text + "\n")
         with pytest.raises(ValueError, match=match):
             load_design(path)
@@ -61,10 +66,13 @@ def test_design_file_takes_the_chain_and_checks_it(tmp_path):
 
 def test_chain_zero_keeps_the_key_and_a_chain_changes_it():
     plain = panel_key("2:1", "4:1", "running", 0.6, "associative")
-    assert panel_key("2:1", "4:1", "running", 0.6, "associative", chain=0.0, chain_y=690.0,
-                     chain_anchored=True) == plain
-    chained = {panel_key("2:1", "4:1", "running", 0.6, "associative", chain=c, chain_y=y, chain_anchored=a)
-               for c, y, a in [(5.0, 690.0, False), (1.0, 690.0, False), (5.0, 390.0, False), (5.0, 690.0, True)]}
+    assert (
+        panel_key("2:1", "4:1", "running", 0.6, "associative", chain=0.0, chain_y=690.0, chain_anchored=True) == plain
+    )
+    chained = {
+        panel_key("2:1", "4:1", "running", 0.6, "associative", chain=c, chain_y=y, chain_anchored=a)
+        for c, y, a in [(5.0, 690.0, False), (1.0, 690.0, False), (5.0, 390.0, False), (5.0, 690.0, True)]
+    }
     assert len(chained) == 4 and plain not in chained
     with pytest.raises(ValueError, match="chain_y"):
         panel_key("2:1", "4:1", "running", 0.6, "associative", chain=5.0)
@@ -73,8 +81,9 @@ def test_chain_zero_keeps_the_key_and_a_chain_changes_it():
 def test_level_zero_resumes_a_plain_study_and_chains_equal_direct_solves(tmp_path):
     plain = Design(panel_ratio=("2:1",), block_ratio=("4:1",), bond=("running", "stack"), friction=(0.6,))
     first = run_doe(tmp_path, design=plain, workers=1, progress=False)
-    chained = Design(panel_ratio=("2:1",), block_ratio=("4:1",), bond=("running", "stack"), friction=(0.6,),
-                     chain=(0, 1))
+    chained = Design(
+        panel_ratio=("2:1",), block_ratio=("4:1",), bond=("running", "stack"), friction=(0.6,), chain=(0, 1)
+    )
     both = run_doe(tmp_path, design=chained, workers=1, progress=False)
     lines = (tmp_path / "results.csv").read_text().splitlines()
     assert len(lines) == 1 + 4  # the chain-0 rows were not solved again
@@ -87,9 +96,13 @@ def test_level_zero_resumes_a_plain_study_and_chains_equal_direct_solves(tmp_pat
         assert r.status == "optimal" and r.alpha_c == pytest.approx(direct.alpha, rel=1e-9, abs=1e-12)
     stack = both[both["bond"] == "stack"].set_index("chain")["alpha_c"]
     assert stack[1.0] > stack[0.0] + 0.05  # measured 0.4991 against 0.4191: the chain ties the columns
-    nl = run_doe(tmp_path / "nl", design=Design(panel_ratio=("2:1",), block_ratio=("4:1",), bond=("stack",),
-                                                friction=(0.6,), chain=(0.0, 1.0)),
-                 model="nonassociative", workers=1, progress=False).set_index("chain")
+    nl = run_doe(
+        tmp_path / "nl",
+        design=Design(panel_ratio=("2:1",), block_ratio=("4:1",), bond=("stack",), friction=(0.6,), chain=(0.0, 1.0)),
+        model="nonassociative",
+        workers=1,
+        progress=False,
+    ).set_index("chain")
     assert set(nl["status"]) <= {"feasible", "optimal"}
     for strength in (0.0, 1.0):  # the search takes the tie: each row is the API's answer
         scene = alma.paper_panel("stack", "2:1", "4:1", 0.6)

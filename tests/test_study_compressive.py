@@ -5,6 +5,7 @@ Level 0 is the panel with infinitely strong blocks: its rows keep the keys of a 
 factor and resume from one; a level > 0 puts σ_c on every joint, as the scene key does.  One small
 panel only (2:1 with 4:1 blocks, stack bond, f = 0.6: it rocks; under a second per solve).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -39,9 +40,11 @@ def test_design_takes_the_levels_and_checks_them(tmp_path):
     assert d.compressive_strength == (0.0, 2.0, 5.5) and len(d) == 27 * 3
     assert d.runs()[27] == (*d.panels()[0], 0.0, 2.0)  # the strength is the slowest factor
     assert Design(compressive_strength=[0]) == PAPER_DESIGN
-    for text, match in [("compressive_strength = [-1]", "bad compressive_strength level -1"),
-                        ("compressive_strength = [2, 2]", "repeated compressive_strength level"),
-                        ('compressive_strength = ["hard"]', "bad compressive_strength level 'hard'")]:
+    for text, match in [
+        ("compressive_strength = [-1]", "bad compressive_strength level -1"),
+        ("compressive_strength = [2, 2]", "repeated compressive_strength level"),
+        ('compressive_strength = ["hard"]', "bad compressive_strength level 'hard'"),
+    ]:
         path.write_text(text + "\n")
         with pytest.raises(ValueError, match=match):
             load_design(path)
@@ -58,8 +61,18 @@ def test_doe_command_solves_each_strength_as_the_scene_key_does(tmp_path, capsys
     design = tmp_path / "small.toml"
     design.write_text(SMALL)
     out = tmp_path / "doe"
-    argv = ["doe", "--out", str(out), "--design", str(design), "--compressive-strength", "0,2,0.2",
-            "--workers", "1", "--quiet"]
+    argv = [
+        "doe",
+        "--out",
+        str(out),
+        "--design",
+        str(design),
+        "--compressive-strength",
+        "0,2,0.2",
+        "--workers",
+        "1",
+        "--quiet",
+    ]
     assert cli(argv) == 0
     assert "3 results in" in capsys.readouterr().out
     df = read_results(out / "results.csv").set_index("compressive_strength")
@@ -77,12 +90,15 @@ def test_doe_command_solves_each_strength_as_the_scene_key_does(tmp_path, capsys
     assert cli(argv) == 0 and (out / "results.csv").stat().st_size == size  # resumed: nothing solved
 
 
-@pytest.mark.parametrize("extra, message", [
-    (["--compressive-strength", "2,x"], "expected numbers"),
-    (["--compressive-strength", "2,-1"], "bad compressive_strength level -1"),
-    (["--compressive-strength", "2,,5"], "separated by commas"),
-    (["--compressive-strength", "2", "--model", "both"], "non-associative model"),
-])
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        (["--compressive-strength", "2,x"], "expected numbers"),
+        (["--compressive-strength", "2,-1"], "bad compressive_strength level -1"),
+        (["--compressive-strength", "2,,5"], "separated by commas"),
+        (["--compressive-strength", "2", "--model", "both"], "non-associative model"),
+    ],
+)
 def test_doe_refuses_bad_levels(tmp_path, capsys, extra, message):
     design = tmp_path / "small.toml"
     design.write_text(SMALL)
@@ -101,9 +117,9 @@ def test_a_results_file_from_before_the_column_resumes(tmp_path):
     column = COLUMNS.index("compressive_strength")
     with open(path, "w", newline="") as fh:  # as the study wrote it before the column: chain, then checksum
         writer = csv.writer(fh, lineterminator="\n")
-        writer.writerow(rows[0][:column] + rows[0][column + 1:])
+        writer.writerow(rows[0][:column] + rows[0][column + 1 :])
         for r in rows[1:]:
-            fields = r[:column] + r[column + 1:-1]
+            fields = r[:column] + r[column + 1 : -1]
             writer.writerow([*fields, row_checksum(fields)])
     assert "compressive_strength" not in path.read_text().splitlines()[0]
     assert list(read_results(path)["compressive_strength"]) == [0.0, 0.0]

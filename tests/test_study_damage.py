@@ -8,6 +8,7 @@ damage (count and line numbers on stderr), move the lines to ``quarantine.txt``,
 panels again and end with the clean run's rows.  Two runs on one folder: the second is refused
 while the first holds the lock, and a lock left by a killed run does not block.
 """
+
 from __future__ import annotations
 
 import csv
@@ -31,8 +32,19 @@ from alma.study.store import QUARANTINE_FILE
 
 ROOT = Path(__file__).resolve().parents[1]
 TINY = Design(panel_ratio=("2:1",), block_ratio=("4:1",), bond=("running", "english"), friction=(0.27, 0.60))
-VALUES = ["panel_ratio", "block_ratio", "bond", "friction", "model", "status", "alpha_c", "alpha_lower",
-          "alpha_upper", "mechanism_class", "key"]
+VALUES = [
+    "panel_ratio",
+    "block_ratio",
+    "bond",
+    "friction",
+    "model",
+    "status",
+    "alpha_c",
+    "alpha_lower",
+    "alpha_upper",
+    "mechanism_class",
+    "key",
+]
 
 
 @pytest.fixture(scope="module")
@@ -101,8 +113,15 @@ def _factors_swapped(data: bytes) -> tuple[bytes, list[int]]:
     return _write(rows, resign=True), [2, 4]
 
 
-DAMAGES = [_unbalanced_quote, _cut_line, _cut_and_merged, _garbage, _alpha_changed, _lower_above_alpha,
-           _factors_swapped]
+DAMAGES = [
+    _unbalanced_quote,
+    _cut_line,
+    _cut_and_merged,
+    _garbage,
+    _alpha_changed,
+    _lower_above_alpha,
+    _factors_swapped,
+]
 
 
 @pytest.mark.parametrize("damage", DAMAGES, ids=lambda f: f.__name__.strip("_"))
@@ -154,8 +173,9 @@ def test_the_doe_command_on_a_damaged_file_reports_and_resumes(clean, tmp_path, 
     damaged, _ = _garbage(_unbalanced_quote(clean[0])[0])
     (out / "results.csv").write_bytes(damaged)
     design = tmp_path / "tiny.toml"
-    design.write_text('panel_ratio = ["2:1"]\nblock_ratio = ["4:1"]\nbond = ["running", "english"]\n'
-                      'friction = [0.27, 0.6]\n')
+    design.write_text(
+        'panel_ratio = ["2:1"]\nblock_ratio = ["4:1"]\nbond = ["running", "english"]\nfriction = [0.27, 0.6]\n'
+    )
     capfd.readouterr()
     assert main(["doe", "--out", str(out), "--design", str(design), "--workers", "1", "--quiet"]) == 0
     captured = capfd.readouterr()
@@ -172,13 +192,15 @@ def test_keys_hash_the_code_revision(tmp_path):
     shutil.copytree(ROOT / "alma", copy / "alma", ignore=shutil.ignore_patterns("__pycache__"))
     probe = "from alma.study.keys import code_revision; print(code_revision())"
     env = dict(os.environ, PYTHONPATH=str(copy))
-    same = subprocess.run([sys.executable, "-c", probe], env=env, cwd=tmp_path, capture_output=True, text=True,
-                          check=True)
+    same = subprocess.run(
+        [sys.executable, "-c", probe], env=env, cwd=tmp_path, capture_output=True, text=True, check=True
+    )
     assert same.stdout.strip() == code_revision()
     with open(copy / "alma" / "settle.py", "a") as fh:
         fh.write("\n# a change\n")
-    changed = subprocess.run([sys.executable, "-c", probe], env=env, cwd=tmp_path, capture_output=True, text=True,
-                             check=True)
+    changed = subprocess.run(
+        [sys.executable, "-c", probe], env=env, cwd=tmp_path, capture_output=True, text=True, check=True
+    )
     assert changed.stdout.strip() != code_revision()
 
 
@@ -203,8 +225,24 @@ def test_a_second_run_on_one_folder_is_refused_and_a_killed_holder_does_not_bloc
         assert not (out / "results.csv").exists()  # refused before any work
         design = out.parent / "tiny.toml"
         design.write_text('panel_ratio = ["2:1"]\nblock_ratio = ["4:1"]\nbond = ["running"]\nfriction = [0.6]\n')
-        cli = subprocess.run([sys.executable, "-m", "alma.cli", "doe", "--out", str(out), "--design", str(design),
-                              "--workers", "1", "--quiet"], env=env, capture_output=True, text=True)
+        cli = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "alma.cli",
+                "doe",
+                "--out",
+                str(out),
+                "--design",
+                str(design),
+                "--workers",
+                "1",
+                "--quiet",
+            ],
+            env=env,
+            capture_output=True,
+            text=True,
+        )
         assert cli.returncode == 1 and "another alma run" in cli.stderr and "Traceback" not in cli.stderr
     finally:
         holder.send_signal(signal.SIGKILL)

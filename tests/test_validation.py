@@ -1,5 +1,6 @@
 """Scene validation is pure (alma.geometry.validation): ``Scene.validate`` returns the validated
 scene and changes nothing; a hand-built scene's joints are found once on the way to its model."""
+
 from __future__ import annotations
 
 import dataclasses

@@ -4,6 +4,7 @@ explains, and α_c by chain level (the tables of docs/runs/doe-chain-*.md).
     alma doe --out chain_study/ --design examples/design_chain.toml --workers 2
     python tools/chain_study_summary.py chain_study/results.csv
 """
+
 from __future__ import annotations
 
 import sys

@@ -6,6 +6,7 @@ cohesion on every joint, each with its associative collapse mechanism.
 The same as ``alma panel --bond stack --panel-ratio 1:1 --block-ratio 4:1 --friction 0.6
 --export-scene wall.json``, ``"cohesion": 2`` (kPa) in wall.json, ``alma solve wall.json --plot``.
 """
+
 from __future__ import annotations
 
 import sys
@@ -24,10 +25,14 @@ def main(out: Path) -> int:
     data["cohesion"] = COHESION_KPA
     cohesive = alma.Scene.from_dict(data)
     results = [alma.solve(plain), alma.solve(cohesive)]
-    plot_side_by_side(cohesive, results, out,
-                      titles=["cohesion 0", f"cohesion {COHESION_KPA:g} kPa on every joint"],
-                      suptitle="stack bond, panel 1:1, blocks 4:1, f = 0.6: "
-                               f"α = {results[0].alpha:.4f} without cohesion, {results[1].alpha:.4f} with it")
+    plot_side_by_side(
+        cohesive,
+        results,
+        out,
+        titles=["cohesion 0", f"cohesion {COHESION_KPA:g} kPa on every joint"],
+        suptitle="stack bond, panel 1:1, blocks 4:1, f = 0.6: "
+        f"α = {results[0].alpha:.4f} without cohesion, {results[1].alpha:.4f} with it",
+    )
     print(out, [round(r.alpha, 6) for r in results])
     return 0
 

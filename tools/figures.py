@@ -5,6 +5,7 @@
 
 Each picture is what the README's command beside it writes with ``--plot``.
 """
+
 from __future__ import annotations
 
 import sys
@@ -18,12 +19,43 @@ ROOT = Path(__file__).resolve().parents[1]
 def main(out: Path) -> int:
     out.mkdir(parents=True, exist_ok=True)
     commands = {
-        "mechanism.png": ["panel", "--bond", "english", "--panel-ratio", "1:1", "--block-ratio", "2:1",
-                          "--friction", "0.6"],
-        "fig13a_crisp.png": ["panel", "--bond", "running", "--panel-ratio", "1:1", "--block-ratio", "1:1",
-                             "--friction", "0.27", "--crisp"],
-        "chains.png": ["panel", "--bond", "running", "--panel-ratio", "1:2", "--block-ratio", "4:1",
-                       "--friction", "0.6", "--chain", "2850:5", "--anchored"],
+        "mechanism.png": [
+            "panel",
+            "--bond",
+            "english",
+            "--panel-ratio",
+            "1:1",
+            "--block-ratio",
+            "2:1",
+            "--friction",
+            "0.6",
+        ],
+        "fig13a_crisp.png": [
+            "panel",
+            "--bond",
+            "running",
+            "--panel-ratio",
+            "1:1",
+            "--block-ratio",
+            "1:1",
+            "--friction",
+            "0.27",
+            "--crisp",
+        ],
+        "chains.png": [
+            "panel",
+            "--bond",
+            "running",
+            "--panel-ratio",
+            "1:2",
+            "--block-ratio",
+            "4:1",
+            "--friction",
+            "0.6",
+            "--chain",
+            "2850:5",
+            "--anchored",
+        ],
         "settlement.png": ["settle", str(ROOT / "examples" / "settlement.json")],
         "settlement_capacity.png": ["settle", str(ROOT / "examples" / "spreading_arch.json"), "--capacity"],
     }

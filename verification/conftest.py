@@ -4,6 +4,7 @@ The tests import them as ``from helpers import ...``.  This folder is put on ``s
 by its own location, so that the import does not rest on pytest's rootdir or import mode
 (``--import-mode=importlib``, xdist workers, a run started from another folder).
 """
+
 import sys
 from pathlib import Path
 

@@ -2,6 +2,7 @@
 none of alma's certification code: each point open or closed, each joint slipping +t, −t or
 sticking, each bounded force at its capacity, unloaded or between; per active set one static LP
 (min α) and one kinematic feasibility LP.  The independent check of ``alma.certify``'s proofs."""
+
 from __future__ import annotations
 
 import itertools
@@ -22,8 +23,10 @@ def _static_min(model, pts, opened, slip, rate) -> float:
     b_eq = [-model.dead]
     A_ub, b_ub = [], []
     for p in range(P):
+
         def row(a, b, q=q):
             return np.concatenate([[0.0], a, b, np.zeros(q)])
+
         e = np.eye(P)[p]
         A_ub += [row(-f[p] * e, e), row(-f[p] * e, -e)]  # |T| ≤ f N
         b_ub += [0.0, 0.0]
@@ -32,12 +35,20 @@ def _static_min(model, pts, opened, slip, rate) -> float:
             A_eq.append(row(f[p] * e, s * e)[None, :])
             b_eq.append(np.zeros(1))
     bounds = [(None, None)] + [(0.0, 0.0) if o else (0.0, None) for o in opened] + [(None, None)] * P
-    bounds += [((c, c) if r > 0 else (0.0, 0.0) if r < 0 else (0.0, c))
-               for c, r in zip(model.capacity, rate, strict=True)]
+    bounds += [
+        ((c, c) if r > 0 else (0.0, 0.0) if r < 0 else (0.0, c)) for c, r in zip(model.capacity, rate, strict=True)
+    ]
     cost = np.zeros(1 + 2 * P + q)
     cost[0] = 1.0
-    res = linprog(cost, A_ub=np.array(A_ub), b_ub=b_ub, A_eq=np.vstack(A_eq), b_eq=np.concatenate(b_eq),
-                  bounds=bounds, method="highs")
+    res = linprog(
+        cost,
+        A_ub=np.array(A_ub),
+        b_ub=b_ub,
+        A_eq=np.vstack(A_eq),
+        b_eq=np.concatenate(b_eq),
+        bounds=bounds,
+        method="highs",
+    )
     return {0: res.fun if res.status == 0 else np.nan, 2: np.inf, 3: -np.inf}.get(res.status, np.nan)
 
 
@@ -53,8 +64,15 @@ def _kinematic(model, pts, opened, slip, rate, U: float) -> bool:
     b_eq = np.zeros(len(A_eq))
     b_eq[0] = model.n_free
     A_ub = np.vstack(A_ub)
-    res = linprog(np.zeros(Nn.shape[1]), A_ub=A_ub, b_ub=np.zeros(A_ub.shape[0]), A_eq=np.vstack(A_eq), b_eq=b_eq,
-                  bounds=[(-U, U)] * Nn.shape[1], method="highs")
+    res = linprog(
+        np.zeros(Nn.shape[1]),
+        A_ub=A_ub,
+        b_ub=np.zeros(A_ub.shape[0]),
+        A_eq=np.vstack(A_eq),
+        b_eq=b_eq,
+        bounds=[(-U, U)] * Nn.shape[1],
+        method="highs",
+    )
     return res.status == 0
 
 

@@ -6,6 +6,7 @@ on ``sys.path`` (whatever pytest's rootdir or import mode) and holds only fixtur
 Scene builders (single block, column, random small assemblies, semicircular arch), the
 Table 5 loader, and a hypothesis profile that keeps the whole run within a few minutes.
 """
+
 from __future__ import annotations
 
 import csv
@@ -26,8 +27,12 @@ try:  # hypothesis is a test dependency; the profile keeps property tests bounde
     # runs in a few minutes on 2 cores).  The profile is registered, not loaded, so importing this
     # conftest does not change the settings of other test directories; opt in with
     #   pytest verification/ --hypothesis-profile=verification
-    settings.register_profile("verification", deadline=None, max_examples=25,
-                              suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+    settings.register_profile(
+        "verification",
+        deadline=None,
+        max_examples=25,
+        suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+    )
 except ImportError:  # pragma: no cover
     st = None
 
@@ -44,10 +49,25 @@ def rect(x0: float, y0: float, x1: float, y1: float) -> list[list[float]]:
     return [[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
 
 
-def scene_dict(blocks: list[dict], friction: float = 0.6, *, live=(1.0, 0.0), gravity=None,
-               thickness: float = THICKNESS, unit_weight: float = UNIT_WEIGHT, name: str = "") -> dict:
-    data = {"name": name, "thickness": thickness, "unit_weight": unit_weight, "friction": friction,
-            "cohesion": 0.0, "blocks": blocks, "live_load": {"direction": list(live)}}
+def scene_dict(
+    blocks: list[dict],
+    friction: float = 0.6,
+    *,
+    live=(1.0, 0.0),
+    gravity=None,
+    thickness: float = THICKNESS,
+    unit_weight: float = UNIT_WEIGHT,
+    name: str = "",
+) -> dict:
+    data = {
+        "name": name,
+        "thickness": thickness,
+        "unit_weight": unit_weight,
+        "friction": friction,
+        "cohesion": 0.0,
+        "blocks": blocks,
+        "live_load": {"direction": list(live)},
+    }
     if gravity is not None:
         data["gravity"] = list(gravity)
     return data
@@ -59,8 +79,10 @@ def ground(x0: float, x1: float, depth: float = 50.0) -> dict:
 
 def single_block_dict(b: float, h: float, f: float) -> dict:
     """One b × h block on a wider fixed ground (its bottom face [0, b] on y = 0)."""
-    return scene_dict([ground(-b, 2 * b, depth=max(1.0, 0.25 * min(b, h))),
-                       {"id": "b1", "vertices": rect(0.0, 0.0, b, h)}], friction=f)
+    return scene_dict(
+        [ground(-b, 2 * b, depth=max(1.0, 0.25 * min(b, h))), {"id": "b1", "vertices": rect(0.0, 0.0, b, h)}],
+        friction=f,
+    )
 
 
 def single_block_scene(b: float, h: float, f: float) -> alma.Scene:
@@ -78,8 +100,7 @@ def column_scene(k: int, size: float = 100.0, f: float = 2.0) -> alma.Scene:
     return alma.Scene.from_dict(column_dict(k, size, f))
 
 
-def assembly_dict(courses: list[tuple[float, list[float], float]], friction: float,
-                  live=(1.0, 0.0)) -> dict:
+def assembly_dict(courses: list[tuple[float, list[float], float]], friction: float, live=(1.0, 0.0)) -> dict:
     """Courses stacked on a ground block.
 
     Each course is (x offset, list of block lengths, course height); course c rests on
@@ -104,9 +125,9 @@ def assembly_dict(courses: list[tuple[float, list[float], float]], friction: flo
 
 
 if st is not None:
+
     @st.composite
-    def assemblies(draw, max_courses: int = 3, max_per_course: int = 4,
-                   friction=None) -> dict:
+    def assemblies(draw, max_courses: int = 3, max_per_course: int = 4, friction=None) -> dict:
         """Random small assembly: 1–3 courses of 1–4 rectangular blocks of random sizes.
 
         Courses are contiguous rows; each course's x offset is drawn so that it overlaps the
@@ -138,8 +159,7 @@ else:  # pragma: no cover
     assemblies = None
 
 
-def arch_dict(n: int, t: float, radius: float = 1000.0, friction: float = 10.0,
-              live=(1.0, 0.0)) -> dict:
+def arch_dict(n: int, t: float, radius: float = 1000.0, friction: float = 10.0, live=(1.0, 0.0)) -> dict:
     """Semicircular arch of ``n`` voussoirs (centre-line radius ``radius``, thickness ``t``).
 
     Voussoir faces are radial; the springings lie on y = 0 at angles 0 (right) and π (left) and
@@ -157,9 +177,17 @@ def arch_dict(n: int, t: float, radius: float = 1000.0, friction: float = 10.0,
     ]
     for i in range(n):
         a, b = i, i + 1
-        blocks.append({"id": f"v{i}", "vertices": [
-            [ri * cos[a], ri * sin[a]], [ro * cos[a], ro * sin[a]],
-            [ro * cos[b], ro * sin[b]], [ri * cos[b], ri * sin[b]]]})
+        blocks.append(
+            {
+                "id": f"v{i}",
+                "vertices": [
+                    [ri * cos[a], ri * sin[a]],
+                    [ro * cos[a], ro * sin[a]],
+                    [ro * cos[b], ro * sin[b]],
+                    [ri * cos[b], ri * sin[b]],
+                ],
+            }
+        )
     return scene_dict(blocks, friction=friction, live=live, name=f"arch N={n} t={t:g}")
 
 
@@ -170,8 +198,15 @@ def table5() -> tuple[tuple[str, str, str, float, float], ...]:
     rows = []
     with open(TABLE5, newline="") as handle:
         for row in csv.DictReader(handle):
-            rows.append((row["bond"], str(row["panel_ratio"]), str(row["block_ratio"]),
-                         float(row["friction"]), float(row["alpha_c"])))
+            rows.append(
+                (
+                    row["bond"],
+                    str(row["panel_ratio"]),
+                    str(row["block_ratio"]),
+                    float(row["friction"]),
+                    float(row["alpha_c"]),
+                )
+            )
     return tuple(rows)
 
 
@@ -247,8 +282,11 @@ def check_against_independent(result: alma.Result, model: alma.Model) -> None:
         assert result.bounds.lower <= s_alpha + AGREE * scale
         assert result.bounds.upper >= s_alpha - AGREE * scale
         assert_bounds_bracket(result)
-        assert result.status == ("optimal" if s_alpha >= 0 else "no_equilibrium"), \
-            (result.status, s_alpha, result.message)
+        assert result.status == ("optimal" if s_alpha >= 0 else "no_equilibrium"), (
+            result.status,
+            s_alpha,
+            result.message,
+        )
     elif s_status == "unbounded":  # any α can be carried
         assert result.status == "no_collapse", (result.status, result.alpha)
         assert result.alpha == math.inf

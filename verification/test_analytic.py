@@ -6,6 +6,7 @@ angle: u = (1, f, 0)) and by rocking about its leeward bottom corner otherwise (
 the corner (b, 0) stays still).  A column of k equal square blocks overturns as a whole about
 its base corner: α_c = 1/k when friction is high.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -66,13 +67,16 @@ def test_single_block_multiplier_and_mechanism(b, h, f):
         assert theta == pytest.approx(-2.0 / h, rel=1e-7)
 
 
-@pytest.mark.parametrize("b,h,f,expected,klass", [
-    (240.0, 60.0, 0.6, 0.6, "sliding"),    # squat block: slides
-    (60.0, 240.0, 0.6, 0.25, "rocking"),   # slender block: rocks
-    (100.0, 100.0, 0.3, 0.3, "sliding"),
-    (100.0, 100.0, 1.5, 1.0, "rocking"),
-    (120.0, 60.0, 0.0, 0.0, "sliding"),    # frictionless joint: any push slides it
-])
+@pytest.mark.parametrize(
+    "b,h,f,expected,klass",
+    [
+        (240.0, 60.0, 0.6, 0.6, "sliding"),  # squat block: slides
+        (60.0, 240.0, 0.6, 0.25, "rocking"),  # slender block: rocks
+        (100.0, 100.0, 0.3, 0.3, "sliding"),
+        (100.0, 100.0, 1.5, 1.0, "rocking"),
+        (120.0, 60.0, 0.0, 0.0, "sliding"),  # frictionless joint: any push slides it
+    ],
+)
 def test_single_block_examples(b, h, f, expected, klass):
     result = alma.solve(single_block_scene(b, h, f))
     assert result.status == "optimal", result.message

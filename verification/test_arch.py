@@ -8,6 +8,7 @@ below it; bisection on the sign of α gives the limit thickness, which must appr
 within 1e-3 as N grows.  At the limit the arch turns into a mechanism with hinges at the
 springings and at the rupture joints ≈ 54.5° from the crown.
 """
+
 from __future__ import annotations
 
 import itertools
@@ -92,8 +93,9 @@ def test_arch_limit_converges_with_n():
     assert abs(values[2] - INDEPENDENT) <= 2e-4
 
 
-@pytest.mark.parametrize("ratio,expected", [(0.09, "no_equilibrium"), (0.105, "no_equilibrium"),
-                                            (0.11, "optimal"), (0.15, "optimal")])
+@pytest.mark.parametrize(
+    "ratio,expected", [(0.09, "no_equilibrium"), (0.105, "no_equilibrium"), (0.11, "optimal"), (0.15, "optimal")]
+)
 def test_arch_status_away_from_limit(ratio, expected):
     n = 60
     scene = alma.Scene.from_dict(arch_dict(n, ratio * R))

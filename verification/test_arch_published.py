@@ -26,6 +26,7 @@ section (54° with 20 voussoirs: 1.8e-5 in t/R; 54.507° with 142: below 1e-8); 
 weight is modelled exactly by moving each voussoir's weight to the centroid of its centreline
 arc with a pair of point loads (the resultant on every joint is then the continuous arch's).
 """
+
 from __future__ import annotations
 
 import math
@@ -64,8 +65,10 @@ def _centreline_weights(data: dict, n: int) -> dict:
         centroid = [float(((x + xs) * cross).sum() / (6 * area)), float(((y + ys) * cross).sum() / (6 * area))]
         mid = (int(b["id"][1:]) + 0.5) * d
         weight = abs(area) * density
-        loads += [{"block": b["id"], "point": centroid, "dead": [0.0, weight]},
-                  {"block": b["id"], "point": [rc * math.cos(mid), rc * math.sin(mid)], "dead": [0.0, -weight]}]
+        loads += [
+            {"block": b["id"], "point": centroid, "dead": [0.0, weight]},
+            {"block": b["id"], "point": [rc * math.cos(mid), rc * math.sin(mid)], "dead": [0.0, -weight]},
+        ]
     data["loads"] = loads
     return data
 
@@ -94,8 +97,10 @@ def _limit(n: int, centreline: bool, steps: int = 36) -> tuple[float, float]:
                 b = mid
         return a, b
 
-    return (bisect(lambda s: s == Status.NO_EQUILIBRIUM)[0],  # largest t/R proven to have no state
-            bisect(lambda s: s != Status.OPTIMAL)[1])  # smallest t/R proven to have one
+    return (
+        bisect(lambda s: s == Status.NO_EQUILIBRIUM)[0],  # largest t/R proven to have no state
+        bisect(lambda s: s != Status.OPTIMAL)[1],
+    )  # smallest t/R proven to have one
 
 
 def _rupture_angle(result, n: int) -> float:

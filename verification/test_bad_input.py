@@ -2,6 +2,7 @@
 
 Every test starts from a valid scene (one 200 × 100 block on the ground) and breaks one rule.
 """
+
 from __future__ import annotations
 
 import json
@@ -35,12 +36,28 @@ def test_base_scene_is_valid():
 
 
 # ----------------------------------------------------------------------------- polygons
-@pytest.mark.parametrize("vertices,rule", [
-    ([[0, 0], [200, 0], [100, 20], [200, 100], [0, 100]], "convex"),           # reflex corner
-    ([[0, 0], [200, 0], [200, 100], [100, 60], [0, 100]], "convex"),           # dent in the top
-    ([[100, 0], [130, 70], [200, 80], [140, 110], [160, 180], [100, 130], [40, 180],
-      [60, 110], [0, 80], [70, 70]], "convex"),                                # star
-])
+@pytest.mark.parametrize(
+    "vertices,rule",
+    [
+        ([[0, 0], [200, 0], [100, 20], [200, 100], [0, 100]], "convex"),  # reflex corner
+        ([[0, 0], [200, 0], [200, 100], [100, 60], [0, 100]], "convex"),  # dent in the top
+        (
+            [
+                [100, 0],
+                [130, 70],
+                [200, 80],
+                [140, 110],
+                [160, 180],
+                [100, 130],
+                [40, 180],
+                [60, 110],
+                [0, 80],
+                [70, 70],
+            ],
+            "convex",
+        ),  # star
+    ],
+)
 def test_non_convex_polygon(vertices, rule):
     data = base()
     data["blocks"][1]["vertices"] = vertices
@@ -56,22 +73,24 @@ def test_self_intersecting_pentagram():
     refused(data, "'b1'", "convex")
 
 
-@pytest.mark.parametrize("vertices,rule", [
-    ([[0, 0], [200, 0], [200, 0], [200, 100], [0, 100]], "degenerate"),        # repeated vertex
-    ([[0, 0], [0, 0], [0, 0]], "degenerate"),                                  # a point
-    ([[0, 0], [100, 0], [200, 0]], "degenerate"),                              # zero area, collinear
-    ([[0, 0], [200, 0], [200, 100], [200, 0]], "degenerate"),                  # zero area, folded
-    ([[0, 0], [200, 0]], "3 vertices"),
-    ([[0, 0]], "3 vertices"),
-])
+@pytest.mark.parametrize(
+    "vertices,rule",
+    [
+        ([[0, 0], [200, 0], [200, 0], [200, 100], [0, 100]], "degenerate"),  # repeated vertex
+        ([[0, 0], [0, 0], [0, 0]], "degenerate"),  # a point
+        ([[0, 0], [100, 0], [200, 0]], "degenerate"),  # zero area, collinear
+        ([[0, 0], [200, 0], [200, 100], [200, 0]], "degenerate"),  # zero area, folded
+        ([[0, 0], [200, 0]], "3 vertices"),
+        ([[0, 0]], "3 vertices"),
+    ],
+)
 def test_degenerate_polygon(vertices, rule):
     data = base()
     data["blocks"][1]["vertices"] = vertices
     refused(data, "'b1'", rule)
 
 
-@pytest.mark.parametrize("vertices", [[], [[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, "a"], [1, 0], [0, 1]],
-                                      "square"])
+@pytest.mark.parametrize("vertices", [[], [[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, "a"], [1, 0], [0, 1]], "square"])
 def test_malformed_vertices(vertices):
     data = base()
     data["blocks"][1]["vertices"] = vertices
@@ -95,11 +114,14 @@ def test_clockwise_input_accepted_and_reordered():
 
 
 # ----------------------------------------------------------------------------- assemblies
-@pytest.mark.parametrize("other", [
-    rect(150, 0, 300, 100),      # partial overlap
-    rect(50, 20, 100, 60),       # inside b1
-    rect(-50, -20, 300, 150),    # contains b1 (and cuts the ground)
-])
+@pytest.mark.parametrize(
+    "other",
+    [
+        rect(150, 0, 300, 100),  # partial overlap
+        rect(50, 20, 100, 60),  # inside b1
+        rect(-50, -20, 300, 150),  # contains b1 (and cuts the ground)
+    ],
+)
 def test_overlapping_blocks(other):
     data = base()
     data["blocks"].append({"id": "b2", "vertices": other})
@@ -120,11 +142,14 @@ def test_touching_blocks_are_not_overlapping():
     assert alma.find_joints(scene).count == 3  # two on the ground, one between the blocks
 
 
-@pytest.mark.parametrize("other", [
-    rect(500, 500, 600, 600),    # far away
-    rect(200, 100, 300, 200),    # touches b1 at one corner only: no joint of positive length
-    rect(0, 101, 200, 200),      # a gap of 1 mm above b1
-])
+@pytest.mark.parametrize(
+    "other",
+    [
+        rect(500, 500, 600, 600),  # far away
+        rect(200, 100, 300, 200),  # touches b1 at one corner only: no joint of positive length
+        rect(0, 101, 200, 200),  # a gap of 1 mm above b1
+    ],
+)
 def test_free_block_touching_nothing(other):
     data = base()
     data["blocks"].append({"id": "b2", "vertices": other})
@@ -135,8 +160,10 @@ def test_floating_cluster_is_not_carried():
     """Two free blocks that touch each other but no support: accepted (each has a joint) and
     reported as unable to carry its weight."""
     data = base()
-    data["blocks"] += [{"id": "b2", "vertices": rect(500, 500, 600, 600)},
-                       {"id": "b3", "vertices": rect(500, 600, 600, 700)}]
+    data["blocks"] += [
+        {"id": "b2", "vertices": rect(500, 500, 600, 600)},
+        {"id": "b3", "vertices": rect(500, 600, 600, 700)},
+    ]
     try:
         scene = alma.Scene.from_dict(data)
     except alma.SceneError as exc:  # refusing it, naming a block, is also acceptable
@@ -172,12 +199,18 @@ def test_fixed_must_be_boolean(value):
 
 
 # ----------------------------------------------------------------------------- numbers
-@pytest.mark.parametrize("key,value,rule", [
-    ("thickness", 0, "> 0"), ("thickness", -120, "> 0"),
-    ("unit_weight", 0, "> 0"), ("unit_weight", -18, "> 0"),
-    ("friction", -0.1, ">= 0"), ("friction", -1e-12, ">= 0"),
-    ("cohesion", -1.0, ">= 0"),
-])
+@pytest.mark.parametrize(
+    "key,value,rule",
+    [
+        ("thickness", 0, "> 0"),
+        ("thickness", -120, "> 0"),
+        ("unit_weight", 0, "> 0"),
+        ("unit_weight", -18, "> 0"),
+        ("friction", -0.1, ">= 0"),
+        ("friction", -1e-12, ">= 0"),
+        ("cohesion", -1.0, ">= 0"),
+    ],
+)
 def test_non_positive_material_numbers(key, value, rule):
     data = base()
     data[key] = value
@@ -216,8 +249,7 @@ def test_bad_block_weight(value):
 
 
 @pytest.mark.parametrize("key", ["gravity", "live_load"])
-@pytest.mark.parametrize("vector,rule", [([0, 0], "non-zero"), ([math.nan, -1], "nan or inf"),
-                                         ([1, 2, 3], "pair")])
+@pytest.mark.parametrize("vector,rule", [([0, 0], "non-zero"), ([math.nan, -1], "nan or inf"), ([1, 2, 3], "pair")])
 def test_bad_directions(key, vector, rule):
     data = base()
     if key == "gravity":
@@ -318,8 +350,9 @@ def test_joint_override_unknown_block():
     refused(data, "joint", "'bX'", "unknown")
 
 
-@pytest.mark.parametrize("key,value,rule", [("friction", -0.5, ">= 0"), ("cohesion", -1.0, ">= 0"),
-                                            ("friction", math.nan, "nan or inf")])
+@pytest.mark.parametrize(
+    "key,value,rule", [("friction", -0.5, ">= 0"), ("cohesion", -1.0, ">= 0"), ("friction", math.nan, "nan or inf")]
+)
 def test_joint_override_bad_numbers(key, value, rule):
     data = base()
     data["joints"] = [{"blocks": ["ground", "b1"], key: value}]

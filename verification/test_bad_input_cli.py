@@ -6,6 +6,7 @@ the process (:func:`alma.cli.main.main`): an uncaught exception fails the test, 
 on stderr must name what is wrong.  With ``--json`` the refusal is one JSON object on stdout.
 A few cases run ``python -m alma.cli`` too, so that "Traceback" is looked for in real stderr.
 """
+
 from __future__ import annotations
 
 import json
@@ -72,8 +73,22 @@ CASES = [
     (["solve", "s.json", "--time-limit", "inf"], "--time-limit"),
     (["solve", "s.json", "--time-limit", "1e400"], "--time-limit"),
     (["solve", "s.json", "--time-limit", "soon"], "--time-limit"),
-    (["panel", "--bond", "stack", "--panel-ratio", "2:1", "--block-ratio", "4:1", "--friction", "0.6",
-      "--time-limit", "0"], "--time-limit"),
+    (
+        [
+            "panel",
+            "--bond",
+            "stack",
+            "--panel-ratio",
+            "2:1",
+            "--block-ratio",
+            "4:1",
+            "--friction",
+            "0.6",
+            "--time-limit",
+            "0",
+        ],
+        "--time-limit",
+    ),
     (["solve", "s.json", "--friction", "-0.1"], "--friction"),
     (["tilt", "s.dxf", "--friction", "nan"], "--friction"),
     (["settle", "s.json", "--cohesion", "-5"], "--cohesion"),
@@ -95,10 +110,38 @@ CASES = [
     (["wall", "--bond", "running", "--width", "960", "--height", "600", "--block", "240x60x3"], "--block"),
     (["wall", "--bond", "running", "--width", "0", "--height", "600", "--block", "240x60"], "--width"),
     (["wall", "--bond", "running", "--width", "960", "--height", "inf", "--block", "240x60"], "--height"),
-    (["wall", "--bond", "running", "--width", "960", "--height", "600", "--block", "240x60",
-      "--opening", "100,0,nan,120"], "--opening"),
-    (["wall", "--bond", "running", "--width", "960", "--height", "600", "--block", "240x60",
-      "--opening", "100,0,-240,120"], "--opening"),
+    (
+        [
+            "wall",
+            "--bond",
+            "running",
+            "--width",
+            "960",
+            "--height",
+            "600",
+            "--block",
+            "240x60",
+            "--opening",
+            "100,0,nan,120",
+        ],
+        "--opening",
+    ),
+    (
+        [
+            "wall",
+            "--bond",
+            "running",
+            "--width",
+            "960",
+            "--height",
+            "600",
+            "--block",
+            "240x60",
+            "--opening",
+            "100,0,-240,120",
+        ],
+        "--opening",
+    ),
     (["wall", "--courses", "latin1.txt", "--block", "240x60"], "UTF-8"),
     (["arch", "--span", "2000", "--rise", "-1000", "--thickness", "300", "--voussoirs", "9"], "--rise"),
     # output paths: checked before any work
@@ -110,12 +153,54 @@ CASES = [
     (["solve", "s.json", "--html", "no_such_folder/x.html"], "does not exist"),
     (["settle", "s.json", "--plot", "no_such_folder/x.png"], "does not exist"),
     (["settle", "s.json", "--plot", "x.gif"], "unknown file type"),
-    (["panel", "--bond", "stack", "--panel-ratio", "2:1", "--block-ratio", "4:1", "--friction", "0.6",
-      "--export-scene", "no_such_folder/p.json"], "does not exist"),
-    (["panel", "--bond", "stack", "--panel-ratio", "2:1", "--block-ratio", "4:1", "--friction", "0.6",
-      "--export-scene", "p.txt"], "unknown file type"),
-    (["wall", "--bond", "running", "--width", "960", "--height", "600", "--block", "240x60",
-      "--export-scene", "no_such_folder/w.dxf"], "does not exist"),
+    (
+        [
+            "panel",
+            "--bond",
+            "stack",
+            "--panel-ratio",
+            "2:1",
+            "--block-ratio",
+            "4:1",
+            "--friction",
+            "0.6",
+            "--export-scene",
+            "no_such_folder/p.json",
+        ],
+        "does not exist",
+    ),
+    (
+        [
+            "panel",
+            "--bond",
+            "stack",
+            "--panel-ratio",
+            "2:1",
+            "--block-ratio",
+            "4:1",
+            "--friction",
+            "0.6",
+            "--export-scene",
+            "p.txt",
+        ],
+        "unknown file type",
+    ),
+    (
+        [
+            "wall",
+            "--bond",
+            "running",
+            "--width",
+            "960",
+            "--height",
+            "600",
+            "--block",
+            "240x60",
+            "--export-scene",
+            "no_such_folder/w.dxf",
+        ],
+        "does not exist",
+    ),
     (["doe", "--out", "s.json"], "not a folder"),
     (["paper", "--out", "s.json"], "not a folder"),
 ]
@@ -145,8 +230,24 @@ def test_refused_as_one_json_object_with_json(files, capsys, argv, fragment):
 
 def test_an_output_over_the_input_scene_is_refused(files, capsys):
     before = Path("s.json").read_bytes()
-    assert main(["panel", "--bond", "stack", "--panel-ratio", "2:1", "--block-ratio", "4:1",
-                 "--friction", "0.6", "--export-scene", "s.json"]) == 0  # panel reads no scene: allowed
+    assert (
+        main(
+            [
+                "panel",
+                "--bond",
+                "stack",
+                "--panel-ratio",
+                "2:1",
+                "--block-ratio",
+                "4:1",
+                "--friction",
+                "0.6",
+                "--export-scene",
+                "s.json",
+            ]
+        )
+        == 0
+    )  # panel reads no scene: allowed
     capsys.readouterr()
     Path("s.json").write_bytes(before)
     Path("scene.html").write_bytes(before)
@@ -172,17 +273,21 @@ def test_a_read_only_folder(files, capsys):
         Path("ro").chmod(stat.S_IRWXU)
 
 
-@pytest.mark.parametrize("argv", [
-    ["solve", "nested.json", "--json"],
-    ["tilt", "binary.json"],
-    ["settle", "truncated.dxf"],
-    ["wall", "--bond", "running", "--width", "960", "--height", "600", "--block", "0x60"],
-    ["solve", "s.json", "--time-limit", "nan", "--json"],
-])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["solve", "nested.json", "--json"],
+        ["tilt", "binary.json"],
+        ["settle", "truncated.dxf"],
+        ["wall", "--bond", "running", "--width", "960", "--height", "600", "--block", "0x60"],
+        ["solve", "s.json", "--time-limit", "nan", "--json"],
+    ],
+)
 def test_no_traceback_from_the_console(files, argv):
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]))
-    done = subprocess.run([sys.executable, "-m", "alma.cli", *argv], capture_output=True, text=True,
-                          env=env, timeout=120)
+    done = subprocess.run(
+        [sys.executable, "-m", "alma.cli", *argv], capture_output=True, text=True, env=env, timeout=120
+    )
     assert done.returncode == 2, done.stderr
     assert "Traceback" not in done.stderr
     assert "alma: invalid input:" in done.stderr

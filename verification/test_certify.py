@@ -5,6 +5,7 @@
 - The MILP finds the optimum itself when only the associative bound caps α.
 - A time-limited run never reports a lower bound above the best verified α.
 """
+
 from __future__ import annotations
 
 import pytest
@@ -19,8 +20,9 @@ from alma.nonassociative.search import solve_nonassociative
 
 def side_by_side(k: int, f: float, b: float = 1.0, h: float = 2.0) -> alma.Scene:
     blocks = [{"id": "g", "vertices": [[-b, -1], [(k + 1) * b, -1], [(k + 1) * b, 0], [-b, 0]], "fixed": True}]
-    blocks += [{"id": f"b{i}", "vertices": [[i * b, 0], [(i + 1) * b, 0], [(i + 1) * b, h], [i * b, h]]}
-               for i in range(k)]
+    blocks += [
+        {"id": f"b{i}", "vertices": [[i * b, 0], [(i + 1) * b, 0], [(i + 1) * b, h], [i * b, h]]} for i in range(k)
+    ]
     return alma.Scene.from_dict({"friction": f, "blocks": blocks})
 
 
@@ -28,8 +30,13 @@ def columns_on_ground_scene(friction: float, widths: list[float], heights: list[
     """Columns of rectangles side by side on a fixed ground (scene dict): column c is widths[c]
     wide and stacks blocks of heights[c] from the bottom; block ids c{column}r{row}."""
     total = sum(widths)
-    blocks = [{"id": "ground", "vertices": [[-50.0, -50.0], [total + 50.0, -50.0], [total + 50.0, 0.0],
-                                            [-50.0, 0.0]], "fixed": True}]
+    blocks = [
+        {
+            "id": "ground",
+            "vertices": [[-50.0, -50.0], [total + 50.0, -50.0], [total + 50.0, 0.0], [-50.0, 0.0]],
+            "fixed": True,
+        }
+    ]
     x = 0.0
     for c, (w, column) in enumerate(zip(widths, heights, strict=True)):
         y = 0.0
@@ -135,9 +142,15 @@ def test_time_limit_of_the_certificate_is_reported():
 
 def test_certificate_is_capped_by_the_associative_value():
     """Without friction mobilisation anywhere (a slender column rocks), α_NL = α_LP is proven."""
-    scene = alma.Scene.from_dict({"friction": 1.0, "blocks": [
-        {"id": "g", "vertices": [[-100, -50], [200, -50], [200, 0], [-100, 0]], "fixed": True},
-        {"id": "b", "vertices": [[0, 0], [100, 0], [100, 400], [0, 400]]}]})
+    scene = alma.Scene.from_dict(
+        {
+            "friction": 1.0,
+            "blocks": [
+                {"id": "g", "vertices": [[-100, -50], [200, -50], [200, 0], [-100, 0]], "fixed": True},
+                {"id": "b", "vertices": [[0, 0], [100, 0], [100, 400], [0, 400]]},
+            ],
+        }
+    )
     model, alpha_lp, mechanisms, best = _inputs(scene)
     cert = certify(model, alpha_lp, mechanisms, alpha_best=best)
     assert cert.status == "proven"
@@ -148,7 +161,7 @@ def test_milp_state_beside_short_block_is_a_verified_collapse_state():
     """The certificate's optimum on COLUMN_BESIDE_SHORT_BLOCK is a genuine collapse state at 0.5
     (checked by alma's own exact-state verification), below the associative α = 1."""
     from alma.mechanics.contact_points import ContactPoints
-    from alma.nonassociative.states import exact_state
+    from alma.nonassociative.exact_states import exact_state
 
     model, alpha_lp, mechanisms, best = _inputs(alma.Scene.from_dict(COLUMN_BESIDE_SHORT_BLOCK))
     assert alpha_lp == pytest.approx(1.0, rel=1e-7)

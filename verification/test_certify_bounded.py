@@ -8,6 +8,7 @@ below α_LP), cohesion → 0 recovering the cohesionless proof, random small coh
 assemblies (the proven bound equals the search's lowest verified state and lies between
 Radenkovic's bound and α_LP), and the global big-M path.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -22,8 +23,8 @@ from alma.associative.lp import solve_lp
 from alma.certify.milp import certify
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
+from alma.nonassociative.exact_states import exact_state
 from alma.nonassociative.search import solve_nonassociative
-from alma.nonassociative.states import exact_state
 from alma.settings import CertifySettings
 
 
@@ -46,8 +47,13 @@ def test_single_block_with_base_cohesion_is_proven(b, h, f, c):
 
 
 @settings(max_examples=12, deadline=None)
-@given(b=st.floats(60, 300), h=st.floats(100, 600), f=st.floats(1.0, 3.0), y_frac=st.floats(0.3, 0.95),
-       share=st.floats(0.0, 1.0))
+@given(
+    b=st.floats(60, 300),
+    h=st.floats(100, 600),
+    f=st.floats(1.0, 3.0),
+    y_frac=st.floats(0.3, 0.95),
+    share=st.floats(0.0, 1.0),
+)
 def test_single_block_with_a_tie_is_proven(b, h, f, y_frac, share):
     """A tie at height y to a windward anchor, F = share · W: proven α = min(f + F/W, b/h + 2 F y / (W h))."""
     y, W = y_frac * h, _weight(b, h)
@@ -94,9 +100,14 @@ def cohesive_columns(draw) -> alma.Scene:
     if draw(st.booleans()):
         top = [b for b in data["blocks"] if b["id"].startswith("c0r")][-1]
         corner, opposite = top["vertices"][0], top["vertices"][2]
-        data["ties"] = [{"id": "t", "from": {"block": top["id"], "point": [corner[0], 0.5 * (corner[1] + opposite[1])]},
-                         "to": {"block": "ground", "point": [-25.0, -25.0]},
-                         "strength": draw(st.floats(0.0, 0.5))}]
+        data["ties"] = [
+            {
+                "id": "t",
+                "from": {"block": top["id"], "point": [corner[0], 0.5 * (corner[1] + opposite[1])]},
+                "to": {"block": "ground", "point": [-25.0, -25.0]},
+                "strength": draw(st.floats(0.0, 0.5)),
+            }
+        ]
     return alma.Scene.from_dict(data)
 
 

@@ -12,6 +12,7 @@
 
 Skipped with the reason when PySCIPOpt (the extra ``alma[scip]``) is not installed.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -32,8 +33,8 @@ from alma.associative.lp import solve_lp
 from alma.certify.milp import certify
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
+from alma.nonassociative.exact_states import exact_state
 from alma.nonassociative.search import solve_nonassociative
-from alma.nonassociative.states import exact_state
 from alma.settings import CertifySettings
 
 pytest.importorskip("pyscipopt", reason="PySCIPOpt is not installed (pip install 'alma[scip]')")
@@ -56,8 +57,11 @@ TINY = {
     "block with base cohesion": block_scene(150.0, 300.0, 0.5, cohesion=2.0),
     "block with a tie": _tied_block(150.0, 400.0, 1.5, 300.0, 0.4 * _weight(150.0, 400.0)),
     "two stacked, cohesion on the upper joint only (override)": alma.Scene.from_dict(
-        {**columns_on_ground_scene(0.6, [100.0], [[80.0, 160.0]]), "joints": [{"blocks": ["c0r0", "c0r1"],
-                                                                            "cohesion": 3.0, "friction": 0.4}]}),
+        {
+            **columns_on_ground_scene(0.6, [100.0], [[80.0, 160.0]]),
+            "joints": [{"blocks": ["c0r0", "c0r1"], "cohesion": 3.0, "friction": 0.4}],
+        }
+    ),
 }
 
 

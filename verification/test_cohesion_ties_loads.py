@@ -3,6 +3,7 @@
 Analytic single-block cases (property-based), an independent static LP with HiGHS on the same
 columns, monotonicity (a tie never lowers α, cohesion never does), the limit c → 0, and bad input.
 """
+
 from __future__ import annotations
 
 import math
@@ -23,16 +24,37 @@ def _weight(b: float, h: float) -> float:
     return b * h * THICKNESS * UNIT_WEIGHT * 1e-9  # kN
 
 
-def block_scene(b: float, h: float, f: float, *, cohesion: float = 0.0, ties=(), loads=(),
-                self_weight_live: bool = True, anchor: bool = False) -> alma.Scene:
-    blocks = [{"id": "ground", "vertices": [[-500, -50], [b + 500, -50], [b + 500, 0], [-500, 0]], "fixed": True},
-              {"id": "b", "vertices": [[0, 0], [b, 0], [b, h], [0, h]]}]
+def block_scene(
+    b: float,
+    h: float,
+    f: float,
+    *,
+    cohesion: float = 0.0,
+    ties=(),
+    loads=(),
+    self_weight_live: bool = True,
+    anchor: bool = False,
+) -> alma.Scene:
+    blocks = [
+        {"id": "ground", "vertices": [[-500, -50], [b + 500, -50], [b + 500, 0], [-500, 0]], "fixed": True},
+        {"id": "b", "vertices": [[0, 0], [b, 0], [b, h], [0, h]]},
+    ]
     if anchor:  # a fixed post on the windward side, clear of the block
-        blocks.append({"id": "anchor", "vertices": [[-300, 1], [-200, 1], [-200, 2 * h + 10], [-300, 2 * h + 10]],
-                       "fixed": True})
-    return alma.Scene.from_dict({"thickness": THICKNESS, "unit_weight": UNIT_WEIGHT, "friction": f,
-                                 "cohesion": cohesion, "blocks": blocks, "ties": list(ties), "loads": list(loads),
-                                 "live_load": {"direction": [1, 0], "self_weight": self_weight_live}})
+        blocks.append(
+            {"id": "anchor", "vertices": [[-300, 1], [-200, 1], [-200, 2 * h + 10], [-300, 2 * h + 10]], "fixed": True}
+        )
+    return alma.Scene.from_dict(
+        {
+            "thickness": THICKNESS,
+            "unit_weight": UNIT_WEIGHT,
+            "friction": f,
+            "cohesion": cohesion,
+            "blocks": blocks,
+            "ties": list(ties),
+            "loads": list(loads),
+            "live_load": {"direction": [1, 0], "self_weight": self_weight_live},
+        }
+    )
 
 
 def independent_static(model: alma.Model) -> float:
@@ -45,8 +67,14 @@ def independent_static(model: alma.Model) -> float:
     bounds = [(0, None)] * k + [(0, cap) for cap in model.capacity] + [(None, None)]
     # Tight tolerances: with HiGHS's defaults (1e-7) its dual simplex stopped 1.6e-6 below the
     # optimum on a cohesive english panel, under alma's certified lower bound.
-    res = linprog(c, A_eq=A, b_eq=-model.dead, bounds=bounds, method="highs-ds",
-                  options={"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10})
+    res = linprog(
+        c,
+        A_eq=A,
+        b_eq=-model.dead,
+        bounds=bounds,
+        method="highs-ds",
+        options={"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10},
+    )
     assert res.status == 0, res.message
     return float(res.x[-1])
 
@@ -63,14 +91,23 @@ def test_single_block_with_base_cohesion(b, h, f, c):
 
 
 def _tied_block(b: float, h: float, f: float, y: float, strength: float) -> alma.Scene:
-    tie = {"id": "chain", "from": {"block": "b", "point": [0.0, y]}, "to": {"block": "anchor", "point": [-250.0, y]},
-           "strength": strength}
+    tie = {
+        "id": "chain",
+        "from": {"block": "b", "point": [0.0, y]},
+        "to": {"block": "anchor", "point": [-250.0, y]},
+        "strength": strength,
+    }
     return block_scene(b, h, f, ties=[tie], anchor=True)
 
 
 @settings(max_examples=25, deadline=None)
-@given(b=st.floats(60, 300), h=st.floats(100, 600), f=st.floats(1.0, 3.0), y_frac=st.floats(0.3, 0.95),
-       share=st.floats(0.0, 1.0))
+@given(
+    b=st.floats(60, 300),
+    h=st.floats(100, 600),
+    f=st.floats(1.0, 3.0),
+    y_frac=st.floats(0.3, 0.95),
+    share=st.floats(0.0, 1.0),
+)
 def test_single_block_with_a_tie_to_a_windward_anchor(b, h, f, y_frac, share):
     """A horizontal tie at height y to a fixed anchor: α = min(f + F/W, b/h + 2 F y / (W h)).
 
@@ -89,8 +126,13 @@ def test_single_block_with_a_tie_to_a_windward_anchor(b, h, f, y_frac, share):
 
 
 @settings(max_examples=20, deadline=None)
-@given(b=st.floats(60, 300), h=st.floats(100, 600), f=st.floats(0.1, 1.0), y_frac=st.floats(0.05, 0.95),
-       strength=st.floats(0.0, 0.05))
+@given(
+    b=st.floats(60, 300),
+    h=st.floats(100, 600),
+    f=st.floats(0.1, 1.0),
+    y_frac=st.floats(0.05, 0.95),
+    strength=st.floats(0.0, 0.05),
+)
 def test_low_friction_tied_block_against_an_independent_lp(b, h, f, y_frac, strength):
     """At low friction a dilatant slide-and-turn can undercut both of the formula's mechanisms
     (b = 60, h = 100, f = 0.5, y = 25, F = 0.03125: 1.7 against 1.806, which HiGHS confirms):
@@ -110,9 +152,14 @@ def test_a_tie_of_strength_zero_and_cohesion_zero_change_nothing():
     base = alma.solve(panel)
     data = panel.to_dict()
     data["cohesion"] = 0.0
-    data["ties"] = [{"id": "t", "from": {"block": data["blocks"][1]["id"], "point": data["blocks"][1]["vertices"][0]},
-                     "to": {"block": data["blocks"][0]["id"], "point": data["blocks"][0]["vertices"][0]},
-                     "strength": 0.0}]
+    data["ties"] = [
+        {
+            "id": "t",
+            "from": {"block": data["blocks"][1]["id"], "point": data["blocks"][1]["vertices"][0]},
+            "to": {"block": data["blocks"][0]["id"], "point": data["blocks"][0]["vertices"][0]},
+            "strength": 0.0,
+        }
+    ]
     same = alma.solve(alma.Scene.from_dict(data))
     assert same.alpha == pytest.approx(base.alpha, abs=1e-9) and same.status == Status.OPTIMAL
 
@@ -128,8 +175,15 @@ def test_small_cohesion_recovers_the_cohesionless_panel(c):
     assert base - 1e-9 <= with_c.alpha <= base + 2e3 * c  # O(c): a kPa adds at most ~a joint's c l t / W
 
 
-@pytest.mark.parametrize("bond,panel,block,c", [("running", "2:1", "4:1", 2.0), ("stack", "2:1", "2:1", 5.0),
-                                                 ("english", "1:1", "2:1", 1.0), ("flemish", "2:1", "4:1", 0.5)])
+@pytest.mark.parametrize(
+    "bond,panel,block,c",
+    [
+        ("running", "2:1", "4:1", 2.0),
+        ("stack", "2:1", "2:1", 5.0),
+        ("english", "1:1", "2:1", 1.0),
+        ("flemish", "2:1", "4:1", 0.5),
+    ],
+)
 def test_cohesive_panels_agree_with_an_independent_static_lp(bond, panel, block, c):
     data = alma.paper_panel(bond, panel, block, 0.6).to_dict()
     data["cohesion"] = c
@@ -151,9 +205,14 @@ def test_a_chain_never_lowers_alpha(course, strength):
     ends = [b for b in data["blocks"] if not b.get("fixed") and min(v[1] for v in b["vertices"]) == 60.0 * course]
     left = min(ends, key=lambda b: min(v[0] for v in b["vertices"]))
     right = max(ends, key=lambda b: max(v[0] for v in b["vertices"]))
-    data["ties"] = [{"id": "chain", "from": {"block": left["id"], "point": [min(v[0] for v in left["vertices"]), y]},
-                     "to": {"block": right["id"], "point": [max(v[0] for v in right["vertices"]), y]},
-                     "strength": strength}]
+    data["ties"] = [
+        {
+            "id": "chain",
+            "from": {"block": left["id"], "point": [min(v[0] for v in left["vertices"]), y]},
+            "to": {"block": right["id"], "point": [max(v[0] for v in right["vertices"]), y]},
+            "strength": strength,
+        }
+    ]
     tied = alma.solve(alma.Scene.from_dict(data))
     assert tied.status == Status.OPTIMAL
     assert tied.alpha >= alma.solve(panel).alpha - 1e-9
@@ -192,17 +251,42 @@ def test_moving_a_load_along_its_line_of_action_changes_nothing():
     assert off_line.alpha > a.alpha * (1 + 1e-3)  # a lower live load overturns less: the test can fail
 
 
-@pytest.mark.parametrize("patch,message", [
-    ({"ties": [{"id": "t", "from": {"block": "b", "point": [500, 10]}, "to": {"block": "ground", "point": [0, -10]},
-                "strength": 1.0}]}, "lies outside block 'b'"),
-    ({"ties": [{"id": "t", "from": {"block": "b", "point": [5, 10]}, "to": {"block": "ground", "point": [0, -10]},
-                "strength": -1.0}]}, "strength must be >= 0"),
-    ({"cohesion": -1.0}, "cohesion must be >= 0"),
-    ({"loads": [{"block": "b", "point": [500, 10], "dead": [0, -1]}]}, "lies outside the block"),
-    ({"loads": [{"block": "ground", "dead": [0, -1]}]}, "the block is fixed"),
-    ({"loads": [{"block": "nope", "dead": [0, -1]}]}, "no block 'nope'"),
-    ({"joints": [{"blocks": ["b", "far"], "cohesion": 10}]}, "do not touch"),
-])
+@pytest.mark.parametrize(
+    "patch,message",
+    [
+        (
+            {
+                "ties": [
+                    {
+                        "id": "t",
+                        "from": {"block": "b", "point": [500, 10]},
+                        "to": {"block": "ground", "point": [0, -10]},
+                        "strength": 1.0,
+                    }
+                ]
+            },
+            "lies outside block 'b'",
+        ),
+        (
+            {
+                "ties": [
+                    {
+                        "id": "t",
+                        "from": {"block": "b", "point": [5, 10]},
+                        "to": {"block": "ground", "point": [0, -10]},
+                        "strength": -1.0,
+                    }
+                ]
+            },
+            "strength must be >= 0",
+        ),
+        ({"cohesion": -1.0}, "cohesion must be >= 0"),
+        ({"loads": [{"block": "b", "point": [500, 10], "dead": [0, -1]}]}, "lies outside the block"),
+        ({"loads": [{"block": "ground", "dead": [0, -1]}]}, "the block is fixed"),
+        ({"loads": [{"block": "nope", "dead": [0, -1]}]}, "no block 'nope'"),
+        ({"joints": [{"blocks": ["b", "far"], "cohesion": 10}]}, "do not touch"),
+    ],
+)
 def test_bad_input_names_the_item(patch, message):
     data = block_scene(100.0, 100.0, 0.6).to_dict()
     data["blocks"].append({"id": "far", "vertices": [[1000, 0], [1100, 0], [1100, 100], [1000, 100]]})
@@ -222,12 +306,24 @@ def test_a_settlement_belongs_to_a_support():
 def test_radenkovic_lower_bound_brackets_the_nonassociative_state():
     """Radenkovic: α(f = 0) ≤ α_NL ≤ α_LP; here a block on a ramp, whose inclined base carries load at f = 0."""
     t = math.radians(20)
-    ramp = [[-400, -400 * math.tan(t) - 100], [600, 600 * math.tan(t) - 100], [600, 600 * math.tan(t)],
-            [-400, -400 * math.tan(t)]]
-    blocks = [{"id": "ramp", "vertices": ramp, "fixed": True},
-              {"id": "b", "vertices": [[0, 0], [100 * math.cos(t), 100 * math.sin(t)],
-                                       [100 * math.cos(t) - 60 * math.sin(t), 100 * math.sin(t) + 60 * math.cos(t)],
-                                       [-60 * math.sin(t), 60 * math.cos(t)]]}]
+    ramp = [
+        [-400, -400 * math.tan(t) - 100],
+        [600, 600 * math.tan(t) - 100],
+        [600, 600 * math.tan(t)],
+        [-400, -400 * math.tan(t)],
+    ]
+    blocks = [
+        {"id": "ramp", "vertices": ramp, "fixed": True},
+        {
+            "id": "b",
+            "vertices": [
+                [0, 0],
+                [100 * math.cos(t), 100 * math.sin(t)],
+                [100 * math.cos(t) - 60 * math.sin(t), 100 * math.sin(t) + 60 * math.cos(t)],
+                [-60 * math.sin(t), 60 * math.cos(t)],
+            ],
+        },
+    ]
     scene = alma.Scene.from_dict({"friction": 0.8, "blocks": blocks, "live_load": {"direction": [1, 0]}})
     both = alma.solve(scene, model="both", effort="fast")
     bound = both.nonassociative.extra["search"]["radenkovic_lower_bound"]

@@ -29,6 +29,7 @@ The search for a published *limit-analysis* case with finite crushing strength (
 analysed with σ_c, with the geometry and the values printed) found none whose numbers could be
 read: see docs/compressive.md.
 """
+
 from __future__ import annotations
 
 import pytest
@@ -48,20 +49,28 @@ def wall_scene(eccentricity: float = E_I) -> alma.Scene:
     """1 m of wall: lower and upper halves and a 10 mm bearing block on top; the floor's load
     (the live load, 1 kN) on the bearing block at ``eccentricity`` from the wall's axis."""
     fd = FK_PRINTED / GAMMA_M
-    blocks = [{"id": "ground", "vertices": rect(-100.0, -100.0, T_WALL + 100.0, 0.0), "fixed": True},
-              {"id": "lower", "vertices": rect(0.0, 0.0, T_WALL, H_WALL / 2)},
-              {"id": "upper", "vertices": rect(0.0, H_WALL / 2, T_WALL, H_WALL)},
-              {"id": "bearing", "vertices": rect(0.0, H_WALL, T_WALL, H_WALL + 10.0)}]
-    return alma.Scene.from_dict({
-        "name": "EC6 design example V2 (Roberts)", "thickness": 1000.0,
-        "unit_weight": 1e-6,  # the blocks' weight, 3.6e-7 kN, is negligible against ~250 kN
-        "friction": 0.6, "compressive_strength": fd, "blocks": blocks,
-        "loads": [{"block": "bearing", "point": [T_WALL / 2 + eccentricity, H_WALL + 10.0], "live": [0.0, -1.0]}],
-        "live_load": {"direction": [0.0, -1.0], "self_weight": False}})
+    blocks = [
+        {"id": "ground", "vertices": rect(-100.0, -100.0, T_WALL + 100.0, 0.0), "fixed": True},
+        {"id": "lower", "vertices": rect(0.0, 0.0, T_WALL, H_WALL / 2)},
+        {"id": "upper", "vertices": rect(0.0, H_WALL / 2, T_WALL, H_WALL)},
+        {"id": "bearing", "vertices": rect(0.0, H_WALL, T_WALL, H_WALL + 10.0)},
+    ]
+    return alma.Scene.from_dict(
+        {
+            "name": "EC6 design example V2 (Roberts)",
+            "thickness": 1000.0,
+            "unit_weight": 1e-6,  # the blocks' weight, 3.6e-7 kN, is negligible against ~250 kN
+            "friction": 0.6,
+            "compressive_strength": fd,
+            "blocks": blocks,
+            "loads": [{"block": "bearing", "point": [T_WALL / 2 + eccentricity, H_WALL + 10.0], "live": [0.0, -1.0]}],
+            "live_load": {"direction": [0.0, -1.0], "self_weight": False},
+        }
+    )
 
 
 def test_printed_strength_follows_from_the_units():
-    assert round(K * FB ** 0.85, 2) == FK_PRINTED  # 5.4222
+    assert round(K * FB**0.85, 2) == FK_PRINTED  # 5.4222
     assert round(PHI_M_PRINTED * T_WALL * FK_PRINTED / GAMMA_M) == NRD_PRINTED  # 186.6
 
 
@@ -83,8 +92,11 @@ def test_top_of_wall_reduction_factor(solved):
     assert states[("upper", "bearing")] == "hinging"
 
 
-@pytest.mark.xfail(strict=True, reason="EC6 Annex G's Φ_m = 0.66 (slenderness 18.75, E = 1000 f_k: second-order "
-                   "effects) governs the printed N_Rd = 187 kN/m; rigid blocks do not buckle: alma's N_Rd of the "
-                   "wall is Φ = 0.9 at every joint, 254.5 kN/m (measured)")
+@pytest.mark.xfail(
+    strict=True,
+    reason="EC6 Annex G's Φ_m = 0.66 (slenderness 18.75, E = 1000 f_k: second-order "
+    "effects) governs the printed N_Rd = 187 kN/m; rigid blocks do not buckle: alma's N_Rd of the "
+    "wall is Φ = 0.9 at every joint, 254.5 kN/m (measured)",
+)
 def test_design_resistance_of_the_wall(solved):
     assert round(solved.alpha) == NRD_PRINTED

@@ -20,6 +20,7 @@
   test_compressive_published.py; a published limit-analysis case (an arch with finite crushing
   strength) is not reproduced: see docs/compressive.md.
 """
+
 from __future__ import annotations
 
 import copy
@@ -120,12 +121,18 @@ def cvxpy_alpha(scene: alma.Scene) -> float:
     for i in free:
         w = blocks[i].area * scene.thickness * scene.unit_weight * 1e-9
         g, d = scene.gravity, scene.live_load_direction
-        constraints += [rows[i, 0] + w * g[0] + alpha * w * d[0] == 0,
-                        rows[i, 1] + w * g[1] + alpha * w * d[1] == 0, rows[i, 2] == 0]
+        constraints += [
+            rows[i, 0] + w * g[0] + alpha * w * d[0] == 0,
+            rows[i, 1] + w * g[1] + alpha * w * d[1] == 0,
+            rows[i, 2] == 0,
+        ]
     capacity = scene.compressive_strength * MPA_MM2 * length * scene.thickness
-    constraints += [N >= 0, cp.abs(Tt) <= scene.friction * N,
-                    cp.multiply(cp.square(N), length / (2 * capacity)) <= cp.multiply(N, length / 2) - M,
-                    cp.multiply(cp.square(N), length / (2 * capacity)) <= cp.multiply(N, length / 2) + M]
+    constraints += [
+        N >= 0,
+        cp.abs(Tt) <= scene.friction * N,
+        cp.multiply(cp.square(N), length / (2 * capacity)) <= cp.multiply(N, length / 2) - M,
+        cp.multiply(cp.square(N), length / (2 * capacity)) <= cp.multiply(N, length / 2) + M,
+    ]
     problem = cp.Problem(cp.Maximize(alpha), constraints)
     problem.solve(solver=cp.CLARABEL, tol_gap_abs=1e-10, tol_gap_rel=1e-10, tol_feas=1e-10)
     assert problem.status == cp.OPTIMAL, problem.status
@@ -136,8 +143,7 @@ def portal_dict(friction: float = 10.0) -> dict:
     """Two piers of two 200 × 400 blocks each and a 1000 × 200 lintel over a 600 mm opening."""
     blocks = [ground(-200.0, 1200.0)]
     for side, x0 in (("l", 0.0), ("r", 800.0)):
-        blocks += [{"id": f"{side}{k}", "vertices": rect(x0, 400.0 * k, x0 + 200.0, 400.0 * (k + 1))}
-                   for k in range(2)]
+        blocks += [{"id": f"{side}{k}", "vertices": rect(x0, 400.0 * k, x0 + 200.0, 400.0 * (k + 1))} for k in range(2)]
     blocks.append({"id": "lintel", "vertices": rect(0.0, 800.0, 1000.0, 1000.0)})
     return scene_dict(blocks, friction=friction)
 

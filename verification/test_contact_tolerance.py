@@ -6,6 +6,7 @@ size is reported as a near miss, a deeper overlap is refused.  Perturbing every 
 less than the tolerance must change neither the joints nor α beyond the order of the
 perturbation; translating a drawing by 1e6 mm must change nothing.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -95,13 +96,16 @@ def _hanging_node_scene(bump: float, offset: float = 0.0) -> alma.Scene:
     """A beam block (400 × 100 mm) on two piers, its bottom edge drawn with a hanging node at the
     piers' gap: the node raised by ``bump`` mm (LACT³'s wall.dxf has such nodes)."""
     o = offset
-    return alma.Scene.from_dict({"blocks": [
-        {"id": "ground", "fixed": True, "vertices": [[o - 50, -50], [o + 450, -50], [o + 450, 0], [o - 50, 0]]},
-        {"id": "left", "vertices": [[o, 0], [o + 200, 0], [o + 200, 300], [o, 300]]},
-        {"id": "right", "vertices": [[o + 200, 0], [o + 400, 0], [o + 400, 300], [o + 200, 300]]},
-        {"id": "beam", "vertices": [[o, 300], [o + 200, 300 + bump], [o + 400, 300], [o + 400, 400],
-                                    [o, 400]]},
-    ]})
+    return alma.Scene.from_dict(
+        {
+            "blocks": [
+                {"id": "ground", "fixed": True, "vertices": [[o - 50, -50], [o + 450, -50], [o + 450, 0], [o - 50, 0]]},
+                {"id": "left", "vertices": [[o, 0], [o + 200, 0], [o + 200, 300], [o, 300]]},
+                {"id": "right", "vertices": [[o + 200, 0], [o + 400, 0], [o + 400, 300], [o + 200, 300]]},
+                {"id": "beam", "vertices": [[o, 300], [o + 200, 300 + bump], [o + 400, 300], [o + 400, 400], [o, 400]]},
+            ]
+        }
+    )
 
 
 @pytest.mark.parametrize("offset", [0.0, 1e6])
@@ -170,10 +174,12 @@ def test_an_overshooting_outline_is_refused_naming_the_block():
     was accepted and gave duplicate joints."""
     a, b, c, d = [0.0, 0.0], [100.0, 0.0], [100.0, 50.0], [0.0, 50.0]
     b2 = [100.0 + 1e-12, 1e-12]
-    data = {"blocks": [
-        {"id": "ground", "fixed": True, "vertices": [[-10, -10], [110, -10], [110, 0], [-10, 0]]},
-        {"id": "v7", "vertices": [a, b, c, d, a, b2]},
-    ]}
+    data = {
+        "blocks": [
+            {"id": "ground", "fixed": True, "vertices": [[-10, -10], [110, -10], [110, 0], [-10, 0]]},
+            {"id": "v7", "vertices": [a, b, c, d, a, b2]},
+        ]
+    }
     with pytest.raises(alma.SceneError, match=r"'v7'.*(doubles back|self-intersecting|repeated)"):
         alma.Scene.from_dict(data)
 
@@ -182,10 +188,17 @@ def test_a_notched_fixed_base_is_accepted_and_a_non_convex_free_block_refused():
     """SPEC §2: a fixed block may be any simple polygon (a base with a seat for a block)."""
     base = [[-100, -100], [300, -100], [300, 0], [200, 0], [200, -20], [0, -20], [0, 0], [-100, 0]]
     block = [[0, -20], [200, -20], [200, 100], [0, 100]]
-    scene = alma.Scene.from_dict({"blocks": [{"id": "base", "fixed": True, "vertices": base},
-                                             {"id": "b", "vertices": block}]})
+    scene = alma.Scene.from_dict(
+        {"blocks": [{"id": "base", "fixed": True, "vertices": base}, {"id": "b", "vertices": block}]}
+    )
     assert alma.find_joints(scene).count == 3  # the seat's floor and both of its walls
     assert alma.solve(scene).status == "no_collapse"  # the seat holds the block against sliding
     with pytest.raises(alma.SceneError, match=r"'b'.*not convex"):
-        alma.Scene.from_dict({"blocks": [{"id": "base", "fixed": True, "vertices": block},
-                                         {"id": "b", "vertices": [[x, y + 120] for x, y in base]}]})
+        alma.Scene.from_dict(
+            {
+                "blocks": [
+                    {"id": "base", "fixed": True, "vertices": block},
+                    {"id": "b", "vertices": [[x, y + 120] for x, y in base]},
+                ]
+            }
+        )

@@ -8,6 +8,7 @@ the independent solvers find: finite optimum ≥ 0 → 'optimal', finite optimum
 'no_equilibrium' with that α, static LP unbounded → 'no_collapse' (α = +inf), static LP
 infeasible → 'no_equilibrium' (α = −inf).
 """
+
 from __future__ import annotations
 
 import pytest
@@ -30,12 +31,13 @@ from helpers import (
 
 # ----------------------------------------------------------------------------- paper panels
 CROSS_ROWS = [r for r in table5() if r[1] == "2:1"] + [
-    r for r in table5() if (r[1], r[2], r[3]) in {("1:1", "4:1", 0.6), ("1:2", "4:1", 0.27),
-                                                   ("1:1", "2:1", 1.0)}]
+    r for r in table5() if (r[1], r[2], r[3]) in {("1:1", "4:1", 0.6), ("1:2", "4:1", 0.27), ("1:1", "2:1", 1.0)}
+]
 
 
-@pytest.mark.parametrize("bond,panel_ratio,block_ratio,friction,published", CROSS_ROWS,
-                         ids=[panel_id(*r[:4]) for r in CROSS_ROWS])
+@pytest.mark.parametrize(
+    "bond,panel_ratio,block_ratio,friction,published", CROSS_ROWS, ids=[panel_id(*r[:4]) for r in CROSS_ROWS]
+)
 def test_panel_matches_highs_and_cvxpy(bond, panel_ratio, block_ratio, friction, published):
     model = panel_geometry(bond, panel_ratio, block_ratio).with_friction(friction)
     result = solve_panel(bond, panel_ratio, block_ratio, friction)
@@ -61,34 +63,51 @@ def test_random_assembly_matches_highs_and_cvxpy(data):
 
 # ----------------------------------------------------------------------------- statuses
 def _ground_block(f=0.6, live=(1.0, 0.0)):
-    return scene_dict([{"id": "ground", "vertices": rect(-100, -50, 300, 0), "fixed": True},
-                       {"id": "b1", "vertices": rect(0, 0, 200, 100)}], friction=f, live=live)
+    return scene_dict(
+        [
+            {"id": "ground", "vertices": rect(-100, -50, 300, 0), "fixed": True},
+            {"id": "b1", "vertices": rect(0, 0, 200, 100)},
+        ],
+        friction=f,
+        live=live,
+    )
 
 
 def _boxed_block():
     """A block enclosed by four fixed blocks: nothing can move."""
-    return scene_dict([
-        {"id": "floor", "vertices": rect(-50, -50, 250, 0), "fixed": True},
-        {"id": "roof", "vertices": rect(-50, 100, 250, 150), "fixed": True},
-        {"id": "left", "vertices": rect(-50, 0, 0, 100), "fixed": True},
-        {"id": "right", "vertices": rect(200, 0, 250, 100), "fixed": True},
-        {"id": "b1", "vertices": rect(0, 0, 200, 100)},
-    ], friction=0.6)
+    return scene_dict(
+        [
+            {"id": "floor", "vertices": rect(-50, -50, 250, 0), "fixed": True},
+            {"id": "roof", "vertices": rect(-50, 100, 250, 150), "fixed": True},
+            {"id": "left", "vertices": rect(-50, 0, 0, 100), "fixed": True},
+            {"id": "right", "vertices": rect(200, 0, 250, 100), "fixed": True},
+            {"id": "b1", "vertices": rect(0, 0, 200, 100)},
+        ],
+        friction=0.6,
+    )
 
 
 def _hanging_block(f):
     """A block glued to nothing but the side of a fixed wall (x = 0), load pulling it away."""
-    return scene_dict([{"id": "wall", "vertices": rect(-100, -100, 0, 300), "fixed": True},
-                       {"id": "b1", "vertices": rect(0, 50, 100, 250)}], friction=f)
+    return scene_dict(
+        [
+            {"id": "wall", "vertices": rect(-100, -100, 0, 300), "fixed": True},
+            {"id": "b1", "vertices": rect(0, 50, 100, 250)},
+        ],
+        friction=f,
+    )
 
 
-@pytest.mark.parametrize("name,data,expected", [
-    ("boxed block", _boxed_block(), "no_collapse"),
-    ("live load along gravity", _ground_block(live=(0.0, -1.0)), "no_collapse"),
-    ("frictionless hanging block", _hanging_block(0.0), "no_equilibrium"),
-    ("frictional hanging block", _hanging_block(0.8), "no_equilibrium"),
-    ("block on the ground", _ground_block(), "optimal"),
-])
+@pytest.mark.parametrize(
+    "name,data,expected",
+    [
+        ("boxed block", _boxed_block(), "no_collapse"),
+        ("live load along gravity", _ground_block(live=(0.0, -1.0)), "no_collapse"),
+        ("frictionless hanging block", _hanging_block(0.0), "no_equilibrium"),
+        ("frictional hanging block", _hanging_block(0.8), "no_equilibrium"),
+        ("block on the ground", _ground_block(), "optimal"),
+    ],
+)
 def test_status_consistency(name, data, expected):
     scene = alma.Scene.from_dict(data)
     model = alma.build_model(scene)

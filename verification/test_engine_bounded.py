@@ -6,6 +6,7 @@ HiGHS, cohesive and tied panels against Clarabel (overlapping certified interval
 assemblies with random cohesion and ties (same status, overlapping intervals).  Every answer
 must come from the interior point itself, certified, with no fallback to Clarabel.
 """
+
 from __future__ import annotations
 
 import math
@@ -45,8 +46,13 @@ def test_single_block_with_base_cohesion(b, h, f, c):
 
 
 @settings(max_examples=20, deadline=None)
-@given(b=st.floats(60, 300), h=st.floats(100, 600), f=st.floats(1.0, 3.0), y_frac=st.floats(0.3, 0.95),
-       share=st.floats(0.0, 1.0))
+@given(
+    b=st.floats(60, 300),
+    h=st.floats(100, 600),
+    f=st.floats(1.0, 3.0),
+    y_frac=st.floats(0.3, 0.95),
+    share=st.floats(0.0, 1.0),
+)
 def test_single_block_with_a_tie_to_a_windward_anchor(b, h, f, y_frac, share):
     """α = min(f + F/W, b/h + 2 F y / (W h)) through the interior point (the range of the
     Clarabel-path test, where these two mechanisms are the lowest)."""
@@ -70,12 +76,15 @@ def _largest(cohesion: float = 0.0, chains: int = 0) -> alma.Scene:
 
 #: Small enough for the independent static LP (HiGHS's dual simplex takes ~50 s on the largest).
 CASES = {
-    "running 2:1 4:1 c=2": lambda: alma.Scene.from_dict({**alma.paper_panel("running", "2:1", "4:1", 0.6).to_dict(),
-                                                        "cohesion": 2.0}),
-    "stack 2:1 2:1 c=5": lambda: alma.Scene.from_dict({**alma.paper_panel("stack", "2:1", "2:1", 0.6).to_dict(),
-                                                      "cohesion": 5.0}),
-    "english 1:1 2:1 c=1": lambda: alma.Scene.from_dict({**alma.paper_panel("english", "1:1", "2:1", 0.6).to_dict(),
-                                                        "cohesion": 1.0}),
+    "running 2:1 4:1 c=2": lambda: alma.Scene.from_dict(
+        {**alma.paper_panel("running", "2:1", "4:1", 0.6).to_dict(), "cohesion": 2.0}
+    ),
+    "stack 2:1 2:1 c=5": lambda: alma.Scene.from_dict(
+        {**alma.paper_panel("stack", "2:1", "2:1", 0.6).to_dict(), "cohesion": 5.0}
+    ),
+    "english 1:1 2:1 c=1": lambda: alma.Scene.from_dict(
+        {**alma.paper_panel("english", "1:1", "2:1", 0.6).to_dict(), "cohesion": 1.0}
+    ),
 }
 #: The largest paper panel (1,752 blocks), against Clarabel.
 LARGEST = {
@@ -116,13 +125,23 @@ def _bounded_assemblies(draw):
         a, b = draw(st.sampled_from(free)), draw(st.sampled_from(data["blocks"]))
         pa, pb = a["vertices"][draw(st.integers(0, 3))], b["vertices"][draw(st.integers(0, 3))]
         if a["id"] != b["id"] and pa != pb:
-            data["ties"] = [{"id": "t", "from": {"block": a["id"], "point": pa}, "to": {"block": b["id"], "point": pb},
-                             "strength": draw(st.sampled_from([0.0, 0.01, 0.2, 2.0]))}]
+            data["ties"] = [
+                {
+                    "id": "t",
+                    "from": {"block": a["id"], "point": pa},
+                    "to": {"block": b["id"], "point": pb},
+                    "strength": draw(st.sampled_from([0.0, 0.01, 0.2, 2.0])),
+                }
+            ]
     return data
 
 
-@settings(max_examples=40, deadline=None, derandomize=True,
-          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@settings(
+    max_examples=40,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+)
 @given(data=_bounded_assemblies(), gravity=st.floats(0.0, 2 * math.pi), live=st.floats(0.0, 2 * math.pi))
 def test_random_bounded_scenes_same_status_and_overlapping_bounds(data, gravity, live):
     engines_agree(alma.build_model(_directed(data, gravity, live)))

@@ -8,6 +8,7 @@
 - the numerical stress suite (``test_stress.py``) re-run with the interior point as alma's
   associative solver: every property there must hold for it too.
 """
+
 from __future__ import annotations
 
 import functools
@@ -30,6 +31,7 @@ ROWS = table5()
 #: dependency where it has wheels), else QDLDL.
 BACKEND = next(b for b in ("pardiso", "feral", "qdldl") if b in available_backends())
 
+
 @functools.cache
 def _both(bond: str, panel_ratio: str, block_ratio: str, friction: float):
     model = panel_geometry(bond, panel_ratio, block_ratio).with_friction(friction)
@@ -41,8 +43,7 @@ def _overlap(a, b) -> bool:
     return a.lower <= b.upper + tol and b.lower <= a.upper + tol
 
 
-@pytest.mark.parametrize("bond,panel_ratio,block_ratio,friction,published", ROWS,
-                         ids=[panel_id(*r[:4]) for r in ROWS])
+@pytest.mark.parametrize("bond,panel_ratio,block_ratio,friction,published", ROWS, ids=[panel_id(*r[:4]) for r in ROWS])
 def test_table5_through_the_interior_point(bond, panel_ratio, block_ratio, friction, published):
     ipm, clarabel = _both(bond, panel_ratio, block_ratio, friction)
     assert ipm.status == "optimal", ipm.message
@@ -53,21 +54,25 @@ def test_table5_through_the_interior_point(bond, panel_ratio, block_ratio, frict
     assert _overlap(ipm, clarabel), (ipm.lower, ipm.upper, clarabel.lower, clarabel.upper)
 
 
-@pytest.mark.parametrize("bond,panel_ratio,block_ratio,friction,published",
-                         ROWS, ids=[panel_id(*r[:4]) for r in ROWS])
+@pytest.mark.parametrize("bond,panel_ratio,block_ratio,friction,published", ROWS, ids=[panel_id(*r[:4]) for r in ROWS])
 def test_table5_is_certified_by_the_interior_point_itself(bond, panel_ratio, block_ratio, friction, published):
     ipm, _ = _both(bond, panel_ratio, block_ratio, friction)
     assert "alma-ipm" in ipm.message and "Clarabel used" not in ipm.message, ipm.message
 
 
 def _directed(data: dict, gravity: float, live: float) -> alma.Scene:
-    data = dict(data, gravity=[math.cos(gravity), math.sin(gravity)],
-                live_load={"direction": [math.cos(live), math.sin(live)]})
+    data = dict(
+        data, gravity=[math.cos(gravity), math.sin(gravity)], live_load={"direction": [math.cos(live), math.sin(live)]}
+    )
     return alma.Scene.from_dict(data)
 
 
-@settings(max_examples=60, deadline=None, derandomize=True,
-          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@settings(
+    max_examples=60,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+)
 @given(data=assemblies(), gravity=st.floats(0.0, 2 * math.pi), live=st.floats(0.0, 2 * math.pi))
 def test_random_scenes_same_status_and_overlapping_bounds(data, gravity, live):
     engines_agree(alma.build_model(_directed(data, gravity, live)))
@@ -83,13 +88,15 @@ def engines_agree(model: alma.Model) -> None:
         assert _overlap(ipm, clarabel), (ipm.lower, ipm.upper, clarabel.lower, clarabel.upper)
 
 
-STRESS_TESTS = sorted(name for name in dir(test_stress) if name.startswith("test_")
-                      and callable(getattr(test_stress, name)))
+STRESS_TESTS = sorted(
+    name for name in dir(test_stress) if name.startswith("test_") and callable(getattr(test_stress, name))
+)
 
 
 # The 2,000-block wall through the interior point takes 70 s here: in the slow part.
-@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n == "test_wall_2000_blocks" else n
-                                  for n in STRESS_TESTS])
+@pytest.mark.parametrize(
+    "name", [pytest.param(n, marks=pytest.mark.slow) if n == "test_wall_2000_blocks" else n for n in STRESS_TESTS]
+)
 def test_stress_suite_through_the_interior_point(name, monkeypatch):
     solve_module = sys.modules["alma.solve"]
     monkeypatch.setattr(solve_module, "solve_lp", functools.partial(solve_lp, engine="ipm"))

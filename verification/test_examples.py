@@ -1,4 +1,5 @@
 """The scenes of ``examples/`` solve as the README says, and agree with independent LPs."""
+
 from __future__ import annotations
 
 import json
@@ -67,7 +68,22 @@ def test_the_coursed_wall_example_is_ferris_and_tin_lois_wall_3(capsys):
 
     from alma.cli import main
 
-    assert main(["wall", "--courses", str(EXAMPLES / "ferris_tin_loi_wall3.txt"), "--block", "400x175",
-                 "--thickness", "1000", "--friction", "0.65", "--json"]) == 0
+    assert (
+        main(
+            [
+                "wall",
+                "--courses",
+                str(EXAMPLES / "ferris_tin_loi_wall3.txt"),
+                "--block",
+                "400x175",
+                "--thickness",
+                "1000",
+                "--friction",
+                "0.65",
+                "--json",
+            ]
+        )
+        == 0
+    )
     alpha = json.loads(capsys.readouterr().out)["alpha"]
     assert alpha == pytest.approx(alma.solve(wall(3)).alpha, rel=1e-12)

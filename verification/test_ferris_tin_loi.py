@@ -15,6 +15,7 @@ secondary: "the collapse load multiplier of the initial configuration ... around
 checked against independent solvers and against alma's own earlier measurements
 (``docs/accuracy.md``, "The Ferris & Tin-Loi walls").
 """
+
 from __future__ import annotations
 
 import math
@@ -39,12 +40,18 @@ def _courses(full_even, full_odd, window_odd, window_even, layout: str) -> list[
 WALLS = {
     1: [list(_RUN[i % 2]) for i in range(6)],
     2: [list(_RUN[i % 2]) for i in range(10)],
-    3: _courses([1, 1, 1, 1], [.5, 1, 1, 1, .5], [.5, 1, -1, 1, .5], [1, .5, -1, .5, 1], "EUEuwuwuEUE"),
-    4: _courses([.5, 1, 1, 1, 1, .5], [1] * 5, [1, -1, 1, -1, 1], [.5, .5, -1, .5, .5, -1, .5, .5],
-                "EUEuwuwuEUE"),
-    5: _courses([.5, 1, 1, .5], [1] * 3, [1, -1, 1], [.5, .5, -1, .5, .5], "EUEuwuwuEUEuwuwuEUE"),
-    6: _courses([.5] + [1] * 6 + [.5], [1] * 7, [.5, 1, -1, 1, 1, -1, 1, .5],
-                [1, .5, -1, .5, 1, .5, -1, .5, 1], "EUEUuwuwuUEUuwuwuUEUE"),
+    3: _courses([1, 1, 1, 1], [0.5, 1, 1, 1, 0.5], [0.5, 1, -1, 1, 0.5], [1, 0.5, -1, 0.5, 1], "EUEuwuwuEUE"),
+    4: _courses(
+        [0.5, 1, 1, 1, 1, 0.5], [1] * 5, [1, -1, 1, -1, 1], [0.5, 0.5, -1, 0.5, 0.5, -1, 0.5, 0.5], "EUEuwuwuEUE"
+    ),
+    5: _courses([0.5, 1, 1, 0.5], [1] * 3, [1, -1, 1], [0.5, 0.5, -1, 0.5, 0.5], "EUEuwuwuEUEuwuwuEUE"),
+    6: _courses(
+        [0.5] + [1] * 6 + [0.5],
+        [1] * 7,
+        [0.5, 1, -1, 1, 1, -1, 1, 0.5],
+        [1, 0.5, -1, 0.5, 1, 0.5, -1, 0.5, 1],
+        "EUEUuwuwuUEUuwuwuUEUE",
+    ),
 }
 
 #: alma's lowest verified non-associative α of each wall when this test was written (default
@@ -53,8 +60,9 @@ MEASURED_NL = {1: 0.638982, 2: 0.557520, 3: 0.355817, 4: 0.263736, 5: 0.208629, 
 
 
 def wall(k: int) -> alma.Scene:
-    return alma.coursed_wall(WALLS[k], 400.0, 175.0, friction=FRICTION, thickness=1000.0, unit_weight=10.0,
-                             name=f"Ferris & Tin-Loi wall {k}")
+    return alma.coursed_wall(
+        WALLS[k], 400.0, 175.0, friction=FRICTION, thickness=1000.0, unit_weight=10.0, name=f"Ferris & Tin-Loi wall {k}"
+    )
 
 
 @pytest.fixture(scope="module")
@@ -87,10 +95,22 @@ CANONICAL_HIGHER = {2: 0.558310, 6: 0.300819}
 
 
 @pytest.mark.slow  # the six walls' searches take about 40 s of one core
-@pytest.mark.parametrize("k", [pytest.param(k, marks=pytest.mark.xfail(
-    strict=True, reason=f"canonical search gives {CANONICAL_HIGHER[k]} > {MEASURED_NL[k]}: a higher local "
-                        "minimum of the non-convex search (issue 30, docs/decisions.md)"))
-    if k in CANONICAL_HIGHER else k for k in sorted(WALLS)])
+@pytest.mark.parametrize(
+    "k",
+    [
+        pytest.param(
+            k,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason=f"canonical search gives {CANONICAL_HIGHER[k]} > {MEASURED_NL[k]}: a higher local "
+                "minimum of the non-convex search (issue 30, docs/decisions.md)",
+            ),
+        )
+        if k in CANONICAL_HIGHER
+        else k
+        for k in sorted(WALLS)
+    ],
+)
 def test_nonassociative_states(solved, k):
     both = solved[k]
     a, n = both.associative, both.nonassociative

@@ -6,6 +6,7 @@ verified states then verified on the drawing's own model, and the search ended `
 English bond 1:1 2:1 at f = 0.27 is one of them: its state from the recorded run
 (docs/runs/compare-2026-11-25-tilt.csv, α_NL = 0.26704441069143087) is the reference.
 """
+
 from __future__ import annotations
 
 import pytest

@@ -8,6 +8,7 @@ in other units (lengths × s with the weights, cohesion capacities and loads kep
 forces × k, blocks shuffled, vertices started elsewhere, collinear vertices added —
 and asks for the same α_NL (1e-9 relative) and the same status.
 """
+
 from __future__ import annotations
 
 import json
@@ -31,24 +32,50 @@ def _rect(x0, y0, x1, y1):
 def stack_with_cohesion() -> dict:
     """12 blocks in stack bond with c = 0.5 kPa and two joints of other materials."""
     blocks = [{"id": "ground", "vertices": _rect(-200, -100, 1100, 0), "fixed": True}]
-    blocks += [{"id": f"b{r}{c}", "vertices": _rect(300 * c, 150 * r, 300 * c + 300, 150 * r + 150)}
-               for r in range(4) for c in range(3)]
-    return {"name": "stack 3x4", "thickness": 120, "unit_weight": 18, "friction": 0.6, "cohesion": 0.5,
-            "blocks": blocks, "joints": [{"blocks": ["b10", "b11"], "friction": 0.4, "cohesion": 0.0},
-                                         {"blocks": ["b21", "b22"], "friction": 0.5}]}
+    blocks += [
+        {"id": f"b{r}{c}", "vertices": _rect(300 * c, 150 * r, 300 * c + 300, 150 * r + 150)}
+        for r in range(4)
+        for c in range(3)
+    ]
+    return {
+        "name": "stack 3x4",
+        "thickness": 120,
+        "unit_weight": 18,
+        "friction": 0.6,
+        "cohesion": 0.5,
+        "blocks": blocks,
+        "joints": [
+            {"blocks": ["b10", "b11"], "friction": 0.4, "cohesion": 0.0},
+            {"blocks": ["b21", "b22"], "friction": 0.5},
+        ],
+    }
 
 
 def tied_pier() -> dict:
     """Two slender piers under a lintel, one tied back to an anchor, with a point load."""
-    blocks = [{"id": "ground", "vertices": _rect(-300, -100, 1300, 0), "fixed": True},
-              {"id": "anchor", "vertices": _rect(-300, 0, -100, 900), "fixed": True}]
+    blocks = [
+        {"id": "ground", "vertices": _rect(-300, -100, 1300, 0), "fixed": True},
+        {"id": "anchor", "vertices": _rect(-300, 0, -100, 900), "fixed": True},
+    ]
     blocks += [{"id": f"l{k}", "vertices": _rect(0, 200 * k, 150, 200 * k + 200)} for k in range(4)]
     blocks += [{"id": f"r{k}", "vertices": _rect(850, 200 * k, 1000, 200 * k + 200)} for k in range(4)]
     blocks.append({"id": "lintel", "vertices": _rect(0, 800, 1000, 950)})
-    return {"name": "tied portal", "thickness": 250, "unit_weight": 20, "friction": 0.5, "blocks": blocks,
-            "ties": [{"id": "t", "from": {"block": "l3", "point": [20, 700]},
-                      "to": {"block": "anchor", "point": [-150, 700]}, "strength": 0.3}],
-            "loads": [{"block": "lintel", "point": [500, 900], "dead": [0, -2.0], "live": [0.5, 0]}]}
+    return {
+        "name": "tied portal",
+        "thickness": 250,
+        "unit_weight": 20,
+        "friction": 0.5,
+        "blocks": blocks,
+        "ties": [
+            {
+                "id": "t",
+                "from": {"block": "l3", "point": [20, 700]},
+                "to": {"block": "anchor", "point": [-150, 700]},
+                "strength": 0.3,
+            }
+        ],
+        "loads": [{"block": "lintel", "point": [500, 900], "dead": [0, -2.0], "live": [0.5, 0]}],
+    }
 
 
 def _example(name: str) -> dict:
@@ -66,9 +93,14 @@ SLOW = {
     "running panel": lambda: alma.paper_panel("running", "2:1", "4:1", 0.27).to_dict(),
     "english panel": lambda: alma.paper_panel("english", "2:1", "2:1", 1.0).to_dict(),
     "flemish panel": lambda: alma.paper_panel("flemish", "2:1", "4:1", 0.6).to_dict(),
-    "Ferris & Tin-Loi wall 1": lambda: alma.coursed_wall([[0.5, 1, 1, 1, 1, 0.5] if i % 2 == 0 else [1] * 5
-                                                          for i in range(6)], 400.0, 175.0, friction=0.65,
-                                                         thickness=1000.0, unit_weight=10.0).to_dict(),
+    "Ferris & Tin-Loi wall 1": lambda: alma.coursed_wall(
+        [[0.5, 1, 1, 1, 1, 0.5] if i % 2 == 0 else [1] * 5 for i in range(6)],
+        400.0,
+        175.0,
+        friction=0.65,
+        thickness=1000.0,
+        unit_weight=10.0,
+    ).to_dict(),
     "arch": lambda: _example("arch.json"),
     "portal": lambda: _example("portal.json"),
     "wall with a window": lambda: _example("wall_with_window.json"),
@@ -117,11 +149,11 @@ def scaled(data: dict, length: float, force: float) -> dict:
     """Lengths × ``length`` (weights, cohesive capacities and loads kept), then all forces × ``force``."""
     out = _points(data, lambda p: length * p)
     out["thickness"] = out.get("thickness", 120.0) * length
-    out["unit_weight"] = out.get("unit_weight", 18.0) * force / length ** 3
-    out["cohesion"] = out.get("cohesion", 0.0) * force / length ** 2
+    out["unit_weight"] = out.get("unit_weight", 18.0) * force / length**3
+    out["cohesion"] = out.get("cohesion", 0.0) * force / length**2
     for j in out.get("joints", []):
         if "cohesion" in j:
-            j["cohesion"] = j["cohesion"] * force / length ** 2
+            j["cohesion"] = j["cohesion"] * force / length**2
     for load in out.get("loads", []):
         for key in ("dead", "live"):
             if key in load:
@@ -168,11 +200,17 @@ def same(a: alma.Result, b: alma.Result) -> None:
     assert b.alpha == pytest.approx(a.alpha, rel=REL, abs=REL), (a.alpha, b.alpha, a.start, b.start)
 
 
-rewrite = st.fixed_dictionaries({
-    "angle": st.floats(-math.pi, math.pi), "mirror": st.booleans(),
-    "shift": st.tuples(st.floats(-1e5, 1e5), st.floats(-1e5, 1e5)),
-    "length": st.sampled_from([1.0, 1e-3, 25.4, 0.1]), "force": st.sampled_from([1.0, 1e-3, 9.81, 1e4]),
-    "seed": st.integers(0, 2 ** 31 - 1), "extra": st.booleans()})
+rewrite = st.fixed_dictionaries(
+    {
+        "angle": st.floats(-math.pi, math.pi),
+        "mirror": st.booleans(),
+        "shift": st.tuples(st.floats(-1e5, 1e5), st.floats(-1e5, 1e5)),
+        "length": st.sampled_from([1.0, 1e-3, 25.4, 0.1]),
+        "force": st.sampled_from([1.0, 1e-3, 9.81, 1e4]),
+        "seed": st.integers(0, 2**31 - 1),
+        "extra": st.booleans(),
+    }
+)
 
 
 def apply(data: dict, how: dict) -> dict:

@@ -6,6 +6,7 @@ with the live load reversed, nor on how blocks and vertices are numbered.  It ne
 when friction grows, and a structure on a horizontal ground cannot resist more than f (it can
 always slide as a whole on the ground).
 """
+
 from __future__ import annotations
 
 import itertools
@@ -36,8 +37,10 @@ def solve_dict(data: dict) -> alma.Result:
 
 def map_vertices(data: dict, fn) -> dict:
     out = dict(data)
-    out["blocks"] = [dict(b, vertices=[list(map(float, fn(np.array(v, dtype=float)))) for v in b["vertices"]])
-                     for b in data["blocks"]]
+    out["blocks"] = [
+        dict(b, vertices=[list(map(float, fn(np.array(v, dtype=float)))) for v in b["vertices"]])
+        for b in data["blocks"]
+    ]
     return out
 
 
@@ -71,8 +74,7 @@ def test_panel_scaling(length, weight):
 
 
 @settings(max_examples=20, deadline=None)
-@given(data=assemblies(), length=st.sampled_from([1e-3, 1e3, 1e6]),
-       weight=st.sampled_from([1e-2, 1.0, 1e3]))
+@given(data=assemblies(), length=st.sampled_from([1e-3, 1e3, 1e6]), weight=st.sampled_from([1e-2, 1.0, 1e3]))
 def test_random_scaling(data, length, weight):
     same_alpha(solve_dict(data), solve_dict(scaled(data, length, weight)))
 
@@ -110,8 +112,7 @@ def test_panel_translation(offset):
 
 
 @settings(max_examples=20, deadline=None)
-@given(data=assemblies(), angle=st.floats(-math.pi, math.pi),
-       dx=st.floats(-5e3, 5e3), dy=st.floats(-5e3, 5e3))
+@given(data=assemblies(), angle=st.floats(-math.pi, math.pi), dx=st.floats(-5e3, 5e3), dy=st.floats(-5e3, 5e3))
 def test_random_rigid_motion(data, angle, dx, dy):
     reference = solve_dict(data)
     same_alpha(reference, solve_dict(rotated_dict(data, angle, (dx, dy))))
@@ -181,9 +182,11 @@ FRICTIONS = [0.001, 0.1, 0.2, 0.27, 0.4, 0.6, 0.8, 1.0, 1.5, 3.0]
 #: bounds of two solves are compared up to the accuracy of alma's certificates (see conftest)
 
 
-@pytest.mark.parametrize("geometry", [("stack", "2:1", "4:1"), ("running", "2:1", "2:1"),
-                                      ("english", "2:1", "4:1"), ("flemish", "2:1", "4:1")],
-                         ids=lambda g: "-".join(g))
+@pytest.mark.parametrize(
+    "geometry",
+    [("stack", "2:1", "4:1"), ("running", "2:1", "2:1"), ("english", "2:1", "4:1"), ("flemish", "2:1", "4:1")],
+    ids=lambda g: "-".join(g),
+)
 def test_panel_alpha_non_decreasing_in_friction(geometry):
     model = panel_geometry(*geometry)
     results = [alma.solve(model.with_friction(f)) for f in FRICTIONS]
@@ -208,8 +211,9 @@ def test_random_alpha_non_decreasing_in_friction(data):
         # on the ground the whole assembly can slide: α ≤ f
         assert result.alpha <= f + 1e-9, (f, result.alpha)
         if previous is not None:
-            assert result.alpha >= previous.alpha - 1e-7 * max(1.0, abs(previous.alpha)) \
-                or previous.alpha == -math.inf, (f, previous.alpha, result.alpha)
+            assert (
+                result.alpha >= previous.alpha - 1e-7 * max(1.0, abs(previous.alpha)) or previous.alpha == -math.inf
+            ), (f, previous.alpha, result.alpha)
             if math.isfinite(previous.bounds.lower):
                 assert result.bounds.upper >= previous.bounds.lower - CERTIFICATE
         previous = result
@@ -239,10 +243,16 @@ def _alpha_le_f_params():
         key = panel_id(*row[:4])
         marks = []
         if key in ABOVE_F:
-            marks.append(pytest.mark.xfail(strict=True, reason=(
-                f"alma reports α = {ABOVE_F[key]!r} > f = {row[3]} (+{ABOVE_F[key] - row[3]:.1e}); "
-                "the solve is accepted 'AlmostSolved' with relative gap ~1e-8 although the "
-                "requested tolerance is 1e-11")))
+            marks.append(
+                pytest.mark.xfail(
+                    strict=True,
+                    reason=(
+                        f"alma reports α = {ABOVE_F[key]!r} > f = {row[3]} (+{ABOVE_F[key] - row[3]:.1e}); "
+                        "the solve is accepted 'AlmostSolved' with relative gap ~1e-8 although the "
+                        "requested tolerance is 1e-11"
+                    ),
+                )
+            )
         yield pytest.param(*row[:4], id=key, marks=marks)
 
 
@@ -258,8 +268,13 @@ def test_panel_alpha_at_most_friction(bond, panel_ratio, block_ratio, friction):
 
 # ----------------------------------------------------------------------------- transformed()
 def test_transformed_scene_round_trips():
-    data = scene_dict([{"id": "ground", "vertices": rect(-100, -50, 300, 0), "fixed": True},
-                       {"id": "b1", "vertices": rect(0, 0, 200, 100)}], friction=0.6)
+    data = scene_dict(
+        [
+            {"id": "ground", "vertices": rect(-100, -50, 300, 0), "fixed": True},
+            {"id": "b1", "vertices": rect(0, 0, 200, 100)},
+        ],
+        friction=0.6,
+    )
     scene = alma.Scene.from_dict(data).transformed(np.diag([1.0, 2.0]))
     assert math.hypot(*scene.gravity) == pytest.approx(1.0)
     assert math.hypot(*scene.live_load_direction) == pytest.approx(1.0)
@@ -272,11 +287,15 @@ def test_near_vertical_joint_is_found():
     tolerances, and its outward-normal angle rounds to exactly π.  find_joints used to wrap that
     angle to 0 without flipping the line's sign, found 1 joint instead of 2 and let the block rock
     away through the wall at α = 0.1 instead of 'no_collapse'."""
-    data = scene_dict([
-        {"id": "ground", "vertices": rect(0, -50, 2000, 0), "fixed": True},
-        {"id": "wall", "vertices": rect(900, 0, 1000, 1000), "fixed": True},
-        {"id": "b1", "vertices": [[1000, 0], [1100, 0], [1100, 1000], [1000.0000000000001, 1000]]},
-    ], friction=0.6, live=(-1.0, 0.0))
+    data = scene_dict(
+        [
+            {"id": "ground", "vertices": rect(0, -50, 2000, 0), "fixed": True},
+            {"id": "wall", "vertices": rect(900, 0, 1000, 1000), "fixed": True},
+            {"id": "b1", "vertices": [[1000, 0], [1100, 0], [1100, 1000], [1000.0000000000001, 1000]]},
+        ],
+        friction=0.6,
+        live=(-1.0, 0.0),
+    )
     scene = alma.Scene.from_dict(data)
     assert alma.find_joints(scene).count == 2
     assert alma.solve(scene).status == "no_collapse"
@@ -284,11 +303,15 @@ def test_near_vertical_joint_is_found():
 
 def test_exactly_vertical_joint_is_found():
     """Control for the test above: with the corner exactly at x = 1000 both joints are found."""
-    data = scene_dict([
-        {"id": "ground", "vertices": rect(0, -50, 2000, 0), "fixed": True},
-        {"id": "wall", "vertices": rect(900, 0, 1000, 1000), "fixed": True},
-        {"id": "b1", "vertices": rect(1000, 0, 1100, 1000)},
-    ], friction=0.6, live=(-1.0, 0.0))
+    data = scene_dict(
+        [
+            {"id": "ground", "vertices": rect(0, -50, 2000, 0), "fixed": True},
+            {"id": "wall", "vertices": rect(900, 0, 1000, 1000), "fixed": True},
+            {"id": "b1", "vertices": rect(1000, 0, 1100, 1000)},
+        ],
+        friction=0.6,
+        live=(-1.0, 0.0),
+    )
     scene = alma.Scene.from_dict(data)
     assert alma.find_joints(scene).count == 2
     assert alma.solve(scene).status == "no_collapse"

@@ -5,6 +5,7 @@ rotational or mixed by how its moving part moves.  alma groups the moving blocks
 macro-blocks (rigid bodies) and calls the mechanism ``sliding`` when every one translates,
 ``rocking`` (rotational) when every one rotates about a hinge, ``mixed`` otherwise.
 """
+
 from __future__ import annotations
 
 import itertools
@@ -22,19 +23,20 @@ ROCKING_REASON = (
     "measured: the associative (dilatant) mechanism of this panel moves {n} macro-blocks, most of "
     "them single blocks turning about their own centres (a dilatant mechanism opens every sliding "
     "joint by f|slip|), so not every one rotates about a hinge: alma says 'mixed' where the paper "
-    "describes the overall overturning as rotational")
+    "describes the overall overturning as rotational"
+)
 
 #: (bond, panel ratio, block ratio, friction, the paper's word as alma's class, xfail measurement)
 PAPER = [
-    ("english", "2:1", "4:1", 0.60, "sliding", None),   # Fig. 11a
-    ("english", "1:1", "4:1", 0.60, "mixed", None),     # Fig. 11b
-    ("english", "1:2", "4:1", 0.60, "rocking", 130),    # Fig. 11c
-    ("flemish", "1:2", "4:1", 0.60, "rocking", 100),    # Fig. 12
+    ("english", "2:1", "4:1", 0.60, "sliding", None),  # Fig. 11a
+    ("english", "1:1", "4:1", 0.60, "mixed", None),  # Fig. 11b
+    ("english", "1:2", "4:1", 0.60, "rocking", 130),  # Fig. 11c
+    ("flemish", "1:2", "4:1", 0.60, "rocking", 100),  # Fig. 12
     ("flemish", "1:2", "2:1", 0.60, "rocking", 238),
     ("flemish", "1:2", "1:1", 0.60, "rocking", 169),
-    ("running", "1:1", "1:1", 0.27, "rocking", 109),    # Fig. 13a
-    ("running", "1:1", "2:1", 0.27, "sliding", None),   # Fig. 13b
-    ("running", "1:1", "4:1", 0.27, "sliding", None),   # Fig. 13c
+    ("running", "1:1", "1:1", 0.27, "rocking", 109),  # Fig. 13a
+    ("running", "1:1", "2:1", 0.27, "sliding", None),  # Fig. 13b
+    ("running", "1:1", "4:1", 0.27, "sliding", None),  # Fig. 13c
 ]
 
 
@@ -50,8 +52,15 @@ def test_class_in_the_papers_words(bond, panel, block, friction, word):
 
 
 def _scene(blocks, friction=0.6):
-    return alma.Scene.from_dict({"friction": friction, "blocks": [
-        {"id": "ground", "fixed": True, "vertices": [[-500, -100], [900, -100], [900, 0], [-500, 0]]}, *blocks]})
+    return alma.Scene.from_dict(
+        {
+            "friction": friction,
+            "blocks": [
+                {"id": "ground", "fixed": True, "vertices": [[-500, -100], [900, -100], [900, 0], [-500, 0]]},
+                *blocks,
+            ],
+        }
+    )
 
 
 def _rect(name, x0, y0, x1, y1):
@@ -90,8 +99,9 @@ def test_a_slender_block_rocks_on_a_block_at_rest():
     (macro,) = result.macro_blocks
     assert macro.blocks == ("top",)
     assert macro.centre == pytest.approx((60.0, 100.0), abs=1e-6)
-    assert result.to_dict()["macro_blocks"] == [{"blocks": ["top"], "motion": "rotation",
-                                                 "centre": list(macro.centre), "direction": None}]
+    assert result.to_dict()["macro_blocks"] == [
+        {"blocks": ["top"], "motion": "rotation", "centre": list(macro.centre), "direction": None}
+    ]
 
 
 def _moving_area(bond, panel, block, visible=1e-2):

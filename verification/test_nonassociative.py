@@ -3,6 +3,7 @@
 The default search (``alma.solve(model="nonassociative")``) must reach the global optimum
 that the MILP certifies on small scenes, and never exceed the associative LP value.
 """
+
 from __future__ import annotations
 
 import math
@@ -18,8 +19,9 @@ from helpers import assemblies, single_block_scene
 def side_by_side(k: int, f: float, b: float = 1.0, h: float = 2.0) -> alma.Scene:
     """k blocks b × h side by side on the ground (the prototype's trap cases)."""
     blocks = [{"id": "g", "vertices": [[-b, -1], [(k + 1) * b, -1], [(k + 1) * b, 0], [-b, 0]], "fixed": True}]
-    blocks += [{"id": f"b{i}", "vertices": [[i * b, 0], [(i + 1) * b, 0], [(i + 1) * b, h], [i * b, h]]}
-               for i in range(k)]
+    blocks += [
+        {"id": f"b{i}", "vertices": [[i * b, 0], [(i + 1) * b, 0], [(i + 1) * b, h], [i * b, h]]} for i in range(k)
+    ]
     return alma.Scene.from_dict({"friction": f, "blocks": blocks})
 
 
@@ -35,11 +37,14 @@ def test_single_block_both_models(b, h, f):
     assert result.extra["ratio"] == pytest.approx(1.0, rel=1e-7)
 
 
-@pytest.mark.parametrize("k,f,associative,nonassociative", [
-    (2, 1.0, 1.0, 0.5),          # each block rocks alone; the head joint slips with no normal force
-    (2, 0.6, 0.5319148936, 0.5),
-    (3, 1.0, 1.0, 0.5),          # the trap: LP start, penalty and a single Gilbert run stay at 1.0
-])
+@pytest.mark.parametrize(
+    "k,f,associative,nonassociative",
+    [
+        (2, 1.0, 1.0, 0.5),  # each block rocks alone; the head joint slips with no normal force
+        (2, 0.6, 0.5319148936, 0.5),
+        (3, 1.0, 1.0, 0.5),  # the trap: LP start, penalty and a single Gilbert run stay at 1.0
+    ],
+)
 def test_blocks_side_by_side(k, f, associative, nonassociative):
     result = alma.solve(side_by_side(k, f), model="nonassociative")
     assert result.status == "feasible"
@@ -102,9 +107,14 @@ def test_rocking_without_sliding_models_agree():
 
 def test_structure_that_cannot_stand_is_no_equilibrium_in_both_models():
     """A block held only by friction against a wall: α_LP < 0, hence α_NL ≤ α_LP < 0 (Radenkovic)."""
-    leaning = alma.Scene.from_dict({"blocks": [
-        {"id": "wall", "vertices": [[-10, 0], [0, 0], [0, 100], [-10, 100]], "fixed": True},
-        {"id": "b", "vertices": [[0, 10], [20, 10], [20, 30], [0, 30]]}]})
+    leaning = alma.Scene.from_dict(
+        {
+            "blocks": [
+                {"id": "wall", "vertices": [[-10, 0], [0, 0], [0, 100], [-10, 100]], "fixed": True},
+                {"id": "b", "vertices": [[0, 10], [20, 10], [20, 30], [0, 30]]},
+            ]
+        }
+    )
     result = alma.solve(leaning, model="both")
     assert result.status == "no_equilibrium"
     assert result.bounds.upper < 0 and result.bounds.lower <= result.bounds.upper
@@ -133,10 +143,13 @@ def test_gilbert_interior_point_path_gives_verified_states():
         assert 120 / 720 - 1e-9 <= state.alpha <= lp.alpha + 1e-7
 
 
-@pytest.mark.xfail(strict=False, reason="measured 2026-11-23: since the Gilbert LP keeps its caps as column "
-                   "bounds (alma/cap_lp.py) its vertices differ and this single start ends at 0.181818 (a "
-                   "verified state) instead of 1/6; the default search still returns 1/6 "
-                   "(test_stack_panel_rocks_at_b_over_H)")
+@pytest.mark.xfail(
+    strict=False,
+    reason="measured 2026-11-23: since the Gilbert LP keeps its caps as column "
+    "bounds (alma/cap_lp.py) its vertices differ and this single start ends at 0.181818 (a "
+    "verified state) instead of 1/6; the default search still returns 1/6 "
+    "(test_stack_panel_rocks_at_b_over_H)",
+)
 def test_gilbert_simplex_path_reaches_b_over_H():
     """The warm-simplex Gilbert start (N̄ = N_LP, r = 0.5, 4 slope steps) on the stack panel 2:1 2:1, f = 0.6."""
     from alma.associative.lp import solve_lp
@@ -146,8 +159,9 @@ def test_gilbert_simplex_path_reaches_b_over_H():
 
     model = build_model(alma.paper_panel("stack", "2:1", "2:1", 0.6))
     lp = solve_lp(model)
-    simplex, _ = gilbert(model, ContactPoints.from_model(model), lp.multipliers.reshape(-1, 2).sum(axis=1),
-                         ipm_above=10**9)
+    simplex, _ = gilbert(
+        model, ContactPoints.from_model(model), lp.multipliers.reshape(-1, 2).sum(axis=1), ipm_above=10**9
+    )
     assert simplex.verified
     assert simplex.alpha == pytest.approx(120 / 720, rel=1e-9)
 
@@ -157,7 +171,7 @@ def test_associative_mechanism_read_as_slips_gives_the_sliding_state():
     from alma.associative.lp import solve_lp
     from alma.mechanics.contact_points import ContactPoints
     from alma.mechanics.model import build_model
-    from alma.nonassociative.states import exact_state
+    from alma.nonassociative.exact_states import exact_state
 
     model = build_model(alma.paper_panel("running", "2:1", "4:1", 0.27))
     lp = solve_lp(model)
@@ -210,8 +224,9 @@ def test_time_limit_stops_the_search_and_says_what_was_skipped():
     model = alma.build_model(alma.paper_panel("english", "2:1", "2:1", 1.0))
     lp = solve_lp(model)
     start = time.perf_counter()
-    solution = solve_nonassociative(model, lp.mechanism, lp.multipliers, effort="thorough", time_limit=0.0,
-                                    associative_alpha=lp.alpha)
+    solution = solve_nonassociative(
+        model, lp.mechanism, lp.multipliers, effort="thorough", time_limit=0.0, associative_alpha=lp.alpha
+    )
     assert time.perf_counter() - start < 10.0
     assert solution.stopped_by_limit and solution.status == "not_converged" and not solution.starts
     assert solution.skipped[:3] == ("lp", "rocking", "gilbert(N̄=0·N_LP, r=1, steps=1)")
@@ -252,9 +267,13 @@ def test_closest_field_returns_a_field_that_is_already_admissible():
     assert np.linalg.norm(normal2 - target) <= np.linalg.norm(vertex.normal - target) + 1e-7 * scale
 
 
-@pytest.mark.parametrize("bond, panel, block, friction, whole_search", [
-    pytest.param("english", "1:1", "4:1", 1.0, True, marks=pytest.mark.slow),  # the whole search: 40 s here
-    ("english", "1:1", "2:1", 0.27, False)])
+@pytest.mark.parametrize(
+    "bond, panel, block, friction, whole_search",
+    [
+        pytest.param("english", "1:1", "4:1", 1.0, True, marks=pytest.mark.slow),  # the whole search: 40 s here
+        ("english", "1:1", "2:1", 0.27, False),
+    ],
+)
 def test_projected_iteration_settles_on_large_panels(bond, panel, block, friction, whole_search):
     """Two panels (228 and 444 blocks) where no fixed start of the 108-panel run of 2026-11-21
     gave a verified state (their vertex iterates jump across the capped LPs' optimal faces):
@@ -349,8 +368,14 @@ def test_fast_fixed_starts_get_the_verified_budget_after_a_verified_state(monkey
     monkeypatch.setattr(starts, "gilbert", gilbert_spy)
     monkeypatch.setattr(starts, "rocking_start", lambda *args, **kwargs: (None, 0))
     settings = SearchSettings(gilbert_pivots=5000, gilbert_pivots_verified=700)
-    solution = solve_nonassociative(model, lp.mechanism if lp_verifies else None, lp.multipliers,
-                                    effort="fast", settings=settings, associative_alpha=lp.alpha)
+    solution = solve_nonassociative(
+        model,
+        lp.mechanism if lp_verifies else None,
+        lp.multipliers,
+        effort="fast",
+        settings=settings,
+        associative_alpha=lp.alpha,
+    )
     assert len(budgets) == len(settings.gilbert_fast)
     assert any(r.verified for r in solution.starts if r.start in ("lp", "rocking")) == lp_verifies
     assert budgets == [700 if lp_verifies else 5000] * len(settings.gilbert_fast)

@@ -5,6 +5,7 @@ scenes, the limit c → 0 on a paper panel, and a cohesive paper panel between i
 Every state counted here passed :func:`alma.nonassociative.states.verify` with the bounded
 forces' equilibrium, bounds, flow rule and dissipation.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -45,8 +46,13 @@ def test_single_block_with_base_cohesion(b, h, f, c):
 
 
 @settings(max_examples=15, deadline=None)
-@given(b=st.floats(60, 300), h=st.floats(100, 600), f=st.floats(1.0, 3.0), y_frac=st.floats(0.3, 0.95),
-       share=st.floats(0.0, 1.0))
+@given(
+    b=st.floats(60, 300),
+    h=st.floats(100, 600),
+    f=st.floats(1.0, 3.0),
+    y_frac=st.floats(0.3, 0.95),
+    share=st.floats(0.0, 1.0),
+)
 def test_single_block_with_a_tie_to_a_windward_anchor(b, h, f, y_frac, share):
     """The tied block of the associative test (tie at height y to a windward anchor, F = share · W):
     α = min(f + F/W, b/h + 2 F y / (W h)) in the non-associative model too, the tie at its strength."""
@@ -68,9 +74,14 @@ def cohesive_tied_scenes(draw) -> alma.Scene:
         ground, last = data["blocks"][0]["vertices"], data["blocks"][-1]["vertices"]
         x = 0.75 * ground[0][0] + 0.25 * ground[1][0]
         centre = [0.5 * (last[0][0] + last[2][0]), 0.5 * (last[0][1] + last[2][1])]
-        data["ties"] = [{"id": "t", "from": {"block": data["blocks"][-1]["id"], "point": centre},
-                         "to": {"block": "ground", "point": [x, 0.5 * ground[0][1]]},
-                         "strength": draw(st.floats(0.0, 0.2))}]
+        data["ties"] = [
+            {
+                "id": "t",
+                "from": {"block": data["blocks"][-1]["id"], "point": centre},
+                "to": {"block": "ground", "point": [x, 0.5 * ground[0][1]]},
+                "strength": draw(st.floats(0.0, 0.2)),
+            }
+        ]
     return alma.Scene.from_dict(data)
 
 
@@ -113,10 +124,13 @@ def test_cohesion_to_zero_recovers_the_cohesionless_search(bond, panel, block, f
     assert small.alpha == pytest.approx(base.alpha, rel=1e-6)
 
 
-@pytest.mark.xfail(strict=True, reason="measured: c = 1e-9 kPa gives 0.421531 (start tilt(10°)) against 0.420710 "
-                                       "without cohesion (gilbert(N̄=0·N_LP, r=1, steps=1)); the extra columns "
-                                       "change the simplex's path on the degenerate faces and the first Gilbert "
-                                       "start ends on another state (0.423485)")
+@pytest.mark.xfail(
+    strict=True,
+    reason="measured: c = 1e-9 kPa gives 0.421531 (start tilt(10°)) against 0.420710 "
+    "without cohesion (gilbert(N̄=0·N_LP, r=1, steps=1)); the extra columns "
+    "change the simplex's path on the degenerate faces and the first Gilbert "
+    "start ends on another state (0.423485)",
+)
 def test_cohesion_to_zero_on_the_running_panel_1_1_2_1():
     """Running 1:1 2:1, f = 0.6: the search is not continuous in c on this panel."""
     base = alma.solve(alma.paper_panel("running", "1:1", "2:1", 0.6), model="nonassociative")
@@ -124,8 +138,11 @@ def test_cohesion_to_zero_on_the_running_panel_1_1_2_1():
     assert small.alpha == pytest.approx(base.alpha, rel=1e-6)
 
 
-@pytest.mark.xfail(strict=True, reason="the search on the canonical drawing (issue 30) lands at 0.769934 "
-                   "> 0.765467: a higher local minimum of the non-convex search (docs/decisions.md)")
+@pytest.mark.xfail(
+    strict=True,
+    reason="the search on the canonical drawing (issue 30) lands at 0.769934 "
+    "> 0.765467: a higher local minimum of the non-convex search (docs/decisions.md)",
+)
 def test_cohesive_running_panel_between_radenkovic_and_the_associative_bound():
     """Running 1:1 2:1, f = 0.6, c = 5 kPa (300 blocks, effort "fast"): Radenkovic's bound
     0.192901 and the associative α 0.792870 (LP optima: pinned); the lowest verified
@@ -167,8 +184,13 @@ def test_ipopt_takes_cohesion_on_a_single_block(b, h, f, c):
 
 
 @settings(max_examples=8, deadline=None)
-@given(b=st.floats(60, 300), h=st.floats(100, 600), f=st.floats(1.0, 3.0), y_frac=st.floats(0.3, 0.95),
-       share=st.floats(0.05, 1.0))
+@given(
+    b=st.floats(60, 300),
+    h=st.floats(100, 600),
+    f=st.floats(1.0, 3.0),
+    y_frac=st.floats(0.3, 0.95),
+    share=st.floats(0.05, 1.0),
+)
 def test_ipopt_takes_a_tie_on_a_single_block(b, h, f, y_frac, share):
     """The IPOPT polish with a tie to a windward anchor: α = min(f + F/W, b/h + 2 F y / (W h))."""
     y, W = y_frac * h, _weight(b, h)
@@ -189,9 +211,18 @@ def test_ipopt_on_a_cohesive_tied_wall_lies_between_the_bounds(c, tie):
     course = [b for b in free if max(v[1] for v in b["vertices"]) == top]
     left = min(course, key=lambda b: min(v[0] for v in b["vertices"]))
     right = max(course, key=lambda b: max(v[0] for v in b["vertices"]))
-    ties = [{"id": "chain", "from": {"block": left["id"], "point": [min(v[0] for v in left["vertices"]), top - 30]},
-             "to": {"block": right["id"], "point": [max(v[0] for v in right["vertices"]), top - 30]},
-             "strength": tie}] if tie else []
+    ties = (
+        [
+            {
+                "id": "chain",
+                "from": {"block": left["id"], "point": [min(v[0] for v in left["vertices"]), top - 30]},
+                "to": {"block": right["id"], "point": [max(v[0] for v in right["vertices"]), top - 30]},
+                "strength": tie,
+            }
+        ]
+        if tie
+        else []
+    )
     scene = alma.Scene.from_dict({**data, "cohesion": c, "ties": ties})
     _, state = _ipopt_state(scene)
     result = alma.solve(scene, model="nonassociative")

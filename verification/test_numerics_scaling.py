@@ -6,6 +6,7 @@ LP written here from first principles (contact-point forces N ≥ 0, |T| ≤ f N
 each bed joint, each block's three equilibrium equations), with scipy's HiGHS; a single block of
 b/h = 4 with any friction ≥ 4 rocks at α = b/h = 4 exactly (moments about the toe).
 """
+
 from __future__ import annotations
 
 import json
@@ -36,8 +37,14 @@ def column_scene(unit_weight: float, friction: float) -> dict:
         {"block": "c1", "point": [300.0, 280.0], "dead": [0.1, -0.8], "live": [0.4, 0.0]},
         {"block": "c2", "point": [60.0, 560.0], "dead": [0.0, -1.0], "live": [0.7, -0.1]},
     ]
-    return {"thickness": THICKNESS, "unit_weight": unit_weight, "friction": friction, "blocks": blocks,
-            "live_load": {"direction": [1, 0], "self_weight": False}, "loads": loads}
+    return {
+        "thickness": THICKNESS,
+        "unit_weight": unit_weight,
+        "friction": friction,
+        "blocks": blocks,
+        "live_load": {"direction": [1, 0], "self_weight": False},
+        "loads": loads,
+    }
 
 
 def column_reference(data: dict) -> float:
@@ -62,9 +69,9 @@ def column_reference(data: dict) -> float:
                 if block < 0:
                     continue
                 y = beds[j]
-                A[3 * block, col(j, p, 1)] += sign            # Fx = T
-                A[3 * block + 1, col(j, p, 0)] += sign        # Fy = N
-                A[3 * block + 2, col(j, p, 1)] += -sign * y   # M = x Fy − y Fx about the origin
+                A[3 * block, col(j, p, 1)] += sign  # Fx = T
+                A[3 * block + 1, col(j, p, 0)] += sign  # Fy = N
+                A[3 * block + 2, col(j, p, 1)] += -sign * y  # M = x Fy − y Fx about the origin
                 A[3 * block + 2, col(j, p, 0)] += sign * x
         cx = WIDTH / 2  # the weight is vertical: its moment needs x only
         b[3 * j + 1] += weight[j]
@@ -90,8 +97,7 @@ def column_reference(data: dict) -> float:
     bounds = [(None, None)] + [(0, None) if k % 2 == 0 else (None, None) for k in range(4 * n)]
     c = np.zeros(nv)
     c[0] = -1.0
-    res = linprog(c, A_ub=np.array(rows), b_ub=np.zeros(len(rows)), A_eq=A, b_eq=b, bounds=bounds,
-                  method="highs")
+    res = linprog(c, A_ub=np.array(rows), b_ub=np.zeros(len(rows)), A_eq=A, b_eq=b, bounds=bounds, method="highs")
     assert res.status == 0, res.message
     return float(res.x[0])
 
@@ -111,11 +117,17 @@ def test_kn_loads_on_blocks_of_almost_no_weight(unit_weight, friction):
 def test_point_loads_alone_set_the_scale_of_a_single_block():
     """One 200 × 100 block, dead 1 kN at (50, 50), live 0.8 kN at (100, 90), f = 2: it rocks about
     its right toe at α = 1 · 150 / (0.8 · 90) (sliding needs α = 2 / 0.8)."""
-    data = {"thickness": 120, "unit_weight": 1e-15, "friction": 2.0,
-            "blocks": [ground(-200.0, 400.0), {"id": "b1", "vertices": rect(0.0, 0.0, 200.0, 100.0)}],
-            "live_load": {"direction": [1, 0], "self_weight": False},
-            "loads": [{"block": "b1", "point": [50, 50], "dead": [0, -1]},
-                      {"block": "b1", "point": [100, 90], "live": [0.8, 0]}]}
+    data = {
+        "thickness": 120,
+        "unit_weight": 1e-15,
+        "friction": 2.0,
+        "blocks": [ground(-200.0, 400.0), {"id": "b1", "vertices": rect(0.0, 0.0, 200.0, 100.0)}],
+        "live_load": {"direction": [1, 0], "self_weight": False},
+        "loads": [
+            {"block": "b1", "point": [50, 50], "dead": [0, -1]},
+            {"block": "b1", "point": [100, 90], "live": [0.8, 0]},
+        ],
+    }
     result = alma.solve(alma.Scene.from_dict(data))
     assert result.status == "optimal", result.message
     assert result.alpha == pytest.approx(150 / 72, rel=1e-8)
@@ -125,8 +137,12 @@ def test_point_loads_alone_set_the_scale_of_a_single_block():
 def test_huge_friction_never_proves_a_wrong_alpha(friction):
     """A 200 × 50 block rocks at α = b/h = 4 whatever f ≥ 4: a bound may be lost (not_converged),
     never put on the wrong side of 4, and ``optimal`` only with 4 inside the gap."""
-    data = {"thickness": 120, "unit_weight": 18, "friction": friction,
-            "blocks": [ground(-200.0, 400.0), {"id": "b1", "vertices": rect(0.0, 0.0, 200.0, 50.0)}]}
+    data = {
+        "thickness": 120,
+        "unit_weight": 18,
+        "friction": friction,
+        "blocks": [ground(-200.0, 400.0), {"id": "b1", "vertices": rect(0.0, 0.0, 200.0, 50.0)}],
+    }
     result = alma.solve(alma.Scene.from_dict(data))
     lower, upper = result.bounds.lower, result.bounds.upper
     assert not (math.isnan(lower) or math.isnan(upper))
@@ -141,8 +157,12 @@ def test_huge_friction_never_proves_a_wrong_alpha(friction):
 
 
 def test_json_holds_no_nan_when_the_solver_fails(tmp_path, capsys):
-    data = {"thickness": 120, "unit_weight": 18, "friction": 1e308,
-            "blocks": [ground(-200.0, 400.0), {"id": "b1", "vertices": rect(0.0, 0.0, 200.0, 50.0)}]}
+    data = {
+        "thickness": 120,
+        "unit_weight": 18,
+        "friction": 1e308,
+        "blocks": [ground(-200.0, 400.0), {"id": "b1", "vertices": rect(0.0, 0.0, 200.0, 50.0)}],
+    }
     path = tmp_path / "f.json"
     path.write_text(json.dumps(data))
     assert main(["solve", str(path), "--json"]) == 0
@@ -159,10 +179,18 @@ def test_near_miss_warning_gives_the_gap_the_decision_used():
     snap = 1e-4 * math.sqrt(200 * 100)
     low, high = 0.03, 0.05
     assert 2 * snap < low < high
-    scene = alma.Scene.from_dict({"thickness": 120, "unit_weight": 18, "friction": 0.6, "blocks": [
-        ground(-200.0, 800.0),
-        {"id": "left", "vertices": rect(0.0, 0.0, 200.0, 100.0)},
-        {"id": "right", "vertices": [[200.0 + low, 0.0], [400.0, 0.0], [400.0, 100.0], [200.0 + high, 100.0]]}]})
+    scene = alma.Scene.from_dict(
+        {
+            "thickness": 120,
+            "unit_weight": 18,
+            "friction": 0.6,
+            "blocks": [
+                ground(-200.0, 800.0),
+                {"id": "left", "vertices": rect(0.0, 0.0, 200.0, 100.0)},
+                {"id": "right", "vertices": [[200.0 + low, 0.0], [400.0, 0.0], [400.0, 100.0], [200.0 + high, 100.0]]},
+            ],
+        }
+    )
     joints = alma.find_joints(scene)
     (warning,) = joints.warnings
     assert "'left' and 'right' nearly touch" in warning

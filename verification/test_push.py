@@ -9,6 +9,7 @@ References written here from virtual work on the displaced geometry (finite rota
 - a fixed mechanism of several bodies: α = Σ W v_y / Σ W v_x with v the bodies' virtual
   velocities at the displaced configuration (dead load −W ŷ, live load αW x̂).
 """
+
 from __future__ import annotations
 
 import itertools
@@ -30,8 +31,14 @@ def _rect(x0, y0, w, h):
 
 
 def _scene(blocks, friction=0.8):
-    return alma.Scene.from_dict({"thickness": 120, "unit_weight": 18, "friction": friction, "blocks": [
-        {"id": "ground", "vertices": _rect(-2000, -100, 5000, 100), "fixed": True}, *blocks]})
+    return alma.Scene.from_dict(
+        {
+            "thickness": 120,
+            "unit_weight": 18,
+            "friction": friction,
+            "blocks": [{"id": "ground", "vertices": _rect(-2000, -100, 5000, 100), "fixed": True}, *blocks],
+        }
+    )
 
 
 def _rocking_alpha(b, h, theta):
@@ -80,8 +87,9 @@ def test_json_has_the_fields_of_the_spec(single):
 
 
 def test_two_stacked_blocks_rock_as_one_about_the_base_toe():
-    scene = _scene([{"id": "low", "vertices": _rect(0, 0, 200, 400)},
-                    {"id": "top", "vertices": _rect(0, 400, 200, 400)}])
+    scene = _scene(
+        [{"id": "low", "vertices": _rect(0, 0, 200, 400)}, {"id": "top", "vertices": _rect(0, 400, 200, 400)}]
+    )
     result = push(scene, steps=10)
     assert result.status == alma.Status.OPTIMAL
     # one body 200 × 800 (the joint between the blocks stays closed: it is found again each step)
@@ -96,8 +104,9 @@ def test_two_stacked_blocks_rock_as_one_about_the_base_toe():
 
 
 def test_slender_top_block_rocks_alone_on_the_lower_one():
-    scene = _scene([{"id": "base", "vertices": _rect(0, 0, 800, 200)},
-                    {"id": "top", "vertices": _rect(100, 200, 150, 600)}])
+    scene = _scene(
+        [{"id": "base", "vertices": _rect(0, 0, 800, 200)}, {"id": "top", "vertices": _rect(100, 200, 150, 600)}]
+    )
     result = push(scene, steps=10)
     assert result.status == alma.Status.OPTIMAL and result.control == "top"
     errors = [abs(p.alpha - _rocking_alpha(150, 600, _theta_of_d(p.d, 150, 600))) for p in result.curve]
@@ -107,9 +116,13 @@ def test_slender_top_block_rocks_alone_on_the_lower_one():
 
 # ------------------------------------------------------------------ portal frame (4 hinges)
 PB, PH, SPAN, LT = 200.0, 1000.0, 1000.0, 200.0
-PORTAL = _scene([{"id": "pier_l", "vertices": _rect(0, 0, PB, PH)},
-                 {"id": "pier_r", "vertices": _rect(SPAN - PB, 0, PB, PH)},
-                 {"id": "lintel", "vertices": _rect(-100, PH, SPAN + 200, LT)}])
+PORTAL = _scene(
+    [
+        {"id": "pier_l", "vertices": _rect(0, 0, PB, PH)},
+        {"id": "pier_r", "vertices": _rect(SPAN - PB, 0, PB, PH)},
+        {"id": "lintel", "vertices": _rect(-100, PH, SPAN + 200, LT)},
+    ]
+)
 
 
 def _portal_alpha(theta):
@@ -160,8 +173,7 @@ def test_portal_frame_follows_its_four_hinge_mechanism_at_finite_rotation():
 
 # ------------------------------------------------------------------ invariance
 @settings(max_examples=3, deadline=None)
-@given(scale=st.sampled_from([0.1, 1.0, 25.4]), dx=st.floats(-1e4, 1e4), dy=st.floats(-1e4, 1e4),
-       reverse=st.booleans())
+@given(scale=st.sampled_from([0.1, 1.0, 25.4]), dx=st.floats(-1e4, 1e4), dy=st.floats(-1e4, 1e4), reverse=st.booleans())
 def test_curve_does_not_depend_on_units_origin_or_block_order(scale, dx, dy, reverse):
     base = push(PORTAL, steps=6)
     data = PORTAL.to_dict()
@@ -169,7 +181,7 @@ def test_curve_does_not_depend_on_units_origin_or_block_order(scale, dx, dy, rev
         block["vertices"] = (np.array(block["vertices"]) * scale + [dx, dy]).tolist()
     if reverse:
         data["blocks"] = data["blocks"][::-1]
-    data["unit_weight"] = 18 / scale ** 3  # the same weights: α and d/scale must not change
+    data["unit_weight"] = 18 / scale**3  # the same weights: α and d/scale must not change
     data["thickness"] = 120 * scale
     other = push(alma.Scene.from_dict(data), steps=6)
     assert other.control == base.control and len(other.curve) == len(base.curve)
@@ -191,8 +203,15 @@ def test_a_sliding_block_never_reaches_zero_and_says_so():
     assert np.allclose(last[:, 1].min(), 0.0, atol=1e-6) and last[0, 0] == pytest.approx(result.curve[-1].d)
 
 
-@pytest.mark.parametrize("kwargs, word", [({"model": "both"}, "model"), ({"control": "nope"}, "nope"),
-                                          ({"control": "ground"}, "fixed"), ({"steps": 0}, "steps")])
+@pytest.mark.parametrize(
+    "kwargs, word",
+    [
+        ({"model": "both"}, "model"),
+        ({"control": "nope"}, "nope"),
+        ({"control": "ground"}, "fixed"),
+        ({"steps": 0}, "steps"),
+    ],
+)
 def test_bad_arguments_are_refused_by_name(kwargs, word):
     with pytest.raises(ValueError, match=word):
         push(SINGLE, **kwargs)

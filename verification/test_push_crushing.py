@@ -27,6 +27,7 @@ stays below f N = f W (f = 0.8 > α), so the block rocks and does not slide.  Th
 horizontal displacement d fixes θ (T does not move): d = r cos β − r cos(β + θ), r = ½√(b² + h²),
 β = atan(h/b).
 """
+
 from __future__ import annotations
 
 import math
@@ -47,11 +48,14 @@ def _rect(x0, y0, w, h):
     return [[x0, y0], [x0 + w, y0], [x0 + w, y0 + h], [x0, y0 + h]]
 
 
-def _scene(strength: float | None, *, dx: float = 0.0, dy: float = 0.0, reverse: bool = False,
-           scale: float = 1.0) -> alma.Scene:
+def _scene(
+    strength: float | None, *, dx: float = 0.0, dy: float = 0.0, reverse: bool = False, scale: float = 1.0
+) -> alma.Scene:
     k = scale
-    blocks = [{"id": "ground", "vertices": _rect(-2000 * k + dx, -100 * k + dy, 5000 * k, 100 * k), "fixed": True},
-              {"id": "b1", "vertices": _rect(dx, dy, B * k, H * k)}]
+    blocks = [
+        {"id": "ground", "vertices": _rect(-2000 * k + dx, -100 * k + dy, 5000 * k, 100 * k), "fixed": True},
+        {"id": "b1", "vertices": _rect(dx, dy, B * k, H * k)},
+    ]
     data = {"thickness": T * k, "unit_weight": GAMMA, "friction": 0.8, "blocks": blocks[::-1] if reverse else blocks}
     if strength is not None:
         data["compressive_strength"] = strength
@@ -114,8 +118,7 @@ def test_strong_blocks_recover_the_rigid_curve():
 
 
 @settings(max_examples=3, deadline=None)
-@given(scale=st.sampled_from([0.1, 1.0, 25.4]), dx=st.floats(-5e3, 5e3), dy=st.floats(-5e3, 5e3),
-       reverse=st.booleans())
+@given(scale=st.sampled_from([0.1, 1.0, 25.4]), dx=st.floats(-5e3, 5e3), dy=st.floats(-5e3, 5e3), reverse=st.booleans())
 def test_curve_does_not_depend_on_units_origin_or_block_order(base, scale, dx, dy, reverse):
     """The same structure k times larger (lengths and thickness × k) with σ_c × k has the same
     a/b (W ∝ k³, a = W/(σ_c t) ∝ k): the same α at d × k."""
@@ -130,11 +133,19 @@ def test_two_stacked_blocks_rock_as_one_body_on_their_base_stress_block():
     # 200 × 400 twice: one body b × h = 200 × 800 whose base joint carries both weights, so
     # a = 2 W₁/(σ_c t); θ is the bodies' turn (the control is the top block, not the centroid)
     strength = 0.05
-    scene = alma.Scene.from_dict({"thickness": T, "unit_weight": GAMMA, "friction": 0.8,
-                                  "compressive_strength": strength, "blocks": [
-                                      {"id": "ground", "vertices": _rect(-2000, -100, 5000, 100), "fixed": True},
-                                      {"id": "low", "vertices": _rect(0, 0, 200, 400)},
-                                      {"id": "top", "vertices": _rect(0, 400, 200, 400)}]})
+    scene = alma.Scene.from_dict(
+        {
+            "thickness": T,
+            "unit_weight": GAMMA,
+            "friction": 0.8,
+            "compressive_strength": strength,
+            "blocks": [
+                {"id": "ground", "vertices": _rect(-2000, -100, 5000, 100), "fixed": True},
+                {"id": "low", "vertices": _rect(0, 0, 200, 400)},
+                {"id": "top", "vertices": _rect(0, 400, 200, 400)},
+            ],
+        }
+    )
     result = push(scene, steps=10)
     assert result.status == alma.Status.OPTIMAL and result.end["reason"] == "alpha_zero"
     a = 200 * 800 * T * GAMMA * 1e-6 / (strength * T)
@@ -149,11 +160,20 @@ def test_a_joint_crushing_over_its_whole_length_ends_the_curve_and_is_named():
     # the portal of verification/test_push.py at σ_c = 0.03 MPa: the collapse turns the whole
     # frame about the left pier's crushing hinge while the right pier's base crushes whole
     # (N = σ_c l t) and sinks, which rigid geometry cannot follow: the curve must say so
-    scene = alma.Scene.from_dict({"thickness": T, "unit_weight": GAMMA, "friction": 0.8, "compressive_strength": 0.03,
-                                  "blocks": [{"id": "ground", "vertices": _rect(-2000, -100, 5000, 100), "fixed": True},
-                                             {"id": "pier_l", "vertices": _rect(0, 0, 200, 1000)},
-                                             {"id": "pier_r", "vertices": _rect(800, 0, 200, 1000)},
-                                             {"id": "lintel", "vertices": _rect(-100, 1000, 1200, 200)}]})
+    scene = alma.Scene.from_dict(
+        {
+            "thickness": T,
+            "unit_weight": GAMMA,
+            "friction": 0.8,
+            "compressive_strength": 0.03,
+            "blocks": [
+                {"id": "ground", "vertices": _rect(-2000, -100, 5000, 100), "fixed": True},
+                {"id": "pier_l", "vertices": _rect(0, 0, 200, 1000)},
+                {"id": "pier_r", "vertices": _rect(800, 0, 200, 1000)},
+                {"id": "lintel", "vertices": _rect(-100, 1000, 1200, 200)},
+            ],
+        }
+    )
     result = push(scene)
     assert result.end["reason"] == "no_equilibrium" and math.isnan(result.d0)
     assert result.end["crushed_lost_joints"] == [["ground", "pier_r"]]

@@ -12,6 +12,7 @@ which at θ = 0, for a horizontal tie from the top-left corner (e = (−1, 0)), 
 A tie whose end comes closer to its anchor than drawn is slack and carries nothing; the bare
 block's α(θ) = (b cos θ − h sin θ)/(h cos θ + b sin θ) then holds (verification/test_push.py).
 """
+
 from __future__ import annotations
 
 import math
@@ -37,13 +38,26 @@ def _rect(x0, y0, w, h):
 
 def _scene(anchor, corner=(0.0, H), strength=S, friction=0.8):
     ax, ay = anchor
-    return alma.Scene.from_dict({
-        "thickness": T, "unit_weight": GAMMA, "friction": friction, "blocks": [
-            {"id": "ground", "vertices": _rect(-4000, -100, 8000, 100), "fixed": True},
-            {"id": "anchor", "vertices": _rect(ax - 100, ay - 50, 100, 100), "fixed": True},
-            {"id": "b1", "vertices": _rect(0, 0, B, H)}],
-        "ties": [{"id": "chain", "from": {"block": "b1", "point": list(corner)},
-                  "to": {"block": "anchor", "point": [ax, ay]}, "strength": strength}]})
+    return alma.Scene.from_dict(
+        {
+            "thickness": T,
+            "unit_weight": GAMMA,
+            "friction": friction,
+            "blocks": [
+                {"id": "ground", "vertices": _rect(-4000, -100, 8000, 100), "fixed": True},
+                {"id": "anchor", "vertices": _rect(ax - 100, ay - 50, 100, 100), "fixed": True},
+                {"id": "b1", "vertices": _rect(0, 0, B, H)},
+            ],
+            "ties": [
+                {
+                    "id": "chain",
+                    "from": {"block": "b1", "point": list(corner)},
+                    "to": {"block": "anchor", "point": [ax, ay]},
+                    "strength": strength,
+                }
+            ],
+        }
+    )
 
 
 def _turned(r0, theta):
@@ -86,8 +100,10 @@ def test_a_horizontal_tie_follows_the_displaced_geometry_at_every_step(far):
     assert len(far.curve) > 40 and max(errors) <= 1e-6
     # the closed form can tell: a tie left where it was drawn (direction, lever arm) is off by far more
     # (its pull (−S, 0) at the drawn point (0, h), whose velocity about the toe is (h, b))
-    drawn = max(abs(p.alpha + (W * _turned((-B / 2, H / 2), t)[0] - S * H) / (W * _turned((-B / 2, H / 2), t)[1]))
-                for p, t in zip(far.curve, thetas, strict=True))
+    drawn = max(
+        abs(p.alpha + (W * _turned((-B / 2, H / 2), t)[0] - S * H) / (W * _turned((-B / 2, H / 2), t)[1]))
+        for p, t in zip(far.curve, thetas, strict=True)
+    )
     assert drawn > 1e-2
     # d₀: the root of the closed form (bisection), to the stated accuracy
     lo, hi = 0.0, 1.2

@@ -4,6 +4,7 @@ Each candidate is a rigid rotation of a set of blocks about a support point; it 
 mechanism of the non-associative model (no contact point interpenetrates), and its lifting
 work bounds the α of any collapse state with that mechanism from below.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -13,9 +14,9 @@ from hypothesis import HealthCheck, assume, given, settings, strategies as st
 import alma
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
+from alma.nonassociative.exact_states import exact_state
 from alma.nonassociative.rocking import rocking_candidates
 from alma.nonassociative.starts import rocking_start
-from alma.nonassociative.states import exact_state
 
 from helpers import assemblies, single_block_scene
 
@@ -87,8 +88,16 @@ def test_interior_fixed_set_lp_agrees_with_highs(data):
     for candidate in candidates[:3]:
         open_points, slip_sign = active_set(model, points, candidate.mechanism)
         interior = fixed_set_static_interior(model, points, open_points, slip_sign)
-        vertex = static_lp(model, points, slope=points.friction, cap=np.zeros(points.count), maximise=False,
-                           open_points=open_points, slip_sign=slip_sign, method=LP_METHOD)
+        vertex = static_lp(
+            model,
+            points,
+            slope=points.friction,
+            cap=np.zeros(points.count),
+            maximise=False,
+            open_points=open_points,
+            slip_sign=slip_sign,
+            method=LP_METHOD,
+        )
         assert (interior.status == "optimal") == (vertex.status == "optimal"), (interior.status, vertex.status)
         if vertex.status == "optimal":
             assert interior.alpha == pytest.approx(vertex.alpha, rel=1e-7, abs=1e-9)
@@ -106,8 +115,9 @@ def test_wedge_of_hundreds_of_blocks_on_a_running_panel():
     lp = alma.solve(model, model="associative")
     state, tried = rocking_start(model, points, [], upper=lp.alpha)
     assert state is not None and state.verified and 1 <= tried <= 4
-    wedge = [c for c in rocking_candidates(model, points)[:tried]
-             if abs(c.lifting_bound - state.alpha) <= 1e-9 * state.alpha]
+    wedge = [
+        c for c in rocking_candidates(model, points)[:tried] if abs(c.lifting_bound - state.alpha) <= 1e-9 * state.alpha
+    ]
     assert wedge and len(wedge[0].blocks) > 60
     assert state.alpha < lp.alpha - 0.05
     assert all(len(c.blocks) <= 60 for c in rocking_candidates(model, points, max_blocks=60))
@@ -128,8 +138,9 @@ def _closure_by_velocities(model, points, seed, pivot, omega, tolerance=1e-9):
         if pushing.size == 0:
             return tuple(index.tolist())
         joint_of = points.joint[pushing]
-        sides = np.concatenate([model.free_index[model.joints.block_a[joint_of]],
-                                model.free_index[model.joints.block_b[joint_of]]])
+        sides = np.concatenate(
+            [model.free_index[model.joints.block_a[joint_of]], model.free_index[model.joints.block_b[joint_of]]]
+        )
         if (sides < 0).any():
             return None
         members |= set(sides.tolist())
@@ -145,8 +156,9 @@ def test_each_candidate_is_the_closure_grown_from_one_of_its_blocks(data):
     candidates = rocking_candidates(model, points)
     assume(candidates)
     for candidate in candidates:
-        grown = {_closure_by_velocities(model, points, b, candidate.pivot, candidate.rotation)
-                 for b in candidate.blocks}
+        grown = {
+            _closure_by_velocities(model, points, b, candidate.pivot, candidate.rotation) for b in candidate.blocks
+        }
         assert candidate.blocks in grown
 
 
@@ -169,5 +181,6 @@ def test_seeds_grown_in_batches_give_the_same_candidates(data, batch):
     finally:
         rocking._BATCH_ENTRIES = saved
     for other in (batched, single):
-        assert [(c.blocks, c.pivot, c.rotation, c.lifting_bound) for c in other] == \
-            [(c.blocks, c.pivot, c.rotation, c.lifting_bound) for c in default]
+        assert [(c.blocks, c.pivot, c.rotation, c.lifting_bound) for c in other] == [
+            (c.blocks, c.pivot, c.rotation, c.lifting_bound) for c in default
+        ]

@@ -5,6 +5,7 @@ other shares of the clock under load.  These tests run the search with and witho
 beside it and demand the same states bit for bit, check that solver output never reaches
 stdout (``--json`` must print JSON only), and that the user's time cap is reported.
 """
+
 from __future__ import annotations
 
 import json
@@ -67,11 +68,17 @@ def test_a_nonassociative_solve_prints_nothing_on_stdout(capfd):
     capfd.readouterr()
     result = alma.solve(scene, model="nonassociative", effort="thorough", certify=False)
     assert result.status == "feasible"
-    small = alma.Scene.from_dict({"friction": 1.0, "blocks": [
-        {"id": "g", "vertices": [[-1, -1], [4, -1], [4, 0], [-1, 0]], "fixed": True},
-        {"id": "a", "vertices": [[0, 0], [1, 0], [1, 2], [0, 2]]},
-        {"id": "b", "vertices": [[1, 0], [2, 0], [2, 2], [1, 2]]},
-        {"id": "c", "vertices": [[2, 0], [3, 0], [3, 2], [2, 2]]}]})
+    small = alma.Scene.from_dict(
+        {
+            "friction": 1.0,
+            "blocks": [
+                {"id": "g", "vertices": [[-1, -1], [4, -1], [4, 0], [-1, 0]], "fixed": True},
+                {"id": "a", "vertices": [[0, 0], [1, 0], [1, 2], [0, 2]]},
+                {"id": "b", "vertices": [[1, 0], [2, 0], [2, 2], [1, 2]]},
+                {"id": "c", "vertices": [[2, 0], [3, 0], [3, 2], [2, 2]]},
+            ],
+        }
+    )
     certified = alma.solve(small, model="nonassociative", certify=True)
     assert certified.extra["certificate"]["status"] == "proven"
     out, _ = capfd.readouterr()
@@ -80,8 +87,22 @@ def test_a_nonassociative_solve_prints_nothing_on_stdout(capfd):
 
 def test_json_output_is_json_only(capfd):
     """``alma panel ... --model nonassociative --json`` prints exactly one JSON object on fd 1."""
-    code = main(["panel", "--bond", "stack", "--panel-ratio", "2:1", "--block-ratio", "4:1",
-                 "--friction", "0.6", "--model", "nonassociative", "--json"])
+    code = main(
+        [
+            "panel",
+            "--bond",
+            "stack",
+            "--panel-ratio",
+            "2:1",
+            "--block-ratio",
+            "4:1",
+            "--friction",
+            "0.6",
+            "--model",
+            "nonassociative",
+            "--json",
+        ]
+    )
     assert code == 0
     out, _ = capfd.readouterr()
     assert json.loads(out)["model"] == "nonassociative"
@@ -91,8 +112,9 @@ def test_a_tiny_time_limit_is_reported_as_stopped_by_limit():
     """A cap far below the search's work stops it: the flag is set and the cut starts are named."""
     model = build_model(alma.paper_panel("english", "1:1", "4:1", 1.0))
     lp = solve_lp(model)
-    solution = solve_nonassociative(model, lp.mechanism, lp.multipliers, effort="fast", time_limit=1e-3,
-                                    associative_alpha=lp.alpha)
+    solution = solve_nonassociative(
+        model, lp.mechanism, lp.multipliers, effort="fast", time_limit=1e-3, associative_alpha=lp.alpha
+    )
     assert solution.stopped_by_limit
     assert solution.skipped and "gilbert(N̄=1·N_LP, r=0.5, steps=0)" in solution.skipped
 

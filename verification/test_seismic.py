@@ -7,6 +7,7 @@ e* = 1, M* = its mass and a₀* = α₀ g / FC = (b/h) g / FC.
 
 A published worked example of a façade's overturning is in test_seismic_published.py.
 """
+
 from __future__ import annotations
 
 import math
@@ -33,7 +34,7 @@ SITE2 = dict(ag=0.25, F0=2.5, Tc_star=0.35, soil="C", topography="T2")
 def test_site_one_spectrum_by_hand():
     s = elastic_spectrum(**SITE1)
     assert s.S_S == 1.20 and s.S_T == 1.0
-    assert s.C_C == pytest.approx(1.10 * 0.30 ** -0.20, rel=1e-12) and s.C_C == pytest.approx(1.399486, abs=1e-6)
+    assert s.C_C == pytest.approx(1.10 * 0.30**-0.20, rel=1e-12) and s.C_C == pytest.approx(1.399486, abs=1e-6)
     assert s.TC == pytest.approx(0.419846, abs=1e-6) and s.TB == pytest.approx(0.139949, abs=1e-6)
     assert s.TD == pytest.approx(2.40)
     assert s.Se(0.0) == pytest.approx(0.20 * G * 1.20, rel=1e-12)  # a_g S at T = 0
@@ -64,9 +65,17 @@ def test_soil_amplification_bounds():
 
 def test_single_block_kinematic_check():
     b, h = 240.0, 600.0
-    scene = alma.Scene.from_dict({"thickness": 120, "unit_weight": 18, "friction": 0.8, "blocks": [
-        {"id": "ground", "vertices": [[-500, -100], [800, -100], [800, 0], [-500, 0]], "fixed": True},
-        {"id": "wall", "vertices": [[0, 0], [b, 0], [b, h], [0, h]]}]})
+    scene = alma.Scene.from_dict(
+        {
+            "thickness": 120,
+            "unit_weight": 18,
+            "friction": 0.8,
+            "blocks": [
+                {"id": "ground", "vertices": [[-500, -100], [800, -100], [800, 0], [-500, 0]], "fixed": True},
+                {"id": "wall", "vertices": [[0, 0], [b, 0], [b, h], [0, h]]},
+            ],
+        }
+    )
     site = Site(**SITE1, FC=1.35)
     check = alma.seismic(scene, site, edition="2009", steps=20)
     mass = b * h * 120 * 1e-9 * 18 / G * 1e3  # kg
@@ -86,20 +95,35 @@ def test_single_block_kinematic_check():
 
 def test_elevated_mechanism_takes_the_larger_demand():
     b, h = 240.0, 600.0
-    scene = alma.Scene.from_dict({"thickness": 120, "unit_weight": 18, "friction": 0.8, "blocks": [
-        {"id": "ground", "vertices": [[-500, -100], [800, -100], [800, 0], [-500, 0]], "fixed": True},
-        {"id": "wall", "vertices": [[0, 0], [b, 0], [b, h], [0, h]]}]})
+    scene = alma.Scene.from_dict(
+        {
+            "thickness": 120,
+            "unit_weight": 18,
+            "friction": 0.8,
+            "blocks": [
+                {"id": "ground", "vertices": [[-500, -100], [800, -100], [800, 0], [-500, 0]], "fixed": True},
+                {"id": "wall", "vertices": [[0, 0], [b, 0], [b, h], [0, h]]},
+            ],
+        }
+    )
     site = Site(**SITE1, Z=6.0, H=9.0, storeys=3)
     check = alma.seismic(scene, site, edition="2009", steps=10)
     s = check.spectrum
-    T1 = 0.050 * 9.0 ** 0.75
+    T1 = 0.050 * 9.0**0.75
     upper = s.Se(T1) * (6.0 / 9.0) * (9 / 7) / 2.0
     assert check.linear["demand"] == pytest.approx(max(0.20 * G * 1.20 / 2.0, upper), rel=1e-12)
 
 
-@pytest.mark.parametrize("bad, word", [({"ag": -0.1}, "ag"), ({"soil": "F"}, "soil"),
-                                       ({"topography": "T9"}, "topography"), ({"Z": 3.0}, "H"),
-                                       ({"colour": 1}, "unknown")])
+@pytest.mark.parametrize(
+    "bad, word",
+    [
+        ({"ag": -0.1}, "ag"),
+        ({"soil": "F"}, "soil"),
+        ({"topography": "T9"}, "topography"),
+        ({"Z": 3.0}, "H"),
+        ({"colour": 1}, "unknown"),
+    ],
+)
 def test_bad_site_is_refused_by_name(bad, word):
     with pytest.raises(ValueError, match=word):
         Site.from_dict({**SITE1, **bad})

@@ -15,6 +15,7 @@ Carried loads (§C8.7.1.2.1.1: P_k includes the weights a block carries): a bloc
 its toe with a mass on its top, against the closed form of α(θ) with the load's point turning
 with the block, and e*, M* summed over the block's centroid and the load's point.
 """
+
 from __future__ import annotations
 
 import json
@@ -43,9 +44,18 @@ ETA8 = math.sqrt(10 / 13)  # ξ = 8 %: 0.877058
 def _block(loads=(), k=1.0):
     """The b × h block (scaled by k) on a fixed ground."""
     b, h = k * B, k * H
-    return alma.Scene.from_dict({"thickness": T, "unit_weight": GAMMA, "friction": 0.8, "blocks": [
-        {"id": "ground", "vertices": [[-2 * b, -100], [3 * b, -100], [3 * b, 0], [-2 * b, 0]], "fixed": True},
-        {"id": "wall", "vertices": [[0, 0], [b, 0], [b, h], [0, h]]}], "loads": list(loads)})
+    return alma.Scene.from_dict(
+        {
+            "thickness": T,
+            "unit_weight": GAMMA,
+            "friction": 0.8,
+            "blocks": [
+                {"id": "ground", "vertices": [[-2 * b, -100], [3 * b, -100], [3 * b, 0], [-2 * b, 0]], "fixed": True},
+                {"id": "wall", "vertices": [[0, 0], [b, 0], [b, h], [0, h]]},
+            ],
+            "loads": list(loads),
+        }
+    )
 
 
 @pytest.fixture(scope="module")
@@ -67,7 +77,7 @@ def test_largest_displacement_over_the_periods():
     assert s.SDe_max(0.7) == s.SDe(0.7)
     # beyond T_E it falls (F0 η > 1): the maximum stays S_De(T_E) = S_e(T_E) T_E²/4π²
     # = a_g S η F0 T_C T_D / 4π² (T_E ≥ T_D)
-    top = 0.20 * G * S1 * ETA8 * 2.4 * TC1 * TD1 / (4 * math.pi ** 2)
+    top = 0.20 * G * S1 * ETA8 * 2.4 * TC1 * TD1 / (4 * math.pi**2)
     assert s.SDe(5.0) == pytest.approx(top, rel=1e-5)
     assert s.SDe_max(7.0) == pytest.approx(top, rel=1e-5) and s.SDe(7.0) < top
 
@@ -101,7 +111,7 @@ def test_nonlinear_check_at_slv(block_2019):
     t_slv = 1.68 * math.pi * math.sqrt(nl["d_SLV"] / nl["a_SLV"])  # Eq. C8.7.1.10
     assert nl["T_SLV"] == pytest.approx(t_slv, rel=1e-12)
     assert TC1 < t_slv < TD1  # the branch a_g S η F0 T_C / T of S_e
-    demand = 0.20 * G * S1 * ETA8 * 2.4 * (TC1 / t_slv) * t_slv ** 2 / (4 * math.pi ** 2)
+    demand = 0.20 * G * S1 * ETA8 * 2.4 * (TC1 / t_slv) * t_slv**2 / (4 * math.pi**2)
     assert nl["displacement_demand"] == pytest.approx(demand, rel=1e-5)
     a_g_sld = check.linear["a_g_SLD"]
     a_g_slv = max(0.20 * G * nl["d_SLV"] / demand, a_g_sld)
@@ -120,7 +130,7 @@ def test_a_large_block_is_governed_by_its_displacement():
     assert nl["d_SLV"] == pytest.approx(0.4 * 5 * B / 2 * 1e-3, rel=1e-6)
     t_slv = 1.68 * math.pi * math.sqrt(nl["d_SLV"] / nl["a_SLV"])
     assert TC1 < t_slv < TD1
-    demand = 0.20 * G * S1 * ETA8 * 2.4 * TC1 * t_slv / (4 * math.pi ** 2)
+    demand = 0.20 * G * S1 * ETA8 * 2.4 * TC1 * t_slv / (4 * math.pi**2)
     assert nl["displacement_demand"] == pytest.approx(demand, rel=1e-5)
     by_displacement = 0.20 * G * nl["d_SLV"] / demand
     assert by_displacement > lin["a_g_SLD"]
@@ -152,13 +162,14 @@ def test_a_carried_mass_rocks_with_its_block():
     for point in curve.curve:
         theta = -point.pose.angle[1]
         c, s = math.cos(theta), math.sin(theta)
-        alpha = ((W * (B / 2 * c - H / 2 * s) + TOP * ((B - xp) * c - H * s))
-                 / (W * (B / 2 * s + H / 2 * c) + TOP * ((B - xp) * s + H * c)))
+        alpha = (W * (B / 2 * c - H / 2 * s) + TOP * ((B - xp) * c - H * s)) / (
+            W * (B / 2 * s + H / 2 * c) + TOP * ((B - xp) * s + H * c)
+        )
         assert point.alpha == pytest.approx(alpha, abs=1e-6)
     # e*, M*: the block's weight at its centroid (δ = h/2 θ), the mass at its point (δ = h θ)
-    num, den = W * H / 2 + TOP * H, W * (H / 2) ** 2 + TOP * H ** 2
-    assert check.M_star == pytest.approx(num ** 2 / (G * den) * 1e3, rel=1e-9)
-    assert check.e_star == pytest.approx(num ** 2 / ((W + TOP) * den), rel=1e-9)
+    num, den = W * H / 2 + TOP * H, W * (H / 2) ** 2 + TOP * H**2
+    assert check.M_star == pytest.approx(num**2 / (G * den) * 1e3, rel=1e-9)
+    assert check.e_star == pytest.approx(num**2 / ((W + TOP) * den), rel=1e-9)
     assert check.alpha0 == pytest.approx((W * B / 2 + TOP * (B - xp)) / (W * H / 2 + TOP * H), rel=1e-7)
     assert check.to_dict()["carried_loads"][0]["weight"] == TOP
     # d* = d_C Σ P δ² / (δ_C Σ P δ) with the control the block's centroid (δ_C = h/2 θ)
@@ -199,8 +210,24 @@ def test_edition_from_the_site_file_and_the_command_line(tmp_path):
     (tmp_path / "site.toml").write_text('ag = 0.2\nF0 = 2.4\nTc_star = 0.3\nsoil = "B"\nedition = "2009"\n')
 
     def run(*extra):
-        out = subprocess.run([sys.executable, "-m", "alma.cli", "seismic", "scene.json", "--site", "site.toml",
-                              "--steps", "4", "--json", *extra], capture_output=True, text=True, cwd=tmp_path)
+        out = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "alma.cli",
+                "seismic",
+                "scene.json",
+                "--site",
+                "site.toml",
+                "--steps",
+                "4",
+                "--json",
+                *extra,
+            ],
+            capture_output=True,
+            text=True,
+            cwd=tmp_path,
+        )
         assert out.returncode == 0, out.stderr
         return json.loads(out.stdout)
 
@@ -209,16 +236,39 @@ def test_edition_from_the_site_file_and_the_command_line(tmp_path):
     assert from_option["edition"] == "2019" and "T_SLV" in from_option["nonlinear"]
     assert from_option["site"]["edition"] == "2019"
     assert from_file["M_star"] == from_option["M_star"] and from_file["safety_index"] == pytest.approx(
-        from_option["safety_index"], rel=1e-12)  # at Z = 0 the two linear checks are one inequality
+        from_option["safety_index"], rel=1e-12
+    )  # at Z = 0 the two linear checks are one inequality
     assert np.isfinite(from_option["nonlinear"]["a_g_SLV"])
-    text = subprocess.run([sys.executable, "-m", "alma.cli", "seismic", "scene.json", "--site", "site.toml",
-                           "--steps", "4", "--edition", "2019", "--plot", "check.png"],
-                          capture_output=True, text=True, cwd=tmp_path)
+    text = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "alma.cli",
+            "seismic",
+            "scene.json",
+            "--site",
+            "site.toml",
+            "--steps",
+            "4",
+            "--edition",
+            "2019",
+            "--plot",
+            "check.png",
+        ],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+    )
     assert text.returncode == 0 and "Circolare 2019" in text.stdout and "a_g,SLV" in text.stdout, text.stderr
     assert (tmp_path / "check.png").stat().st_size > 0
-    (tmp_path / "high.toml").write_text('ag = 0.2\nF0 = 2.4\nTc_star = 0.3\nsoil = "B"\nZ = 6.0\nH = 9.0\n'
-                                        'storeys = 3\n')
-    refused = subprocess.run([sys.executable, "-m", "alma.cli", "seismic", "scene.json", "--site", "high.toml",
-                              "--json"], capture_output=True, text=True, cwd=tmp_path)
+    (tmp_path / "high.toml").write_text(
+        'ag = 0.2\nF0 = 2.4\nTc_star = 0.3\nsoil = "B"\nZ = 6.0\nH = 9.0\nstoreys = 3\n'
+    )
+    refused = subprocess.run(
+        [sys.executable, "-m", "alma.cli", "seismic", "scene.json", "--site", "high.toml", "--json"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+    )
     assert refused.returncode == 2 and "Z > 0" in refused.stderr and "Traceback" not in refused.stderr
     assert json.loads(refused.stdout)["status"] == "invalid_input"

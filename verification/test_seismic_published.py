@@ -37,6 +37,7 @@ What alma computes and what it does not:
 - The source's demand check (a₀* ≥ a_g S/q (1 + 1.5 Z/H), OPCM 3274/2003) is not the one alma
   implements (Circolare 2009 §C8A.4.9), and its numbers are not on the pages read: not compared.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -52,8 +53,12 @@ from helpers import rect
 GAMMA = 20.0
 WALLS = {"W1": (0.70, 0.00, 4.00), "W2": (0.50, 4.00, 7.50), "W3": (0.30, 7.50, 10.50)}  # t, base, top
 #: name: (weight kN/m, x from the outer face m, height m, the wall that carries it)
-CARRIED = {"P1": (37.5, 0.60, 4.00, "W1"), "P2": (37.5, 0.40, 7.50, "W2"), "P3": (30.0, 0.15, 10.50, "W3"),
-           "V": (50.0, 0.70, 2.50, "W1")}
+CARRIED = {
+    "P1": (37.5, 0.60, 4.00, "W1"),
+    "P2": (37.5, 0.40, 7.50, "W2"),
+    "P3": (30.0, 0.15, 10.50, "W3"),
+    "V": (50.0, 0.70, 2.50, "W1"),
+}
 H_THRUST, H_HEIGHT = 20.0, 2.50
 H_TOT = 10.50
 # printed values
@@ -67,12 +72,22 @@ def facade_scene() -> alma.Scene:
     seismic action is the weights along −x (outwards), the outer face on x = 0."""
     blocks = [{"id": "ground", "vertices": rect(-1000.0, -500.0, 2000.0, 0.0), "fixed": True}]
     blocks += [{"id": k, "vertices": rect(0.0, 1e3 * y0, 1e3 * t, 1e3 * y1)} for k, (t, y0, y1) in WALLS.items()]
-    loads = [{"block": wall, "point": [1e3 * x, 1e3 * y], "dead": [0.0, -w], "live": [-w, 0.0]}
-             for w, x, y, wall in CARRIED.values()]
+    loads = [
+        {"block": wall, "point": [1e3 * x, 1e3 * y], "dead": [0.0, -w], "live": [-w, 0.0]}
+        for w, x, y, wall in CARRIED.values()
+    ]
     loads.append({"block": "W1", "point": [700.0, 1e3 * H_HEIGHT], "dead": [-H_THRUST, 0.0]})
-    return alma.Scene.from_dict({"name": "Caffè 2008, ribaltamento globale", "thickness": 1000.0,
-                                 "unit_weight": GAMMA, "friction": 0.6, "blocks": blocks, "loads": loads,
-                                 "live_load": {"direction": [-1.0, 0.0]}})
+    return alma.Scene.from_dict(
+        {
+            "name": "Caffè 2008, ribaltamento globale",
+            "thickness": 1000.0,
+            "unit_weight": GAMMA,
+            "friction": 0.6,
+            "blocks": blocks,
+            "loads": loads,
+            "live_load": {"direction": [-1.0, 0.0]},
+        }
+    )
 
 
 def _weights() -> dict[str, tuple[float, float, float, str]]:
@@ -143,9 +158,9 @@ def test_participating_mass_of_alma_mechanism(solved):
     p = np.array([weights[k][0] for k in delta])
     d = np.array(list(delta.values()))
     for g in (G, G_SOURCE):
-        m_star = (p @ d) ** 2 / (g * (p @ d ** 2))  # t per m of wall
+        m_star = (p @ d) ** 2 / (g * (p @ d**2))  # t per m of wall
         assert round(m_star, 2) == M_STAR
-    e_star = G * ((p @ d) ** 2 / (G * (p @ d ** 2))) / p.sum()
+    e_star = G * ((p @ d) ** 2 / (G * (p @ d**2))) / p.sum()
     assert round(e_star, 3) == E_STAR
     # a₀* = α₀ g/(e* FC), FC = 1 in the source: alma's unrounded value is 0.5644 m/s²; the printed
     # 0.563 is the source's arithmetic on α₀ and e* rounded as printed (and g = 9.81) ...
@@ -176,6 +191,6 @@ def test_alma_seismic_on_the_facade(solved, edition):
     weights = _weights()
     p = np.array([weights[k][0] for k in delta])
     d = np.array(list(delta.values()))
-    assert check.M_star == pytest.approx((p @ d) ** 2 / (G * (p @ d ** 2)) * 1e3, rel=1e-9)
-    assert check.e_star == pytest.approx((p @ d) ** 2 / (p.sum() * (p @ d ** 2)), rel=1e-9)
+    assert check.M_star == pytest.approx((p @ d) ** 2 / (G * (p @ d**2)) * 1e3, rel=1e-9)
+    assert check.e_star == pytest.approx((p @ d) ** 2 / (p.sum() * (p @ d**2)), rel=1e-9)
     assert check.alpha0 == pytest.approx(result.alpha, rel=1e-12)

@@ -8,6 +8,7 @@ the work of the settling support's reaction on the prescribed motion (virtual wo
 (c) zero settlement changes nothing, a rigid motion of every support opens no joint, a single
 block over two supports turns about the fixed support's edge with the reaction of statics.
 """
+
 from __future__ import annotations
 
 import itertools
@@ -99,9 +100,15 @@ def test_spreading_arch_reaction_is_the_minimum_thrust(ratio):
 def _wall(parts: list[tuple[float, float, bool]], courses: int = 12) -> alma.Scene:
     """A running-bond wall 1440 mm long of 240 × 60 blocks on ground pieces (x0, x1, settles):
     the settling pieces move down by 1 mm."""
-    blocks = [{"id": f"ground{i}", "vertices": rect(a, -60, b, 0), "fixed": True,
-               **({"settlement": {"translation": [0.0, -1.0]}} if settles else {})}
-              for i, (a, b, settles) in enumerate(parts)]
+    blocks = [
+        {
+            "id": f"ground{i}",
+            "vertices": rect(a, -60, b, 0),
+            "fixed": True,
+            **({"settlement": {"translation": [0.0, -1.0]}} if settles else {}),
+        }
+        for i, (a, b, settles) in enumerate(parts)
+    ]
     for c in range(courses):
         edges = [0.0] + ([120.0 + 240 * k for k in range(6)] if c % 2 else [240.0 * k for k in range(1, 6)]) + [1440.0]
         for a, b in itertools.pairwise(edges):
@@ -144,11 +151,14 @@ def test_settling_base_part_opens_a_region_over_it():
     assert cracked and all(j.state in ("separating", "sliding", "hinging") for j in cracked)
 
 
-@pytest.mark.xfail(strict=True, reason="measured: the settlement of the middle 480 mm of the base moves no block "
-                   "(work 7.5e-12 kN·mm): in the associative model a block confined between neighbours can only "
-                   "slide down its head joints by opening them by f·|slip|, which its neighbours prevent, so the "
-                   "interlocked wall bridges the settlement; the arch-shaped region of the laboratory needs "
-                   "sliding without dilatancy")
+@pytest.mark.xfail(
+    strict=True,
+    reason="measured: the settlement of the middle 480 mm of the base moves no block "
+    "(work 7.5e-12 kN·mm): in the associative model a block confined between neighbours can only "
+    "slide down its head joints by opening them by f·|slip|, which its neighbours prevent, so the "
+    "interlocked wall bridges the settlement; the arch-shaped region of the laboratory needs "
+    "sliding without dilatancy",
+)
 def test_settling_middle_part_opens_an_arch_over_it():
     scene = _wall([(-100, 480, False), (480, 960, True), (960, 1540, False)])
     result = alma.settle(scene)
@@ -180,10 +190,14 @@ def test_single_block_over_two_supports_turns_about_the_fixed_edge(end):
     """(c) a beam on a fixed support [..., 100] and a settling one [300, ...], centroid over the
     settling one: it turns about (100, 0) until its far end follows the support down by 1 mm, so
     the settling reaction is R = W (x_c − 100) / (x_end − 100) and the work R · 1 mm."""
-    data = {"friction": 0.6, "blocks": [
-        {"id": "left", "vertices": rect(-200, -100, 100, 0), "fixed": True},
-        {"id": "right", "vertices": rect(300, -100, 700, 0), "fixed": True},
-        {"id": "beam", "vertices": rect(0, 0, end, 100)}]}
+    data = {
+        "friction": 0.6,
+        "blocks": [
+            {"id": "left", "vertices": rect(-200, -100, 100, 0), "fixed": True},
+            {"id": "right", "vertices": rect(300, -100, 700, 0), "fixed": True},
+            {"id": "beam", "vertices": rect(0, 0, end, 100)},
+        ],
+    }
     result = alma.settle(_with_settlement(data, "right", translation=[0.0, -1.0]))
     W = end * 100 * 120 * 18e-9
     expected = W * (end / 2 - 100) / (end - 100)

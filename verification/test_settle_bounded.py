@@ -13,6 +13,7 @@ A block B (200 × 400 mm) stands on a support S that settles 1 mm down, beside a
 
 and W* is the larger of them and 0 (nothing needs to move).
 """
+
 from __future__ import annotations
 
 import json
@@ -29,15 +30,27 @@ W = 200 * 400 * 120 * 18e-9  # kN
 
 
 def scene(cohesion: float = 0.0, tie: float | None = None) -> dict:
-    data = {"thickness": 120, "unit_weight": 18, "friction": F, "blocks": [
-        {"id": "A", "vertices": rect(-200, 0, 0, 400), "fixed": True},
-        {"id": "S", "vertices": rect(0, -100, 200, 0), "fixed": True, "settlement": {"translation": [0, -1]}},
-        {"id": "B", "vertices": rect(0, 0, 200, 400)}]}
+    data = {
+        "thickness": 120,
+        "unit_weight": 18,
+        "friction": F,
+        "blocks": [
+            {"id": "A", "vertices": rect(-200, 0, 0, 400), "fixed": True},
+            {"id": "S", "vertices": rect(0, -100, 200, 0), "fixed": True, "settlement": {"translation": [0, -1]}},
+            {"id": "B", "vertices": rect(0, 0, 200, 400)},
+        ],
+    }
     if cohesion:
         data["joints"] = [{"blocks": ["A", "B"], "cohesion": cohesion}]
     if tie is not None:
-        data["ties"] = [{"id": "t", "from": {"block": "B", "point": [100, 300]},
-                         "to": {"block": "A", "point": [-100, 300]}, "strength": tie}]
+        data["ties"] = [
+            {
+                "id": "t",
+                "from": {"block": "B", "point": [100, 300]},
+                "to": {"block": "A", "point": [-100, 300]},
+                "strength": tie,
+            }
+        ]
     return data
 
 

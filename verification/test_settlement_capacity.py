@@ -25,6 +25,7 @@ displacements, and finds s_u where the displaced structure can no longer carry i
 4. Case 1 with a support that also translates (a finite rigid motion whose path is not a circle
    about one centre): the tilt at s_u is still atan(b/h).
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -100,11 +101,14 @@ def _reference() -> alma.SettlementCapacity:
 
 
 @settings(max_examples=4, deadline=None)
-@given(unit=st.sampled_from([0.1, 1.0, 25.4, 1000.0]),
-       origin=st.tuples(st.floats(-5e3, 5e3, allow_nan=False), st.floats(-5e3, 5e3, allow_nan=False)),
-       reverse=st.booleans())
-def test_units_origin_and_block_order_do_not_change_s_u(unit: float, origin: tuple[float, float],
-                                                         reverse: bool) -> None:
+@given(
+    unit=st.sampled_from([0.1, 1.0, 25.4, 1000.0]),
+    origin=st.tuples(st.floats(-5e3, 5e3, allow_nan=False), st.floats(-5e3, 5e3, allow_nan=False)),
+    reverse=st.booleans(),
+)
+def test_units_origin_and_block_order_do_not_change_s_u(
+    unit: float, origin: tuple[float, float], reverse: bool
+) -> None:
     """s_u (in the drawing's units) × the unit is the same settlement in mm, wherever the
     drawing lies and in whichever order its blocks are listed."""
     result = alma.settlement_capacity(lintel(0.5, unit=unit, origin=origin, reverse=reverse))
@@ -112,26 +116,46 @@ def test_units_origin_and_block_order_do_not_change_s_u(unit: float, origin: tup
     assert result.s_u * unit == pytest.approx(300.0 * 0.5 / math.hypot(1.0, 0.5), rel=REL)
     reference = _reference()
     assert len(result.curve.curve) == len(reference.curve.curve)  # the same steps, relative to L
-    assert np.allclose([p.d * unit for p in result.curve.curve], [p.d for p in reference.curve.curve],
-                       rtol=1e-6, atol=1e-9)
+    assert np.allclose(
+        [p.d * unit for p in result.curve.curve], [p.d for p in reference.curve.curve], rtol=1e-6, atol=1e-9
+    )
 
 
 def test_a_scene_that_cannot_stand_before_settling_says_so() -> None:
     """A block whose centroid overhangs its support's edge (b/2 beyond it): no curve, no s_u."""
-    scene = alma.Scene.from_dict({"name": "overhang", "thickness": 100, "unit_weight": 20, "friction": 0.6,
-                                  "live_load": {"direction": [-1, 0]},
-                                  "blocks": [{"id": "g", "vertices": [[-300, -100], [0, -100], [0, 0], [-300, 0]],
-                                              "fixed": True, "settlement": {"translation": [0, -1]}},
-                                             {"id": "b", "vertices": [[-100, 0], [300, 0], [300, 100], [-100, 100]]}]})
+    scene = alma.Scene.from_dict(
+        {
+            "name": "overhang",
+            "thickness": 100,
+            "unit_weight": 20,
+            "friction": 0.6,
+            "live_load": {"direction": [-1, 0]},
+            "blocks": [
+                {
+                    "id": "g",
+                    "vertices": [[-300, -100], [0, -100], [0, 0], [-300, 0]],
+                    "fixed": True,
+                    "settlement": {"translation": [0, -1]},
+                },
+                {"id": "b", "vertices": [[-100, 0], [300, 0], [300, 100], [-100, 100]]},
+            ],
+        }
+    )
     result = alma.settlement_capacity(scene)
     assert result.status == Status.NO_EQUILIBRIUM and math.isnan(result.s_u) and result.curve.curve == ()
     assert json.loads(json.dumps(result.to_dict()))["s_u"] is None
 
 
 def test_no_settlement_is_a_clear_error() -> None:
-    scene = alma.Scene.from_dict({"name": "no settlement", "blocks": [
-        {"id": "g", "vertices": [[-300, -100], [600, -100], [600, 0], [-300, 0]], "fixed": True},
-        {"id": "b", "vertices": [[0, 0], [200, 0], [200, 600], [0, 600]]}]})
+    scene = alma.Scene.from_dict(
+        {
+            "name": "no settlement",
+            "blocks": [
+                {"id": "g", "vertices": [[-300, -100], [600, -100], [600, 0], [-300, 0]], "fixed": True},
+                {"id": "b", "vertices": [[0, 0], [200, 0], [200, 600], [0, 600]]},
+            ],
+        }
+    )
     with pytest.raises(SettleError, match="settlement"):
         alma.settlement_capacity(scene)
 

@@ -9,6 +9,7 @@ release may pick other vertices of degenerate LPs (docs/decisions.md, "Still ope
 release"), so the check runs only with the releases it was recorded with.  These are alma's own
 earlier answers, not published values.
 """
+
 from __future__ import annotations
 
 import importlib.metadata
@@ -27,23 +28,25 @@ SCENES = {
     "stack panel": lambda: alma.paper_panel("stack", "2:1", "4:1", 0.6),
     "stack 3x4 with cohesion": lambda: Scene.from_dict(stack_with_cohesion()),
     "tied portal with a point load": lambda: Scene.from_dict(tied_pier()),
-    "Ferris & Tin-Loi wall 1": lambda: alma.coursed_wall(WALL_1, 400.0, 175.0, friction=0.65, thickness=1000.0,
-                                                         unit_weight=10.0),
+    "Ferris & Tin-Loi wall 1": lambda: alma.coursed_wall(
+        WALL_1, 400.0, 175.0, friction=0.65, thickness=1000.0, unit_weight=10.0
+    ),
 }
 #: (α_NL, status, start kept, associative α), recorded at 7051f4d.
 RECORDED = {
     "stack panel": (0.33333333333057613, "feasible", "rocking", 0.41912002594745845),
-    "stack 3x4 with cohesion": (0.5644765770336546, "feasible", "gilbert(N̄=0·N_LP, r=1, steps=1)",
-                                0.6143468737571647),
+    "stack 3x4 with cohesion": (0.5644765770336546, "feasible", "gilbert(N̄=0·N_LP, r=1, steps=1)", 0.6143468737571647),
     "tied portal with a point load": (0.48141891891891886, "feasible", "lp", 0.4814189189193672),
-    "Ferris & Tin-Loi wall 1": (0.6389818336852203, "feasible", "gilbert(N̄=0·N_LP, r=1, steps=1)",
-                                0.6428590033278915),
+    "Ferris & Tin-Loi wall 1": (0.6389818336852203, "feasible", "gilbert(N̄=0·N_LP, r=1, steps=1)", 0.6428590033278915),
 }
 
 
 def _other_releases() -> list[str]:
-    return [f"{name} {importlib.metadata.version(name)} (recorded with {pinned})"
-            for name, pinned in RELEASES.items() if importlib.metadata.version(name) != pinned]
+    return [
+        f"{name} {importlib.metadata.version(name)} (recorded with {pinned})"
+        for name, pinned in RELEASES.items()
+        if importlib.metadata.version(name) != pinned
+    ]
 
 
 @pytest.mark.parametrize("name", sorted(SCENES))

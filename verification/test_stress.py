@@ -22,6 +22,7 @@ largest paper panels; see docs/accuracy.md).
 
 Every failure found is kept as an explicit example or a plain regression test below.
 """
+
 from __future__ import annotations
 
 import math
@@ -43,9 +44,12 @@ TAU_IPM = 1e-6
 #: the HiGHS value (regression: test_not_converged_bounds_are_proven).
 NOT_CONVERGED_BOUNDS = True
 
-STRESS = settings(deadline=None, max_examples=60, derandomize=True,
-                  suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
-                                         HealthCheck.filter_too_much])
+STRESS = settings(
+    deadline=None,
+    max_examples=60,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large, HealthCheck.filter_too_much],
+)
 
 
 # ----------------------------------------------------------------------------- the property
@@ -63,8 +67,9 @@ def highs_static(model: alma.Model, method: str = "highs-ds") -> tuple[str, floa
     for meth, opts in ((method, options), (other, options), ("highs-ds", {})):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", OptimizeWarning)
-            res = linprog(c, A_eq=A, b_eq=-model.dead, bounds=[(0, None)] * k + [(None, None)],
-                          method=meth, options=opts)
+            res = linprog(
+                c, A_eq=A, b_eq=-model.dead, bounds=[(0, None)] * k + [(None, None)], method=meth, options=opts
+            )
         if res.status == 0:
             return "optimal", float(res.x[-1])
         if res.status == 2:
@@ -79,15 +84,18 @@ def check(scene: alma.Scene, method: str = "highs-ds", tau: float = TAU_DS) -> a
     model = alma.build_model(scene)
     result = alma.solve(scene)
     h_status, h_alpha = highs_static(model, method)
-    what = (f"alma {result.status} α={result.alpha!r} [{result.bounds.lower!r}, {result.bounds.upper!r}] "
-            f"({result.message}); HiGHS {h_status} α={h_alpha!r}")
+    what = (
+        f"alma {result.status} α={result.alpha!r} [{result.bounds.lower!r}, {result.bounds.upper!r}] "
+        f"({result.message}); HiGHS {h_status} α={h_alpha!r}"
+    )
     if result.status == "not_converged":
         # Allowed: alma says it could not certify.  SPEC §3: ``bounds`` then hold what is proven,
         # so they must still contain the HiGHS value (checked when NOT_CONVERGED_BOUNDS is set).
         if NOT_CONVERGED_BOUNDS and h_status == "optimal":
             t = tau * max(1.0, abs(h_alpha))
-            assert result.bounds.lower - t <= h_alpha <= result.bounds.upper + t, \
+            assert result.bounds.lower - t <= h_alpha <= result.bounds.upper + t, (
                 "not_converged bounds are not proven: " + what
+            )
         return result
     if h_status == "optimal":
         t = tau * max(1.0, abs(h_alpha))
@@ -132,7 +140,7 @@ def stacked(draw, length, height, max_courses=3, max_per_course=4, friction=None
 
 
 def log_uniform(lo: float, hi: float):
-    return st.floats(math.log10(lo), math.log10(hi)).map(lambda e: 10.0 ** e)
+    return st.floats(math.log10(lo), math.log10(hi)).map(lambda e: 10.0**e)
 
 
 def rotation(theta: float) -> np.ndarray:
@@ -170,10 +178,12 @@ def test_aspect_ratio(data):
 def _sliver_scene(eps: float, friction: float = 0.6) -> alma.Scene:
     """A top block resting on two blocks, overlapping the right one by eps of the top joint length."""
     L = 200.0
-    blocks = [{"id": "ground", "vertices": rect(-500.0, -50.0, 1000.0, 0.0), "fixed": True},
-              {"id": "left", "vertices": rect(0.0, 0.0, L, 100.0)},
-              {"id": "right", "vertices": rect(L + 10.0, 0.0, 2 * L + 10.0, 100.0)},
-              {"id": "top", "vertices": rect(0.5 * L, 100.0, L + 10.0 + eps * L, 160.0)}]
+    blocks = [
+        {"id": "ground", "vertices": rect(-500.0, -50.0, 1000.0, 0.0), "fixed": True},
+        {"id": "left", "vertices": rect(0.0, 0.0, L, 100.0)},
+        {"id": "right", "vertices": rect(L + 10.0, 0.0, 2 * L + 10.0, 100.0)},
+        {"id": "top", "vertices": rect(0.5 * L, 100.0, L + 10.0 + eps * L, 160.0)},
+    ]
     return alma.Scene.from_dict(scene_dict(blocks, friction=friction))
 
 
@@ -182,7 +192,7 @@ def _sliver_scene(eps: float, friction: float = 0.6) -> alma.Scene:
 @example(exponent=-9.0, friction=0.6)
 @example(exponent=-8.0, friction=0.6)
 def test_sliver_overlap(exponent, friction):
-    check(_sliver_scene(10.0 ** exponent, friction))
+    check(_sliver_scene(10.0**exponent, friction))
 
 
 def _tilted_scene(theta: float, friction: float = 0.6, aspect: float = 2.0) -> alma.Scene:
@@ -194,14 +204,18 @@ def _tilted_scene(theta: float, friction: float = 0.6, aspect: float = 2.0) -> a
     v1 = base @ R.T + [b / 2, 0.0]
     v2 = np.array(rect(0.0, h, b, 2 * h)) - [b / 2, 0.0]
     v2 = v2 @ R.T + [b / 2, 0.0]
-    blocks = [{"id": "ground", "vertices": rect(-300.0, -50.0, 500.0, 0.0), "fixed": True},
-              {"id": "b1", "vertices": v1.tolist()}, {"id": "b2", "vertices": v2.tolist()}]
+    blocks = [
+        {"id": "ground", "vertices": rect(-300.0, -50.0, 500.0, 0.0), "fixed": True},
+        {"id": "b1", "vertices": v1.tolist()},
+        {"id": "b2", "vertices": v2.tolist()},
+    ]
     return alma.Scene.from_dict(scene_dict(blocks, friction=friction))
 
 
 @STRESS
-@given(theta=st.floats(-1e-10, 1e-10), friction=st.sampled_from([0.3, 0.6, 1.0]),
-       aspect=st.sampled_from([0.25, 1.0, 4.0]))
+@given(
+    theta=st.floats(-1e-10, 1e-10), friction=st.sampled_from([0.3, 0.6, 1.0]), aspect=st.sampled_from([0.25, 1.0, 4.0])
+)
 @example(theta=1e-10, friction=0.6, aspect=1.0)
 @example(theta=-1e-10, friction=0.3, aspect=0.25)
 def test_almost_collinear(theta, friction, aspect):
@@ -242,18 +256,21 @@ def test_mixed_tiny_and_huge(data):
 @example(data=assembly_dict([(0.0, [100.0], 100.0)], 0.6), gravity=math.pi / 2, live=0.0)  # lifts off
 @example(data=assembly_dict([(0.0, [100.0], 100.0)], 0.6), gravity=-math.pi / 2, live=-math.pi / 2)  # pressed
 def test_load_directions_and_statuses(data, gravity, live):
-    data = dict(data, gravity=[math.cos(gravity), math.sin(gravity)],
-                live_load={"direction": [math.cos(live), math.sin(live)]})
+    data = dict(
+        data, gravity=[math.cos(gravity), math.sin(gravity)], live_load={"direction": [math.cos(live), math.sin(live)]}
+    )
     check(alma.Scene.from_dict(data))
 
 
 # ----------------------------------------------------------------------------- plain cases
 def test_boxed_block_no_collapse_and_upward_gravity_no_equilibrium():
-    box = [{"id": "ground", "vertices": rect(-100, -50, 300, 0), "fixed": True},
-           {"id": "left", "vertices": rect(-100, 0, 0, 100), "fixed": True},
-           {"id": "right", "vertices": rect(200, 0, 300, 100), "fixed": True},
-           {"id": "lid", "vertices": rect(-100, 100, 300, 150), "fixed": True},
-           {"id": "b1", "vertices": rect(0, 0, 200, 100)}]
+    box = [
+        {"id": "ground", "vertices": rect(-100, -50, 300, 0), "fixed": True},
+        {"id": "left", "vertices": rect(-100, 0, 0, 100), "fixed": True},
+        {"id": "right", "vertices": rect(200, 0, 300, 100), "fixed": True},
+        {"id": "lid", "vertices": rect(-100, 100, 300, 150), "fixed": True},
+        {"id": "b1", "vertices": rect(0, 0, 200, 100)},
+    ]
     assert check(alma.Scene.from_dict(scene_dict(box))).status == "no_collapse"
     free = [box[0], box[4]]
     assert check(alma.Scene.from_dict(scene_dict(free, gravity=(0.0, 1.0)))).status == "no_equilibrium"

@@ -16,13 +16,7 @@ import pandas as pd
 import pytest
 import scipy.stats
 
-from alma.stats.anova import (
-    anova,
-    fit_model,
-    load_results,
-    press_balanced,
-    r2_pred_balanced,
-)
+from alma.stats.anova import anova, fit_model, load_results, press_balanced, r2_pred_balanced
 from alma.stats.effects import equivalent_t, pareto_reference, standardized_effects
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -83,9 +77,7 @@ def test_dof_bookkeeping_of_appendix_a(result):
     ss = {r.source: r.adj_ss for r in result.rows}
     # Balanced design: the adjusted SS add up (Eq. 15).
     assert math.isclose(ss["Model"] + ss["Error"], ss["Total"], rel_tol=1e-12)
-    assert math.isclose(
-        ss["Linear"], ss["Panel"] + ss["Block"] + ss["Bond"] + ss["Friction"], rel_tol=1e-10
-    )
+    assert math.isclose(ss["Linear"], ss["Panel"] + ss["Block"] + ss["Bond"] + ss["Friction"], rel_tol=1e-10)
 
 
 def test_adjusted_equals_sequential_ss_in_balanced_design(result):
@@ -103,9 +95,7 @@ def test_press_equals_balanced_closed_form(result):
     sse = result.row("Error").adj_ss
     sst = result.row("Total").adj_ss
     assert math.isclose(result.press, press_balanced(sse, result.n, result.n_params), rel_tol=1e-10)
-    assert math.isclose(
-        result.r2_pred, r2_pred_balanced(sse, sst, result.n, result.n_params), rel_tol=1e-10
-    )
+    assert math.isclose(result.r2_pred, r2_pred_balanced(sse, sst, result.n, result.n_params), rel_tol=1e-10)
 
 
 def test_pareto_reference_is_1995(result):
@@ -119,13 +109,7 @@ def test_pareto_ranking_as_in_figure7(result):
     # Text under Figure 7: main effects and Panel*Friction lead; then Block*Friction,
     # Panel*Block, Bond*Friction, Panel*Bond; Block*Bond alone below the reference line.
     assert set(names[:5]) == {"Panel", "Block", "Bond", "Friction", "Panel*Friction"}
-    assert names[5:] == [
-        "Block*Friction",
-        "Panel*Block",
-        "Bond*Friction",
-        "Panel*Bond",
-        "Block*Bond",
-    ]
+    assert names[5:] == ["Block*Friction", "Panel*Block", "Bond*Friction", "Panel*Bond", "Block*Bond"]
     assert [e.source for e in effects if not e.significant] == ["Block*Bond"]
     # Each multi-DoF effect reproduces its term's p-value as a two-sided t-test p-value.
     for e in effects:

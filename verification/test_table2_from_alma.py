@@ -13,6 +13,7 @@ print as the published ones (alma: 0.3518515 and 0.4172586, certified bounds; pu
 Table 2; those cells are strict xfails carrying the measured values. With the published
 values for those two panels, alma's printed Table 5 *is* the published Table 5.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -41,8 +42,10 @@ KNOWN_TABLE2 = {
     ("Panel", "f_value"): "alma 126.82 (126.8244) vs printed 126.83",
     ("Block", "f_value"): "alma 141.11 (141.1148) vs printed 141.12",
 }
-_REASON = ("caused by alma's α of english 1:2 2:1 at f = 0.60 / 1.00 (0.3519 / 0.4173 at 4 "
-           "decimals, published 0.3518 / 0.4172, ~1e-5 beyond the rounding boundary): ")
+_REASON = (
+    "caused by alma's α of english 1:2 2:1 at f = 0.60 / 1.00 (0.3519 / 0.4173 at 4 "
+    "decimals, published 0.3518 / 0.4172, ~1e-5 beyond the rounding boundary): "
+)
 
 
 @pytest.fixture(scope="module")
@@ -54,8 +57,7 @@ def alma_table5(tmp_path_factory) -> pd.DataFrame:
     t5 = load_results(TABLE5)
     mine = results.set_index(FACTORS)["alpha_c"]
     out = t5[FACTORS].copy()
-    out["alpha_c"] = [float(mine.loc[(r.panel_ratio, r.block_ratio, r.bond, r.friction)])
-                      for r in t5.itertuples()]
+    out["alpha_c"] = [float(mine.loc[(r.panel_ratio, r.block_ratio, r.bond, r.friction)]) for r in t5.itertuples()]
     out["published"] = t5["alpha_c"].to_numpy()
     return out
 
@@ -104,8 +106,7 @@ def _cells():
             marks = ()
             if (row["source"], col) in KNOWN_TABLE2:
                 marks = pytest.mark.xfail(strict=True, reason=_REASON + KNOWN_TABLE2[(row["source"], col)])
-            yield pytest.param(row["source"], col, dec, float(row[col]), marks=marks,
-                               id=f"{row['source']}-{col}")
+            yield pytest.param(row["source"], col, dec, float(row[col]), marks=marks, id=f"{row['source']}-{col}")
 
 
 @pytest.mark.parametrize("source, column, decimals, printed", list(_cells()))

@@ -5,6 +5,7 @@ acceptance tolerance is 1e-4 (one unit of the last printed digit).  Panels whose
 equals the friction coefficient collapse by sliding on a joint (the whole panel, or the part
 above a bed joint, slides with α = f); alma must classify them as sliding.
 """
+
 from __future__ import annotations
 
 import math
@@ -23,8 +24,7 @@ def test_table5_has_108_panels():
     assert len(SLIDING_ROWS) == 24
 
 
-@pytest.mark.parametrize("bond,panel_ratio,block_ratio,friction,published", ROWS,
-                         ids=[panel_id(*r[:4]) for r in ROWS])
+@pytest.mark.parametrize("bond,panel_ratio,block_ratio,friction,published", ROWS, ids=[panel_id(*r[:4]) for r in ROWS])
 def test_table5_panel(bond, panel_ratio, block_ratio, friction, published):
     result = solve_panel(bond, panel_ratio, block_ratio, friction)
     assert result.status == "optimal", result.message
@@ -38,8 +38,9 @@ def test_table5_panel(bond, panel_ratio, block_ratio, friction, published):
     assert result.bounds.lower <= friction + 1e-9
 
 
-@pytest.mark.parametrize("bond,panel_ratio,block_ratio,friction,published", SLIDING_ROWS,
-                         ids=[panel_id(*r[:4]) for r in SLIDING_ROWS])
+@pytest.mark.parametrize(
+    "bond,panel_ratio,block_ratio,friction,published", SLIDING_ROWS, ids=[panel_id(*r[:4]) for r in SLIDING_ROWS]
+)
 def test_table5_sliding_panels_slide(bond, panel_ratio, block_ratio, friction, published):
     result = solve_panel(bond, panel_ratio, block_ratio, friction)
     assert result.alpha == pytest.approx(friction, rel=1e-7)

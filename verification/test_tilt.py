@@ -8,6 +8,7 @@ the table like a weight: rocking at tan θ = (b/2)(W + P) / (W h/2 + P h).  With
 ties or applied loads θ_c = atan(α_c) of the horizontal self-weight load (``method="exact"``);
 the general bisection must agree with it.
 """
+
 from __future__ import annotations
 
 import json
@@ -25,9 +26,14 @@ T, RHO = 120.0, 18.0  # mm, kN/m³ (the scene defaults)
 
 
 def block(b: float, h: float, f: float = 0.6, c: float = 0.0, load: float = 0.0) -> alma.Scene:
-    data = {"friction": f, "cohesion": c, "blocks": [
-        {"id": "table", "fixed": True, "vertices": [[-2 * b, -100], [3 * b, -100], [3 * b, 0], [-2 * b, 0]]},
-        {"id": "b", "vertices": [[0, 0], [b, 0], [b, h], [0, h]]}]}
+    data = {
+        "friction": f,
+        "cohesion": c,
+        "blocks": [
+            {"id": "table", "fixed": True, "vertices": [[-2 * b, -100], [3 * b, -100], [3 * b, 0], [-2 * b, 0]]},
+            {"id": "b", "vertices": [[0, 0], [b, 0], [b, h], [0, h]]},
+        ],
+    }
     if load:
         data["loads"] = [{"block": "b", "point": [b / 2, h], "dead": [0.0, -load]}]
     return alma.Scene.from_dict(data)

@@ -24,6 +24,7 @@ What is checked, and why each bound is what it is (no number here is tuned to pa
 - above the guarantee, never a silent other structure: the same joints and α within the bound,
   or a warning naming blocks, or a refusal naming a block.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -159,14 +160,18 @@ def test_noise_beyond_the_tolerance_is_the_same_structure_or_said(name, factor):
 
 def _stack(middle: float) -> dict:
     """Three 100 mm blocks stacked on a ground, the middle one ``middle`` mm high."""
+
     def rect(y0: float, y1: float) -> list[list[float]]:
         return [[0.0, y0], [100.0, y0], [100.0, y1], [0.0, y1]]
-    return {"blocks": [
-        {"id": "ground", "fixed": True, "vertices": [[-50.0, -50.0], [150.0, -50.0], [150.0, 0.0], [-50.0, 0.0]]},
-        {"id": "low", "vertices": rect(0.0, 100.0)},
-        {"id": "thin", "vertices": rect(100.0, 100.0 + middle)},
-        {"id": "high", "vertices": rect(100.0 + middle, 200.0 + middle)},
-    ]}
+
+    return {
+        "blocks": [
+            {"id": "ground", "fixed": True, "vertices": [[-50.0, -50.0], [150.0, -50.0], [150.0, 0.0], [-50.0, 0.0]]},
+            {"id": "low", "vertices": rect(0.0, 100.0)},
+            {"id": "thin", "vertices": rect(100.0, 100.0 + middle)},
+            {"id": "high", "vertices": rect(100.0 + middle, 200.0 + middle)},
+        ]
+    }
 
 
 def test_a_block_thinner_than_the_tolerance_is_refused_naming_it():
@@ -185,12 +190,14 @@ def test_a_block_thinner_than_the_tolerance_is_refused_naming_it():
 
 def _strip(height: float) -> dict:
     """A 100 × ``height`` mm strip on a ground, beside a 100 mm block (which sets tol = 0.01 mm)."""
-    return {"blocks": [
-        {"id": "ground", "fixed": True, "vertices": [[-50.0, -50.0], [350.0, -50.0], [350.0, 0.0], [-50.0, 0.0]]},
-        {"id": "block", "vertices": [[0.0, 0.0], [100.0, 0.0], [100.0, 100.0], [0.0, 100.0]]},
-        {"id": "strip", "vertices": [[150.0, 0.0], [250.0, 0.0], [250.0, height], [150.0, height]]},
-        {"id": "block2", "vertices": [[260.0, 0.0], [340.0, 0.0], [340.0, 100.0], [260.0, 100.0]]},
-    ]}
+    return {
+        "blocks": [
+            {"id": "ground", "fixed": True, "vertices": [[-50.0, -50.0], [350.0, -50.0], [350.0, 0.0], [-50.0, 0.0]]},
+            {"id": "block", "vertices": [[0.0, 0.0], [100.0, 0.0], [100.0, 100.0], [0.0, 100.0]]},
+            {"id": "strip", "vertices": [[150.0, 0.0], [250.0, 0.0], [250.0, height], [150.0, height]]},
+            {"id": "block2", "vertices": [[260.0, 0.0], [340.0, 0.0], [340.0, 100.0], [260.0, 100.0]]},
+        ]
+    }
 
 
 def test_a_small_block_keeps_its_own_vertices():
@@ -213,10 +220,15 @@ def test_a_chain_of_merges_wider_than_the_guarantee_is_a_warning():
     b = [[100.0, 0.0], [200.0, 0.0], [200.0, 100.0], [100.0 + s, 100.0]]
     c = [[100.0 + 2 * s, 100.0], [200.0, 100.0], [200.0, 200.0], [100.0, 200.0]]
     d = [[0.0, 100.0], [100.0 + 3 * s, 100.0], [100.0, 200.0], [0.0, 200.0]]
-    data = {"blocks": [
-        {"id": "ground", "fixed": True, "vertices": [[-50.0, -50.0], [250.0, -50.0], [250.0, 0.0], [-50.0, 0.0]]},
-        {"id": "a", "vertices": a}, {"id": "b", "vertices": b}, {"id": "c", "vertices": c}, {"id": "d", "vertices": d},
-    ]}
+    data = {
+        "blocks": [
+            {"id": "ground", "fixed": True, "vertices": [[-50.0, -50.0], [250.0, -50.0], [250.0, 0.0], [-50.0, 0.0]]},
+            {"id": "a", "vertices": a},
+            {"id": "b", "vertices": b},
+            {"id": "c", "vertices": c},
+            {"id": "d", "vertices": d},
+        ]
+    }
     joints = alma.find_joints(alma.Scene.from_dict(data, validate=False))
     merged = [w for w in joints.warnings if "merged point" in w]
     assert len(merged) == 1, joints.warnings
@@ -252,10 +264,8 @@ def test_block_and_vertex_order_do_not_change_the_snapped_scene(rnd):
     for block_id, v in before.items():
         w = after[block_id]
         assert np.array_equal(v[np.lexsort(v.T[::-1])], w[np.lexsort(w.T[::-1])]), block_id
-    pairs0 = {tuple(sorted((scene.blocks[a].id, scene.blocks[b].id)))
-              for a, b in _joints(scene)[0]}
-    pairs1 = {tuple(sorted((shuffled.blocks[a].id, shuffled.blocks[b].id)))
-              for a, b in _joints(shuffled)[0]}
+    pairs0 = {tuple(sorted((scene.blocks[a].id, scene.blocks[b].id))) for a, b in _joints(scene)[0]}
+    pairs1 = {tuple(sorted((shuffled.blocks[a].id, shuffled.blocks[b].id))) for a, b in _joints(shuffled)[0]}
     assert pairs1 == pairs0
 
 

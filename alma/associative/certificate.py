@@ -6,6 +6,7 @@ leaves round-off in both; :func:`certify_pair` removes it by minimum-norm correc
 with a sparse factorisation (``alma.backends.gram_backend``: QDLDL, feral on large walls), so
 that the two bounds certify each other.  All quantities are dimensionless (``alma.mechanics.model``).
 """
+
 from __future__ import annotations
 
 from typing import cast
@@ -21,10 +22,19 @@ from alma.settings import AssociativeSettings
 _FERAL_MIN_ROWS = AssociativeSettings().feral_min_rows
 
 
-def certify_pair(H: sp.csc_matrix, model: Model, u: np.ndarray, mu: np.ndarray, alpha: float,
-                 residual_tolerance: float = 1e-9, gap_tolerance: float = 1e-7, *,
-                 static: sp.csc_matrix | None = None, upper: np.ndarray | None = None,
-                 feral_min_rows: int = _FERAL_MIN_ROWS) -> tuple[np.ndarray, np.ndarray, float, float, float]:
+def certify_pair(
+    H: sp.csc_matrix,
+    model: Model,
+    u: np.ndarray,
+    mu: np.ndarray,
+    alpha: float,
+    residual_tolerance: float = 1e-9,
+    gap_tolerance: float = 1e-7,
+    *,
+    static: sp.csc_matrix | None = None,
+    upper: np.ndarray | None = None,
+    feral_min_rows: int = _FERAL_MIN_ROWS,
+) -> tuple[np.ndarray, np.ndarray, float, float, float]:
     """Repair the interior-point pair into admissible fields (the two bounds).
 
     Both repairs are minimum-norm corrections solved with a sparse factorisation:
@@ -47,30 +57,51 @@ def certify_pair(H: sp.csc_matrix, model: Model, u: np.ndarray, mu: np.ndarray, 
     Returns (u, μ, α_lower, static residual, kinematic residual).
     """
     norm = float(model.n_free)
-    u, kinematic_residual = _repair_mechanism(H, model.live, u * (norm / (model.live @ u)), norm,
-                                              residual_tolerance, feral_min_rows)
+    u, kinematic_residual = _repair_mechanism(
+        H, model.live, u * (norm / (model.live @ u)), norm, residual_tolerance, feral_min_rows
+    )
     A = H if static is None else static
     bound = np.full(A.shape[1], np.inf) if upper is None else np.asarray(upper, dtype=float)
     u_final = u / norm
     upper_estimate = float(-model.dead @ u_final / (model.live @ u_final))
-    mu, alpha, static_residual = _repair_field(A, model, np.clip(mu, 0.0, bound), alpha, bound,
-                                               upper_estimate, residual_tolerance, gap_tolerance, feral_min_rows)
+    mu, alpha, static_residual = _repair_field(
+        A,
+        model,
+        np.clip(mu, 0.0, bound),
+        alpha,
+        bound,
+        upper_estimate,
+        residual_tolerance,
+        gap_tolerance,
+        feral_min_rows,
+    )
     return u_final, mu, float(alpha), static_residual, kinematic_residual
 
 
-def repair_mechanism(H: sp.csc_matrix, model: Model, u: np.ndarray, residual_tolerance: float = 1e-9,
-                     feral_min_rows: int = _FERAL_MIN_ROWS) -> tuple[np.ndarray, float]:
+def repair_mechanism(
+    H: sp.csc_matrix,
+    model: Model,
+    u: np.ndarray,
+    residual_tolerance: float = 1e-9,
+    feral_min_rows: int = _FERAL_MIN_ROWS,
+) -> tuple[np.ndarray, float]:
     """The kinematic repair of :func:`certify_pair` alone, on the flow-rule columns of H: returns
     (u with f_Lᵀu = 1, its relative flow-rule violation)."""
     norm = float(model.n_free)
-    u, residual = _repair_mechanism(H, model.live, u * (norm / (model.live @ u)), norm, residual_tolerance,
-                                    feral_min_rows)
+    u, residual = _repair_mechanism(
+        H, model.live, u * (norm / (model.live @ u)), norm, residual_tolerance, feral_min_rows
+    )
     return u / norm, residual
 
 
-def _repair_mechanism(H: sp.csc_matrix, live: np.ndarray, u: np.ndarray, norm: float,
-                      residual_tolerance: float, feral_min_rows: int = _FERAL_MIN_ROWS
-                      ) -> tuple[np.ndarray, float]:
+def _repair_mechanism(
+    H: sp.csc_matrix,
+    live: np.ndarray,
+    u: np.ndarray,
+    norm: float,
+    residual_tolerance: float,
+    feral_min_rows: int = _FERAL_MIN_ROWS,
+) -> tuple[np.ndarray, float]:
     """The kinematic repair (see :func:`certify_pair`); returns u and its relative violation."""
     HT = H.T.tocsr(copy=True)  # a view would share H's arrays, which abs() may sort in place
     abs_HT = abs(HT)
@@ -107,9 +138,17 @@ def _repair_mechanism(H: sp.csc_matrix, live: np.ndarray, u: np.ndarray, norm: f
     return u, best
 
 
-def _repair_field(A: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float, bound: np.ndarray,
-                  upper_estimate: float, residual_tolerance: float, gap_tolerance: float,
-                  feral_min_rows: int = _FERAL_MIN_ROWS) -> tuple[np.ndarray, float, float]:
+def _repair_field(
+    A: sp.csc_matrix,
+    model: Model,
+    mu: np.ndarray,
+    alpha: float,
+    bound: np.ndarray,
+    upper_estimate: float,
+    residual_tolerance: float,
+    gap_tolerance: float,
+    feral_min_rows: int = _FERAL_MIN_ROWS,
+) -> tuple[np.ndarray, float, float]:
     """The static repair (see :func:`certify_pair`).
 
     Two correction spaces: the plain support of μ (multipliers strictly inside their bounds),
@@ -138,13 +177,20 @@ def _repair_field(A: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float, 
     return cast("tuple[np.ndarray, float, float]", best_static)  # the loop ran: it is set
 
 
-def repair_field(A: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float, bound: np.ndarray,
-                 upper_estimate: float, residual_tolerance: float, gap_tolerance: float,
-                 feral_min_rows: int = _FERAL_MIN_ROWS) -> tuple[np.ndarray, float, float]:
+def repair_field(
+    A: sp.csc_matrix,
+    model: Model,
+    mu: np.ndarray,
+    alpha: float,
+    bound: np.ndarray,
+    upper_estimate: float,
+    residual_tolerance: float,
+    gap_tolerance: float,
+    feral_min_rows: int = _FERAL_MIN_ROWS,
+) -> tuple[np.ndarray, float, float]:
     """The static repair of :func:`certify_pair` alone (a field without its mechanism): returns
     (μ, α, equilibrium residual)."""
-    return _repair_field(A, model, mu, alpha, bound, upper_estimate, residual_tolerance, gap_tolerance,
-                         feral_min_rows)
+    return _repair_field(A, model, mu, alpha, bound, upper_estimate, residual_tolerance, gap_tolerance, feral_min_rows)
 
 
 def _better(trial: tuple, best: tuple, residual_tolerance: float) -> bool:
@@ -155,9 +201,16 @@ def _better(trial: tuple, best: tuple, residual_tolerance: float) -> bool:
     return ok_t or (not ok_b and trial[2] < best[2])
 
 
-def static_correction(H: sp.csc_matrix, model: Model, mu: np.ndarray, alpha: float,
-                       support: np.ndarray, weight: np.ndarray,
-                       bound: np.ndarray, feral_min_rows: int = _FERAL_MIN_ROWS) -> tuple[np.ndarray, float, float]:
+def static_correction(
+    H: sp.csc_matrix,
+    model: Model,
+    mu: np.ndarray,
+    alpha: float,
+    support: np.ndarray,
+    weight: np.ndarray,
+    bound: np.ndarray,
+    feral_min_rows: int = _FERAL_MIN_ROWS,
+) -> tuple[np.ndarray, float, float]:
     """Minimum-norm correction of (μ_S, α) removing the equilibrium residual (Eq. 3)."""
     live = model.live
     HS = H[:, support] @ sp.diags(weight)
@@ -210,4 +263,3 @@ def cone_residual(model: Model, u: np.ndarray) -> float:
     if not np.isfinite(worst) or not np.isfinite(size):
         return np.inf
     return worst / size if size > 0 else 0.0
-

@@ -13,6 +13,7 @@ for the second this module has two steps:
   so the blend is in equilibrium at (1 − θ) α + θ α₀ and admissible: a certified lower bound
   a little below α (θ (α − α₀), measured ~1e-10 relative on the paper's panels).
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -50,9 +51,14 @@ class ConeField:
     note: str = ""
 
 
-def repair_cone_field(model: Model, static: sp.csc_matrix, fields: np.ndarray, alpha: float,
-                      bound: np.ndarray, feral_min_rows: int = AssociativeSettings().feral_min_rows
-                      ) -> tuple[np.ndarray, float, float]:
+def repair_cone_field(
+    model: Model,
+    static: sp.csc_matrix,
+    fields: np.ndarray,
+    alpha: float,
+    bound: np.ndarray,
+    feral_min_rows: int = AssociativeSettings().feral_min_rows,
+) -> tuple[np.ndarray, float, float]:
     """The static field (μ, τ) put in equilibrium (Eq. 3) at a corrected α, kept inside the cones.
 
     An affine-scaled minimum-norm correction (as :func:`alma.associative.certificate.certify_pair`'s
@@ -80,8 +86,9 @@ def repair_cone_field(model: Model, static: sp.csc_matrix, fields: np.ndarray, a
             room[:k] = np.minimum(room[:k], np.repeat(slack.ravel(), 2))
         top = max(float(best[0].max(initial=0.0)), 1e-300)
         support = np.flatnonzero(room > 1e-14 * top)
-        trial = static_correction(static, model, best[0].copy(), best[1], support, np.sqrt(room[support] / top),
-                                  bound, feral_min_rows)
+        trial = static_correction(
+            static, model, best[0].copy(), best[1], support, np.sqrt(room[support] / top), bound, feral_min_rows
+        )
         if trial[2] >= best[2]:
             break
         best = trial
@@ -141,20 +148,46 @@ def blend_theta(model: Model, mu: np.ndarray, anchor: np.ndarray) -> float | Non
     return lower if lower <= upper else None
 
 
-def anchored_field(model: Model, H: sp.csc_matrix, static: sp.csc_matrix, bound: np.ndarray, best: ConeField,
-                   s: AssociativeSettings, max_iter: int, time_limit: float | None, refine: bool) -> ConeField:
+def anchored_field(
+    model: Model,
+    H: sp.csc_matrix,
+    static: sp.csc_matrix,
+    bound: np.ndarray,
+    best: ConeField,
+    s: AssociativeSettings,
+    max_iter: int,
+    time_limit: float | None,
+    refine: bool,
+) -> ConeField:
     """The field ``best`` blended with an anchor solve into the cones (module docstring); ``best``
     itself when the anchor fails or its blend is not more admissible."""
     k = H.shape[1]
-    anchor = solve_static_crushing(model, H, s.cone_tolerance, max_iter, time_limit, refine=refine,
-                                   normalisation=s.normalisation, margins=anchor_margins(model, best.fields[:k], s))
-    kept = ConeField(best.fields, best.alpha, best.residual, best.solve_time + anchor.solve_time,
-                     best.iterations + anchor.iterations)
+    anchor = solve_static_crushing(
+        model,
+        H,
+        s.cone_tolerance,
+        max_iter,
+        time_limit,
+        refine=refine,
+        normalisation=s.normalisation,
+        margins=anchor_margins(model, best.fields[:k], s),
+    )
+    kept = ConeField(
+        best.fields, best.alpha, best.residual, best.solve_time + anchor.solve_time, best.iterations + anchor.iterations
+    )
     if anchor.raw_status not in ("Solved", "AlmostSolved"):
         return dataclasses.replace(kept, note=f"; anchor solve: {anchor.raw_status}")
-    fields0, alpha0, _ = repair_field(static, model, np.clip(anchor.x[1:1 + static.shape[1]], 0.0, bound),
-                                      anchor.x[0], bound, best.alpha, s.residual_tolerance, s.gap_tolerance,
-                                      s.feral_min_rows)
+    fields0, alpha0, _ = repair_field(
+        static,
+        model,
+        np.clip(anchor.x[1 : 1 + static.shape[1]], 0.0, bound),
+        anchor.x[0],
+        bound,
+        best.alpha,
+        s.residual_tolerance,
+        s.gap_tolerance,
+        s.feral_min_rows,
+    )
     theta = blend_theta(model, best.fields[:k], fields0[:k])
     if theta is None:
         return dataclasses.replace(kept, note="; anchor solve: no blend inside the cones")
@@ -164,13 +197,22 @@ def anchored_field(model: Model, H: sp.csc_matrix, static: sp.csc_matrix, bound:
     residual = max(equilibrium, cone_violation(model, fields[:k]))
     if residual >= best.residual:
         return dataclasses.replace(kept, note="; anchor solve: blend not admissible")
-    return dataclasses.replace(kept, fields=fields, alpha=float(alpha), residual=residual,
-                               note=f"; anchor solve, blend θ = {theta:.1e}")
+    return dataclasses.replace(
+        kept, fields=fields, alpha=float(alpha), residual=residual, note=f"; anchor solve, blend θ = {theta:.1e}"
+    )
 
 
-def admissible_field(model: Model, H: sp.csc_matrix, static: sp.csc_matrix, bound: np.ndarray,
-                     solver_fields: np.ndarray, solver_alpha: float, first: ConeField, s: AssociativeSettings,
-                     anchor: tuple[int, float | None, bool] | None) -> ConeField:
+def admissible_field(
+    model: Model,
+    H: sp.csc_matrix,
+    static: sp.csc_matrix,
+    bound: np.ndarray,
+    solver_fields: np.ndarray,
+    solver_alpha: float,
+    first: ConeField,
+    s: AssociativeSettings,
+    anchor: tuple[int, float | None, bool] | None,
+) -> ConeField:
     """The best admissible field from the plain repair's ``first``: the cone-aware repair from it and
     from the solver's field (``solver_fields`` at ``solver_alpha``), then, given ``anchor`` =
     (Clarabel's iteration cap, time limit, refinement), the anchored blend when a cone is still
@@ -180,8 +222,7 @@ def admissible_field(model: Model, H: sp.csc_matrix, static: sp.csc_matrix, boun
     for start, alpha0 in ((first.fields, first.alpha), (np.clip(solver_fields, 0.0, bound), solver_alpha)):
         if best.residual <= s.residual_tolerance:
             return best
-        again, alpha_again, residual_again = repair_cone_field(model, static, start, alpha0, bound,
-                                                               s.feral_min_rows)
+        again, alpha_again, residual_again = repair_cone_field(model, static, start, alpha0, bound, s.feral_min_rows)
         residual_again = max(residual_again, cone_violation(model, again[:k]))
         if residual_again < best.residual:
             best = ConeField(again, alpha_again, residual_again)

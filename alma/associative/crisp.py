@@ -16,6 +16,7 @@ vertex, which moves as few joints as the face allows.  The certified α and its 
 those of the main solve; the crisp mechanism's own α must meet them within δ, or the interior
 point's mechanism is kept.  Dimensionless, as :mod:`alma.mechanics.model`.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -33,9 +34,16 @@ CRISP_NORMALISATION = 10.0
 SUPPORT = 1e3
 
 
-def crisp_mechanism(model: Model, alpha: float, slack: float, multipliers: np.ndarray,
-                    mechanism: np.ndarray, *, max_blocks_capped: int,
-                    time_limit: float | None = None) -> tuple[np.ndarray | None, str]:
+def crisp_mechanism(
+    model: Model,
+    alpha: float,
+    slack: float,
+    multipliers: np.ndarray,
+    mechanism: np.ndarray,
+    *,
+    max_blocks_capped: int,
+    time_limit: float | None = None,
+) -> tuple[np.ndarray | None, str]:
     """The sparsest mechanism (f_Lᵀu = 1) of the optimal face of the certified ``alpha``, from
     the interior point's pair (``multipliers``, ``mechanism``); (None, why) when none is found.
 
@@ -44,24 +52,25 @@ def crisp_mechanism(model: Model, alpha: float, slack: float, multipliers: np.nd
     """
     H = model.equilibrium
     power = np.maximum(H.T @ mechanism, 0.0)
-    tight = (multipliers / max(float(multipliers.max(initial=0.0)), 1e-300)
-             > SUPPORT * power / max(float(power.max(initial=0.0)), 1e-300))
+    tight = multipliers / max(float(multipliers.max(initial=0.0)), 1e-300) > SUPPORT * power / max(
+        float(power.max(initial=0.0)), 1e-300
+    )
     u, why = _solve(model, alpha, slack, tight, time_limit)
     if u is None and model.n_free <= max_blocks_capped:
         u, why = _solve(model, alpha, slack, np.zeros_like(tight), time_limit)
     return u, why
 
 
-def _solve(model: Model, alpha: float, slack: float, tight: np.ndarray,
-           time_limit: float | None) -> tuple[np.ndarray | None, str]:
+def _solve(
+    model: Model, alpha: float, slack: float, tight: np.ndarray, time_limit: float | None
+) -> tuple[np.ndarray | None, str]:
     H = model.equilibrium
     scale = CRISP_NORMALISATION * model.n_free
     k = int(tight.sum())
     # With the equalities the face is fixed and the cap is redundant (and a round-off away from
     # making the LP infeasible); without them the cap on the dead load's work defines the face.
     cap = [] if k else [sp.csr_matrix(-model.dead)]
-    A = sp.vstack([sp.csr_matrix(model.live), -H.T[np.flatnonzero(tight)], *cap,
-                   -H.T[np.flatnonzero(~tight)]]).tocsc()
+    A = sp.vstack([sp.csr_matrix(model.live), -H.T[np.flatnonzero(tight)], *cap, -H.T[np.flatnonzero(~tight)]]).tocsc()
     limit = (alpha + slack * max(1.0, abs(alpha))) * scale
     b = np.concatenate([[scale], np.zeros(k), [] if k else [limit], np.zeros(int((~tight).sum()))])
     cost = np.asarray(H @ np.ones(H.shape[1])).ravel()
@@ -69,7 +78,7 @@ def _solve(model: Model, alpha: float, slack: float, tight: np.ndarray,
     form = "complementary" if k else "capped"
     if sol.status != Status.OPTIMAL:
         return None, f"crisp mechanism ({form}): {sol.solver} {sol.raw_status}"
-    u = sol.x[:H.shape[0]] / scale
+    u = sol.x[: H.shape[0]] / scale
     size = float((abs(H.T) @ np.abs(u)).max(initial=0.0))
     if -float((H.T @ u).min(initial=0.0)) > 1e-9 * max(size, 1e-300):
         return None, f"crisp mechanism ({form}): breaks the flow rule beyond 1e-9"

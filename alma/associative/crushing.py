@@ -21,6 +21,7 @@ finite and has the closed form :func:`crushing_dissipation`; so every mechanism 
 bound without a flow-rule repair on the crushing joints.  All quantities are dimensionless
 (:mod:`alma.mechanics.model`).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -48,8 +49,9 @@ class ConeMargins:
 def uniform_margins(model: Model, settings: CrushingSettings) -> ConeMargins:
     """The margins of the first solve: the same absolute and relative room at every point."""
     points = 2 * crushing_joints(model).size
-    return ConeMargins(np.full(points, settings.cone_margin), np.full(points, settings.cone_relative_margin),
-                       np.zeros(points))
+    return ConeMargins(
+        np.full(points, settings.cone_margin), np.full(points, settings.cone_relative_margin), np.zeros(points)
+    )
 
 
 def crushing_joints(model: Model) -> np.ndarray:
@@ -57,9 +59,9 @@ def crushing_joints(model: Model) -> np.ndarray:
     return np.flatnonzero(np.isfinite(model.crushing))
 
 
-def static_cone_form(model: Model, H: sp.csc_matrix, normalisation: float = 1.0,
-                     margins: ConeMargins | None = None
-                     ) -> tuple[np.ndarray, sp.csc_matrix, np.ndarray, int, int, int]:
+def static_cone_form(
+    model: Model, H: sp.csc_matrix, normalisation: float = 1.0, margins: ConeMargins | None = None
+) -> tuple[np.ndarray, sp.csc_matrix, np.ndarray, int, int, int]:
     """The static problem (module docstring) as ``min qᵀx s.t. A x + s = b`` for Clarabel.
 
     The objective is −normalisation · n_free · α, so that the duals (the mechanism) come with
@@ -117,13 +119,21 @@ def _cone_rows(model: Model, n_x: int, margins: ConeMargins) -> tuple[sp.csc_mat
     return A, b
 
 
-def solve_static_crushing(model: Model, H: sp.csc_matrix, tolerance: float, max_iter: int,
-                          time_limit: float | None = None, refine: bool = True,
-                          normalisation: float = 1.0, margins: ConeMargins | None = None) -> SolverResult:
+def solve_static_crushing(
+    model: Model,
+    H: sp.csc_matrix,
+    tolerance: float,
+    max_iter: int,
+    time_limit: float | None = None,
+    refine: bool = True,
+    normalisation: float = 1.0,
+    margins: ConeMargins | None = None,
+) -> SolverResult:
     """Clarabel's primal–dual pair of the static cone program (:func:`static_cone_form`)."""
     q, A, b, n_zero, n_nonneg, n_soc = static_cone_form(model, H, normalisation, margins)
-    return solve_static_cone(q, A, b, n_zero, n_nonneg, n_soc, tolerance=tolerance, max_iter=max_iter,
-                             time_limit=time_limit, refine=refine)
+    return solve_static_cone(
+        q, A, b, n_zero, n_nonneg, n_soc, tolerance=tolerance, max_iter=max_iter, time_limit=time_limit, refine=refine
+    )
 
 
 def point_normals(mu: np.ndarray) -> np.ndarray:
@@ -167,8 +177,7 @@ def crushing_dissipation(model: Model, power: np.ndarray, among: np.ndarray | No
     return float(value.sum())
 
 
-def rigid_columns(model: Model, power: np.ndarray | None = None, rest: float = CrushingSettings().rest
-                  ) -> np.ndarray:
+def rigid_columns(model: Model, power: np.ndarray | None = None, rest: float = CrushingSettings().rest) -> np.ndarray:
     """Generator columns (4 per joint) on which the mechanism is held to the flow rule Hᵀu ≥ 0:
     the joints without a crushing capacity, and -- given the solver's powers ``power`` = Hᵀu --
     the crushing joints that crush nowhere: at each point the smaller power of its two generators
@@ -195,8 +204,16 @@ def flow_violation(H: sp.csc_matrix, u: np.ndarray) -> float:
     return max(0.0, -float(power.min(initial=0.0))) / max(size, 1e-300)
 
 
-def crushing_work(model: Model, H: sp.csc_matrix, u: np.ndarray, mu: np.ndarray, held: np.ndarray,
-                  bounded_work: float, held_residual: float, tolerance: float) -> tuple[float, float]:
+def crushing_work(
+    model: Model,
+    H: sp.csc_matrix,
+    u: np.ndarray,
+    mu: np.ndarray,
+    held: np.ndarray,
+    bounded_work: float,
+    held_residual: float,
+    tolerance: float,
+) -> tuple[float, float]:
     """The work −f₀ᵀu + D(u) of a mechanism u of Eq. 10 with finite compressive strength (its upper
     bound is work / f_Lᵀu) and the flow-rule residual the bound rests on.
 

@@ -8,6 +8,7 @@ opening and hinging are associative and whose sliding does not dilate, that inne
 the joint with |T| ≤ c l t in place of |T| ≤ f N + c l t: the associative LP with friction 0
 and the same cohesion, ties and loads (docs/radenkovic.md).
 """
+
 from __future__ import annotations
 
 from alma.associative.lp import solve_lp
@@ -17,8 +18,9 @@ from alma.settings import AssociativeSettings
 from alma.status import Status
 
 
-def radenkovic_lower_bound(model: Model, settings: AssociativeSettings | None = None,
-                           patterns: PatternCache | None = None) -> float:
+def radenkovic_lower_bound(
+    model: Model, settings: AssociativeSettings | None = None, patterns: PatternCache | None = None
+) -> float:
     """A proven lower bound on α of Eq. 9: the certified static value of Eq. 10 at friction 0.
 
     −∞ when that LP proves nothing (not certified, or no equilibrium without a finite value);

@@ -7,6 +7,7 @@ and one status table (:data:`alma.backends.termination.CLARABEL`).  Each functio
 :class:`~alma.backends.termination.SolverResult` whose ``form`` says how its termination reads
 (a kinematic problem that is infeasible has no mechanism, a static one no stress field).
 """
+
 from __future__ import annotations
 
 import time
@@ -24,8 +25,15 @@ from alma.backends.termination import Form, SolverResult, termination
 REFINEMENT_TOLERANCE = 1e-14
 
 
-def settings(tolerance: float, max_iter: int, *, time_limit: float | None = None, refine: bool = False,
-             direct: str | None = "qdldl", presolve: bool = True) -> clarabel.DefaultSettings:
+def settings(
+    tolerance: float,
+    max_iter: int,
+    *,
+    time_limit: float | None = None,
+    refine: bool = False,
+    direct: str | None = "qdldl",
+    presolve: bool = True,
+) -> clarabel.DefaultSettings:
     """Clarabel's settings for alma's problems: silent, gap and feasibility ``tolerance``, at most
     ``max_iter`` iterations.
 
@@ -58,15 +66,33 @@ def _cones(n_zero: int, n_nonneg: int, n_soc3: int = 0, *, empty_nonneg: bool = 
 
 def _result(sol, start: float, form: Form) -> SolverResult:
     raw = str(sol.status)
-    return SolverResult(termination("clarabel", raw), raw, np.asarray(sol.x, dtype=float),
-                        np.asarray(sol.z, dtype=float), int(sol.iterations), time.perf_counter() - start,
-                        "Clarabel", form)
+    return SolverResult(
+        termination("clarabel", raw),
+        raw,
+        np.asarray(sol.x, dtype=float),
+        np.asarray(sol.z, dtype=float),
+        int(sol.iterations),
+        time.perf_counter() - start,
+        "Clarabel",
+        form,
+    )
 
 
-def solve_conic_lp(q: np.ndarray, A: sp.spmatrix, b: np.ndarray, n_zero: int, n_nonneg: int, *,
-                   tolerance: float, max_iter: int, time_limit: float | None = None,
-                   refine: bool = False, quadratic: sp.spmatrix | None = None, direct: str | None = "qdldl",
-                   form: Form = "kinematic") -> SolverResult:
+def solve_conic_lp(
+    q: np.ndarray,
+    A: sp.spmatrix,
+    b: np.ndarray,
+    n_zero: int,
+    n_nonneg: int,
+    *,
+    tolerance: float,
+    max_iter: int,
+    time_limit: float | None = None,
+    refine: bool = False,
+    quadratic: sp.spmatrix | None = None,
+    direct: str | None = "qdldl",
+    form: Form = "kinematic",
+) -> SolverResult:
     """Solve ``min ½xᵀPx + qᵀx s.t. A x + s = b``, the first ``n_zero`` rows equalities.
 
     ``quadratic`` is P (default zero: an LP); ``direct``, ``refine``: see :func:`settings`;
@@ -76,16 +102,30 @@ def solve_conic_lp(q: np.ndarray, A: sp.spmatrix, b: np.ndarray, n_zero: int, n_
     n = q.shape[0]
     P = sp.csc_matrix((n, n)) if quadratic is None else sp.csc_matrix(quadratic)
     start = time.perf_counter()
-    sol = clarabel.DefaultSolver(P, np.asarray(q, dtype=float), sp.csc_matrix(A), np.asarray(b, dtype=float),
-                                 _cones(n_zero, n_nonneg),
-                                 settings(tolerance, max_iter, time_limit=time_limit, refine=refine,
-                                          direct=direct)).solve()
+    sol = clarabel.DefaultSolver(
+        P,
+        np.asarray(q, dtype=float),
+        sp.csc_matrix(A),
+        np.asarray(b, dtype=float),
+        _cones(n_zero, n_nonneg),
+        settings(tolerance, max_iter, time_limit=time_limit, refine=refine, direct=direct),
+    ).solve()
     return _result(sol, start, form)
 
 
-def solve_static_cone(q: np.ndarray, A: sp.spmatrix, b: np.ndarray, n_zero: int, n_nonneg: int,
-                      n_soc3: int, *, tolerance: float, max_iter: int,
-                      time_limit: float | None = None, refine: bool = False) -> SolverResult:
+def solve_static_cone(
+    q: np.ndarray,
+    A: sp.spmatrix,
+    b: np.ndarray,
+    n_zero: int,
+    n_nonneg: int,
+    n_soc3: int,
+    *,
+    tolerance: float,
+    max_iter: int,
+    time_limit: float | None = None,
+    refine: bool = False,
+) -> SolverResult:
     """Solve ``min qᵀx s.t. A x + s = b``, s ∈ {0}^n_zero × R₊^n_nonneg × (Q³)^n_soc3 (Q³ the
     second-order cone {(x, y, z): x ≥ ‖(y, z)‖}), a problem in static form.
 
@@ -98,8 +138,9 @@ def solve_static_cone(q: np.ndarray, A: sp.spmatrix, b: np.ndarray, n_zero: int,
         s.iterative_refinement_reltol = s.iterative_refinement_abstol = REFINEMENT_TOLERANCE
     start = time.perf_counter()
     cones = _cones(n_zero, n_nonneg, n_soc3, empty_nonneg=False)
-    sol = clarabel.DefaultSolver(sp.csc_matrix((n, n)), np.asarray(q, dtype=float), sp.csc_matrix(A),
-                                 np.asarray(b, dtype=float), cones, s).solve()
+    sol = clarabel.DefaultSolver(
+        sp.csc_matrix((n, n)), np.asarray(q, dtype=float), sp.csc_matrix(A), np.asarray(b, dtype=float), cones, s
+    ).solve()
     return _result(sol, start, "static")
 
 
@@ -108,14 +149,29 @@ class UpdatableQP:
     equalities, the rest s ≥ 0) kept between solves, where only q and b change: presolve is off,
     so the data stay as given."""
 
-    def __init__(self, quadratic: sp.spmatrix, q: np.ndarray, A: sp.spmatrix, b: np.ndarray, n_zero: int,
-                 n_nonneg: int, *, tolerance: float, max_iter: int, refine: bool = True,
-                 form: Form = "static") -> None:
+    def __init__(
+        self,
+        quadratic: sp.spmatrix,
+        q: np.ndarray,
+        A: sp.spmatrix,
+        b: np.ndarray,
+        n_zero: int,
+        n_nonneg: int,
+        *,
+        tolerance: float,
+        max_iter: int,
+        refine: bool = True,
+        form: Form = "static",
+    ) -> None:
         self._form = form
-        self._solver = clarabel.DefaultSolver(sp.csc_matrix(quadratic), np.asarray(q, dtype=float),
-                                              sp.csc_matrix(A), np.asarray(b, dtype=float),
-                                              _cones(n_zero, n_nonneg),
-                                              settings(tolerance, max_iter, refine=refine, presolve=False))
+        self._solver = clarabel.DefaultSolver(
+            sp.csc_matrix(quadratic),
+            np.asarray(q, dtype=float),
+            sp.csc_matrix(A),
+            np.asarray(b, dtype=float),
+            _cones(n_zero, n_nonneg),
+            settings(tolerance, max_iter, refine=refine, presolve=False),
+        )
 
     def solve(self, q: np.ndarray, b: Sequence[float] | np.ndarray) -> SolverResult:
         """Solve again with the linear cost ``q`` and the right-hand side ``b``."""

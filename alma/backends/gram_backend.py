@@ -8,6 +8,7 @@ grows much faster with the size (the certificate of a 20,000-block wall: 1.26 s 
 docs/engine.md).  The choice depends on the matrix's
 size and the installed libraries only.
 """
+
 from __future__ import annotations
 
 import importlib.util
@@ -24,8 +25,9 @@ from alma.settings import AssociativeSettings
 _FERAL_MIN_ROWS = AssociativeSettings().feral_min_rows
 
 
-def regularised_solver(gram: sp.spmatrix, eps: float | None = None, *,
-                       feral_min_rows: int = _FERAL_MIN_ROWS) -> Callable[[np.ndarray], np.ndarray]:
+def regularised_solver(
+    gram: sp.spmatrix, eps: float | None = None, *, feral_min_rows: int = _FERAL_MIN_ROWS
+) -> Callable[[np.ndarray], np.ndarray]:
     """A solver for (G + ε I) x = b, G a Gram matrix; ε as in
     :func:`alma.backends.qdldl_backend.regularised_solver` (1e-12 max(1, max diag G) by default,
     1 on a zero diagonal entry); feral from ``feral_min_rows`` rows on, when it is installed."""
@@ -40,8 +42,9 @@ def _feral_solver(gram: sp.csc_matrix, eps: float | None) -> Callable[[np.ndarra
     lower = sp.tril(regularised(gram, eps)).tocsc()
     lower.sort_indices()
     cols = np.repeat(np.arange(lower.shape[0], dtype=np.int64), np.diff(lower.indptr))
-    matrix = feral.CscMatrix.from_triplet(lower.shape[0], lower.indices.astype(np.int64), cols,
-                                          np.ascontiguousarray(lower.data))
+    matrix = feral.CscMatrix.from_triplet(
+        lower.shape[0], lower.indices.astype(np.int64), cols, np.ascontiguousarray(lower.data)
+    )
     # G + ε I is positive definite: no equilibration (as for K in alma.engine.cholesky).
     solver = feral.Solver(parallel=True, ordering=FERAL_ORDERING, scaling="none")
     if not feral_factored(feral, solver.factor(matrix)):

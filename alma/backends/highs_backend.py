@@ -6,6 +6,7 @@ any option can be set; alma's ``--json`` output must be the only thing on standa
 every instance is created here (:func:`new_highs`) with file descriptor 1 pointed at the null
 device for the construction, and then with output switched off at the source.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -99,8 +100,14 @@ def _status_name(h: highspy.Highs) -> str:
     return str(h.getModelStatus()).rsplit(".", 1)[-1]
 
 
-def lp_model(cost: np.ndarray, col_lower: np.ndarray, col_upper: np.ndarray, A: sp.spmatrix,
-             row_lower: np.ndarray, row_upper: np.ndarray) -> highspy.HighsLp:
+def lp_model(
+    cost: np.ndarray,
+    col_lower: np.ndarray,
+    col_upper: np.ndarray,
+    A: sp.spmatrix,
+    row_lower: np.ndarray,
+    row_upper: np.ndarray,
+) -> highspy.HighsLp:
     """``min costᵀx s.t. row_lower ≤ A x ≤ row_upper, col_lower ≤ x ≤ col_upper`` as a
     ``highspy.HighsLp`` (A stored column-wise; ±:data:`INF` for no bound)."""
     A = sp.csc_matrix(A)
@@ -121,8 +128,14 @@ def conic_lp(q, A, b, n_eq: int) -> highspy.HighsLp:
     """``min qᵀx s.t. A x + s = b`` (s = 0 on the first ``n_eq`` rows, s ≥ 0 on the rest, x free)
     as a ``highspy.HighsLp``: rows ``b[:n_eq] ≤ A x ≤ b`` and ``A x ≤ b``."""
     m, n = A.shape
-    return lp_model(q, np.full(n, -INF), np.full(n, INF), A, np.concatenate([b[:n_eq], np.full(m - n_eq, -INF)]),
-                    np.asarray(b, dtype=float))
+    return lp_model(
+        q,
+        np.full(n, -INF),
+        np.full(n, INF),
+        A,
+        np.concatenate([b[:n_eq], np.full(m - n_eq, -INF)]),
+        np.asarray(b, dtype=float),
+    )
 
 
 def _iterations(h: highspy.Highs) -> int:
@@ -131,8 +144,17 @@ def _iterations(h: highspy.Highs) -> int:
     return int(info.simplex_iteration_count) + int(info.ipm_iteration_count) + int(info.crossover_iteration_count)
 
 
-def solve_conic_form(q, A, b, n_eq: int, *, tolerance: float = 1e-10, iteration_limit: int = 1_000_000,
-                     time_limit: float | None = None, solver: str = "simplex") -> SolverResult:
+def solve_conic_form(
+    q,
+    A,
+    b,
+    n_eq: int,
+    *,
+    tolerance: float = 1e-10,
+    iteration_limit: int = 1_000_000,
+    time_limit: float | None = None,
+    solver: str = "simplex",
+) -> SolverResult:
     """``min qᵀx s.t. A x + s = b``, s = 0 on the first ``n_eq`` rows and s ≥ 0 on the rest (the
     form of :func:`alma.backends.clarabel_backend.solve_conic_lp`, kinematic), by HiGHS's dual
     simplex (``solver="ipm"``: its interior point with crossover).
@@ -143,8 +165,12 @@ def solve_conic_form(q, A, b, n_eq: int, *, tolerance: float = 1e-10, iteration_
     """
     start = time.perf_counter()
     lp = conic_lp(q, A, b, n_eq)
-    h = quiet_highs(solver=solver, primal_feasibility_tolerance=tolerance,
-                    dual_feasibility_tolerance=tolerance, simplex_iteration_limit=iteration_limit)
+    h = quiet_highs(
+        solver=solver,
+        primal_feasibility_tolerance=tolerance,
+        dual_feasibility_tolerance=tolerance,
+        simplex_iteration_limit=iteration_limit,
+    )
     if solver == "simplex":
         h.setOptionValue("simplex_strategy", 1)  # dual simplex
     else:
@@ -156,9 +182,16 @@ def solve_conic_form(q, A, b, n_eq: int, *, tolerance: float = 1e-10, iteration_
     h.run()
     name = _status_name(h)
     sol = h.getSolution()
-    return SolverResult(termination("highs", name), name, np.asarray(sol.col_value, dtype=float),
-                        -np.asarray(sol.row_dual, dtype=float), int(h.getInfo().simplex_iteration_count),
-                        time.perf_counter() - start, f"HiGHS {solver}", "kinematic")
+    return SolverResult(
+        termination("highs", name),
+        name,
+        np.asarray(sol.col_value, dtype=float),
+        -np.asarray(sol.row_dual, dtype=float),
+        int(h.getInfo().simplex_iteration_count),
+        time.perf_counter() - start,
+        f"HiGHS {solver}",
+        "kinematic",
+    )
 
 
 class WarmLP:
@@ -212,8 +245,7 @@ class WarmLP:
         if term is Termination.OPTIMAL:
             sol = self._h.getSolution()
             x, duals = np.asarray(sol.col_value), -np.asarray(sol.row_dual)
-        return SolverResult(term, name, x, duals, _iterations(self._h), time.perf_counter() - start, "HiGHS",
-                            "static")
+        return SolverResult(term, name, x, duals, _iterations(self._h), time.perf_counter() - start, "HiGHS", "static")
 
 
 # Column-wise models, warm-started objectives and the mixed-integer solve of ``alma.certify``.
@@ -235,8 +267,9 @@ MILP_STATUS: dict[str, str] = {
 }
 
 
-def new_model(cost, col_lo, col_hi, A, row_lo, row_hi, integrality=None,
-              **options: bool | int | float | str) -> highspy.Highs:
+def new_model(
+    cost, col_lo, col_hi, A, row_lo, row_hi, integrality=None, **options: bool | int | float | str
+) -> highspy.Highs:
     """A quiet HiGHS (:func:`quiet_highs` with ``options``) holding min costᵀx over
     row_lo ≤ A x ≤ row_hi, col_lo ≤ x ≤ col_hi (A passed column-wise), with x_k integer where
     ``integrality`` is true (``None``: an LP)."""
@@ -254,8 +287,9 @@ def new_model(cost, col_lo, col_hi, A, row_lo, row_hi, integrality=None,
     lp.a_matrix_.index_ = A.indices.astype(np.int32)
     lp.a_matrix_.value_ = A.data.astype(float)
     if integrality is not None:
-        lp.integrality_ = [highspy.HighsVarType.kInteger if v else highspy.HighsVarType.kContinuous
-                           for v in integrality]
+        lp.integrality_ = [
+            highspy.HighsVarType.kInteger if v else highspy.HighsVarType.kContinuous for v in integrality
+        ]
     h = quiet_highs(**options)
     h.passModel(lp)
     return h
@@ -286,17 +320,40 @@ class MilpOutcome:
     nodes: int
 
 
-def solve_milp(cost, col_lo, col_hi, A, row_lo, row_hi, integrality, *, node_limit: int,
-               absolute_gap: float, relative_gap: float, integrality_tolerance: float,
-               time_limit: float | None = None, objective_bound: float | None = None) -> MilpOutcome:
+def solve_milp(
+    cost,
+    col_lo,
+    col_hi,
+    A,
+    row_lo,
+    row_hi,
+    integrality,
+    *,
+    node_limit: int,
+    absolute_gap: float,
+    relative_gap: float,
+    integrality_tolerance: float,
+    time_limit: float | None = None,
+    objective_bound: float | None = None,
+) -> MilpOutcome:
     """min costᵀx of a MIP (arguments as :func:`new_model`) by HiGHS's branch-and-bound.
 
     ``node_limit`` is the work budget; ``time_limit`` (s) a user's cap only; ``objective_bound``
     prunes every node whose bound reaches it (a known solution's value).
     """
-    h = new_model(cost, col_lo, col_hi, A, row_lo, row_hi, integrality, mip_max_nodes=int(node_limit),
-                  mip_rel_gap=float(relative_gap), mip_abs_gap=float(absolute_gap),
-                  mip_feasibility_tolerance=float(integrality_tolerance))
+    h = new_model(
+        cost,
+        col_lo,
+        col_hi,
+        A,
+        row_lo,
+        row_hi,
+        integrality,
+        mip_max_nodes=int(node_limit),
+        mip_rel_gap=float(relative_gap),
+        mip_abs_gap=float(absolute_gap),
+        mip_feasibility_tolerance=float(integrality_tolerance),
+    )
     if time_limit is not None:
         h.setOptionValue("time_limit", float(max(0.0, time_limit)))
     if objective_bound is not None:

@@ -12,6 +12,7 @@ count, never by its clock; the status is read through :data:`alma.backends.termi
 CasADi is imported on first use: it takes a third of a second to import, and the polish runs
 only when asked for (``SearchSettings.ipopt_blocks``).
 """
+
 from __future__ import annotations
 
 import time
@@ -63,26 +64,32 @@ def _problem(ca, d: ComplementarityData) -> dict:
         G = _dm(ca, d.bounded)
         equilibrium = equilibrium + ca.mtimes(G, tau)
     g = ca.vertcat(
-        equilibrium,                                                                          # = 0
-        ca.mtimes(At.T, u) - gp + gm,                                                        # = 0
-        ca.dot(ca.DM(d.live), u) - d.n_free,                                                  # = 0
-        *([-ca.mtimes(G.T, u) - dp + dm] if q else []),                                     # = 0
-        f * N - T,                                                                            # ≥ 0
-        f * N + T,                                                                            # ≥ 0
-        opening,                                                                              # ≥ 0
-        N * opening - eps,                                                                    # ≤ 0
-        (f * N + T) * gp - eps,                                                               # ≤ 0
-        (f * N - T) * gm - eps,                                                               # ≤ 0
-        (capacity - tau) * dp - eps,                                                          # ≤ 0
-        tau * dm - eps,                                                                       # ≤ 0
+        equilibrium,  # = 0
+        ca.mtimes(At.T, u) - gp + gm,  # = 0
+        ca.dot(ca.DM(d.live), u) - d.n_free,  # = 0
+        *([-ca.mtimes(G.T, u) - dp + dm] if q else []),  # = 0
+        f * N - T,  # ≥ 0
+        f * N + T,  # ≥ 0
+        opening,  # ≥ 0
+        N * opening - eps,  # ≤ 0
+        (f * N + T) * gp - eps,  # ≤ 0
+        (f * N - T) * gm - eps,  # ≤ 0
+        (capacity - tau) * dp - eps,  # ≤ 0
+        tau * dm - eps,  # ≤ 0
     )
     x = ca.vertcat(alpha, N, T, u, gp, gm, tau, dp, dm)
     objective = alpha + SLIP_REGULARISATION * (ca.sumsqr(gp) + ca.sumsqr(gm) + ca.sumsqr(dp) + ca.sumsqr(dm))
     return {"x": x, "p": eps, "f": objective, "g": g}
 
 
-def solve_relaxations(data: ComplementarityData, x0: np.ndarray, bounds: tuple[np.ndarray, ...],
-                      relaxations: Sequence[float], max_iter: int, expired: Callable[[], bool]) -> SolverResult:
+def solve_relaxations(
+    data: ComplementarityData,
+    x0: np.ndarray,
+    bounds: tuple[np.ndarray, ...],
+    relaxations: Sequence[float],
+    max_iter: int,
+    expired: Callable[[], bool],
+) -> SolverResult:
     """Solve the relaxations ε of :func:`_problem` in turn, each warm from the last and within
     ``max_iter`` IPOPT iterations; a solve that does not converge ends the sequence.
 
@@ -94,8 +101,12 @@ def solve_relaxations(data: ComplementarityData, x0: np.ndarray, bounds: tuple[n
 
     start = time.perf_counter()
     lbg, ubg, lbx, ubx = bounds
-    options: dict[str, Any] = {"ipopt.print_level": 0, "print_time": False, "ipopt.max_iter": max_iter,
-                               "ipopt.sb": "yes"}
+    options: dict[str, Any] = {
+        "ipopt.print_level": 0,
+        "print_time": False,
+        "ipopt.max_iter": max_iter,
+        "ipopt.sb": "yes",
+    }
     solver = ca.nlpsol("alma_nlncp", "ipopt", _problem(ca, data), options)
     best, raw, term, iterations = np.zeros(0), "not run", Termination.INTERRUPTED, 0
     for epsilon in relaxations:

@@ -7,6 +7,7 @@ the vertices they return, the vertex of a degenerate LP depends on the HiGHS rel
 call is bounded by an iteration count, never by the clock; the status is read through
 :data:`alma.backends.termination.LINPROG`.
 """
+
 from __future__ import annotations
 
 import time
@@ -33,9 +34,18 @@ class LPMethod(StrEnum):
 _LINPROG_METHOD = {LPMethod.SIMPLEX: "highs", LPMethod.IPM: "highs-ipm"}
 
 
-def solve_lp(c: np.ndarray, *, A_ub: sp.spmatrix | None, b_ub: np.ndarray | None, A_eq: sp.spmatrix,
-             b_eq: np.ndarray, bounds, method: LPMethod = LPMethod.SIMPLEX, max_iterations: int,
-             form: Form = "static") -> SolverResult:
+def solve_lp(
+    c: np.ndarray,
+    *,
+    A_ub: sp.spmatrix | None,
+    b_ub: np.ndarray | None,
+    A_eq: sp.spmatrix,
+    b_eq: np.ndarray,
+    bounds,
+    method: LPMethod = LPMethod.SIMPLEX,
+    max_iterations: int,
+    form: Form = "static",
+) -> SolverResult:
     """``min cᵀx s.t. A_ub x ≤ b_ub, A_eq x = b_eq, bounds`` by HiGHS through ``linprog``.
 
     ``max_iterations``: HiGHS's iteration cap (``maxiter``).  ``duals`` are those of the equality
@@ -45,11 +55,26 @@ def solve_lp(c: np.ndarray, *, A_ub: sp.spmatrix | None, b_ub: np.ndarray | None
     if method not in _LINPROG_METHOD:
         raise ValueError(f"linprog solves by {sorted(_LINPROG_METHOD)}, got {method!r}")
     start = time.perf_counter()
-    res = linprog(c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq, bounds=bounds,
-                  method=_LINPROG_METHOD[LPMethod(method)], options={"maxiter": int(max_iterations)})
+    res = linprog(
+        c,
+        A_ub=A_ub,
+        b_ub=b_ub,
+        A_eq=A_eq,
+        b_eq=b_eq,
+        bounds=bounds,
+        method=_LINPROG_METHOD[LPMethod(method)],
+        options={"maxiter": int(max_iterations)},
+    )
     marginals = getattr(getattr(res, "eqlin", None), "marginals", None)
     duals = -np.asarray(marginals) if marginals is not None else np.zeros(0)
     x = np.asarray(res.x) if res.x is not None else np.zeros(0)
-    return SolverResult(termination("linprog", int(res.status)), f"{res.status}: {res.message}", x, duals,
-                        int(getattr(res, "nit", 0) or 0), time.perf_counter() - start, f"HiGHS {method} (linprog)",
-                        form)
+    return SolverResult(
+        termination("linprog", int(res.status)),
+        f"{res.status}: {res.message}",
+        x,
+        duals,
+        int(getattr(res, "nit", 0) or 0),
+        time.perf_counter() - start,
+        f"HiGHS {method} (linprog)",
+        form,
+    )

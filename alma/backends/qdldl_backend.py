@@ -1,4 +1,5 @@
 """QDLDL adapter: the regularised sparse LDLᵀ solves of the certificate (Gram matrices)."""
+
 from __future__ import annotations
 
 from collections.abc import Callable

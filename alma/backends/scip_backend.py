@@ -7,6 +7,7 @@ big-M row stands for a complementarity.  SCIP prints its banner and log to stand
 unless told otherwise, so every model is created here with output switched off at the source
 (``--json`` must be the only thing on standard output).
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -89,11 +90,24 @@ class MipOutcome:
     nodes: int
 
 
-def solve_mip(cost: np.ndarray, col_lo: np.ndarray, col_hi: np.ndarray, A: sp.spmatrix, row_lo: np.ndarray,
-              row_hi: np.ndarray, integrality: np.ndarray, sos1: np.ndarray, *, node_limit: int,
-              bilinear: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
-              objective_limit: float | None = None, time_limit: float | None = None, absolute_gap: float = 1e-7,
-              feasibility_tolerance: float = 1e-9, parameters: tuple[tuple[str, object], ...] = ()) -> MipOutcome:
+def solve_mip(
+    cost: np.ndarray,
+    col_lo: np.ndarray,
+    col_hi: np.ndarray,
+    A: sp.spmatrix,
+    row_lo: np.ndarray,
+    row_hi: np.ndarray,
+    integrality: np.ndarray,
+    sos1: np.ndarray,
+    *,
+    node_limit: int,
+    bilinear: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+    objective_limit: float | None = None,
+    time_limit: float | None = None,
+    absolute_gap: float = 1e-7,
+    feasibility_tolerance: float = 1e-9,
+    parameters: tuple[tuple[str, object], ...] = (),
+) -> MipOutcome:
     """min costᵀx over ``row_lo ≤ A x ≤ row_hi``, ``col_lo ≤ x ≤ col_hi``, x_k integer where
     ``integrality`` and, for each row (a, b) of ``sos1``, x_a x_b = 0 (an SOS1 pair).  With
     ``bilinear = (c, pairs, w)`` also the quadratic equality cᵀx + Σ_k w_k x_a x_b = 0 (pairs
@@ -122,12 +136,14 @@ def solve_mip(cost: np.ndarray, col_lo: np.ndarray, col_hi: np.ndarray, A: sp.sp
     vtype = np.where(np.asarray(integrality, dtype=bool), "I", "C")
     lo = np.where(np.isfinite(col_lo), col_lo, -inf)
     hi = np.where(np.isfinite(col_hi), col_hi, inf)
-    x = [m.addVar(name=f"x{k}", vtype=vtype[k], lb=float(lo[k]), ub=float(hi[k]), obj=float(cost[k]))
-         for k in range(len(cost))]
+    x = [
+        m.addVar(name=f"x{k}", vtype=vtype[k], lb=float(lo[k]), ub=float(hi[k]), obj=float(cost[k]))
+        for k in range(len(cost))
+    ]
     R = sp.csr_matrix(A)
     # PySCIPOpt takes one constraint per call: a loop over the MILP's rows (its data is built vectorised).
     for i in range(R.shape[0]):
-        cols, vals = R.indices[R.indptr[i]:R.indptr[i + 1]], R.data[R.indptr[i]:R.indptr[i + 1]]
+        cols, vals = R.indices[R.indptr[i] : R.indptr[i + 1]], R.data[R.indptr[i] : R.indptr[i + 1]]
         expr = pyscipopt.quicksum(float(v) * x[c] for c, v in zip(cols, vals, strict=True))
         lhs = float(row_lo[i]) if np.isfinite(row_lo[i]) else None
         rhs = float(row_hi[i]) if np.isfinite(row_hi[i]) else None
@@ -135,8 +151,9 @@ def solve_mip(cost: np.ndarray, col_lo: np.ndarray, col_hi: np.ndarray, A: sp.sp
     if bilinear is not None:
         c, quad, w = bilinear
         lin = pyscipopt.quicksum(float(c[k]) * x[k] for k in np.flatnonzero(c))
-        products = pyscipopt.quicksum(float(wk) * x[a] * x[b]
-                                      for (a, b), wk in zip(np.asarray(quad, dtype=int), w, strict=True))
+        products = pyscipopt.quicksum(
+            float(wk) * x[a] * x[b] for (a, b), wk in zip(np.asarray(quad, dtype=int), w, strict=True)
+        )
         m.addCons(lin + products == 0.0, name="energy")
     for a, b in np.asarray(sos1, dtype=int).reshape(-1, 2):
         m.addConsSOS1([x[a], x[b]])
@@ -154,5 +171,11 @@ def solve_mip(cost: np.ndarray, col_lo: np.ndarray, col_hi: np.ndarray, A: sp.sp
         values = np.array([m.getSolVal(best, v) for v in x])
         primal = float(m.getSolObjVal(best))
     dual = float(m.getDualbound())
-    return MipOutcome(TERMINATION.get(word, "failed"), word, dual if np.isfinite(dual) and abs(dual) < inf else
-                      -np.inf, primal, values, int(m.getNTotalNodes()))
+    return MipOutcome(
+        TERMINATION.get(word, "failed"),
+        word,
+        dual if np.isfinite(dual) and abs(dual) < inf else -np.inf,
+        primal,
+        values,
+        int(m.getNTotalNodes()),
+    )

@@ -12,6 +12,7 @@ What a termination *means* for limit analysis depends on the form of the problem
 mechanism, unbounded no static field) and :data:`STATIC_MEANING` (max α over stress fields: the
 other way round).  A solver's ``optimal`` is only a candidate; alma's certificates decide.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -125,8 +126,7 @@ IPOPT: dict[str, Termination] = {
 }
 
 #: Every solver's table, by the adapter's name for it.
-TABLES: dict[str, dict] = {"clarabel": CLARABEL, "highs": HIGHS, "linprog": LINPROG, "engine": ENGINE,
-                           "ipopt": IPOPT}
+TABLES: dict[str, dict] = {"clarabel": CLARABEL, "highs": HIGHS, "linprog": LINPROG, "engine": ENGINE, "ipopt": IPOPT}
 
 
 def termination(solver: str, raw: object) -> Termination:

@@ -8,6 +8,7 @@ bounded columns over {ξ ≥ 0, f_Lᵀu = n_free, |u|∞ ≤ U, −f₀ᵀu + Σ
 enter the static fields as 0 ≤ τ ≤ capacity.  Every LP is bounded by a simplex iteration count;
 the user's wall-clock cap is checked between them.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -76,8 +77,16 @@ def _static_field_model(model: Model, points: ContactPoints, alpha_max: float) -
     return highs_backend.new_model(np.zeros(1 + 2 * P + q), col_lo, col_hi, sp.vstack([A_eq, A_ub]), lo, hi)
 
 
-def static_point_bounds(model: Model, points: ContactPoints, alpha_max: float, *, max_pivots: int, cap: Cap,
-                        minimise: bool = False, weights: np.ndarray | None = None) -> np.ndarray:
+def static_point_bounds(
+    model: Model,
+    points: ContactPoints,
+    alpha_max: float,
+    *,
+    max_pivots: int,
+    cap: Cap,
+    minimise: bool = False,
+    weights: np.ndarray | None = None,
+) -> np.ndarray:
     """max N_p (min N_p with ``minimise``) over statically admissible fields with 0 ≤ α ≤ alpha_max,
     for every p; with ``weights`` (rows w), max wᵀN for each row instead."""
     P, q = points.count, model.n_bounded
@@ -88,20 +97,28 @@ def static_point_bounds(model: Model, points: ContactPoints, alpha_max: float, *
     return sign * _column_maxima(h, objectives, max_pivots, cap)
 
 
-def joint_normal_minima(model: Model, points: ContactPoints, first: np.ndarray, alpha_max: float, *,
-                        max_pivots: int, cap: Cap) -> np.ndarray:
+def joint_normal_minima(
+    model: Model, points: ContactPoints, first: np.ndarray, alpha_max: float, *, max_pivots: int, cap: Cap
+) -> np.ndarray:
     """min N_a + N_b of every joint (points first[j] to first[j + 1] − 1) over statically admissible
     fields with 0 ≤ α ≤ alpha_max."""
     P = points.count
     weights = np.zeros((first.size, P))
     weights[np.searchsorted(first, np.arange(P), side="right") - 1, np.arange(P)] = 1.0  # joint of each point
-    return static_point_bounds(model, points, alpha_max, max_pivots=max_pivots, cap=cap, minimise=True,
-                               weights=weights)
+    return static_point_bounds(model, points, alpha_max, max_pivots=max_pivots, cap=cap, minimise=True, weights=weights)
 
 
-def kinematic_point_bounds(model: Model, points: ContactPoints, U: float, first: np.ndarray, alpha_max: float,
-                           slip_cost: np.ndarray, *, max_pivots: int,
-                           cap: Cap) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def kinematic_point_bounds(
+    model: Model,
+    points: ContactPoints,
+    U: float,
+    first: np.ndarray,
+    alpha_max: float,
+    slip_cost: np.ndarray,
+    *,
+    max_pivots: int,
+    cap: Cap,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Largest opening ξ_p, slips ±γ (per point, of its joint) and rates ±d_i of the bounded columns
     over {ξ ≥ 0, f_Lᵀu = n_free, |u|∞ ≤ U} and the energy balance of a state at α ≤ alpha_max:
     −f₀ᵀu + Σ_j slip_cost_j |γ_j| + Σ_i cap_i max(0, d_i) ≤ alpha_max n_free (slip_cost_j = f ℓ_j ≤
@@ -110,12 +127,15 @@ def kinematic_point_bounds(model: Model, points: ContactPoints, U: float, first:
     tangent_j = points.tangent[:, first]
     g_t = _bounded(model).T
     # x = (u, γ⁺_j, γ⁻_j, d⁺_i, d⁻_i) with γ = γ⁺ − γ⁻ and d = −Gᵀu = d⁺ − d⁻
-    A = sp.vstack([sp.hstack([points.normal.T, sp.csr_matrix((P, 2 * m + 2 * q))]),
-                   sp.hstack([sp.csr_matrix(model.live[None, :]), sp.csr_matrix((1, 2 * m + 2 * q))]),
-                   sp.hstack([tangent_j.T, -sp.identity(m), sp.identity(m), sp.csr_matrix((m, 2 * q))]),
-                   sp.hstack([g_t, sp.csr_matrix((q, 2 * m)), sp.identity(q), -sp.identity(q)]),
-                   sp.csr_matrix(np.concatenate([-model.dead, slip_cost, slip_cost, model.capacity,
-                                                 np.zeros(q)])[None, :])])
+    A = sp.vstack(
+        [
+            sp.hstack([points.normal.T, sp.csr_matrix((P, 2 * m + 2 * q))]),
+            sp.hstack([sp.csr_matrix(model.live[None, :]), sp.csr_matrix((1, 2 * m + 2 * q))]),
+            sp.hstack([tangent_j.T, -sp.identity(m), sp.identity(m), sp.csr_matrix((m, 2 * q))]),
+            sp.hstack([g_t, sp.csr_matrix((q, 2 * m)), sp.identity(q), -sp.identity(q)]),
+            sp.csr_matrix(np.concatenate([-model.dead, slip_cost, slip_cost, model.capacity, np.zeros(q)])[None, :]),
+        ]
+    )
     lo = np.concatenate([np.zeros(P), [model.n_free], np.zeros(m + q), [-np.inf]])
     hi = np.concatenate([np.full(P, np.inf), [model.n_free], np.zeros(m + q), [alpha_max * model.n_free]])
     nv = n + 2 * m + 2 * q
@@ -128,11 +148,20 @@ def kinematic_point_bounds(model: Model, points: ContactPoints, U: float, first:
     values = np.maximum(_column_maxima(h, objectives, max_pivots, cap), 0.0)
     joint_of = np.searchsorted(first, np.arange(P), side="right") - 1
     k = P + 2 * m
-    return values[:P], values[P:P + m][joint_of], values[P + m:k][joint_of], values[k:k + q], values[k + q:]
+    return values[:P], values[P : P + m][joint_of], values[P + m : k][joint_of], values[k : k + q], values[k + q :]
 
 
-def derive_big_m(model: Model, points: ContactPoints, alpha_hi: float, U: float, first: np.ndarray, *,
-                 per_point: bool, max_pivots: int, cap: Cap) -> BigM:
+def derive_big_m(
+    model: Model,
+    points: ContactPoints,
+    alpha_hi: float,
+    U: float,
+    first: np.ndarray,
+    *,
+    per_point: bool,
+    max_pivots: int,
+    cap: Cap,
+) -> BigM:
     """All big-M constants (see module docstring), with the margin :data:`BIG_M_MARGIN`.
 
     Scenes above the per-point size (``per_point`` False) get one global normal-force bound and
@@ -151,8 +180,10 @@ def derive_big_m(model: Model, points: ContactPoints, alpha_hi: float, U: float,
         raise BoundsFailed("normal forces are unbounded (self-stress): no big-M bound exists") from error
     m_n = BIG_M_MARGIN * np.maximum(m_n, 0.0) + 1e-9
     if not per_point:
-        row_n, row_t, row_g = (BIG_M_MARGIN * np.asarray(abs(a).sum(axis=0)).ravel() * U
-                               for a in (points.normal, points.tangent, _bounded(model)))
+        row_n, row_t, row_g = (
+            BIG_M_MARGIN * np.asarray(abs(a).sum(axis=0)).ravel() * U
+            for a in (points.normal, points.tangent, _bounded(model))
+        )
         return BigM(m_n, row_n, row_t, row_t, np.zeros(first.size), None, row_g, row_g)
     ell = joint_normal_minima(model, points, first, alpha_hi, **limits)
     ell = np.maximum(ell / BIG_M_MARGIN - 1e-9, 0.0)

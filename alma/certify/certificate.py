@@ -1,4 +1,5 @@
 """The outcome of a certification run (:func:`alma.certify.milp.certify`), whatever the backend."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass

@@ -36,6 +36,7 @@ below ``lower`` exists among mechanisms with |u|∞ ≤ U (f_Lᵀu = n_free); th
 reported, and whether it was active at the optimum.  The work is bounded by a node count
 (:class:`~alma.settings.CertifySettings`); a user's wall-clock cap may stop it sooner.
 """
+
 from __future__ import annotations
 
 import time
@@ -63,49 +64,91 @@ MIP_INTEGRALITY_TOLERANCE = 1e-9
 BACKENDS = ("highs", "scip")
 
 
-def _run_milp(data: MilpData, alpha_hi: float, alpha_best: float | None, settings: CertifySettings,
-              cap: Cap) -> highs_backend.MilpOutcome:
+def _run_milp(
+    data: MilpData, alpha_hi: float, alpha_best: float | None, settings: CertifySettings, cap: Cap
+) -> highs_backend.MilpOutcome:
     """Solve the MILP with HiGHS within the node budget (and the user's cap, if any)."""
     # The verified state at α_best acts as an incumbent: nodes whose bound reaches it are pruned.
     # The user's cap only bounds the clock: no budget decision rests on it.
-    return highs_backend.solve_milp(data.cost, data.col_lo, data.col_hi, data.A, data.row_lo, data.row_hi,
-                                    data.integrality, node_limit=settings.node_limit,
-                                    absolute_gap=MIP_ABSOLUTE_GAP, relative_gap=1e-9,
-                                    integrality_tolerance=MIP_INTEGRALITY_TOLERANCE,
-                                    time_limit=cap.remaining() if cap.seconds is not None else None,
-                                    objective_bound=alpha_hi if alpha_best is not None else None)
+    return highs_backend.solve_milp(
+        data.cost,
+        data.col_lo,
+        data.col_hi,
+        data.A,
+        data.row_lo,
+        data.row_hi,
+        data.integrality,
+        node_limit=settings.node_limit,
+        absolute_gap=MIP_ABSOLUTE_GAP,
+        relative_gap=1e-9,
+        integrality_tolerance=MIP_INTEGRALITY_TOLERANCE,
+        time_limit=cap.remaining() if cap.seconds is not None else None,
+        objective_bound=alpha_hi if alpha_best is not None else None,
+    )
 
 
-def _certificate(out: highs_backend.MilpOutcome, data: MilpData, alpha_cap: float, U: float, t0: float,
-                 bounds_s: float) -> Certificate:
+def _certificate(
+    out: highs_backend.MilpOutcome, data: MilpData, alpha_cap: float, U: float, t0: float, bounds_s: float
+) -> Certificate:
     """Read the proven bound (and the MILP's own optimum) from HiGHS's outcome."""
     dual = out.dual_bound if np.isfinite(out.dual_bound) else 0.0
     best, u, active = np.inf, None, False
     if out.x is not None:
         best, u = float(out.x[data.alpha_column]), out.x[data.velocity_columns]
         active = bool(np.abs(u).max() >= 0.999 * U)
-    common: dict[str, Any] = dict(velocity_bound=U, velocity_bound_active=active, mechanism=u, binaries=data.binaries,
-                                  nodes=out.nodes, bounds_s=bounds_s, time_s=time.perf_counter() - t0)
+    common: dict[str, Any] = dict(
+        velocity_bound=U,
+        velocity_bound_active=active,
+        mechanism=u,
+        binaries=data.binaries,
+        nodes=out.nodes,
+        bounds_s=bounds_s,
+        time_s=time.perf_counter() - t0,
+    )
     if out.status == "optimal":
         lower = max(0.0, min(dual, best, alpha_cap))  # α_cap: a verified state exists there
-        return Certificate("proven", f"optimal within mip gap {best - lower:.1e} (|u|∞ ≤ {U:.3g}"
-                           f"{', bound active' if active else ''})", float(lower), best, float(best - lower), **common)
+        return Certificate(
+            "proven",
+            f"optimal within mip gap {best - lower:.1e} (|u|∞ ≤ {U:.3g}{', bound active' if active else ''})",
+            float(lower),
+            best,
+            float(best - lower),
+            **common,
+        )
     if out.status == "pruned":
         lower = max(0.0, alpha_cap - MIP_ABSOLUTE_GAP)  # pruned against the cap within the MIP gap
-        return Certificate("proven", f"no collapse state below the cap {alpha_cap:.9g} (best verified state / "
-                           f"associative bound) within mip gap {MIP_ABSOLUTE_GAP:.0e} (|u|∞ ≤ {U:.3g})",
-                           float(lower), np.inf, float(alpha_cap - lower), **common)
+        return Certificate(
+            "proven",
+            f"no collapse state below the cap {alpha_cap:.9g} (best verified state / "
+            f"associative bound) within mip gap {MIP_ABSOLUTE_GAP:.0e} (|u|∞ ≤ {U:.3g})",
+            float(lower),
+            np.inf,
+            float(alpha_cap - lower),
+            **common,
+        )
     if out.status in ("limit_reached", "node_limit"):
         lower = max(0.0, min(dual, alpha_cap))
         why = "time limit reached" if out.status == "limit_reached" else f"node limit {out.nodes} reached"
-        return Certificate(out.status, f"{why}; proven lower bound {lower:.6g} (|u|∞ ≤ {U:.3g})", float(lower), best,
-                           float(alpha_cap - lower), **common)
+        return Certificate(
+            out.status,
+            f"{why}; proven lower bound {lower:.6g} (|u|∞ ≤ {U:.3g})",
+            float(lower),
+            best,
+            float(alpha_cap - lower),
+            **common,
+        )
     return Certificate("failed", f"MILP failed: HiGHS {out.highs_status}", 0.0, np.inf, np.inf, **common)
 
 
-def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray], *,
-            settings: CertifySettings = CertifySettings(), alpha_best: float | None = None,
-            time_limit: float | None = None) -> Certificate:
+def certify(
+    model: Model,
+    alpha_associative: float,
+    mechanisms: list[np.ndarray],
+    *,
+    settings: CertifySettings = CertifySettings(),
+    alpha_best: float | None = None,
+    time_limit: float | None = None,
+) -> Certificate:
     """Proven lower bound of the non-associative collapse multiplier (see module docstring).
 
     ``alpha_associative``: α of Eq. 10 (an upper bound, Radenkovic); ``mechanisms``: candidate
@@ -117,8 +160,9 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     points = ContactPoints.from_model(model)
 
     def fail(message: str, status: str = "failed", U: float = np.nan) -> Certificate:
-        return Certificate(status, message, 0.0, np.inf, np.inf, time.perf_counter() - t0, U, False, None,
-                           backend=settings.backend)
+        return Certificate(
+            status, message, 0.0, np.inf, np.inf, time.perf_counter() - t0, U, False, None, backend=settings.backend
+        )
 
     if settings.backend not in BACKENDS:
         return fail(f"unknown certification backend {settings.backend!r} (one of {BACKENDS})")
@@ -133,8 +177,16 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
     U = settings.velocity_factor * max([float(np.abs(u).max()) for u in mechanisms if u is not None] + [1.0])
     first = np.flatnonzero(np.r_[True, points.joint[1:] != points.joint[:-1]])
     try:
-        big_m = derive_big_m(model, points, alpha_hi, U, first, per_point=points.count <= settings.per_point_bounds,
-                             max_pivots=settings.bound_lp_iterations, cap=cap)
+        big_m = derive_big_m(
+            model,
+            points,
+            alpha_hi,
+            U,
+            first,
+            per_point=points.count <= settings.per_point_bounds,
+            max_pivots=settings.bound_lp_iterations,
+            cap=cap,
+        )
     except BoundsFailed as error:
         if error.by_cap:
             return fail(f"{error}; proven lower bound 0", "limit_reached", U)
@@ -143,8 +195,9 @@ def certify(model: Model, alpha_associative: float, mechanisms: list[np.ndarray]
         written = sos1_data(model, points, big_m, first, alpha_hi, U)
         if isinstance(written, str):
             return fail(written)
-        return scip_certificate(*written, alpha_cap, alpha_hi, alpha_best, U, settings, cap, t0,
-                                time.perf_counter() - t0)
+        return scip_certificate(
+            *written, alpha_cap, alpha_hi, alpha_best, U, settings, cap, t0, time.perf_counter() - t0
+        )
     data = milp_data(model, points, big_m, first, alpha_hi, U)
     if isinstance(data, str):
         return fail(data)

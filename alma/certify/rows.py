@@ -4,6 +4,7 @@ Variable layout: α | N | T | u | γ⁺ | γ⁻ (per joint) | o (points that can
 s⁺ | s⁻ (joints with such a point) | τ | d⁺ | d⁻ | q⁺ | q⁻ (per bounded column: cohesion, ties).
 Forces in mean block weights, f_Lᵀu = n_free.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -82,9 +83,22 @@ class _Layout:
     nvar: int = field(init=False)
 
     def __post_init__(self) -> None:
-        blocks = (("alpha", 1), ("N", self.P), ("T", self.P), ("u", self.n), ("gp", self.m), ("gm", self.m),
-                  ("o", self.B.size), ("sp", self.J.size), ("sm", self.J.size), ("tau", self.q),
-                  ("dp", self.q), ("dm", self.q), ("qp", self.q), ("qm", self.q))
+        blocks = (
+            ("alpha", 1),
+            ("N", self.P),
+            ("T", self.P),
+            ("u", self.n),
+            ("gp", self.m),
+            ("gm", self.m),
+            ("o", self.B.size),
+            ("sp", self.J.size),
+            ("sm", self.J.size),
+            ("tau", self.q),
+            ("dp", self.q),
+            ("dm", self.q),
+            ("qp", self.q),
+            ("qm", self.q),
+        )
         offset = 0
         for name, size in blocks:
             if name not in ("alpha", "N"):  # α is column 0 and N starts at 1
@@ -93,8 +107,9 @@ class _Layout:
         object.__setattr__(self, "nvar", offset)
 
 
-def _continuous_rows(rows: _Rows, L: _Layout, model: Model, points: ContactPoints, first: np.ndarray,
-                     ell: np.ndarray) -> None:
+def _continuous_rows(
+    rows: _Rows, L: _Layout, model: Model, points: ContactPoints, first: np.ndarray, ell: np.ndarray
+) -> None:
     """Equilibrium (Eq. 3), yield (Eq. 5), ξ ≥ 0, γ = γ⁺ − γ⁻, d = d⁺ − d⁻, f_Lᵀu = n_free and the
     energy cut."""
     P, m, f, q = L.P, L.m, points.friction, L.q
@@ -129,8 +144,15 @@ def _bounded_rows(rows: _Rows, L: _Layout, model: Model, big_m: BigM) -> None:
     rows.add({L.i_tau: sp.identity(q), L.i_qm: sp.diags(cap)}, q, -np.inf, cap)  # τ ≤ cap (1 − q⁻)
 
 
-def _complementarity_rows(rows: _Rows, L: _Layout, points: ContactPoints, big_m: BigM, joint_of: np.ndarray,
-                          m_gp_j: np.ndarray, m_gm_j: np.ndarray) -> None:
+def _complementarity_rows(
+    rows: _Rows,
+    L: _Layout,
+    points: ContactPoints,
+    big_m: BigM,
+    joint_of: np.ndarray,
+    m_gp_j: np.ndarray,
+    m_gm_j: np.ndarray,
+) -> None:
     """The big-M rows of the binaries: open ⇒ N = 0, closed ⇒ ξ = 0, slip ⇒ T = −f N sign γ."""
     B, J, nb, mj = L.B, L.J, L.B.size, L.J.size
     S = sp.csr_matrix((np.ones(nb), (np.arange(nb), B)), shape=(nb, L.P))  # selects the points in B
@@ -148,23 +170,34 @@ def _complementarity_rows(rows: _Rows, L: _Layout, points: ContactPoints, big_m:
     rows.add({L.i_sp: sp.identity(mj), L.i_sm: sp.identity(mj)}, mj, 0.0, 1.0)
 
 
-def _columns(L: _Layout, big_m: BigM, model: Model, points: ContactPoints, alpha_hi: float, U: float,
-             m_gp_j: np.ndarray, m_gm_j: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _columns(
+    L: _Layout,
+    big_m: BigM,
+    model: Model,
+    points: ContactPoints,
+    alpha_hi: float,
+    U: float,
+    m_gp_j: np.ndarray,
+    m_gm_j: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
     """Column bounds: α ∈ [0, α_hi], 0 ≤ N ≤ M_N, |T| ≤ f M_N, |u| ≤ U, slips, 0 ≤ τ ≤ cap, rates
     and binaries."""
     P, n, m = L.P, L.n, L.m
     col_lo, col_hi = np.zeros(L.nvar), np.full(L.nvar, np.inf)
     col_hi[0] = alpha_hi
-    col_hi[1:1 + P] = big_m.normal
-    col_lo[L.i_T:L.i_T + P], col_hi[L.i_T:L.i_T + P] = -points.friction * big_m.normal, points.friction * big_m.normal
-    col_lo[L.i_u:L.i_u + n], col_hi[L.i_u:L.i_u + n] = -U, U
-    col_hi[L.i_gp:L.i_gp + m] = m_gp_j
-    col_hi[L.i_gm:L.i_gm + m] = m_gm_j
-    col_hi[L.i_o:L.i_tau] = 1.0
+    col_hi[1 : 1 + P] = big_m.normal
+    col_lo[L.i_T : L.i_T + P], col_hi[L.i_T : L.i_T + P] = (
+        -points.friction * big_m.normal,
+        points.friction * big_m.normal,
+    )
+    col_lo[L.i_u : L.i_u + n], col_hi[L.i_u : L.i_u + n] = -U, U
+    col_hi[L.i_gp : L.i_gp + m] = m_gp_j
+    col_hi[L.i_gm : L.i_gm + m] = m_gm_j
+    col_hi[L.i_o : L.i_tau] = 1.0
     if L.q:
-        col_hi[L.i_tau:L.i_dp] = model.capacity
-        col_hi[L.i_dp:L.i_dm], col_hi[L.i_dm:L.i_qp] = big_m.rate_plus, big_m.rate_minus
-        col_hi[L.i_qp:] = 1.0
+        col_hi[L.i_tau : L.i_dp] = model.capacity
+        col_hi[L.i_dp : L.i_dm], col_hi[L.i_dm : L.i_qp] = big_m.rate_plus, big_m.rate_minus
+        col_hi[L.i_qp :] = 1.0
         # A column of capacity 0 carries no force and dissipates nothing: its rates are free.
         idle = np.flatnonzero(model.capacity <= 0.0)
         col_lo[L.i_qp + idle] = col_lo[L.i_qm + idle] = 1.0
@@ -174,8 +207,9 @@ def _columns(L: _Layout, big_m: BigM, model: Model, points: ContactPoints, alpha
     return col_lo, col_hi
 
 
-def milp_data(model: Model, points: ContactPoints, big_m: BigM, first: np.ndarray, alpha_hi: float,
-              U: float) -> MilpData | str:
+def milp_data(
+    model: Model, points: ContactPoints, big_m: BigM, first: np.ndarray, alpha_hi: float, U: float
+) -> MilpData | str:
     """The certification MILP of a scene, or a message saying why it cannot be written."""
     P, n, m = points.count, model.dead.shape[0], first.size
     joint_of = np.searchsorted(first, np.arange(P), side="right") - 1  # joint (row of `first`) of each point
@@ -195,9 +229,19 @@ def milp_data(model: Model, points: ContactPoints, big_m: BigM, first: np.ndarra
         _bounded_rows(rows, L, model, big_m)
     col_lo, col_hi = _columns(L, big_m, model, points, alpha_hi, U, m_gp_j, m_gm_j)
     integrality = np.zeros(L.nvar, dtype=bool)
-    integrality[L.i_o:L.i_tau] = True
-    integrality[L.i_qp:] = True
+    integrality[L.i_o : L.i_tau] = True
+    integrality[L.i_qp :] = True
     cost = np.zeros(L.nvar)
     cost[0] = 1.0
-    return MilpData(cost, col_lo, col_hi, sp.vstack(rows.rows).tocsc(), np.concatenate(rows.lo),
-                    np.concatenate(rows.hi), integrality, 0, slice(L.i_u, L.i_u + n), B.size + 2 * L.J.size + 2 * L.q)
+    return MilpData(
+        cost,
+        col_lo,
+        col_hi,
+        sp.vstack(rows.rows).tocsc(),
+        np.concatenate(rows.lo),
+        np.concatenate(rows.hi),
+        integrality,
+        0,
+        slice(L.i_u, L.i_u + n),
+        B.size + 2 * L.J.size + 2 * L.q,
+    )

@@ -1,4 +1,5 @@
 """``python -m alma.cli``."""
+
 import sys
 
 from alma.cli.main import main

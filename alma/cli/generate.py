@@ -1,4 +1,5 @@
 """``alma wall`` and ``alma arch`` (SPEC §3): generate a structure, write it, solve it."""
+
 from __future__ import annotations
 
 import argparse
@@ -15,15 +16,26 @@ def register(sub, add_common: Callable, run: Callable, export: Callable, invalid
     p = sub.add_parser("wall", help="a bonded wall with openings and lintels (SPEC §3)")
     p.add_argument("--bond", choices=BONDS, help="required unless --courses is given")
     p.add_argument("--width", type=positive_float, help="mm (required unless --courses is given)")
-    p.add_argument("--height", type=positive_float,
-                   help="mm, a whole number of courses (required unless --courses is given)")
-    p.add_argument("--courses", metavar="FILE", help="lay the wall from a text file instead: one course per line, "
-                   "top course first as drawn, block lengths in units of the block length, negative for a gap")
+    p.add_argument(
+        "--height", type=positive_float, help="mm, a whole number of courses (required unless --courses is given)"
+    )
+    p.add_argument(
+        "--courses",
+        metavar="FILE",
+        help="lay the wall from a text file instead: one course per line, "
+        "top course first as drawn, block lengths in units of the block length, negative for a gap",
+    )
     p.add_argument("--block", required=True, metavar="LxH", help="block length x height, mm (e.g. 240x60)")
-    p.add_argument("--opening", action="append", default=[], metavar="X,Y,W,H",
-                   help="a rectangular opening (mm, on course lines; repeatable); a lintel spans each")
-    p.add_argument("--overburden", type=non_negative_float, default=0.0, metavar="KPA",
-                   help="pre-compression on the top course")
+    p.add_argument(
+        "--opening",
+        action="append",
+        default=[],
+        metavar="X,Y,W,H",
+        help="a rectangular opening (mm, on course lines; repeatable); a lintel spans each",
+    )
+    p.add_argument(
+        "--overburden", type=non_negative_float, default=0.0, metavar="KPA", help="pre-compression on the top course"
+    )
     p.add_argument("--thickness", type=positive_float, default=120.0, help="mm")
     p.add_argument("--friction", type=non_negative_float, default=0.6)
     p.add_argument("--export-scene", metavar="OUT.json|OUT.dxf", help="write the wall as a scene file")
@@ -60,10 +72,19 @@ def _generated(args: argparse.Namespace, build: Callable, run: Callable, export:
 def _wall(args: argparse.Namespace) -> Scene:
     length, height = block_size(args.block)
     if args.courses:
-        return coursed_wall(read_courses(args.courses), length, height, thickness=args.thickness,
-                            friction=args.friction, name=f"coursed wall {args.courses}")
-    missing = [flag for flag, value in (("--bond", args.bond), ("--width", args.width), ("--height", args.height))
-               if value is None]
+        return coursed_wall(
+            read_courses(args.courses),
+            length,
+            height,
+            thickness=args.thickness,
+            friction=args.friction,
+            name=f"coursed wall {args.courses}",
+        )
+    missing = [
+        flag
+        for flag, value in (("--bond", args.bond), ("--width", args.width), ("--height", args.height))
+        if value is None
+    ]
     if missing:
         raise SceneError(f"alma wall: give {', '.join(missing)} (or --courses FILE)")
     openings = []
@@ -75,8 +96,17 @@ def _wall(args: argparse.Namespace) -> Scene:
         if len(opening) != 4 or not (opening[2] > 0 and opening[3] > 0):
             raise SceneError(f"--opening: give X,Y,W,H in mm with W, H > 0; got {text!r}")
         openings.append(opening)
-    return wall(args.bond, args.width, args.height, length, height, openings=openings,
-                overburden_kpa=args.overburden, thickness=args.thickness, friction=args.friction)
+    return wall(
+        args.bond,
+        args.width,
+        args.height,
+        length,
+        height,
+        openings=openings,
+        overburden_kpa=args.overburden,
+        thickness=args.thickness,
+        friction=args.friction,
+    )
 
 
 def block_size(text: str) -> tuple[float, float]:
@@ -113,6 +143,16 @@ def read_courses(path: str) -> list[list[float]]:
 
 
 def _arch(args: argparse.Namespace) -> Scene:
-    return arch(args.span, args.rise, args.thickness, args.voussoirs, kind=args.kind, springing=args.springing,
-                pier_height=args.pier_height, pier_width=args.pier_width, pier_courses=args.pier_courses,
-                depth=args.depth, friction=args.friction)
+    return arch(
+        args.span,
+        args.rise,
+        args.thickness,
+        args.voussoirs,
+        kind=args.kind,
+        springing=args.springing,
+        pier_height=args.pier_height,
+        pier_width=args.pier_width,
+        pier_courses=args.pier_courses,
+        depth=args.depth,
+        friction=args.friction,
+    )

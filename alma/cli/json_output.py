@@ -4,6 +4,7 @@ A quantity that is not a finite number (an unproven bound, a mechanism a failed 
 undefined) is ``null``: Python's ``json`` would write ``NaN``/``Infinity``, which are not JSON
 and which strict parsers (JavaScript's, jq) refuse.
 """
+
 from __future__ import annotations
 
 import json

@@ -1,4 +1,5 @@
 """Command line (SPEC §3): ``alma solve``, ``panel``, ``settle``, ``tilt`` and the study commands."""
+
 from __future__ import annotations
 
 import argparse
@@ -59,16 +60,21 @@ def main(argv: list[str] | None = None) -> int:
 
 def _build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
-        prog="alma", description="Limit analysis of masonry block structures.",
+        prog="alma",
+        description="Limit analysis of masonry block structures.",
         epilog="Scene files, commands and the JSON output: docs/scenes.md of alma's repository; "
-               "worked examples in examples/.")
+        "worked examples in examples/.",
+    )
     sub = parser.add_subparsers(dest="command", required=True)
 
     p_solve = sub.add_parser("solve", help="solve a scene file (SPEC §2)")
     p_solve.add_argument("scene", help="scene file: JSON (SPEC §2) or a DXF drawing (one polyline per block)")
     add_scene_options(p_solve)
-    p_solve.add_argument("--after-settlement", action="store_true",
-                         help="solve the settled structure: cohesion lost on every joint its settlement opens")
+    p_solve.add_argument(
+        "--after-settlement",
+        action="store_true",
+        help="solve the settled structure: cohesion lost on every joint its settlement opens",
+    )
     _add_common(p_solve)
     p_solve.set_defaults(func=_cmd_solve)
 
@@ -77,13 +83,20 @@ def _build_parser() -> argparse.ArgumentParser:
     p_panel.add_argument("--panel-ratio", required=True, choices=sorted(PANEL_HEIGHTS))
     p_panel.add_argument("--block-ratio", required=True, choices=sorted(BLOCK_LENGTHS))
     p_panel.add_argument("--friction", required=True, type=float)
-    p_panel.add_argument("--export-scene", metavar="OUT.json|OUT.dxf",
-                         help="write the panel as a scene file (JSON) or a drawing (DXF)")
-    p_panel.add_argument("--chain", action="append", default=[], metavar="HEIGHT:STRENGTH",
-                         help="a horizontal chain at HEIGHT mm of STRENGTH kN across the panel, anchored on its "
-                              "two end blocks (repeatable)")
-    p_panel.add_argument("--anchored", action="store_true",
-                         help="tie each chain's ends to fixed anchors outside the panel instead")
+    p_panel.add_argument(
+        "--export-scene", metavar="OUT.json|OUT.dxf", help="write the panel as a scene file (JSON) or a drawing (DXF)"
+    )
+    p_panel.add_argument(
+        "--chain",
+        action="append",
+        default=[],
+        metavar="HEIGHT:STRENGTH",
+        help="a horizontal chain at HEIGHT mm of STRENGTH kN across the panel, anchored on its "
+        "two end blocks (repeatable)",
+    )
+    p_panel.add_argument(
+        "--anchored", action="store_true", help="tie each chain's ends to fixed anchors outside the panel instead"
+    )
     _add_common(p_panel)
     p_panel.set_defaults(func=_cmd_panel)
 
@@ -92,8 +105,12 @@ def _build_parser() -> argparse.ArgumentParser:
     add_scene_options(p_settle)
     p_settle.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p_settle.add_argument("--plot", metavar="OUT.png", help="write a picture of the settlement mechanism")
-    p_settle.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the settlement "
-                          "mechanism in SVG, the crack pattern, the work and the reactions in words")
+    p_settle.add_argument(
+        "--html",
+        metavar="OUT.html",
+        help="write a self-contained page: the settlement "
+        "mechanism in SVG, the crack pattern, the work and the reactions in words",
+    )
     push_cli.add_capacity_options(p_settle)
     p_settle.set_defaults(func=_cmd_settle)
 
@@ -102,8 +119,11 @@ def _build_parser() -> argparse.ArgumentParser:
     add_scene_options(p_tilt)
     p_tilt.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p_tilt.add_argument("--plot", metavar="OUT.png", help="write a picture of the collapse on the table tilted to θ_c")
-    p_tilt.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the collapse on the "
-                        "tilted table in SVG and the critical angle in words")
+    p_tilt.add_argument(
+        "--html",
+        metavar="OUT.html",
+        help="write a self-contained page: the collapse on the tilted table in SVG and the critical angle in words",
+    )
     p_tilt.set_defaults(func=_cmd_tilt)
 
     generate.register(sub, _add_common, _run, export_scene, _invalid)
@@ -115,33 +135,66 @@ def _build_parser() -> argparse.ArgumentParser:
 
 def _add_common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--model", default="associative", choices=MODELS)
-    p.add_argument("--certify", action="store_true",
-                   help="prove a lower bound of the non-associative α by mixed-integer LP")
-    p.add_argument("--certify-backend", default="highs", choices=CERTIFY_BACKENDS,
-                   help="the MIP solver of --certify: highs (big-M binaries, the default) or scip (SOS1 "
-                        "pairs, no big-M; needs the extra alma[scip])")
-    p.add_argument("--certify-nodes", type=int, default=None, metavar="N",
-                   help=f"branch-and-bound node budget of --certify (default {CertifySettings().node_limit:,}); "
-                        "when it stops the proof, the bound reached is reported")
-    p.add_argument("--effort", default="auto", choices=EFFORTS,
-                   help="non-associative search effort (auto: thorough up to 200 blocks)")
-    p.add_argument("--time-limit", type=positive_float, default=None,
-                   help="a hard wall-clock cap in seconds (default: none); the searches spend work budgets, "
-                        "so the answer does not depend on the machine unless the cap cuts it (status "
-                        "limit_reached)")
-    p.add_argument("--crisp", action="store_true",
-                   help="show one crisp mechanism of the associative optimal face (a vertex) instead of the "
-                        "interior point's blend of all of them (about 1-5x the solve)")
-    p.add_argument("--compressive-strength", type=float, default=None, metavar="MPA",
-                   help="σ_c of every joint in MPa (overrides the scene's compressive_strength; default: the "
-                        "scene's, else infinitely strong blocks); associative model only")
+    p.add_argument(
+        "--certify", action="store_true", help="prove a lower bound of the non-associative α by mixed-integer LP"
+    )
+    p.add_argument(
+        "--certify-backend",
+        default="highs",
+        choices=CERTIFY_BACKENDS,
+        help="the MIP solver of --certify: highs (big-M binaries, the default) or scip (SOS1 "
+        "pairs, no big-M; needs the extra alma[scip])",
+    )
+    p.add_argument(
+        "--certify-nodes",
+        type=int,
+        default=None,
+        metavar="N",
+        help=f"branch-and-bound node budget of --certify (default {CertifySettings().node_limit:,}); "
+        "when it stops the proof, the bound reached is reported",
+    )
+    p.add_argument(
+        "--effort",
+        default="auto",
+        choices=EFFORTS,
+        help="non-associative search effort (auto: thorough up to 200 blocks)",
+    )
+    p.add_argument(
+        "--time-limit",
+        type=positive_float,
+        default=None,
+        help="a hard wall-clock cap in seconds (default: none); the searches spend work budgets, "
+        "so the answer does not depend on the machine unless the cap cuts it (status "
+        "limit_reached)",
+    )
+    p.add_argument(
+        "--crisp",
+        action="store_true",
+        help="show one crisp mechanism of the associative optimal face (a vertex) instead of the "
+        "interior point's blend of all of them (about 1-5x the solve)",
+    )
+    p.add_argument(
+        "--compressive-strength",
+        type=float,
+        default=None,
+        metavar="MPA",
+        help="σ_c of every joint in MPa (overrides the scene's compressive_strength; default: the "
+        "scene's, else infinitely strong blocks); associative model only",
+    )
     p.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     p.add_argument("--plot", metavar="OUT.png", help="write a picture of the collapse mechanism")
-    p.add_argument("--html", metavar="OUT.html", help="write a self-contained page: the result in words, the "
-                   "mechanism in SVG (loads, supports, rigid parts, crack, hinges) with a displacement slider, "
-                   "hover details, bounds and timings folded (both models side by side for --model both)")
-    p.add_argument("--thrust", action="store_true", help="draw the line of thrust on --plot and show it from the "
-                   "start on --html (a switch on the page)")
+    p.add_argument(
+        "--html",
+        metavar="OUT.html",
+        help="write a self-contained page: the result in words, the "
+        "mechanism in SVG (loads, supports, rigid parts, crack, hinges) with a displacement slider, "
+        "hover details, bounds and timings folded (both models side by side for --model both)",
+    )
+    p.add_argument(
+        "--thrust",
+        action="store_true",
+        help="draw the line of thrust on --plot and show it from the start on --html (a switch on the page)",
+    )
 
 
 def _cmd_solve(args: argparse.Namespace) -> int:
@@ -163,8 +216,14 @@ def _cmd_settle(args: argparse.Namespace) -> int:
     except (SceneError, SettleError) as exc:
         return _invalid(exc, args)
     if args.plot:
-        plot_mechanism(scene, StillPicture.of(result), args.plot, title=scene.name or None, settling=True,
-                       caption_text=f"settlement mechanism: {len(result.opened)} joints open")
+        plot_mechanism(
+            scene,
+            StillPicture.of(result),
+            args.plot,
+            title=scene.name or None,
+            settling=True,
+            caption_text=f"settlement mechanism: {len(result.opened)} joints open",
+        )
     if args.html:
         write_settlement_html(scene, result, args.html)
     if args.json:
@@ -175,8 +234,10 @@ def _cmd_settle(args: argparse.Namespace) -> int:
     print(f"  status     {result.status} — {result.message}")
     print(f"  work       {result.work:.6g} kN·mm  (bounds [{b.lower:.9g}, {b.upper:.9g}])")
     for r in result.reactions:
-        print(f"  reaction   {r['block']}: force [{r['force'][0]:.6g}, {r['force'][1]:.6g}] kN, "
-              f"moment {r['moment']:.6g} kN·mm")
+        print(
+            f"  reaction   {r['block']}: force [{r['force'][0]:.6g}, {r['force'][1]:.6g}] kN, "
+            f"moment {r['moment']:.6g} kN·mm"
+        )
     print(f"  opened     {len(result.opened)} joints")
     return 0
 
@@ -195,8 +256,10 @@ def _cmd_tilt(args: argparse.Namespace) -> int:
     lo, hi = result.bounds_deg
     print(f"{scene.name or 'scene'}")
     print(f"  status     {result.status} — {result.message}")
-    print(f"  angle      {result.angle_deg:.6f}°  (bounds [{lo:.6f}°, {hi:.6f}°], {result.method}, "
-          f"{result.steps} LP solves)")
+    print(
+        f"  angle      {result.angle_deg:.6f}°  (bounds [{lo:.6f}°, {hi:.6f}°], {result.method}, "
+        f"{result.steps} LP solves)"
+    )
     return 0
 
 
@@ -206,11 +269,19 @@ def _tilt_pictures(scene: Scene, result, args: argparse.Namespace) -> None:
     on_table = tilted(scene, lower) if result.status == "optimal" and math.isfinite(lower) else None
     collapse = solve(on_table) if on_table is not None else None
     if args.plot:
-        words = (f"collapse on the table tilted to θ_c = {result.angle_deg:.4g}°" if collapse is not None
-                 else f"{result.status}: {result.message}")
-        plot_mechanism(scene if on_table is None else on_table, collapse or StillPicture.of(result), args.plot,
-                       title=scene.name or None, gravity_deg=lower if math.isfinite(lower) else 0.0,
-                       caption_text=words)
+        words = (
+            f"collapse on the table tilted to θ_c = {result.angle_deg:.4g}°"
+            if collapse is not None
+            else f"{result.status}: {result.message}"
+        )
+        plot_mechanism(
+            scene if on_table is None else on_table,
+            collapse or StillPicture.of(result),
+            args.plot,
+            title=scene.name or None,
+            gravity_deg=lower if math.isfinite(lower) else 0.0,
+            caption_text=words,
+        )
     if args.html:
         write_tilt_html(scene if on_table is None else on_table, result, collapse, args.html)
 
@@ -233,8 +304,7 @@ def _cmd_panel(args: argparse.Namespace) -> int:
 
 def _run(scene: Scene, args: argparse.Namespace) -> int:
     if args.certify and args.model == "associative":
-        print("alma: --certify applies to the non-associative model (--model nonassociative|both)",
-              file=sys.stderr)
+        print("alma: --certify applies to the non-associative model (--model nonassociative|both)", file=sys.stderr)
         return 2
     certify = _certify_settings(args)
     if isinstance(certify, str):
@@ -245,8 +315,14 @@ def _run(scene: Scene, args: argparse.Namespace) -> int:
     try:
         scene = with_compressive_strength(scene, getattr(args, "compressive_strength", None))
         settings = Settings(associative=AssociativeSettings(crisp_mechanism=bool(args.crisp)), certify=certify)
-        result = solve(scene, model=args.model, settings=settings, effort=args.effort, certify=args.certify,
-                       time_limit=args.time_limit)
+        result = solve(
+            scene,
+            model=args.model,
+            settings=settings,
+            effort=args.effort,
+            certify=args.certify,
+            time_limit=args.time_limit,
+        )
     except SceneError as exc:
         return _invalid(exc, args)
     for warning in result.warnings:
@@ -287,10 +363,17 @@ def _print_text(scene: Scene, result, picture: str | None) -> None:
         if "certificate" in result.extra:
             print(f"  certified  {result.extra['certificate']['message']}")
     print(f"  bounds     {b.describe()}")
-    print(f"  mechanism  {result.mechanism_class}  ({result.extra['n_blocks']} blocks, "
-          f"{result.extra['n_joints']} joints)")
-    names = {"joints_s": "joints", "build_s": "build", "solve_s": "LP solve", "certify_s": "LP certificate",
-             "nonassociative_s": "search", "certification_s": "MILP certification"}
+    print(
+        f"  mechanism  {result.mechanism_class}  ({result.extra['n_blocks']} blocks, {result.extra['n_joints']} joints)"
+    )
+    names = {
+        "joints_s": "joints",
+        "build_s": "build",
+        "solve_s": "LP solve",
+        "certify_s": "LP certificate",
+        "nonassociative_s": "search",
+        "certification_s": "MILP certification",
+    }
     parts = [f"{label} {result.timings[key]:.3f} s" for key, label in names.items() if key in result.timings]
     print(f"  time       {', '.join(parts)}")
     if picture:

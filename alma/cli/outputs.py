@@ -6,6 +6,7 @@ looks at every output option a command has (:data:`OUTPUT_SUFFIXES`) and at ever
 it names (:data:`INPUT_OPTIONS`), so that a new command, or ``--html`` on a command that lacks it
 today, is checked without a line of its own.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -41,8 +42,10 @@ def check_output(path: str, option: str, suffixes: tuple[str, ...], inputs: list
     flag = "--" + option.replace("_", "-")
     target = Path(path)
     if target.suffix.lower() not in suffixes:
-        raise OutputPathError(f"{flag} {path}: unknown file type {target.suffix or '(none)'!r}; "
-                              f"give a name ending in {', '.join(suffixes)}")
+        raise OutputPathError(
+            f"{flag} {path}: unknown file type {target.suffix or '(none)'!r}; "
+            f"give a name ending in {', '.join(suffixes)}"
+        )
     folder = target.parent if str(target.parent) else Path(".")
     if not folder.is_dir():
         raise OutputPathError(f"{flag} {path}: the folder '{folder}' does not exist")
@@ -71,8 +74,9 @@ def check_outputs(args: argparse.Namespace) -> None:
             continue
         check_output(path, option, suffixes, inputs)
         if any(_same_file(Path(path), other) for other in written):
-            raise OutputPathError(f"--{option.replace('_', '-')} {path}: another output of this command is "
-                                  "written to the same file")
+            raise OutputPathError(
+                f"--{option.replace('_', '-')} {path}: another output of this command is written to the same file"
+            )
         written.append(Path(path))
 
 

@@ -1,4 +1,5 @@
 """``alma push`` and ``alma seismic`` (SPEC §3): the capacity curve and the kinematic check."""
+
 from __future__ import annotations
 
 import argparse
@@ -24,8 +25,11 @@ def register(sub, invalid: Callable) -> None:
     p = sub.add_parser("push", help="the capacity curve α(d): incremental large-displacement analysis")
     p.add_argument("scene", help="scene file: JSON (SPEC §2) or a DXF drawing")
     p.add_argument("--model", default="associative", choices=PUSH_MODELS)
-    p.add_argument("--control", metavar="BLOCK", help="block whose centroid's horizontal displacement is d "
-                   "(default: the block that moves most horizontally)")
+    p.add_argument(
+        "--control",
+        metavar="BLOCK",
+        help="block whose centroid's horizontal displacement is d (default: the block that moves most horizontally)",
+    )
     p.add_argument("--steps", type=int, default=None, help="steps from α_c to α = 0 (default 40)")
     _outputs(p)
     add_compressive_strength(add_scene_options(p))
@@ -34,9 +38,12 @@ def register(sub, invalid: Callable) -> None:
     p = sub.add_parser("seismic", help="the kinematic seismic check (NTC 2018, Circolare 2019 §C8.7.1)")
     p.add_argument("scene", help="scene file: JSON (SPEC §2) or a DXF drawing")
     p.add_argument("--site", required=True, metavar="SITE.toml", help="the site's parameters (SPEC §3 keys)")
-    p.add_argument("--edition", choices=EDITIONS, default=None,
-                   help="the Circolare whose form of the checks applies (default: the site file's "
-                        "'edition', else 2019)")
+    p.add_argument(
+        "--edition",
+        choices=EDITIONS,
+        default=None,
+        help="the Circolare whose form of the checks applies (default: the site file's 'edition', else 2019)",
+    )
     p.add_argument("--control", metavar="BLOCK", help="the control block of the capacity curve")
     p.add_argument("--steps", type=int, default=None, help="steps of the capacity curve (default 40)")
     _outputs(p)
@@ -46,8 +53,12 @@ def register(sub, invalid: Callable) -> None:
 
 def add_capacity_options(p: argparse.ArgumentParser) -> None:
     """``alma settle --capacity [--steps N]``: the settlement capacity instead of one mechanism."""
-    p.add_argument("--capacity", action="store_true", help="grow the settlement until the structure can no "
-                   "longer carry its dead load (settlement capacity s_u, the curve α(s), large displacements)")
+    p.add_argument(
+        "--capacity",
+        action="store_true",
+        help="grow the settlement until the structure can no "
+        "longer carry its dead load (settlement capacity s_u, the curve α(s), large displacements)",
+    )
     p.add_argument("--steps", type=int, default=None, help="with --capacity: steps from s = 0 to s_u (default 40)")
 
 
@@ -70,10 +81,13 @@ def run_capacity(args: argparse.Namespace, invalid: Callable) -> int:
         plot_capacity(scene, curve, args.plot, title=scene.name or None, abscissa=abscissa)
     if args.html and result.curve.curve:
         rows = [(k, v if isinstance(v, str) else json.dumps(v)) for k, v in result.to_dict().items() if k != "curve"]
-        rows += [(f"cracked at s = {p.d:.6g} {result.unit}", ", ".join("|".join(j) for j in c) or "none")
-                 for p, c in zip(result.curve.curve, result.cracks, strict=True)]
-        write_capacity_html(curve, args.html, title=scene.name or "settlement capacity", scene=scene,
-                            abscissa=abscissa, rows=rows)
+        rows += [
+            (f"cracked at s = {p.d:.6g} {result.unit}", ", ".join("|".join(j) for j in c) or "none")
+            for p, c in zip(result.curve.curve, result.cracks, strict=True)
+        ]
+        write_capacity_html(
+            curve, args.html, title=scene.name or "settlement capacity", scene=scene, abscissa=abscissa, rows=rows
+        )
     if args.json:
         print(json.dumps(result.to_dict()))
         return 0
@@ -83,11 +97,16 @@ def run_capacity(args: argparse.Namespace, invalid: Callable) -> int:
     if result.curve.curve:
         print(f"  alpha(0)   {result.curve.alpha_c:.6f}")
         last = result.curve.curve[-1].d
-        print(f"  s_u        {result.s_u:.6g} {result.unit}  (bracket [{result.bracket[0]:.9g}, "
-              f"{result.bracket[1]:.9g}]; {result.factor_u:.6g} x the scene's settlement)" if result.s_u == result.s_u
-              else f"  s_u        not reached: the structure stands at s = {last:.6g} {result.unit}, the last tried")
-        print(f"  curve      {len(result.curve.curve)} points, {result.curve.solves} configurations solved; "
-              f"cracked while standing: {', '.join('|'.join(j) for j in result.cracked_u) or 'none'}")
+        print(
+            f"  s_u        {result.s_u:.6g} {result.unit}  (bracket [{result.bracket[0]:.9g}, "
+            f"{result.bracket[1]:.9g}]; {result.factor_u:.6g} x the scene's settlement)"
+            if result.s_u == result.s_u
+            else f"  s_u        not reached: the structure stands at s = {last:.6g} {result.unit}, the last tried"
+        )
+        print(
+            f"  curve      {len(result.curve.curve)} points, {result.curve.solves} configurations solved; "
+            f"cracked while standing: {', '.join('|'.join(j) for j in result.cracked_u) or 'none'}"
+        )
     if args.plot:
         print(f"  picture    {args.plot}")
     sys.stdout.flush()
@@ -118,11 +137,21 @@ def _run(args: argparse.Namespace, invalid: Callable, site_path: str | None) -> 
         return invalid(exc, args)
     curve = result if isinstance(result, PushResult) else result.push
     if args.plot and curve.curve:
-        plot_capacity(scene, curve, args.plot, check=result if isinstance(result, SeismicResult) else None,
-                      title=scene.name or None)
+        plot_capacity(
+            scene,
+            curve,
+            args.plot,
+            check=result if isinstance(result, SeismicResult) else None,
+            title=scene.name or None,
+        )
     if args.html and curve.curve:
-        write_capacity_html(curve, args.html, check=result if isinstance(result, SeismicResult) else None,
-                            title=scene.name or "capacity curve", scene=scene)
+        write_capacity_html(
+            curve,
+            args.html,
+            check=result if isinstance(result, SeismicResult) else None,
+            title=scene.name or "capacity curve",
+            scene=scene,
+        )
     if args.json:
         print(json.dumps(result.to_dict()))
     else:
@@ -139,19 +168,25 @@ def _lines_2009(result: SeismicResult) -> list[str]:
     lines = [f"  linear     a0* = {result.a0_star:.4g} m/s² vs demand {lin['demand']:.4g} m/s²: {_verdict(lin)}"]
     if nl.get("verified") is not None:  # the check ran: its values are numbers
         du, demand = cast(float, nl["du_star"]), cast(float, nl["demand"])
-        lines.append(f"  nonlinear  du* = {du * 1e3:.4g} mm vs demand {demand * 1e3:.4g} mm "
-                     f"(Ts = {nl['Ts']:.3f} s): {_verdict(nl)}")
+        lines.append(
+            f"  nonlinear  du* = {du * 1e3:.4g} mm vs demand {demand * 1e3:.4g} mm "
+            f"(Ts = {nl['Ts']:.3f} s): {_verdict(nl)}"
+        )
     return lines
 
 
 def _lines_2019(result: SeismicResult) -> list[str]:
     lin, nl = result.linear, result.nonlinear
-    lines = [f"  linear     a_g,SLV = q a_Z,SLD / S = {lin['a_g_SLV']:.4g} m/s² vs a_g {lin['demand']:.4g} m/s²: "
-             f"{_verdict(lin)}"]
+    lines = [
+        f"  linear     a_g,SLV = q a_Z,SLD / S = {lin['a_g_SLV']:.4g} m/s² vs a_g {lin['demand']:.4g} m/s²: "
+        f"{_verdict(lin)}"
+    ]
     if nl.get("verified") is not None:
         d, demand = cast(float, nl["d_SLV"]), cast(float, nl["displacement_demand"])
-        lines.append(f"  nonlinear  d_SLV = {d * 1e3:.4g} mm vs demand {demand * 1e3:.4g} mm (T_SLV = "
-                     f"{nl['T_SLV']:.3f} s, ξ = 8 %): a_g,SLV = {nl['a_g_SLV']:.4g} m/s², {_verdict(nl)}")
+        lines.append(
+            f"  nonlinear  d_SLV = {d * 1e3:.4g} mm vs demand {demand * 1e3:.4g} mm (T_SLV = "
+            f"{nl['T_SLV']:.3f} s, ξ = 8 %): a_g,SLV = {nl['a_g_SLV']:.4g} m/s², {_verdict(nl)}"
+        )
     return lines
 
 
@@ -171,8 +206,10 @@ def _print_text(scene: Scene, result: PushResult | SeismicResult, picture: str |
         print(f"  control    {curve.control}")
         print(f"  alpha_c    {curve.alpha_c:.6f}")
         stop = f"d0 {curve.d0:.6g} mm" if curve.d0 == curve.d0 else f"ends: {curve.end.get('reason', '?')}"
-        print(f"  {stop}  ({len(curve.curve)} points, {curve.solves} LP solves, "
-              f"{sum(p.mechanism_changed for p in curve.curve)} mechanism changes)")
+        print(
+            f"  {stop}  ({len(curve.curve)} points, {curve.solves} LP solves, "
+            f"{sum(p.mechanism_changed for p in curve.curve)} mechanism changes)"
+        )
     if isinstance(result, SeismicResult) and curve.curve:
         print(f"  M*, e*     {result.M_star:.6g} kg, {result.e_star:.4f}  (Circolare {result.edition})")
         for line in (_lines_2019 if result.edition == "2019" else _lines_2009)(result):

@@ -13,6 +13,7 @@ checked as they are parsed (finite, and > 0 or >= 0 as the quantity requires).
   scene's top-level value (joints with an override in ``"joints"`` keep theirs), so that
   ``--friction 0.4`` is never silently ignored. ``--supports`` applies to drawings only.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -65,25 +66,40 @@ MATERIALS: tuple[tuple[str, Callable[[str], float], str], ...] = (
 def add_scene_options(parser: argparse.ArgumentParser) -> argparse._ArgumentGroup:
     """Add the shared scene options to ``parser``; returns the group, for options added later."""
     group = parser.add_argument_group(
-        "scene options", "materials of a DXF drawing (SPEC §4 defaults); for a JSON scene they replace "
-        "the scene's own top-level values")
+        "scene options",
+        "materials of a DXF drawing (SPEC §4 defaults); for a JSON scene they replace the scene's own top-level values",
+    )
     for field, kind, text in MATERIALS:
         group.add_argument("--" + field.replace("_", "-"), type=kind, default=None, help=text)
-    group.add_argument("--supports", choices=("layers", "lowest"), default=None,
-                       help="DXF only: supports from layer names (fixed/support/ground, the default) or every "
-                            "block reaching the lowest y")
-    group.add_argument("--contact-tolerance", type=positive_float, default=None, metavar="REL",
-                       help="gaps and overlaps snapped to a joint, relative to the median block size "
-                            "(default 1e-4; overrides the scene's contact_tolerance)")
+    group.add_argument(
+        "--supports",
+        choices=("layers", "lowest"),
+        default=None,
+        help="DXF only: supports from layer names (fixed/support/ground, the default) or every "
+        "block reaching the lowest y",
+    )
+    group.add_argument(
+        "--contact-tolerance",
+        type=positive_float,
+        default=None,
+        metavar="REL",
+        help="gaps and overlaps snapped to a joint, relative to the median block size "
+        "(default 1e-4; overrides the scene's contact_tolerance)",
+    )
     return group
 
 
 def add_compressive_strength(group: argparse._ArgumentGroup) -> None:
     """Add ``--compressive-strength MPA`` (SPEC §2 ``compressive_strength`` on every joint) to a
     command whose analysis takes a finite compressive strength; :func:`scene_from_args` applies it."""
-    group.add_argument("--compressive-strength", type=positive_float, default=None, metavar="MPA",
-                       help="σ_c of every joint in MPa (overrides the scene's compressive_strength; default: the "
-                            "scene's, else infinitely strong blocks)")
+    group.add_argument(
+        "--compressive-strength",
+        type=positive_float,
+        default=None,
+        metavar="MPA",
+        help="σ_c of every joint in MPa (overrides the scene's compressive_strength; default: the "
+        "scene's, else infinitely strong blocks)",
+    )
 
 
 def with_compressive_strength(scene: Scene, value: float | None) -> Scene:
@@ -111,8 +127,9 @@ def scene_from_args(args: argparse.Namespace) -> Scene:
         scene = load_scene(path, supports=supports, **given)
     else:
         if supports is not None:
-            raise SceneError(f"--supports applies to DXF drawings; the JSON scene '{path}' marks its supports "
-                             "with \"fixed\": true")
+            raise SceneError(
+                f"--supports applies to DXF drawings; the JSON scene '{path}' marks its supports with \"fixed\": true"
+            )
         scene = load_scene(path)
         if given:
             scene = dataclasses.replace(scene, **given, validated=False)

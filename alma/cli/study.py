@@ -8,18 +8,25 @@ subparser's ``func`` is a handler ``handler(args) -> int`` returning the exit co
   worker) or the paper run failed; 2: bad input (design file, results CSV, options);
   130: interrupted with Ctrl-C (everything finished is on disk; rerun to resume).
 """
+
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import io
 import sys
 from pathlib import Path
 from typing import Any
 
 from alma.cli.json_output import dumps
+from alma.cli.study_inputs import (
+    _design_argument,
+    _error,
+    _guarded,
+    _positive_int,
+    _study_rows_for_anova,
+    _with_strengths,
+)
 from alma.settings import EFFORTS
-from alma.study.design import PAPER_DESIGN, load_design
 
 __all__ = ["anova_handler", "compare_handler", "doe_handler", "paper_handler", "register"]
 
@@ -27,127 +34,149 @@ __all__ = ["anova_handler", "compare_handler", "doe_handler", "paper_handler", "
 def register(subparsers: Any) -> None:
     """Add ``doe``, ``anova``, ``paper`` and ``compare`` to an argparse ``add_subparsers()`` object."""
     p = subparsers.add_parser(
-        "doe", help="run (or resume) the paper's 108-panel full-factorial study",
+        "doe",
+        help="run (or resume) the paper's 108-panel full-factorial study",
         description="Run the full-factorial design of Table 1 (108 panels by default). Every "
-                    "finished panel is appended to OUT/results.csv at once; panels already "
-                    "there are skipped, so an interrupted study resumes where it stopped.")
-    p.add_argument("--out", default="doe_results", metavar="DIR",
-                   help="output folder holding results.csv (default: doe_results)")
-    p.add_argument("--model", default="associative",
-                   choices=("associative", "nonassociative", "both"),
-                   help="contact model(s) (default: associative)")
-    p.add_argument("--workers", type=_positive_int, default=None, metavar="N",
-                   help="local worker processes (default: all cores)")
-    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                   help="address of an existing Dask distributed scheduler, e.g. tcp://host:8786 "
-                        "(alma must be installed on its workers)")
-    p.add_argument("--design", default=None, metavar="FILE",
-                   help="TOML or JSON file of factor levels (panel_ratio, block_ratio, bond, "
-                        "friction, and chain: strengths in kN of a chain across the top course, "
-                        "with chain_height and chain_anchored); default: the paper's Table 1")
-    p.add_argument("--compressive-strength", default=None, metavar="MPA[,MPA...]",
-                   help="levels of the blocks' compressive strength σ_c in MPa on every joint, e.g. "
-                        "0,2,5,10 (0: infinitely strong blocks; associative model only); replaces "
-                        "the design's compressive_strength levels (default: 0)")
-    p.add_argument("--retry-errors", action="store_true",
-                   help="solve again the panels whose stored status is 'error'")
+        "finished panel is appended to OUT/results.csv at once; panels already "
+        "there are skipped, so an interrupted study resumes where it stopped.",
+    )
+    p.add_argument(
+        "--out", default="doe_results", metavar="DIR", help="output folder holding results.csv (default: doe_results)"
+    )
+    p.add_argument(
+        "--model",
+        default="associative",
+        choices=("associative", "nonassociative", "both"),
+        help="contact model(s) (default: associative)",
+    )
+    p.add_argument(
+        "--workers", type=_positive_int, default=None, metavar="N", help="local worker processes (default: all cores)"
+    )
+    p.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="address of an existing Dask distributed scheduler, e.g. tcp://host:8786 "
+        "(alma must be installed on its workers)",
+    )
+    p.add_argument(
+        "--design",
+        default=None,
+        metavar="FILE",
+        help="TOML or JSON file of factor levels (panel_ratio, block_ratio, bond, "
+        "friction, and chain: strengths in kN of a chain across the top course, "
+        "with chain_height and chain_anchored); default: the paper's Table 1",
+    )
+    p.add_argument(
+        "--compressive-strength",
+        default=None,
+        metavar="MPA[,MPA...]",
+        help="levels of the blocks' compressive strength σ_c in MPa on every joint, e.g. "
+        "0,2,5,10 (0: infinitely strong blocks; associative model only); replaces "
+        "the design's compressive_strength levels (default: 0)",
+    )
+    p.add_argument("--retry-errors", action="store_true", help="solve again the panels whose stored status is 'error'")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=doe_handler)
 
     p = subparsers.add_parser(
-        "anova", help="ANOVA of a results CSV (Table 2 of the paper)",
+        "anova",
+        help="ANOVA of a results CSV (Table 2 of the paper)",
         description="ANOVA (main effects and interactions up to --order) of a results CSV with "
-                    "columns panel_ratio, block_ratio, bond, friction, alpha_c.")
+        "columns panel_ratio, block_ratio, bond, friction, alpha_c.",
+    )
     p.add_argument("results", metavar="RESULTS.csv")
-    p.add_argument("--order", type=int, default=2, choices=(1, 2, 3),
-                   help="highest interaction order in the model (default: 2, as in Table 2)")
+    p.add_argument(
+        "--order",
+        type=int,
+        default=2,
+        choices=(1, 2, 3),
+        help="highest interaction order in the model (default: 2, as in Table 2)",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.add_argument("--model", default=None,
-                   help="rows of this contact model only, when the CSV holds several")
+    p.add_argument("--model", default=None, help="rows of this contact model only, when the CSV holds several")
     p.set_defaults(func=anova_handler)
 
     p = subparsers.add_parser(
-        "paper", help="regenerate the paper's tables and figures beside the published ones",
+        "paper",
+        help="regenerate the paper's tables and figures beside the published ones",
         description="Run the associative study (resumable) and write Table 5, Table 2, the R² "
-                    "of Table 3, Figures 5-15 and comparison.md into DIR.")
+        "of Table 3, Figures 5-15 and comparison.md into DIR.",
+    )
     p.add_argument("--out", required=True, metavar="DIR")
-    p.add_argument("--published", default=None, metavar="DIR",
-                   help="folder of the published tables (paper_tables/data of alma's repository; "
-                        "default: ./paper_tables/data)")
-    p.add_argument("--workers", type=_positive_int, default=None, metavar="N",
-                   help="local worker processes for the study (default: all cores)")
-    p.add_argument("--nonassociative", action="store_true",
-                   help="also run the non-associative model on the same panels and write the "
-                        "comparison report of `alma compare` into DIR/nonassociative/")
-    p.add_argument("--effort", default=None, choices=EFFORTS,
-                   help="non-associative search effort with --nonassociative (default: auto)")
+    p.add_argument(
+        "--published",
+        default=None,
+        metavar="DIR",
+        help="folder of the published tables (paper_tables/data of alma's repository; default: ./paper_tables/data)",
+    )
+    p.add_argument(
+        "--workers",
+        type=_positive_int,
+        default=None,
+        metavar="N",
+        help="local worker processes for the study (default: all cores)",
+    )
+    p.add_argument(
+        "--nonassociative",
+        action="store_true",
+        help="also run the non-associative model on the same panels and write the "
+        "comparison report of `alma compare` into DIR/nonassociative/",
+    )
+    p.add_argument(
+        "--effort",
+        default=None,
+        choices=EFFORTS,
+        help="non-associative search effort with --nonassociative (default: auto)",
+    )
     p.set_defaults(func=paper_handler)
 
     p = subparsers.add_parser(
-        "compare", help="associative against non-associative α on the paper's panels, with ANOVA",
+        "compare",
+        help="associative against non-associative α on the paper's panels, with ANOVA",
         description="Run the study with both contact models (resumable, like `alma doe`: "
-                    "DIR/results.csv) and write DIR/compare.csv, DIR/compare.md (gaps, "
-                    "multi-start, failures, times, the two-way ANOVA of α_NL and of "
-                    "α_NL/α_LP) and DIR/figures/ (mechanisms side by side where the models "
-                    "differ most, main-effects plots).")
+        "DIR/results.csv) and write DIR/compare.csv, DIR/compare.md (gaps, "
+        "multi-start, failures, times, the two-way ANOVA of α_NL and of "
+        "α_NL/α_LP) and DIR/figures/ (mechanisms side by side where the models "
+        "differ most, main-effects plots).",
+    )
     p.add_argument("--out", required=True, metavar="DIR")
-    p.add_argument("--design", default=None, metavar="FILE",
-                   help="TOML or JSON file of factor levels (default: the paper's 108 panels)")
-    p.add_argument("--workers", type=_positive_int, default=None, metavar="N",
-                   help="local worker processes (default: all cores)")
-    p.add_argument("--effort", default=None, choices=EFFORTS,
-                   help="non-associative search effort (default: auto = thorough up to 200 blocks)")
-    p.add_argument("--time-limit", type=float, default=None, metavar="S",
-                   help="time limit of each non-associative search, s (default: none; part of the "
-                        "results' keys, so a different limit solves the panels again)")
-    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                   help="address of an existing Dask distributed scheduler")
-    p.add_argument("--figures", type=int, default=6, metavar="N",
-                   help="draw the N panels where the models differ most (default: 6; 0: none)")
-    p.add_argument("--retry-errors", action="store_true",
-                   help="solve again the panels whose stored status is 'error'")
+    p.add_argument(
+        "--design",
+        default=None,
+        metavar="FILE",
+        help="TOML or JSON file of factor levels (default: the paper's 108 panels)",
+    )
+    p.add_argument(
+        "--workers", type=_positive_int, default=None, metavar="N", help="local worker processes (default: all cores)"
+    )
+    p.add_argument(
+        "--effort",
+        default=None,
+        choices=EFFORTS,
+        help="non-associative search effort (default: auto = thorough up to 200 blocks)",
+    )
+    p.add_argument(
+        "--time-limit",
+        type=float,
+        default=None,
+        metavar="S",
+        help="time limit of each non-associative search, s (default: none; part of the "
+        "results' keys, so a different limit solves the panels again)",
+    )
+    p.add_argument(
+        "--scheduler", default=None, metavar="ADDRESS", help="address of an existing Dask distributed scheduler"
+    )
+    p.add_argument(
+        "--figures",
+        type=int,
+        default=6,
+        metavar="N",
+        help="draw the N panels where the models differ most (default: 6; 0: none)",
+    )
+    p.add_argument("--retry-errors", action="store_true", help="solve again the panels whose stored status is 'error'")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=compare_handler)
-
-
-def _positive_int(text: str) -> int:
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
-    if n < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
-    return n
-
-
-def _guarded(run: Any) -> tuple[Any, int | None]:
-    """``run()`` and None, or None and the exit code of its failure (130 interrupted, 2 bad
-    input, 1 a failed run), the message on stderr."""
-    try:
-        return run(), None
-    except KeyboardInterrupt:
-        return None, 130
-    except ValueError as exc:
-        _error(str(exc))
-        return None, 2
-    except (RuntimeError, OSError) as exc:
-        _error(str(exc))
-        return None, 1
-
-
-def _error(message: str) -> None:
-    print(f"alma: error: {message}", file=sys.stderr)
-
-
-def _design_argument(args: argparse.Namespace):
-    """(design or None, failed): the ``--design`` file, its error printed if it cannot be read."""
-    if not getattr(args, "design", None):
-        return None, False
-    try:
-        return load_design(args.design), False
-    except ValueError as exc:
-        _error(str(exc))
-        return None, True
 
 
 # ------------------------------------------------------------------------------------------
@@ -167,10 +196,17 @@ def doe_handler(args: argparse.Namespace) -> int:
         except ValueError as exc:
             _error(str(exc))
             return 2
-    df, code = _guarded(lambda: run_doe(args.out, model=args.model, workers=args.workers,
-                                        scheduler=args.scheduler, design=design,
-                                        progress=not getattr(args, "quiet", False),
-                                        retry_errors=getattr(args, "retry_errors", False)))
+    df, code = _guarded(
+        lambda: run_doe(
+            args.out,
+            model=args.model,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            design=design,
+            progress=not getattr(args, "quiet", False),
+            retry_errors=getattr(args, "retry_errors", False),
+        )
+    )
     if code is not None:
         return code
     path = Path(args.out) / RESULTS_FILE
@@ -182,21 +218,6 @@ def doe_handler(args: argparse.Namespace) -> int:
         print(f"{failed} failed, e.g.: {first}", file=sys.stderr)
         return 1
     return 0
-
-
-def _with_strengths(design: Any, text: str) -> Any:
-    """``design`` (default the paper's) with the compressive-strength levels of ``--compressive-strength``."""
-    levels = [t.strip() for t in text.split(",")]
-    if not all(levels):
-        raise ValueError(f"--compressive-strength: expected MPa levels separated by commas, got {text!r}")
-    try:
-        values = tuple(float(t) for t in levels)
-    except ValueError:
-        raise ValueError(f"--compressive-strength: expected numbers (MPa), got {text!r}") from None
-    try:
-        return dataclasses.replace(design or PAPER_DESIGN, compressive_strength=values)
-    except ValueError as exc:
-        raise ValueError(f"--compressive-strength: {exc}") from None
 
 
 # ------------------------------------------------------------------------------------------
@@ -244,8 +265,7 @@ def _load_for_anova(path: Path, model: str | None, pd: Any, load_results: Any) -
     models = [m for m in dict.fromkeys(raw["model"].str.strip()) if m]
     if model is None:
         if len(models) > 1:
-            raise ValueError(f"{path}: rows of several models ({', '.join(models)}); "
-                             "choose one with --model")
+            raise ValueError(f"{path}: rows of several models ({', '.join(models)}); choose one with --model")
         return load_results(path)
     if model not in models:
         raise ValueError(f"{path}: no rows of model {model!r} (found: {', '.join(models) or 'none'})")
@@ -258,22 +278,6 @@ def _load_for_anova(path: Path, model: str | None, pd: Any, load_results: Any) -
         raise ValueError(str(exc).replace(str(buf), f"{path} (model {model})")) from None
 
 
-def _study_rows_for_anova(path: Path, rows: Any, model: str | None, load_results: Any) -> Any:
-    """The sound rows of a study's results file, of one contact model, checked as Table 5's."""
-    models = [m for m in dict.fromkeys(rows["model"].str.strip()) if m]
-    if model is None and len(models) > 1:
-        raise ValueError(f"{path}: rows of several models ({', '.join(models)}); choose one with --model")
-    if model is not None:
-        if model not in models:
-            raise ValueError(f"{path}: no rows of model {model!r} (found: {', '.join(models) or 'none'})")
-        rows = rows[rows["model"].str.strip() == model]
-    buf = io.StringIO(rows.to_csv(index=False))
-    try:
-        return load_results(buf)
-    except ValueError as exc:
-        raise ValueError(str(exc).replace(str(buf), str(path))) from None
-
-
 # ------------------------------------------------------------------------------------------
 # alma paper
 # ------------------------------------------------------------------------------------------
@@ -284,8 +288,10 @@ def paper_handler(args: argparse.Namespace) -> int:
 
     published = Path(args.published) if args.published else Path("paper_tables") / "data"
     if not published.is_dir():
-        _error(f"the published tables are not in {published}: pass --published DIR, the "
-               "paper_tables/data folder of alma's repository (the package holds no published value)")
+        _error(
+            f"the published tables are not in {published}: pass --published DIR, the "
+            "paper_tables/data folder of alma's repository (the package holds no published value)"
+        )
         return 2
     kwargs: dict[str, Any] = {}
     if getattr(args, "nonassociative", False):
@@ -300,15 +306,16 @@ def paper_handler(args: argparse.Namespace) -> int:
     if isinstance(summary, dict) and summary.get("report"):
         s = summary
         if "table5_match" in s:
-            print(f"Table 5: {s['table5_match']}/{s['table5_rows']} agree to 4 decimals; "
-                  f"Table 2: {s['table2_match']}/{s['table2_cells']} cells; "
-                  f"R² = {100 * s['r2']:.2f} %, R²(pred) = {100 * s['r2_pred']:.2f} %")
+            print(
+                f"Table 5: {s['table5_match']}/{s['table5_rows']} agree to 4 decimals; "
+                f"Table 2: {s['table2_match']}/{s['table2_cells']} cells; "
+                f"R² = {100 * s['r2']:.2f} %, R²(pred) = {100 * s['r2_pred']:.2f} %"
+            )
         print(f"report: {s['report']}")
         if s.get("compare_report"):
             print(f"non-associative comparison: {s['compare_report']}")
         if s.get("compare_failed"):
-            print(f"{s['compare_failed']} non-associative result(s) failed; see {s['compare_report']}",
-                  file=sys.stderr)
+            print(f"{s['compare_failed']} non-associative result(s) failed; see {s['compare_report']}", file=sys.stderr)
             return 1
     return 0
 
@@ -327,19 +334,28 @@ def compare_handler(args: argparse.Namespace) -> int:
     if getattr(args, "figures", 6) < 0:
         _error("--figures must be >= 0")
         return 2
-    report, code = _guarded(lambda: run_compare(args.out, design=design, workers=args.workers, effort=args.effort,
-                                                scheduler=getattr(args, "scheduler", None),
-                                                progress=not getattr(args, "quiet", False),
-                                                retry_errors=getattr(args, "retry_errors", False),
-                                                n_figures=getattr(args, "figures", 6),
-                                                time_limit=getattr(args, "time_limit", None)))
+    report, code = _guarded(
+        lambda: run_compare(
+            args.out,
+            design=design,
+            workers=args.workers,
+            effort=args.effort,
+            scheduler=getattr(args, "scheduler", None),
+            progress=not getattr(args, "quiet", False),
+            retry_errors=getattr(args, "retry_errors", False),
+            n_figures=getattr(args, "figures", 6),
+            time_limit=getattr(args, "time_limit", None),
+        )
+    )
     if code is not None:
         return code
     t = report.table
     ratio = t["ratio"].dropna()
     gap = f", largest gap 1 - α_NL/α_LP = {1 - ratio.min():.4f}" if len(ratio) else ""
-    print(f"{len(t)} panels{gap}; table {report.csv}; report {report.markdown}; "
-          f"{len(report.figures)} figures in {report.out / 'figures'}")
+    print(
+        f"{len(t)} panels{gap}; table {report.csv}; report {report.markdown}; "
+        f"{len(report.figures)} figures in {report.out / 'figures'}"
+    )
     if report.failed:
         print(f"{report.failed} result(s) failed; see {report.markdown}", file=sys.stderr)
         return 1

@@ -18,6 +18,7 @@ with σ_j = ±1 the column's orientation on its row r and S_r = Σ σ_j d_j.  K 
 the plain problem's H D Hᵀ (a cohesive joint couples the blocks its contact points couple), and
 one bordered solve with it gives the exact Newton direction of the augmented system.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -76,11 +77,11 @@ class Auxiliary:
 
     def reduce(self, g: np.ndarray, c: np.ndarray, s: np.ndarray) -> np.ndarray:
         """Right-hand side of the reduced system: g_u − U D Vᵀ C⁻¹ g_v."""
-        return g[:self.n_primary] - self.reference @ (s * g[self.n_primary:] / c)
+        return g[: self.n_primary] - self.reference @ (s * g[self.n_primary :] / c)
 
     def expand(self, du: np.ndarray, g: np.ndarray, c: np.ndarray, s: np.ndarray) -> np.ndarray:
         """(Δu, Δv) with Δv = C⁻¹ (g_v − V D Uᵀ Δu)."""
-        dv = (g[self.n_primary:] - s * (self.reference.T @ du)) / c
+        dv = (g[self.n_primary :] - s * (self.reference.T @ du)) / c
         return np.concatenate([du, dv])
 
 
@@ -108,8 +109,9 @@ def auxiliary_rows(H: sp.csc_matrix, n_primary: int) -> Auxiliary:
     if first.size:
         reference = U[:, np.maximum(first, 0)].tocsc()
         reference = reference @ sp.diags((first >= 0).astype(float))  # a row without u part: 0
-    return Auxiliary(n_primary=n_primary, U=U, row=row, sign=sign, reference=reference.tocsc(),
-                     V_squared=V.multiply(V).tocsr())
+    return Auxiliary(
+        n_primary=n_primary, U=U, row=row, sign=sign, reference=reference.tocsc(), V_squared=V.multiply(V).tocsr()
+    )
 
 
 def _orientation(U: sp.csc_matrix, row: np.ndarray, n_aux: int) -> tuple[np.ndarray, np.ndarray]:

@@ -12,6 +12,7 @@ the numeric factorisation on the same pattern.  Backends (measured in ``docs/eng
 :func:`make_factoriser` returns the first one importable in :data:`PREFERENCE` (or the named
 one).  No backend decides anything from the clock.
 """
+
 from __future__ import annotations
 
 import functools
@@ -27,7 +28,6 @@ from .types import IPMSettings
 
 #: Fastest first, as measured on the walls and the largest paper panel (docs/engine.md).
 PREFERENCE = ("pardiso", "feral", "qdldl")
-
 
 
 #: feral's fill-reducing ordering (its own default): measured smallest factor on the walls.
@@ -208,8 +208,9 @@ def feral_factored(feral, status) -> bool:
     return int(code) in (int(feral.FactorStatus.SUCCESS), int(feral.FactorStatus.WRONG_INERTIA))
 
 
-def _bordered_lower(indptr: np.ndarray, indices: np.ndarray, perm: np.ndarray, border: np.ndarray
-                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _bordered_lower(
+    indptr: np.ndarray, indices: np.ndarray, perm: np.ndarray, border: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Lower CSC structure of [K f; fᵀ 0] from K's, and where its values come from.
 
     Returns (indptr, indices, perm, extra): the values of the bordered matrix in CSC order are
@@ -265,13 +266,24 @@ class PardisoFactoriser(Factoriser):
         i32 = ctypes.POINTER(ctypes.c_int32)
         f64 = ctypes.POINTER(ctypes.c_double)
         one = ctypes.byref(ctypes.c_int32(1))
-        self._pardiso(self._pt.ctypes.data_as(ctypes.POINTER(ctypes.c_int64)), one, one,
-                      ctypes.byref(ctypes.c_int32(2)), ctypes.byref(ctypes.c_int32(phase)),
-                      ctypes.byref(ctypes.c_int32(self.pattern.n)), self._values.ctypes.data_as(f64),
-                      self._ia.ctypes.data_as(i32), self._ja.ctypes.data_as(i32), self._no_perm.ctypes.data_as(i32),
-                      ctypes.byref(ctypes.c_int32(1 if rhs.ndim == 1 else rhs.shape[1])),
-                      self._iparm.ctypes.data_as(i32), ctypes.byref(ctypes.c_int32(0)),
-                      rhs.ctypes.data_as(f64), x.ctypes.data_as(f64), ctypes.byref(error))
+        self._pardiso(
+            self._pt.ctypes.data_as(ctypes.POINTER(ctypes.c_int64)),
+            one,
+            one,
+            ctypes.byref(ctypes.c_int32(2)),
+            ctypes.byref(ctypes.c_int32(phase)),
+            ctypes.byref(ctypes.c_int32(self.pattern.n)),
+            self._values.ctypes.data_as(f64),
+            self._ia.ctypes.data_as(i32),
+            self._ja.ctypes.data_as(i32),
+            self._no_perm.ctypes.data_as(i32),
+            ctypes.byref(ctypes.c_int32(1 if rhs.ndim == 1 else rhs.shape[1])),
+            self._iparm.ctypes.data_as(i32),
+            ctypes.byref(ctypes.c_int32(0)),
+            rhs.ctypes.data_as(f64),
+            x.ctypes.data_as(f64),
+            ctypes.byref(error),
+        )
         if error.value != 0:
             raise FactorisationError(f"pardiso phase {phase}: error {error.value}")
         return np.ascontiguousarray(x)
@@ -325,9 +337,12 @@ def _pardiso_function():
     return PyPardisoSolver(mtype=2)._mkl_pardiso
 
 
-def make_factoriser(pattern: NormalPattern, backend: str = "auto",
-                    border: np.ndarray | None = None, qdldl_max_rows: int = IPMSettings().qdldl_max_rows
-                    ) -> Factoriser:
+def make_factoriser(
+    pattern: NormalPattern,
+    backend: str = "auto",
+    border: np.ndarray | None = None,
+    qdldl_max_rows: int = IPMSettings().qdldl_max_rows,
+) -> Factoriser:
     """The named backend, or with ``auto`` the first available in :data:`PREFERENCE` (QDLDL
     before feral below ``qdldl_max_rows``, :attr:`alma.settings.IPMSettings.qdldl_max_rows`);
     ``border`` (f_L) enables :meth:`Factoriser.solve_bordered`."""

@@ -16,6 +16,7 @@ by its Schur complement f_Lᵀ K⁻¹ f_L, or factorises the bordered matrix [K 
 f_L last (feral).  The direction taken (not the predictor nor the trial correctors) is refined
 against K without the regularisation δ I.
 """
+
 from __future__ import annotations
 
 import time
@@ -32,8 +33,15 @@ from .types import IPMResult, IPMSettings
 class _Newton:
     """The factorised normal matrix of one iteration and the bordered solves with it."""
 
-    def __init__(self, H: sp.csc_matrix, live: np.ndarray, pattern: NormalPattern,
-                 factoriser: Factoriser, settings: IPMSettings, auxiliary: Auxiliary | None = None):
+    def __init__(
+        self,
+        H: sp.csc_matrix,
+        live: np.ndarray,
+        pattern: NormalPattern,
+        factoriser: Factoriser,
+        settings: IPMSettings,
+        auxiliary: Auxiliary | None = None,
+    ):
         self.H, self.HT = H, H.T.tocsr()
         self.live = live
         self.pattern, self.factoriser, self.settings = pattern, factoriser, settings
@@ -105,14 +113,14 @@ class _Newton:
         step lengths and the centring.
         """
         du, ds, dmu, da = step
-        target = self.settings.refinement_target * max(float(np.abs(res.dual).max(initial=0.0)),
-                                                       self.settings.refinement_floor)
+        target = self.settings.refinement_target * max(
+            float(np.abs(res.dual).max(initial=0.0)), self.settings.refinement_floor
+        )
         e_static = self.H @ dmu + self.live * da + res.dual
         error = float(np.abs(e_static).max(initial=0.0))
         s_ = self.settings
         for step_count in range(s_.refinement_steps + s_.refinement_rescue):
-            if error <= target or (step_count >= s_.refinement_steps
-                                   and error <= s_.refinement_failure * target):
+            if error <= target or (step_count >= s_.refinement_steps and error <= s_.refinement_failure * target):
                 break
             cu, ca = self.bordered(e_static, -(_dot(self.live, du) + res.norm))
             cs = self.HT @ cu
@@ -180,8 +188,10 @@ def _measures(res: _Residuals, state: _State, dead: np.ndarray, norm_value: floa
     """
     scale = max(norm_value, 1.0) * max(1.0, abs(state.alpha))
     gap = _dot(state.s, state.mu) / scale
-    primal = max(float(np.abs(res.primal).max(initial=0.0)) / max(float(state.s.max(initial=0.0)), norm_value, 1.0),
-                 abs(res.norm) / max(norm_value, 1.0))
+    primal = max(
+        float(np.abs(res.primal).max(initial=0.0)) / max(float(state.s.max(initial=0.0)), norm_value, 1.0),
+        abs(res.norm) / max(norm_value, 1.0),
+    )
     dual = float(np.abs(res.dual).max(initial=0.0)) / max(1.0, float(np.abs(dead).max(initial=0.0)))
     return gap, primal, dual
 
@@ -191,13 +201,23 @@ def _diverged(state: _State, norm_value: float, settings: IPMSettings) -> bool:
     if not all(np.all(np.isfinite(v)) for v in values):
         return True
     big = settings.blowup
-    return (float(np.abs(state.u).max(initial=0.0)) > big * max(norm_value, 1.0)
-            or abs(state.alpha) > big or float(state.mu.max(initial=0.0)) > big)
+    return (
+        float(np.abs(state.u).max(initial=0.0)) > big * max(norm_value, 1.0)
+        or abs(state.alpha) > big
+        or float(state.mu.max(initial=0.0)) > big
+    )
 
 
-def solve_eq10(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value: float,
-               settings: IPMSettings | None = None, *, pattern: NormalPattern | None = None,
-               n_primary: int | None = None) -> IPMResult:
+def solve_eq10(
+    H: sp.csc_matrix,
+    dead: np.ndarray,
+    live: np.ndarray,
+    norm_value: float,
+    settings: IPMSettings | None = None,
+    *,
+    pattern: NormalPattern | None = None,
+    n_primary: int | None = None,
+) -> IPMResult:
     """Solve Eq. 10 and its static dual by the Mehrotra predictor–corrector interior point.
 
     Parameters
@@ -225,26 +245,40 @@ def solve_eq10(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value:
     primary = canonical(H if aux is None else aux.U)
     reuse = pattern is not None and pattern.fits(primary)
     pattern = pattern.with_values(primary) if pattern is not None and reuse else normal_pattern(primary)
-    factoriser = make_factoriser(pattern, s_.backend, border=live[:primary.shape[0]],
-                                 qdldl_max_rows=s_.qdldl_max_rows)
+    factoriser = make_factoriser(pattern, s_.backend, border=live[: primary.shape[0]], qdldl_max_rows=s_.qdldl_max_rows)
     t_pattern = time.perf_counter() - t_start
     newton = _Newton(H, live, pattern, factoriser, s_, aux)
     dead = np.asarray(dead, float)
     try:
         state = _start(newton, dead, newton.live, norm_value)
-        status, iterations, measures = _iterate(newton, state, dead, norm_value, s_,
-                                                _budget(s_, primary.shape[0]))
+        status, iterations, measures = _iterate(newton, state, dead, norm_value, s_, _budget(s_, primary.shape[0]))
     except FactorisationError:
         status, iterations, measures = "numerical_error", 0, (np.inf, np.inf, np.inf)
         state = _State(np.zeros(H.shape[0]), np.ones(H.shape[1]), np.zeros(H.shape[1]), 0.0)
     finally:
         factoriser.close()
-    timings = dict(pattern_s=t_pattern, factor_s=newton.factor_time, solve_s=newton.solve_time,
-                   total_s=time.perf_counter() - t_start, factorisations=newton.factorisations,
-                   solves=newton.solves, boost=newton.boost)
-    return IPMResult(status=status, u=state.u, mu=state.mu, alpha=float(state.alpha), iterations=iterations,
-                     gap=measures[0], primal_residual=measures[1], dual_residual=measures[2],
-                     backend=factoriser.name, timings=timings, pattern=pattern)
+    timings = dict(
+        pattern_s=t_pattern,
+        factor_s=newton.factor_time,
+        solve_s=newton.solve_time,
+        total_s=time.perf_counter() - t_start,
+        factorisations=newton.factorisations,
+        solves=newton.solves,
+        boost=newton.boost,
+    )
+    return IPMResult(
+        status=status,
+        u=state.u,
+        mu=state.mu,
+        alpha=float(state.alpha),
+        iterations=iterations,
+        gap=measures[0],
+        primal_residual=measures[1],
+        dual_residual=measures[2],
+        backend=factoriser.name,
+        timings=timings,
+        pattern=pattern,
+    )
 
 
 def _budget(settings: IPMSettings, rows: int) -> int:
@@ -252,16 +286,16 @@ def _budget(settings: IPMSettings, rows: int) -> int:
     return int(np.ceil(settings.max_iter * max(1.0, np.sqrt(rows / settings.budget_rows))))
 
 
-def _iterate(newton: _Newton, state: _State, dead: np.ndarray, norm_value: float,
-             settings: IPMSettings, budget: int) -> tuple[str, int, tuple[float, float, float]]:
+def _iterate(
+    newton: _Newton, state: _State, dead: np.ndarray, norm_value: float, settings: IPMSettings, budget: int
+) -> tuple[str, int, tuple[float, float, float]]:
     """The predictor–corrector loop (at most ``budget`` iterations); updates ``state`` in place."""
     H, HT, live = newton.H, newton.HT, newton.live
     eta = settings.step_fraction
     for iteration in range(budget + 1):
         res = _Residuals(H, HT, dead, live, norm_value, state)
         measures = _measures(res, state, dead, norm_value)
-        if (measures[0] <= settings.tol_gap and measures[1] <= settings.tol_feas
-                and measures[2] <= settings.tol_static):
+        if measures[0] <= settings.tol_gap and measures[1] <= settings.tol_feas and measures[2] <= settings.tol_static:
             return "optimal", iteration, measures
         if _diverged(state, norm_value, settings):
             return "diverged", iteration, measures
@@ -310,8 +344,9 @@ def _direction(newton: _Newton, state: _State, res: _Residuals, settings: IPMSet
     return newton.refine(res, step)
 
 
-def _centrality_correctors(newton: _Newton, state: _State, res: _Residuals, rc: np.ndarray, step: tuple,
-                           target: float, settings: IPMSettings) -> tuple:
+def _centrality_correctors(
+    newton: _Newton, state: _State, res: _Residuals, rc: np.ndarray, step: tuple, target: float, settings: IPMSettings
+) -> tuple:
     """Gondzio's multiple centrality correctors: push the products s∘μ of a longer trial step
     back into [β_min, β_max]·target, as long as each correction lengthens the step enough."""
     ap, ad = _max_step(state.s, step[1]), _max_step(state.mu, step[2])

@@ -10,6 +10,7 @@ values of H, not where they are).
 
 The pattern always holds the whole diagonal, so a regularisation δ I is added in place.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -147,12 +148,20 @@ def normal_pattern(H: sp.csc_matrix) -> NormalPattern:
     gather = sp.csr_matrix((H.data[source[0]] * H.data[source[1]], m_indices, m_indptr), shape=(keys.size, k))
     diag = np.arange(n, dtype=np.int64)
     diagonal = np.searchsorted(keys, diag * n + diag)
-    return NormalPattern(n=n, indptr=indptr, indices=indices, diagonal=diagonal, gather=gather, source=source,
-                         structure=(H.shape, _keys(H)))
+    return NormalPattern(
+        n=n,
+        indptr=indptr,
+        indices=indices,
+        diagonal=diagonal,
+        gather=gather,
+        source=source,
+        structure=(H.shape, _keys(H)),
+    )
 
 
-def entry_order(rows: np.ndarray, cols: np.ndarray, shape: tuple[int, int], fmt: str
-                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def entry_order(
+    rows: np.ndarray, cols: np.ndarray, shape: tuple[int, int], fmt: str
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Compressed structure (``fmt`` "csr" or "csc": indptr, indices) of a sparse matrix with
     one entry at each (rows[i], cols[i]), and ``order``: for each stored entry, the i it came
     from, so that values given per i are stored as ``values[order]``."""

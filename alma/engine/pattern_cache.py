@@ -11,6 +11,7 @@ from the H at hand (:meth:`NormalPattern.with_values`): the same K, the same fac
 the same answer bit for bit as a pattern built afresh.  Which models were solved before never
 changes an answer, only its cost.
 """
+
 from __future__ import annotations
 
 import hashlib

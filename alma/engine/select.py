@@ -6,6 +6,7 @@ free blocks on when a fast
 factorisation backend (see :mod:`alma.engine.cholesky`) is importable, Clarabel otherwise.
 The choice depends on the problem's size and the installed libraries only, never on the clock.
 """
+
 from __future__ import annotations
 
 import warnings
@@ -52,8 +53,10 @@ def choose(engine: str, n_free: int, bounded: bool = False, *, min_blocks: int, 
     if n_free < (min_blocks_bounded if bounded else min_blocks):
         return "clarabel"
     if not any(b in FAST_BACKENDS for b in available_backends()):
-        _warn_once("alma: no fast sparse factorisation (pypardiso with MKL, or feral-solver) is installed; "
-                   "the associative LP is solved by Clarabel")
+        _warn_once(
+            "alma: no fast sparse factorisation (pypardiso with MKL, or feral-solver) is installed; "
+            "the associative LP is solved by Clarabel"
+        )
         return "clarabel"
     return "ipm"
 
@@ -65,9 +68,15 @@ def _warn_once(message: str) -> None:
         _warned = True
 
 
-def solve_with_engine(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm_value: float,
-                      settings: IPMSettings | None = None, n_primary: int | None = None,
-                      pattern: NormalPattern | None = None) -> EngineAnswer:
+def solve_with_engine(
+    H: sp.csc_matrix,
+    dead: np.ndarray,
+    live: np.ndarray,
+    norm_value: float,
+    settings: IPMSettings | None = None,
+    n_primary: int | None = None,
+    pattern: NormalPattern | None = None,
+) -> EngineAnswer:
     """Run the interior point on Eq. 10; ``status`` is "optimal" only when it converged.
 
     ``n_primary``: rows of u in H, the rest being bounded forces' dissipation variables;
@@ -76,5 +85,11 @@ def solve_with_engine(H: sp.csc_matrix, dead: np.ndarray, live: np.ndarray, norm
     """
     result = solve_eq10(H, dead, live, norm_value, settings, n_primary=n_primary, pattern=pattern)
     duals = np.concatenate([[-result.alpha], result.mu])
-    return EngineAnswer(status=result.status, x=result.u, duals=duals, iterations=result.iterations,
-                        label=f"alma-ipm/{result.backend}", result=result)
+    return EngineAnswer(
+        status=result.status,
+        x=result.u,
+        duals=duals,
+        iterations=result.iterations,
+        label=f"alma-ipm/{result.backend}",
+        result=result,
+    )

@@ -1,4 +1,5 @@
 """Settings and result of alma's interior point for Eq. 10 (plain data, no alma internals)."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -78,8 +79,9 @@ class IPMSettings:
 
     def __post_init__(self) -> None:
         if self.backend not in FACTORISATIONS:
-            raise ValueError(f"IPMSettings.backend must be one of {', '.join(map(repr, FACTORISATIONS))}, "
-                             f"got {self.backend!r}")
+            raise ValueError(
+                f"IPMSettings.backend must be one of {', '.join(map(repr, FACTORISATIONS))}, got {self.backend!r}"
+            )
 
 
 @dataclass(frozen=True)

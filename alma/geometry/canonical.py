@@ -19,6 +19,7 @@ keeps its hinges where they are.
 Point loads, ties and settlements move with their blocks; block ids, materials and joint
 overrides are kept.  :class:`CanonicalFrame` maps motions back to the drawing's frame.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -71,23 +72,34 @@ def canonical_scene(scene: Scene, settings: CanonicalSettings = CanonicalSetting
     turned = [b.vertices @ matrix.T for b in scene.blocks]
     corner = np.concatenate(turned).min(axis=0)
     # Areas about each polygon's own first vertex: far from the origin the shoelace sum cancels.
-    free = ([polygon_area(v - v[0]) for v, b in zip(turned, scene.blocks, strict=True) if not b.fixed]
-            or [polygon_area(turned[0] - turned[0][0])])
+    free = [polygon_area(v - v[0]) for v, b in zip(turned, scene.blocks, strict=True) if not b.fixed] or [
+        polygon_area(turned[0] - turned[0][0])
+    ]
     unit = float(np.sqrt(np.mean(np.abs(free))))
-    step = 2.0 ** -settings.grid_bits
+    step = 2.0**-settings.grid_bits
     frame = CanonicalFrame(matrix, -corner, unit, np.zeros(0, dtype=int))
-    blocks = [dataclasses.replace(b, vertices=_clean((v - corner) / unit, step, settings),
-                                  settlement=_settlement(b.settlement, frame))
-              for b, v in zip(scene.blocks, turned, strict=True)]
+    blocks = [
+        dataclasses.replace(
+            b, vertices=_clean((v - corner) / unit, step, settings), settlement=_settlement(b.settlement, frame)
+        )
+        for b, v in zip(scene.blocks, turned, strict=True)
+    ]
     frame = dataclasses.replace(frame, order=_block_order(blocks, step))
     canonical = dataclasses.replace(
-        scene, blocks=tuple(blocks[i] for i in frame.order), gravity=(0.0, -1.0),
+        scene,
+        blocks=tuple(blocks[i] for i in frame.order),
+        gravity=(0.0, -1.0),
         live_load_direction=_unit(matrix @ np.asarray(scene.live_load_direction, dtype=float)),
-        unit_weight=scene.unit_weight * unit ** 2, cohesion=scene.cohesion * unit,
-        joint_overrides=tuple(dataclasses.replace(o, cohesion=None if o.cohesion is None else o.cohesion * unit)
-                              for o in scene.joint_overrides),
+        unit_weight=scene.unit_weight * unit**2,
+        cohesion=scene.cohesion * unit,
+        joint_overrides=tuple(
+            dataclasses.replace(o, cohesion=None if o.cohesion is None else o.cohesion * unit)
+            for o in scene.joint_overrides
+        ),
         loads=tuple(_load(load, frame) for load in scene.loads),
-        ties=tuple(_tie(tie, frame) for tie in scene.ties), validated=False)
+        ties=tuple(_tie(tie, frame) for tie in scene.ties),
+        validated=False,
+    )
     return canonical.validate(), frame
 
 
@@ -117,7 +129,7 @@ def _clean(vertices: np.ndarray, step: float, settings: CanonicalSettings) -> np
     keep = vertices[distinct] if distinct.sum() >= 3 else vertices
     a, b = keep - np.roll(keep, 1, axis=0), np.roll(keep, -1, axis=0) - keep
     cross = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
-    corner = cross > settings.collinear * np.maximum((a ** 2).sum(axis=1), (b ** 2).sum(axis=1))
+    corner = cross > settings.collinear * np.maximum((a**2).sum(axis=1), (b**2).sum(axis=1))
     if corner.sum() >= 3:
         keep = keep[corner]
     grid = np.round(keep / step)
@@ -127,8 +139,9 @@ def _clean(vertices: np.ndarray, step: float, settings: CanonicalSettings) -> np
 
 def _block_order(blocks: list, step: float) -> np.ndarray:
     """Blocks by centroid y, then x, then area, then the first vertex (compared on the grid ``step``)."""
-    keys = np.array([[*polygon_centroid(b.vertices)[::-1], polygon_area(b.vertices), *b.vertices[0][::-1]]
-                     for b in blocks])
+    keys = np.array(
+        [[*polygon_centroid(b.vertices)[::-1], polygon_area(b.vertices), *b.vertices[0][::-1]] for b in blocks]
+    )
     return np.lexsort(np.round(keys / step).T[::-1])
 
 
@@ -144,8 +157,7 @@ def _vector(vector: tuple[float, float], frame: CanonicalFrame) -> tuple[float, 
 
 def _load(load: PointLoad, frame: CanonicalFrame) -> PointLoad:
     point = None if load.point is None else _point(load.point, frame)  # None: the block's centroid
-    return dataclasses.replace(load, point=point, dead=_vector(load.dead, frame),
-                               live=_vector(load.live, frame))
+    return dataclasses.replace(load, point=point, dead=_vector(load.dead, frame), live=_vector(load.live, frame))
 
 
 def _tie(tie: Tie, frame: CanonicalFrame) -> Tie:
@@ -157,5 +169,8 @@ def _settlement(settlement: Settlement | None, frame: CanonicalFrame) -> Settlem
         return None
     about = _point(settlement.about, frame)
     translation = np.asarray(_vector(settlement.translation, frame)) / frame.unit
-    return Settlement(translation=(float(translation[0]), float(translation[1])),
-                      rotation=frame.handedness * settlement.rotation, about=about)
+    return Settlement(
+        translation=(float(translation[0]), float(translation[1])),
+        rotation=frame.handedness * settlement.rotation,
+        about=about,
+    )

@@ -9,6 +9,7 @@ the edges plus the pairs that really overlap — O(E log E) time and O(E) memory
 whatever the drawing's extent.  No Python loop runs over
 blocks or joints.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -93,8 +94,14 @@ def find_joints(scene: Scene) -> Joints:
     if i.size == 0:
         return dataclasses.replace(_empty_joints(), warnings=snapped.warnings)
     joints, near = _contact_segments(scene, edges, i, j, *_frames(edges, snap), snap, band)
-    return Joints(block_a=joints.block_a, block_b=joints.block_b, start=joints.start + origin,
-                  end=joints.end + origin, normal=joints.normal, warnings=snapped.warnings + near)
+    return Joints(
+        block_a=joints.block_a,
+        block_b=joints.block_b,
+        start=joints.start + origin,
+        end=joints.end + origin,
+        normal=joints.normal,
+        warnings=snapped.warnings + near,
+    )
 
 
 def snapped_edges(scene: Scene, origin: np.ndarray) -> tuple[SnappedEdges, float, float]:
@@ -150,8 +157,9 @@ def _frames(edges: Edges, snap: float) -> tuple[np.ndarray, np.ndarray, np.ndarr
     return direction, outward, length, angle_tol
 
 
-def _candidate_pairs(edges: Edges, snap: float, band: float
-                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, float] | None:
+def _candidate_pairs(
+    edges: Edges, snap: float, band: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, float] | None:
     """Edge pairs (i, j) of two blocks on nearly the same line (offsets within ``band``) with
     opposite outward normals, with each edge's direction, outward normal and length; None when
     there is none."""
@@ -184,9 +192,18 @@ def _candidate_pairs(edges: Edges, snap: float, band: float
     return i, j, direction, outward, length, angle_tol
 
 
-def _contact_segments(scene: Scene, edges: Edges, i: np.ndarray, j: np.ndarray, direction: np.ndarray,
-                      outward: np.ndarray, length: np.ndarray, angle_tol: float, snap: float,
-                      band: float) -> tuple[Joints, tuple[str, ...]]:
+def _contact_segments(
+    scene: Scene,
+    edges: Edges,
+    i: np.ndarray,
+    j: np.ndarray,
+    direction: np.ndarray,
+    outward: np.ndarray,
+    length: np.ndarray,
+    angle_tol: float,
+    snap: float,
+    band: float,
+) -> tuple[Joints, tuple[str, ...]]:
     """The joints of the candidate pairs, numbered with block_a < block_b (pairs of two fixed
     blocks dropped), and the near misses: facing, overlapping edges apart by (snap, band]."""
     # Overlap along edge i's direction.
@@ -200,8 +217,12 @@ def _contact_segments(scene: Scene, edges: Edges, i: np.ndarray, j: np.ndarray, 
     # The gap from edge i's line to edge j's at both ends of the common part (> 0 open, < 0 an
     # overlap), and the tilt between the two lines.
     n_j = outward[j]
-    gap = np.column_stack([((origin + s0[:, None] * t_i - edges.start[j]) * n_j).sum(axis=1),
-                           ((origin + s1[:, None] * t_i - edges.start[j]) * n_j).sum(axis=1)])
+    gap = np.column_stack(
+        [
+            ((origin + s0[:, None] * t_i - edges.start[j]) * n_j).sum(axis=1),
+            ((origin + s1[:, None] * t_i - edges.start[j]) * n_j).sum(axis=1),
+        ]
+    )
     apart = np.abs(gap).max(axis=1)
     tilt = np.abs(outward[i, 0] * n_j[:, 1] - outward[i, 1] * n_j[:, 0])
     # Facing: nearly opposite normals (the same line seen from one side is an overlap, not a joint).
@@ -236,8 +257,9 @@ def _midway(point: np.ndarray, on_line: np.ndarray, normal: np.ndarray) -> np.nd
     return point - 0.5 * ((point - on_line) * normal).sum(axis=1)[:, None] * normal
 
 
-def _near_misses(scene: Scene, a: np.ndarray, b: np.ndarray, gap: np.ndarray, overlap: np.ndarray,
-                 snap: float) -> tuple[str, ...]:
+def _near_misses(
+    scene: Scene, a: np.ndarray, b: np.ndarray, gap: np.ndarray, overlap: np.ndarray, snap: float
+) -> tuple[str, ...]:
     """One message per pair of blocks whose facing edges miss each other (see _contact_segments)."""
     if a.size == 0:
         return ()
@@ -248,11 +270,19 @@ def _near_misses(scene: Scene, a: np.ndarray, b: np.ndarray, gap: np.ndarray, ov
         f"blocks '{ids[lo[k]]}' and '{ids[hi[k]]}' nearly touch: facing edges "
         f"{'apart' if gap[k] > 0 else 'overlapping'} by up to {abs(gap[k]):.3g} mm over {overlap[k]:.3g} mm, "
         f"beyond the contact tolerance ({snap:.3g} mm): no joint is made there"
-        for k in first.tolist())
+        for k in first.tolist()
+    )
 
 
-def _facing_candidates(angle: np.ndarray, midpoint: np.ndarray, length: np.ndarray, band: float,
-                       plus: np.ndarray, minus: np.ndarray, angle_tol: float) -> tuple[np.ndarray, np.ndarray]:
+def _facing_candidates(
+    angle: np.ndarray,
+    midpoint: np.ndarray,
+    length: np.ndarray,
+    band: float,
+    plus: np.ndarray,
+    minus: np.ndarray,
+    angle_tol: float,
+) -> tuple[np.ndarray, np.ndarray]:
     """Pairs (p, q) of key rows ``plus[p]``, ``minus[q]`` that may face each other.
 
     A superset of the pairs whose line angles differ by at most ``angle_tol``, whose lines are
@@ -286,7 +316,7 @@ def _facing_candidates(angle: np.ndarray, midpoint: np.ndarray, length: np.ndarr
     # round-off.
     roundoff = 1e-12 * float(np.abs(point).max(initial=0.0))
     slack_o = band + 4.0 * angle_tol * float(length.max(initial=0.0)) + roundoff
-    width_o = max(2.5 * slack_o, 2.0 ** -48 * float(np.abs(offset).max(initial=0.0)))
+    width_o = max(2.5 * slack_o, 2.0**-48 * float(np.abs(offset).max(initial=0.0)))
     position = offset / width_o
     cell_o = np.floor(position).astype(np.int64)
     n_plus = len(plus)
@@ -300,8 +330,9 @@ def _facing_candidates(angle: np.ndarray, midpoint: np.ndarray, length: np.ndarr
     # angle_tol, and round-off.
     half = 0.5 * length[rows] + 2.0 * band + roundoff
     lo, hi = along - half, along + half
-    x, y = _overlapping_intervals(group[:2 * n_plus], lo[x_at], hi[x_at], group[2 * n_plus:],
-                                  lo[n_plus:], hi[n_plus:])
+    x, y = _overlapping_intervals(
+        group[: 2 * n_plus], lo[x_at], hi[x_at], group[2 * n_plus :], lo[n_plus:], hi[n_plus:]
+    )
     x, y = x_at[x], y + n_plus
     close = np.abs(offset[x] - offset[y]) <= slack_o
     # Minus rows entered two frames: back to their index in ``minus``.
@@ -326,8 +357,9 @@ def _ranges(start: np.ndarray, stop: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return owner, k
 
 
-def _overlapping_intervals(gx: np.ndarray, lox: np.ndarray, hix: np.ndarray, gy: np.ndarray, loy: np.ndarray,
-                           hiy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _overlapping_intervals(
+    gx: np.ndarray, lox: np.ndarray, hix: np.ndarray, gy: np.ndarray, loy: np.ndarray, hiy: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """All (x, y) with ``gx == gy`` whose closed intervals [lo, hi] intersect, each pair once.
 
     One lexicographic sort of all end points by (group, value, kind) gives both halves of an
@@ -347,13 +379,18 @@ def _overlapping_intervals(gx: np.ndarray, lox: np.ndarray, hix: np.ndarray, gy:
     by_start_x = order[sorted_kind == 0]  # x indices sorted by (group, start)
     by_start_y = order[sorted_kind == 1] - nx
     # y starts inside x: the y starts between x's start and x's end
-    x1, k1 = _ranges(starts_y[position[:nx]], starts_y[position[nx + ny:2 * nx + ny]])
+    x1, k1 = _ranges(starts_y[position[:nx]], starts_y[position[nx + ny : 2 * nx + ny]])
     # x starts strictly inside y: the x starts after y's start, up to y's end
-    y2, k2 = _ranges(starts_x[position[nx:nx + ny]], starts_x[position[2 * nx + ny:]])
+    y2, k2 = _ranges(starts_x[position[nx : nx + ny]], starts_x[position[2 * nx + ny :]])
     return np.concatenate([x1, by_start_x[k2]]), np.concatenate([by_start_y[k1], y2])
 
 
 def _empty_joints() -> Joints:
     empty = np.zeros((0, 2))
-    return Joints(block_a=np.zeros(0, dtype=int), block_b=np.zeros(0, dtype=int),
-                  start=empty, end=empty.copy(), normal=empty.copy())
+    return Joints(
+        block_a=np.zeros(0, dtype=int),
+        block_b=np.zeros(0, dtype=int),
+        start=empty,
+        end=empty.copy(),
+        normal=empty.copy(),
+    )

@@ -17,6 +17,7 @@ XDATA (application ``ALMA``) on its polyline; :func:`read_dxf` reads them back, 
 scene is the same scene.  Options given to :func:`read_dxf` (the command line's) override the
 stored materials.
 """
+
 from __future__ import annotations
 
 import json
@@ -43,8 +44,9 @@ _CHUNK = 200
 MATERIAL_DEFAULTS = {"thickness": 120.0, "unit_weight": 18.0, "friction": 0.6, "cohesion": 0.0}
 
 
-def read_dxf(path: str | Path, *, supports: str | None = None, name: str | None = None,
-             **materials: float | None) -> dict[str, Any]:
+def read_dxf(
+    path: str | Path, *, supports: str | None = None, name: str | None = None, **materials: float | None
+) -> dict[str, Any]:
     """The scene data (SPEC §2) of a DXF drawing (see the module docstring); ``materials``:
     thickness, unit_weight, friction, cohesion or any other top-level scene key (None: the
     drawing's stored value, else the default of SPEC §4).  Validation is the caller's
@@ -64,8 +66,10 @@ def read_dxf(path: str | Path, *, supports: str | None = None, name: str | None 
         raise SceneError(f"DXF file '{path}': {exc}") from exc
     if not outlines:
         found = ", ".join(f"{n} {kind}" for kind, n in sorted(skipped.items())) or "no drawing entity"
-        raise SceneError(f"DXF file '{path}': no block — a block is one closed LWPOLYLINE or POLYLINE (also "
-                         f"inside a block INSERT); the drawing holds {found}")
+        raise SceneError(
+            f"DXF file '{path}': no block — a block is one closed LWPOLYLINE or POLYLINE (also "
+            f"inside a block INSERT); the drawing holds {found}"
+        )
     stored = _stored_scene(document, path)
     if not isinstance(stored.get("blocks", []), list):
         raise SceneError(f"DXF file '{path}': its alma record {RECORD} is damaged ('blocks' is not a list)")
@@ -75,9 +79,11 @@ def read_dxf(path: str | Path, *, supports: str | None = None, name: str | None 
     _mark_supports(blocks, supports or "layers", tol, path)
     found = ", ".join(f"{n} {kind}" for kind, n in sorted(skipped.items()))
     if skipped and all(b["fixed"] for b in blocks):
-        raise SceneError(f"DXF file '{path}': every closed polyline is a support, and the drawing's other "
-                         f"entities are not blocks ({found}); draw each block as one closed LWPOLYLINE or "
-                         "POLYLINE")
+        raise SceneError(
+            f"DXF file '{path}': every closed polyline is a support, and the drawing's other "
+            f"entities are not blocks ({found}); draw each block as one closed LWPOLYLINE or "
+            "POLYLINE"
+        )
     if skipped:
         warnings.warn(f"DXF file '{path}': {found} ignored (not closed polylines, so not blocks)", stacklevel=3)
     data = {k: v for k, v in stored.items() if k != "blocks"}
@@ -86,8 +92,13 @@ def read_dxf(path: str | Path, *, supports: str | None = None, name: str | None 
     for key, default in MATERIAL_DEFAULTS.items():
         data.setdefault(key, default)
     data.update({key: value for key, value in materials.items() if value is not None})  # the caller's win
-    data["blocks"] = [{**{k: v for k, v in extras.get(b["id"], {}).items() if k not in ("id", "vertices", "fixed")},
-                       **{k: v for k, v in b.items() if k != "layer"}} for b in blocks]
+    data["blocks"] = [
+        {
+            **{k: v for k, v in extras.get(b["id"], {}).items() if k not in ("id", "vertices", "fixed")},
+            **{k: v for k, v in b.items() if k != "layer"},
+        }
+        for b in blocks
+    ]
     return data
 
 
@@ -96,12 +107,16 @@ def _block(outline: Outline, tol: float, path: Path) -> dict[str, Any]:
     cleaned outline; an open polyline is refused."""
     vertices = outline.vertices
     if len(vertices) < 3:
-        raise SceneError(f"DXF file '{path}': polyline {outline.layer}/{outline.handle} has {len(vertices)} "
-                         "vertices; a block needs at least 3")
+        raise SceneError(
+            f"DXF file '{path}': polyline {outline.layer}/{outline.handle} has {len(vertices)} "
+            "vertices; a block needs at least 3"
+        )
     if not outline.closed and len(vertices) and not np.any(np.hypot(*(vertices[2:] - vertices[0]).T) <= tol):
-        raise SceneError(f"DXF file '{path}': polyline {outline.layer}/{outline.handle} is open (it ends at "
-                         f"{vertices[-1].tolist()}, not on its first point {vertices[0].tolist()}); close it in "
-                         "the CAD program")
+        raise SceneError(
+            f"DXF file '{path}': polyline {outline.layer}/{outline.handle} is open (it ends at "
+            f"{vertices[-1].tolist()}, not on its first point {vertices[0].tolist()}); close it in "
+            "the CAD program"
+        )
     block_id = _xdata_id(outline.entity) or f"{outline.layer}/{outline.handle}"
     return {"id": block_id, "vertices": clean_outline(vertices, tol).tolist(), "layer": outline.layer}
 
@@ -140,13 +155,16 @@ def write_dxf(scene: Any, path: str | Path) -> None:
     space = document.modelspace()
     data = scene.to_dict()
     for block, entry in zip(scene.blocks, data["blocks"], strict=True):
-        polyline = space.add_lwpolyline([tuple(map(float, v)) for v in block.vertices], close=True,
-                                        dxfattribs={"layer": "fixed" if block.fixed else "blocks"})
+        polyline = space.add_lwpolyline(
+            [tuple(map(float, v)) for v in block.vertices],
+            close=True,
+            dxfattribs={"layer": "fixed" if block.fixed else "blocks"},
+        )
         polyline.set_xdata(APPID, [(1000, str(block.id))])
         entry.pop("vertices")
     text = json.dumps(data, allow_nan=False, separators=(",", ":"))
     record = document.rootdict.add_xrecord(RECORD)
-    record.reset([(1, text[k:k + _CHUNK]) for k in range(0, len(text), _CHUNK)])
+    record.reset([(1, text[k : k + _CHUNK]) for k in range(0, len(text), _CHUNK)])
     document.saveas(str(path))
 
 
@@ -156,7 +174,7 @@ def clean_outline(vertices: np.ndarray, tol: float) -> np.ndarray:
     v = np.asarray(vertices, dtype=float)
     closes = np.flatnonzero(np.hypot(*(v[3:] - v[0]).T) <= tol)
     if closes.size:  # the outline comes back to its first vertex: what follows retraces it
-        v = v[:3 + closes[0]]
+        v = v[: 3 + closes[0]]
     keep = np.hypot(*(v - np.roll(v, 1, axis=0)).T) > tol
     v = v[keep] if keep.any() else v[:1]
     while len(v) > 3:
@@ -181,9 +199,11 @@ def _mark_supports(blocks: list[dict[str, Any]], supports: str, tol: float, path
         b["fixed"] = any(word in b["layer"].lower() for word in SUPPORT_WORDS)
     if not any(b["fixed"] for b in blocks):
         layers = sorted({b["layer"] for b in blocks})
-        raise SceneError(f"DXF file '{path}': no support — no block is on a layer named fixed, support or "
-                         f"ground (layers: {layers}); use supports='lowest' (--supports lowest) to fix "
-                         "every block that reaches the lowest y")
+        raise SceneError(
+            f"DXF file '{path}': no support — no block is on a layer named fixed, support or "
+            f"ground (layers: {layers}); use supports='lowest' (--supports lowest) to fix "
+            "every block that reaches the lowest y"
+        )
 
 
 def _area(v: np.ndarray) -> float:

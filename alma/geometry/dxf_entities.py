@@ -18,6 +18,7 @@ What a CAD program may hold for one block, and how each is read:
 Other entities (LINE, ARC, CIRCLE, TEXT, HATCH, ...) are not blocks: they are counted, so that
 a drawing without any block says what it holds instead.
 """
+
 from __future__ import annotations
 
 import math
@@ -34,16 +35,48 @@ from alma.settings import DRAWING
 #: Millimetres per drawing unit for each ``$INSUNITS`` code (exact definitions, not ezdxf's
 #: rounded table); 0 (unitless) is read as mm.
 MM_PER_UNIT: dict[int, float] = {
-    0: 1.0, 1: 25.4, 2: 304.8, 3: 1_609_344.0, 4: 1.0, 5: 10.0, 6: 1000.0, 7: 1e6, 8: 2.54e-5,
-    9: 0.0254, 10: 914.4, 11: 1e-7, 12: 1e-6, 13: 1e-3, 14: 100.0, 15: 1e4, 16: 1e5, 17: 1e12,
-    21: 1200.0 / 3937.0 * 1000.0, 22: 1200.0 / 3937.0 * 1000.0 / 12.0,
-    23: 1200.0 / 3937.0 * 3000.0, 24: 1200.0 / 3937.0 * 1000.0 * 5280.0,
+    0: 1.0,
+    1: 25.4,
+    2: 304.8,
+    3: 1_609_344.0,
+    4: 1.0,
+    5: 10.0,
+    6: 1000.0,
+    7: 1e6,
+    8: 2.54e-5,
+    9: 0.0254,
+    10: 914.4,
+    11: 1e-7,
+    12: 1e-6,
+    13: 1e-3,
+    14: 100.0,
+    15: 1e4,
+    16: 1e5,
+    17: 1e12,
+    21: 1200.0 / 3937.0 * 1000.0,
+    22: 1200.0 / 3937.0 * 1000.0 / 12.0,
+    23: 1200.0 / 3937.0 * 3000.0,
+    24: 1200.0 / 3937.0 * 1000.0 * 5280.0,
 }
 #: Names of the entity types that can hold a block.
 _POLYLINES = ("LWPOLYLINE", "POLYLINE")
 #: Entities that never draw a block and are not worth naming (annotations, settings).
-_ANNOTATIONS = frozenset({"TEXT", "MTEXT", "DIMENSION", "LEADER", "MLEADER", "ATTDEF", "ATTRIB", "VIEWPORT",
-                          "POINT", "TOLERANCE", "IMAGE", "WIPEOUT"})
+_ANNOTATIONS = frozenset(
+    {
+        "TEXT",
+        "MTEXT",
+        "DIMENSION",
+        "LEADER",
+        "MLEADER",
+        "ATTDEF",
+        "ATTRIB",
+        "VIEWPORT",
+        "POINT",
+        "TOLERANCE",
+        "IMAGE",
+        "WIPEOUT",
+    }
+)
 
 
 @dataclass(frozen=True)
@@ -63,8 +96,10 @@ def mm_per_unit(document: Any) -> float:
     try:
         return MM_PER_UNIT[int(code)]
     except (KeyError, TypeError, ValueError):
-        raise SceneError(f"unknown drawing units $INSUNITS = {code!r}; set them to "
-                         "millimetres (4), metres (6) or another length unit in the CAD program") from None
+        raise SceneError(
+            f"unknown drawing units $INSUNITS = {code!r}; set them to "
+            "millimetres (4), metres (6) or another length unit in the CAD program"
+        ) from None
 
 
 def read_outlines(document: Any, scale: float) -> tuple[list[Outline], Counter[str]]:
@@ -125,8 +160,9 @@ def _entity_points(entity: Any, handle: str) -> tuple[np.ndarray, bool]:
     ocs_points = _flatten_bulges(xyb, closed)
     extrusion = tuple(entity.dxf.extrusion) if entity.dxf.hasattr("extrusion") else (0.0, 0.0, 1.0)
     if abs(abs(extrusion[2]) - math.hypot(*extrusion)) > 1e-9 * math.hypot(*extrusion):
-        raise SceneError(f"polyline {handle} is not drawn in the XY plane (extrusion {extrusion}); alma reads "
-                         "plane drawings")
+        raise SceneError(
+            f"polyline {handle} is not drawn in the XY plane (extrusion {extrusion}); alma reads plane drawings"
+        )
     ocs = entity.ocs()
     wcs = np.array([tuple(p) for p in ocs.points_to_wcs([(x, y, elevation) for x, y in ocs_points])], dtype=float)
     return wcs.reshape(-1, 3)[:, :2], closed
@@ -136,12 +172,16 @@ def _check_finite(values: np.ndarray, handle: str) -> None:
     """Refuse NaN or infinite coordinates or bulges, and bulges of nearly a full circle."""
     bad = ~np.isfinite(values).all(axis=1)
     if bad.any():
-        raise SceneError(f"polyline {handle}: vertex {int(np.flatnonzero(bad)[0])} is not a finite number "
-                         f"({values[bad][0].tolist()})")
+        raise SceneError(
+            f"polyline {handle}: vertex {int(np.flatnonzero(bad)[0])} is not a finite number "
+            f"({values[bad][0].tolist()})"
+        )
     if values.shape[1] == 3 and np.any(np.abs(values[:, 2]) > DRAWING.max_bulge):
         k = int(np.flatnonzero(np.abs(values[:, 2]) > DRAWING.max_bulge)[0])
-        raise SceneError(f"polyline {handle}: the bulge {values[k, 2]:.6g} at vertex {k} draws an arc of nearly a "
-                         "full circle, which is no side of a block")
+        raise SceneError(
+            f"polyline {handle}: the bulge {values[k, 2]:.6g} at vertex {k} draws an arc of nearly a "
+            "full circle, which is no side of a block"
+        )
 
 
 def _in_one_plane(xyz: np.ndarray, handle: str) -> np.ndarray:
@@ -150,8 +190,10 @@ def _in_one_plane(xyz: np.ndarray, handle: str) -> np.ndarray:
         extent = float(np.ptp(xyz[:, :2], axis=0).max()) or 1.0
         spread = float(np.ptp(xyz[:, 2]))
         if spread > DRAWING.plane_tolerance * extent:
-            raise SceneError(f"3-D polyline {handle} does not lie in a plane z = const (its z spans {spread:.6g} "
-                             "drawing units); alma reads plane drawings")
+            raise SceneError(
+                f"3-D polyline {handle} does not lie in a plane z = const (its z spans {spread:.6g} "
+                "drawing units); alma reads plane drawings"
+            )
     return xyz[:, :2]
 
 
@@ -184,5 +226,7 @@ def arc_points(start: np.ndarray, end: np.ndarray, bulge: float) -> list[np.ndar
     normal = np.array([-chord[1], chord[0]]) / length
     centre = 0.5 * (start + end) + normal * radius * math.cos(angle / 2.0) * math.copysign(1.0, angle)
     first = math.atan2(start[1] - centre[1], start[0] - centre[0])
-    return [centre + radius * np.array([math.cos(first + angle * i / count), math.sin(first + angle * i / count)])
-            for i in range(1, count)]
+    return [
+        centre + radius * np.array([math.cos(first + angle * i / count), math.sin(first + angle * i / count)])
+        for i in range(1, count)
+    ]

@@ -5,6 +5,7 @@ checks run vectorised over all edges.  The contact tolerance (SPEC §2 ``contact
 is relative to the blocks' size, never to the coordinates: a drawing moved 1 km gets the same
 joints.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass

@@ -4,6 +4,7 @@ Lengths in mm, forces in kN, rotations in radians (counter-clockwise).  Each ite
 the scene file here and checked against the blocks by :func:`check_items` (a point must lie in
 its block, a settlement belongs to a fixed block, ...), with an error naming the item.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
@@ -63,9 +64,12 @@ def load_from_dict(raw: Any, index: int) -> PointLoad:
         raise SceneError(f"{what}: missing 'block'")
     what = f"load #{index} on block '{raw['block']}'"
     point = pair(raw["point"], f"{what}: point") if raw.get("point") is not None else None
-    return PointLoad(block=str(raw["block"]), point=point,
-                     dead=pair(raw.get("dead", (0.0, 0.0)), f"{what}: dead"),
-                     live=pair(raw.get("live", (0.0, 0.0)), f"{what}: live"))
+    return PointLoad(
+        block=str(raw["block"]),
+        point=point,
+        dead=pair(raw.get("dead", (0.0, 0.0)), f"{what}: dead"),
+        live=pair(raw.get("live", (0.0, 0.0)), f"{what}: live"),
+    )
 
 
 def tie_from_dict(raw: Any, index: int) -> Tie:
@@ -78,7 +82,7 @@ def tie_from_dict(raw: Any, index: int) -> Tie:
     for key in ("from", "to"):
         end = raw.get(key)
         if not isinstance(end, Mapping) or "block" not in end or "point" not in end:
-            raise SceneError(f"{what}: '{key}' must be {{\"block\": ..., \"point\": [x, y]}}")
+            raise SceneError(f'{what}: \'{key}\' must be {{"block": ..., "point": [x, y]}}')
         _no_unknown(end, _END_KEYS, f"{what}: '{key}'")
         ends.append((str(end["block"]), pair(end["point"], f"{what}: '{key}' point")))
     if "strength" not in raw:
@@ -96,9 +100,11 @@ def settlement_from_dict(raw: Any, block_id: str) -> Settlement:
     if not isinstance(raw, Mapping):
         raise SceneError(f"{what} must be an object")
     _no_unknown(raw, _SETTLEMENT_KEYS, what)
-    return Settlement(translation=pair(raw.get("translation", (0.0, 0.0)), f"{what}: translation"),
-                      rotation=number(raw.get("rotation", 0.0), f"{what}: rotation"),
-                      about=pair(raw.get("about", (0.0, 0.0)), f"{what}: about"))
+    return Settlement(
+        translation=pair(raw.get("translation", (0.0, 0.0)), f"{what}: translation"),
+        rotation=number(raw.get("rotation", 0.0), f"{what}: rotation"),
+        about=pair(raw.get("about", (0.0, 0.0)), f"{what}: about"),
+    )
 
 
 def check_items(blocks: Sequence[Any], loads: Sequence[PointLoad], ties: Sequence[Tie]) -> None:
@@ -128,8 +134,12 @@ def load_to_dict(load: PointLoad) -> dict[str, Any]:
 
 
 def tie_to_dict(tie: Tie) -> dict[str, Any]:
-    return {"id": tie.id, "from": {"block": tie.from_block, "point": list(tie.from_point)},
-            "to": {"block": tie.to_block, "point": list(tie.to_point)}, "strength": tie.strength}
+    return {
+        "id": tie.id,
+        "from": {"block": tie.from_block, "point": list(tie.from_point)},
+        "to": {"block": tie.to_block, "point": list(tie.to_point)},
+        "strength": tie.strength,
+    }
 
 
 def settlement_to_dict(s: Settlement) -> dict[str, Any]:
@@ -150,12 +160,13 @@ def _inside(vertices: np.ndarray, point: tuple[float, float]) -> bool:
     scale = max(float(np.ptp(v[:, 0])), float(np.ptp(v[:, 1])), 1e-300)
     a, b = v, np.roll(v, -1, axis=0)
     edge = b - a
-    t = np.clip(((x - a[:, 0]) * edge[:, 0] + (y - a[:, 1]) * edge[:, 1]) / (edge ** 2).sum(axis=1), 0.0, 1.0)
+    t = np.clip(((x - a[:, 0]) * edge[:, 0] + (y - a[:, 1]) * edge[:, 1]) / (edge**2).sum(axis=1), 0.0, 1.0)
     nearest = np.hypot(a[:, 0] + t * edge[:, 0] - x, a[:, 1] + t * edge[:, 1] - y).min()
     if nearest <= 1e-9 * scale:
         return True
-    crosses = ((a[:, 1] > y) != (b[:, 1] > y)) & (x < a[:, 0] + (y - a[:, 1]) * edge[:, 0] / np.where(
-        edge[:, 1] == 0, 1.0, edge[:, 1]))
+    crosses = ((a[:, 1] > y) != (b[:, 1] > y)) & (
+        x < a[:, 0] + (y - a[:, 1]) * edge[:, 0] / np.where(edge[:, 1] == 0, 1.0, edge[:, 1])
+    )
     return bool(crosses.sum() % 2 == 1)
 
 

@@ -9,6 +9,7 @@ ends so both vertical edges are straight; the live load acts in +x):
 - flemish: each course alternates stretcher and header, each header centred on the stretcher
   below; even courses S H S H … S H, odd courses L/4, H, S, H, …, S, H, 3L/4.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -49,9 +50,18 @@ def _whole(count: float, bond: str, L: float) -> int:
     return n
 
 
-def wall(bond: str, panel_length: float, panel_height: float, block_length: float,
-         block_height: float = BLOCK_HEIGHT, *, friction: float = 0.6, thickness: float = 120.0,
-         unit_weight: float = 18.0, name: str | None = None) -> Scene:
+def wall(
+    bond: str,
+    panel_length: float,
+    panel_height: float,
+    block_length: float,
+    block_height: float = BLOCK_HEIGHT,
+    *,
+    friction: float = 0.6,
+    thickness: float = 120.0,
+    unit_weight: float = 18.0,
+    name: str | None = None,
+) -> Scene:
     """A bonded wall of ``panel_height / block_height`` courses on a fixed ground block."""
     courses = int(round(panel_height / block_height))
     if courses < 1 or abs(courses * block_height - panel_height) > 1e-9 * panel_height:
@@ -64,13 +74,22 @@ def wall(bond: str, panel_length: float, panel_height: float, block_length: floa
         y0, y1 = course * block_height, (course + 1) * block_height
         pieces.append(np.column_stack([x[:-1], x[1:], np.full(len(lengths), y0), np.full(len(lengths), y1)]))
     boxes = np.vstack(pieces)
-    blocks = [Block(id="ground", vertices=np.array([[0.0, -block_height], [panel_length, -block_height],
-                                                    [panel_length, 0.0], [0.0, 0.0]]), fixed=True)]
+    blocks = [
+        Block(
+            id="ground",
+            vertices=np.array([[0.0, -block_height], [panel_length, -block_height], [panel_length, 0.0], [0.0, 0.0]]),
+            fixed=True,
+        )
+    ]
     for k, (x0, x1, y0, y1) in enumerate(boxes):
         blocks.append(Block(id=f"b{k + 1}", vertices=np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])))
-    return Scene(blocks=tuple(blocks), thickness=thickness, unit_weight=unit_weight, friction=friction,
-                 name=name or (f"{bond} wall {panel_length:g}x{panel_height:g}, "
-                               f"blocks {block_length:g}x{block_height:g}"))
+    return Scene(
+        blocks=tuple(blocks),
+        thickness=thickness,
+        unit_weight=unit_weight,
+        friction=friction,
+        name=name or (f"{bond} wall {panel_length:g}x{panel_height:g}, blocks {block_length:g}x{block_height:g}"),
+    )
 
 
 def paper_panel(bond: str, panel_ratio: str, block_ratio: str, friction: float) -> Scene:
@@ -83,6 +102,11 @@ def paper_panel(bond: str, panel_ratio: str, block_ratio: str, friction: float) 
         raise SceneError(f"block ratio must be one of {sorted(BLOCK_LENGTHS)}, got {block_ratio!r}")
     if not (np.isfinite(friction) and friction >= 0):
         raise SceneError(f"friction must be a finite number >= 0, got {friction}")
-    return wall(bond, PANEL_LENGTH, PANEL_HEIGHTS[panel_ratio], BLOCK_LENGTHS[block_ratio],
-                friction=float(friction),
-                name=f"paper panel: {bond} bond, panel {panel_ratio}, blocks {block_ratio}, f = {friction:g}")
+    return wall(
+        bond,
+        PANEL_LENGTH,
+        PANEL_HEIGHTS[panel_ratio],
+        BLOCK_LENGTHS[block_ratio],
+        friction=float(friction),
+        name=f"paper panel: {bond} bond, panel {panel_ratio}, blocks {block_ratio}, f = {friction:g}",
+    )

@@ -1,4 +1,5 @@
 """Reading numbers and directions from a scene file, and the error every bad input raises."""
+
 from __future__ import annotations
 
 import math

@@ -5,6 +5,7 @@ contact tolerance (:func:`alma.geometry.edges.contact_lengths`): a hanging node 
 than it is still a straight edge, an overlap no deeper than it is snapped to a joint, while an
 outline that doubles back on itself (a polyline drawn past its closing point) is refused.
 """
+
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
@@ -39,10 +40,14 @@ def check_polygons(scene: Scene) -> None:
     rules = [
         (length <= floor, "degenerate polygon — repeated vertices (an edge shorter than the contact tolerance)"),
         (flat[edges.block], "degenerate polygon — zero area"),
-        ((dot < 0) & (np.abs(cross) <= floor * np.maximum(length, length[before])),
-         "the outline doubles back on itself at vertex {k} (drawn past its closing point, or a repeated edge)"),
-        ((cross < 0) & (-cross > floor * chord) & ~fixed[edges.block],
-         "polygon is not convex (a reflex corner at vertex {k}); only a fixed block may be non-convex"),
+        (
+            (dot < 0) & (np.abs(cross) <= floor * np.maximum(length, length[before])),
+            "the outline doubles back on itself at vertex {k} (drawn past its closing point, or a repeated edge)",
+        ),
+        (
+            (cross < 0) & (-cross > floor * chord) & ~fixed[edges.block],
+            "polygon is not convex (a reflex corner at vertex {k}); only a fixed block may be non-convex",
+        ),
     ]
     first = np.concatenate([[0], np.flatnonzero(np.diff(edges.block)) + 1])
     for bad, message in rules:
@@ -59,8 +64,10 @@ def _check_simple(scene: Scene, edges: Edges) -> None:
     rings = shapely.linearrings(edges.start, indices=edges.block)
     simple = shapely.is_simple(rings)
     if not simple.all():
-        raise SceneError(f"block '{scene.blocks[int(np.flatnonzero(~simple)[0])].id}': "
-                         "polygon is self-intersecting (its outline crosses itself): neither convex nor simple")
+        raise SceneError(
+            f"block '{scene.blocks[int(np.flatnonzero(~simple)[0])].id}': "
+            "polygon is self-intersecting (its outline crosses itself): neither convex nor simple"
+        )
 
 
 def find_overlaps(scene: Scene) -> tuple[list[tuple[int, int, float]], float]:

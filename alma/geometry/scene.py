@@ -4,6 +4,7 @@ A scene holds geometry and material data only; joints are found from it
 (``alma.geometry.contacts``) and the mechanical model is built downstream
 (``alma.mechanics.model``).  Lengths in mm, unit weight in kN/m³.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -38,9 +39,21 @@ from alma.geometry.parsing import (
     optional_number as _optional_number,
 )
 
-_SCENE_KEYS = {"name", "thickness", "unit_weight", "friction", "cohesion", "blocks",
-               "live_load", "gravity", "joints", "loads", "ties", "contact_tolerance",
-               "compressive_strength"}
+_SCENE_KEYS = {
+    "name",
+    "thickness",
+    "unit_weight",
+    "friction",
+    "cohesion",
+    "blocks",
+    "live_load",
+    "gravity",
+    "joints",
+    "loads",
+    "ties",
+    "contact_tolerance",
+    "compressive_strength",
+}
 _BLOCK_KEYS = {"id", "vertices", "fixed", "weight", "settlement"}
 _LIVE_KEYS = {"direction", "self_weight"}
 _JOINT_KEYS = {"blocks", "friction", "cohesion", "compressive_strength"}
@@ -176,9 +189,16 @@ class Scene:
             out["compressive_strength"] = self.compressive_strength
         if self.joint_overrides:
             out["joints"] = [
-                {k: v for k, v in (("blocks", list(o.blocks)), ("friction", o.friction),
-                                   ("cohesion", o.cohesion), ("compressive_strength", o.compressive_strength))
-                 if v is not None}
+                {
+                    k: v
+                    for k, v in (
+                        ("blocks", list(o.blocks)),
+                        ("friction", o.friction),
+                        ("cohesion", o.cohesion),
+                        ("compressive_strength", o.compressive_strength),
+                    )
+                    if v is not None
+                }
                 for o in self.joint_overrides
             ]
         return out
@@ -205,8 +225,7 @@ class Scene:
     def block_ids(self) -> list[str]:
         return [b.id for b in self.blocks]
 
-    def transformed(self, matrix: np.ndarray, offset: Sequence[float] = (0.0, 0.0),
-                    rotate_loads: bool = True) -> Scene:
+    def transformed(self, matrix: np.ndarray, offset: Sequence[float] = (0.0, 0.0), rotate_loads: bool = True) -> Scene:
         """Apply x -> matrix @ x + offset to every block (and to gravity/live load directions)."""
         matrix = np.asarray(matrix, dtype=float)
         shift = np.asarray(offset, dtype=float)
@@ -229,22 +248,26 @@ def load_scene(path: str | Path, **dxf_options: Any) -> Scene:
         except SceneError:
             raise
         except (StopIteration, EOFError, ValueError, IndexError, KeyError) as exc:  # ezdxf on a damaged file
-            raise SceneError(f"DXF file '{path}': cannot be read, truncated or damaged "
-                             f"({type(exc).__name__}: {exc})") from exc
+            raise SceneError(
+                f"DXF file '{path}': cannot be read, truncated or damaged ({type(exc).__name__}: {exc})"
+            ) from exc
         try:
             return Scene.from_dict(data)
         except SceneError as exc:
             raise SceneError(f"DXF file '{path}': {exc} (blocks are named LAYER/HANDLE)") from exc
     if dxf_options:
-        raise SceneError(f"scene file '{path}': {sorted(dxf_options)} apply to DXF drawings only; a JSON "
-                         "scene holds its own materials")
+        raise SceneError(
+            f"scene file '{path}': {sorted(dxf_options)} apply to DXF drawings only; a JSON "
+            "scene holds its own materials"
+        )
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise SceneError(f"scene file '{path}': cannot be read ({exc.strerror})") from exc
     except UnicodeDecodeError as exc:
-        raise SceneError(f"scene file '{path}': not UTF-8 text (byte {exc.start}); a scene is a JSON "
-                         "file or a .dxf drawing") from exc
+        raise SceneError(
+            f"scene file '{path}': not UTF-8 text (byte {exc.start}); a scene is a JSON file or a .dxf drawing"
+        ) from exc
     try:
         data = json.loads(text)  # NaN/Infinity parse to floats; validation names the block
     except json.JSONDecodeError as exc:
@@ -338,6 +361,6 @@ def _joint_override(raw: Any, index: int) -> JointOverride:
         cohesion = _number(cohesion, f"joint {pair}: cohesion")
         if cohesion < 0:
             raise SceneError(f"joint {pair}: cohesion must be >= 0, got {cohesion}")
-    return JointOverride(blocks=(str(pair[0]), str(pair[1])), friction=friction, cohesion=cohesion,
-                         compressive_strength=strength)
-
+    return JointOverride(
+        blocks=(str(pair[0]), str(pair[1])), friction=friction, cohesion=cohesion, compressive_strength=strength
+    )

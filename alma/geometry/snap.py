@@ -35,6 +35,7 @@ overlap left is refused (:func:`alma.geometry.polygons.find_overlaps`).  Two ver
 block are never merged: a chain that would do it is refused naming the block, and a block
 thinner than the tolerance is refused by the outline check, as before.
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -70,8 +71,9 @@ class SnappedEdges:
     warnings: tuple[str, ...] = ()
 
 
-def snap_edges(scene: Scene, edges: Edges, snap: float,
-               facing: Callable[[Edges], tuple[np.ndarray, np.ndarray]]) -> SnappedEdges:
+def snap_edges(
+    scene: Scene, edges: Edges, snap: float, facing: Callable[[Edges], tuple[np.ndarray, np.ndarray]]
+) -> SnappedEdges:
     """Merge near-coincident vertices of different blocks, then move T-junction points onto the
     edges they lie on (module docstring); lengths in mm, ``snap`` the contact tolerance, the
     radius of both passes ``CONTACT.vertex_merge × snap``.  ``facing(edges)`` gives a superset
@@ -116,8 +118,9 @@ def _unique_rows(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return ordered[new], inverse
 
 
-def _merge_vertices(scene: Scene, edges: Edges, unique: np.ndarray, inverse: np.ndarray, radius: float,
-                    snap: float) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
+def _merge_vertices(
+    scene: Scene, edges: Edges, unique: np.ndarray, inverse: np.ndarray, radius: float, snap: float
+) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
     """Pass 1: the clusters (distinct points joined by chains of distances ≤ ``radius`` between
     vertices of different blocks), each vertex's cluster, each cluster's mean of its vertices,
     and the warning for clusters spread wider than ``radius``."""
@@ -162,7 +165,8 @@ def _refuse_one_block_twice(scene: Scene, edges: Edges, cluster: np.ndarray, mer
         f"block '{scene.blocks[block].id}': vertices {u - start} and {v - start} would be merged into one "
         f"point{through} (vertices of different blocks within twice the contact tolerance are one point): "
         "the block is about as thin as the tolerance, or the drawing is noisier than it (lower "
-        "contact_tolerance, or redraw the block)")
+        "contact_tolerance, or redraw the block)"
+    )
 
 
 def _refuse_flattened(scene: Scene, raw: Edges, snapped: Edges, snap: float) -> None:
@@ -171,17 +175,19 @@ def _refuse_flattened(scene: Scene, raw: Edges, snapped: Edges, snap: float) -> 
     twice the tolerance thick whose far side was put on a neighbour's edge."""
     first = np.concatenate([[0], np.flatnonzero(np.diff(raw.block)) + 1])
     extent = (np.maximum.reduceat(raw.start, first, axis=0) - np.minimum.reduceat(raw.start, first, axis=0)).max(axis=1)
-    flat = ~(signed_areas(snapped) > np.maximum(snap * extent, 1e-9 * extent ** 2))
+    flat = ~(signed_areas(snapped) > np.maximum(snap * extent, 1e-9 * extent**2))
     if flat.any():
         block = scene.blocks[int(raw.block[first[np.flatnonzero(flat)[0]]])]
         raise SceneError(
             f"block '{block.id}': flat once its vertices are snapped (vertices within twice the contact "
             "tolerance of another block's vertex or edge lie on it): the block is about as thin as the "
-            "tolerance (lower contact_tolerance, or redraw the block)")
+            "tolerance (lower contact_tolerance, or redraw the block)"
+        )
 
 
-def _wide_clusters(scene: Scene, edges: Edges, cluster: np.ndarray, spread: np.ndarray, radius: float,
-                   snap: float) -> tuple[str, ...]:
+def _wide_clusters(
+    scene: Scene, edges: Edges, cluster: np.ndarray, spread: np.ndarray, radius: float, snap: float
+) -> tuple[str, ...]:
     """One warning for the merged points with a vertex farther than ``radius`` from them (a chain
     of merges: the drawing is noisier than the guarantee), naming the blocks of the widest."""
     wide = spread > radius
@@ -190,13 +196,16 @@ def _wide_clusters(scene: Scene, edges: Edges, cluster: np.ndarray, spread: np.n
     worst = int(np.argmax(spread))
     blocks = sorted({scene.blocks[b].id for b in np.unique(edges.block[cluster == cluster[worst]]).tolist()})
     count = int(np.unique(cluster[wide]).size)
-    return (f"{count} merged point(s) gather vertices lying more than twice the contact tolerance "
-            f"({radius:.3g} mm) from them, up to {spread[worst]:.3g} mm (blocks {blocks}): the drawing is noisier "
-            f"than the tolerance ({snap:.3g} mm per vertex); check that these corners are meant to meet",)
+    return (
+        f"{count} merged point(s) gather vertices lying more than twice the contact tolerance "
+        f"({radius:.3g} mm) from them, up to {spread[worst]:.3g} mm (blocks {blocks}): the drawing is noisier "
+        f"than the tolerance ({snap:.3g} mm per vertex); check that these corners are meant to meet",
+    )
 
 
-def _onto_edges(edges: Edges, centre: np.ndarray, cluster: np.ndarray, nxt: np.ndarray, radius: float,
-                i: np.ndarray, j: np.ndarray) -> np.ndarray:
+def _onto_edges(
+    edges: Edges, centre: np.ndarray, cluster: np.ndarray, nxt: np.ndarray, radius: float, i: np.ndarray, j: np.ndarray
+) -> np.ndarray:
     """Pass 2: each point (a cluster of pass 1) that ends an edge of a facing pair (i, j) and lies
     within ``radius`` of the interior of the other edge, whose block has no vertex at that point,
     put on that edge (the nearest such edge).
@@ -221,7 +230,7 @@ def _onto_edges(edges: Edges, centre: np.ndarray, cluster: np.ndarray, nxt: np.n
     # A point off the line by round-off only (of its coordinates about the local origin) stays
     # where it is, so that a drawing's exact T-junctions are kept bit for bit wherever it sits.
     roundoff = 1e-12 * float(np.abs(centre).max(initial=0.0))
-    inside = ((along > radius) & (length[e] - along > radius) & (across > roundoff) & (across <= radius))
+    inside = (along > radius) & (length[e] - along > radius) & (across > roundoff) & (across <= radius)
     p, e = p[inside], e[inside]
     if p.size == 0:
         return centre
@@ -252,8 +261,9 @@ def _distinct(keys: np.ndarray) -> np.ndarray:
     return ordered[np.concatenate([[True], ordered[1:] != ordered[:-1]])] if ordered.size else ordered
 
 
-def _on_their_edges(centre: np.ndarray, p: np.ndarray, a: np.ndarray, b: np.ndarray, t: np.ndarray,
-                    radius: float) -> np.ndarray:
+def _on_their_edges(
+    centre: np.ndarray, p: np.ndarray, a: np.ndarray, b: np.ndarray, t: np.ndarray, radius: float
+) -> np.ndarray:
     """Solve x_p = (1 − t) x_a + t x_b for the points ``p`` (rows of ``centre``; an end that is no
     such point keeps its place): the points on their edges, all at once.
 

@@ -5,6 +5,7 @@ validated (a new object when it was not) together with the joints the check had 
 free block must touch something), so that a caller building the model next does not detect
 them again.  Lengths in mm.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -45,7 +46,8 @@ def check_scene(scene: Scene) -> Joints:
         raise SceneError(
             f"blocks '{scene.blocks[i].id}' and '{scene.blocks[j].id}' overlap: blocks may touch "
             f"but not interpenetrate (a sliver {depth:.3g} mm deep, beyond the contact tolerance of "
-            f"{tolerance:.3g} mm; {len(overlaps)} overlapping pair(s) in all)")
+            f"{tolerance:.3g} mm; {len(overlaps)} overlapping pair(s) in all)"
+        )
     joints = find_joints(scene)
     _check_joints(scene, joints)
     check_items(scene.blocks, scene.loads, scene.ties)
@@ -64,11 +66,15 @@ def _check_materials(scene: Scene) -> None:
     if scene.cohesion < 0:
         raise SceneError(f"scene: cohesion must be >= 0, got {scene.cohesion}")
     if scene.compressive_strength is not None and not scene.compressive_strength > 0:
-        raise SceneError("scene: compressive_strength (MPa) must be > 0 (omit it for infinitely strong "
-                         f"blocks), got {scene.compressive_strength}")
+        raise SceneError(
+            "scene: compressive_strength (MPa) must be > 0 (omit it for infinitely strong "
+            f"blocks), got {scene.compressive_strength}"
+        )
     if scene.contact_tolerance is not None and not 0 < scene.contact_tolerance <= 0.01:
-        raise SceneError("scene: contact_tolerance (relative to the blocks' size) must lie in (0, 0.01], "
-                         f"got {scene.contact_tolerance}")
+        raise SceneError(
+            "scene: contact_tolerance (relative to the blocks' size) must lie in (0, 0.01], "
+            f"got {scene.contact_tolerance}"
+        )
 
 
 def _check_ids(scene: Scene) -> None:
@@ -94,8 +100,13 @@ def _check_joints(scene: Scene, joints: Joints) -> None:
             raise SceneError(f"block '{block.id}': touches nothing — a free block needs at least one joint")
     if scene.joint_overrides:
         position = {b.id: i for i, b in enumerate(scene.blocks)}
-        pairs = set(zip(np.minimum(joints.block_a, joints.block_b).tolist(),
-                        np.maximum(joints.block_a, joints.block_b).tolist(), strict=True))
+        pairs = set(
+            zip(
+                np.minimum(joints.block_a, joints.block_b).tolist(),
+                np.maximum(joints.block_a, joints.block_b).tolist(),
+                strict=True,
+            )
+        )
         for override in scene.joint_overrides:
             i, j = sorted(position[k] for k in override.blocks)
             if (i, j) not in pairs:

@@ -5,6 +5,7 @@ the blocks; the model built from it is then snapped to a binary grid (:func:`sna
 the round-off of a change of units or unit weight (forces are in mean block weights, lengths in
 √ mean block area) leaves no trace in the data the search sees.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -37,10 +38,15 @@ def _snap_matrix(matrix: sp.csc_matrix | None, bits: int) -> sp.csc_matrix | Non
 def snapped(model: Model, bits: int) -> Model:
     """``model`` with its dimensionless data rounded to ``bits`` significant bits (:func:`_snap`)."""
     return dataclasses.replace(
-        model, centroid=_snap(model.centroid, bits), normal_part=_snap_matrix(model.normal_part, bits),
-        tangent_part=_snap_matrix(model.tangent_part, bits), dead=_snap(model.dead, bits),
-        live=_snap(model.live, bits), bounded=_snap_matrix(model.bounded, bits),
-        capacity=_snap(model.capacity, bits))
+        model,
+        centroid=_snap(model.centroid, bits),
+        normal_part=_snap_matrix(model.normal_part, bits),
+        tangent_part=_snap_matrix(model.tangent_part, bits),
+        dead=_snap(model.dead, bits),
+        live=_snap(model.live, bits),
+        bounded=_snap_matrix(model.bounded, bits),
+        capacity=_snap(model.capacity, bits),
+    )
 
 
 def mechanism_to_drawing(u: np.ndarray, canonical: Model, frame: CanonicalFrame, model: Model) -> np.ndarray:
@@ -54,8 +60,9 @@ def mechanism_to_drawing(u: np.ndarray, canonical: Model, frame: CanonicalFrame,
     moves = np.asarray(u, dtype=float).reshape(-1, 3)
     target = model.free_index[frame.order[canonical.free_blocks]]  # drawing's free index of each canonical one
     to_mm = canonical.length_scale * frame.unit
-    centre_mm = (((canonical.centroid * canonical.length_scale + canonical.origin) * frame.unit - frame.offset)
-                 @ frame.matrix)
+    centre_mm = (
+        (canonical.centroid * canonical.length_scale + canonical.origin) * frame.unit - frame.offset
+    ) @ frame.matrix
     centre = (centre_mm - model.origin) / model.length_scale  # canonical centroids, drawing model units
     omega = frame.handedness * moves[:, 2]
     velocity = (moves[:, :2] @ frame.matrix) * (to_mm / model.length_scale)

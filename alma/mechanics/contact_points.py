@@ -8,6 +8,7 @@ transposes give the relative velocities at the points:
 ``opening = normalᵀ u`` (ξ of Eq. 2, ≥ 0: no interpenetration) and
 ``slip = tangentᵀ u`` (γ of Eq. 2).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -42,8 +43,7 @@ class ContactPoints:
         A_eq = sp.hstack([sp.csc_matrix(model.live[:, None]), self.normal, self.tangent]).tocsr()
         eye = sp.identity(P, format="csr")
         zero = sp.csr_matrix((P, 1))
-        A_ub = sp.vstack([sp.hstack([zero, -sp.diags(slope), eye]),
-                          sp.hstack([zero, -sp.diags(slope), -eye])]).tocsr()
+        A_ub = sp.vstack([sp.hstack([zero, -sp.diags(slope), eye]), sp.hstack([zero, -sp.diags(slope), -eye])]).tocsr()
         return A_eq, -model.dead, A_ub
 
     @classmethod
@@ -56,5 +56,9 @@ class ContactPoints:
     def build(cls, model: Model) -> ContactPoints:
         """The contact points of ``model`` from its generator columns."""
         # Generator columns are ordered (joint, point, ±); the "+" columns carry n and +t.
-        return cls(normal=model.normal_part[:, 0::2].tocsc(), tangent=model.tangent_part[:, 0::2].tocsc(),
-                   friction=np.repeat(model.friction, 2), joint=np.repeat(np.arange(model.n_joints), 2))
+        return cls(
+            normal=model.normal_part[:, 0::2].tocsc(),
+            tangent=model.tangent_part[:, 0::2].tocsc(),
+            friction=np.repeat(model.friction, 2),
+            joint=np.repeat(np.arange(model.n_joints), 2),
+        )

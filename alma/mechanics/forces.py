@@ -12,6 +12,7 @@ dissipation c l t |γ| of cohesion and strength · max(0, elongation rate) of a 
 Units as in :mod:`alma.mechanics.model`: lengths per ``length_scale``, forces per
 ``force_scale`` (kN), points relative to ``origin`` (mm).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -38,8 +39,16 @@ class Frame:
     length_scale: float  # mm
     force_scale: float  # kN
 
-    def assemble(self, column: np.ndarray, blocks: np.ndarray, points_mm: np.ndarray,
-                 forces: np.ndarray, n_columns: int, *, in_kn: bool = True) -> sp.csc_matrix:
+    def assemble(
+        self,
+        column: np.ndarray,
+        blocks: np.ndarray,
+        points_mm: np.ndarray,
+        forces: np.ndarray,
+        n_columns: int,
+        *,
+        in_kn: bool = True,
+    ) -> sp.csc_matrix:
         """Sparse (3 n_free, n_columns): entry rows for force ``forces[i]`` acting at
         ``points_mm[i]`` on scene block ``blocks[i]``, in column ``column[i]``; forces on fixed
         blocks are dropped (a support takes them).  ``in_kn``: the forces are in kN (else they
@@ -66,12 +75,15 @@ def point_load_vectors(scene: Scene, frame: Frame, centroid_mm: np.ndarray) -> t
         return np.zeros(n), np.zeros(n)
     index = {b.id: i for i, b in enumerate(scene.blocks)}
     blocks = np.array([index[load.block] for load in scene.loads])
-    points = np.array([load.point if load.point is not None else centroid_mm[index[load.block]]
-                       for load in scene.loads], dtype=float)
+    points = np.array(
+        [load.point if load.point is not None else centroid_mm[index[load.block]] for load in scene.loads], dtype=float
+    )
     column = np.zeros(len(scene.loads), dtype=int)
     out = []
-    for forces in (np.array([load.dead for load in scene.loads], dtype=float),
-                   np.array([load.live for load in scene.loads], dtype=float)):
+    for forces in (
+        np.array([load.dead for load in scene.loads], dtype=float),
+        np.array([load.live for load in scene.loads], dtype=float),
+    ):
         out.append(np.asarray(frame.assemble(column, blocks, points, forces, 1).todense()).ravel())
     return out[0], out[1]
 
@@ -137,13 +149,21 @@ def bounded_columns(scene: Scene, joints: Joints, frame: Frame) -> tuple[sp.csc_
         d = (b - a) / np.hypot(*(b - a).T)[:, None]  # tension pulls the "from" end towards "to"
         col = q_c + np.arange(len(scene.ties))
         pieces_col += [col, col]
-        pieces_block += [np.array([index[t.from_block] for t in scene.ties]),
-                         np.array([index[t.to_block] for t in scene.ties])]
+        pieces_block += [
+            np.array([index[t.from_block] for t in scene.ties]),
+            np.array([index[t.to_block] for t in scene.ties]),
+        ]
         pieces_point += [a, b]
         pieces_force += [d, -d]
         capacity[q_c:] = [t.strength for t in scene.ties]
     if not n_cols:
         return sp.csc_matrix((3 * frame.centroid.shape[0], 0)), capacity, np.array(labels, dtype=object)
-    G = frame.assemble(np.concatenate(pieces_col), np.concatenate(pieces_block),
-                       np.concatenate(pieces_point), np.concatenate(pieces_force), n_cols, in_kn=False)
+    G = frame.assemble(
+        np.concatenate(pieces_col),
+        np.concatenate(pieces_block),
+        np.concatenate(pieces_point),
+        np.concatenate(pieces_force),
+        n_cols,
+        in_kn=False,
+    )
     return G, capacity / frame.force_scale, np.array(labels, dtype=object)

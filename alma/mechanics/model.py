@@ -16,6 +16,7 @@ block, so every number the solver sees is
 of order one (with the total weight as unit, one block's equilibrium in a wall
 of 1000 blocks would be resolved 1000 times less accurately).
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -105,8 +106,9 @@ class Model:
         """The same geometry and joints with a uniform friction coefficient."""
         if not (np.isfinite(friction) and friction >= 0):
             raise SceneError(f"friction must be a finite number >= 0, got {friction}")
-        return dataclasses.replace(self, scene=self.scene.with_friction(friction),
-                                   friction=np.full(self.n_joints, float(friction)))
+        return dataclasses.replace(
+            self, scene=self.scene.with_friction(friction), friction=np.full(self.n_joints, float(friction))
+        )
 
 
 def build_model(scene: Scene, joints: Joints | None = None) -> Model:
@@ -148,12 +150,26 @@ def build_model(scene: Scene, joints: Joints | None = None) -> Model:
         live[0::3] += share * scene.live_load_direction[0]
         live[1::3] += share * scene.live_load_direction[1]
     bounded, capacity, labels = bounded_columns(scene, joints, frame)
-    return Model(scene=scene, joints=joints, free_index=free_index, free_blocks=free_blocks,
-                 length_scale=length_scale, force_scale=force_scale, origin=origin,
-                 centroid=centroid, weight=weight, friction=friction,
-                 normal_part=normal_part, tangent_part=tangent_part, dead=dead, live=live,
-                 bounded=bounded, capacity=capacity, bounded_labels=labels,
-                 crushing=crushing_capacity(scene, joints, force_scale))
+    return Model(
+        scene=scene,
+        joints=joints,
+        free_index=free_index,
+        free_blocks=free_blocks,
+        length_scale=length_scale,
+        force_scale=force_scale,
+        origin=origin,
+        centroid=centroid,
+        weight=weight,
+        friction=friction,
+        normal_part=normal_part,
+        tangent_part=tangent_part,
+        dead=dead,
+        live=live,
+        bounded=bounded,
+        capacity=capacity,
+        bounded_labels=labels,
+        crushing=crushing_capacity(scene, joints, force_scale),
+    )
 
 
 def _mean_point_load(scene: Scene, n_free: int) -> float:
@@ -164,8 +180,9 @@ def _mean_point_load(scene: Scene, n_free: int) -> float:
     return float(np.hypot(forces[..., 0], forces[..., 1]).sum()) / max(n_free, 1)
 
 
-def _generator_matrices(joints: Joints, free_index: np.ndarray, centroid: np.ndarray,
-                        origin: np.ndarray, length_scale: float) -> tuple[sp.csc_matrix, sp.csc_matrix]:
+def _generator_matrices(
+    joints: Joints, free_index: np.ndarray, centroid: np.ndarray, origin: np.ndarray, length_scale: float
+) -> tuple[sp.csc_matrix, sp.csc_matrix]:
     """Columns of the normal part n and tangential part ±t of the generators n ± f t.
 
     Column 4k + 2p + s is joint k, end point p (0 start, 1 end), sign s (0: +t, 1: -t).

@@ -21,6 +21,7 @@ An active set of the bounded columns is one sign per column (+1: τ = capacity a
 −1: τ = 0 and d ≤ 0; 0: τ free within its bounds and d = 0); any field and any mechanism of the
 same set complement each other.  Dimensionless, as :mod:`alma.mechanics.model`.
 """
+
 from __future__ import annotations
 
 from typing import cast
@@ -63,8 +64,7 @@ def force_signs(model: Model, tau: np.ndarray, tolerance: float) -> tuple[np.nda
     return tau >= cap - tolerance, tau <= tolerance
 
 
-def kinematic_rows(model: Model, may_grow: np.ndarray, may_shrink: np.ndarray
-                   ) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+def kinematic_rows(model: Model, may_grow: np.ndarray, may_shrink: np.ndarray) -> tuple[sp.csr_matrix, sp.csr_matrix]:
     """Rows over u of the bounded columns' kinematics: (equalities d = 0, inequalities A u ≤ 0).
 
     Columns that may neither grow nor shrink keep d = 0; those that may only grow get −d ≤ 0,
@@ -77,8 +77,9 @@ def kinematic_rows(model: Model, may_grow: np.ndarray, may_shrink: np.ndarray
     return g_t[fixed], sp.vstack([g_t[grow], -g_t[shrink]]).tocsr()
 
 
-def residuals(model: Model, tau: np.ndarray, d: np.ndarray, force_scale: float,
-              vel_scale: float) -> tuple[float, float, float]:
+def residuals(
+    model: Model, tau: np.ndarray, d: np.ndarray, force_scale: float, vel_scale: float
+) -> tuple[float, float, float]:
     """(yield violation, mobilisation gap, dissipation) of a bounded field on a mechanism whose
     rates are d (:func:`rates`).
 

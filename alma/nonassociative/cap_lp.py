@@ -13,6 +13,7 @@ its basis, so each re-solve is a short dual-simplex run from the previous
 vertex instead of a cold solve: on a 444-block panel 0.03–0.3 s per iteration
 against 1–2 s cold.  The mechanism u is read from the equilibrium rows' duals.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -63,8 +64,14 @@ class CapLP:
         col_lower = np.concatenate([[-INF], np.zeros(P), np.full(P, -INF), np.zeros(q)])
         col_upper = np.concatenate([np.full(1 + 2 * P, INF), self.model.capacity])
         if with_yield_rows:
-            lp = lp_model(cost, col_lower, col_upper, sp.vstack([A_eq, A_ub]),
-                          np.concatenate([b_eq, np.full(2 * P, -INF)]), np.concatenate([b_eq, np.zeros(2 * P)]))
+            lp = lp_model(
+                cost,
+                col_lower,
+                col_upper,
+                sp.vstack([A_eq, A_ub]),
+                np.concatenate([b_eq, np.full(2 * P, -INF)]),
+                np.concatenate([b_eq, np.zeros(2 * P)]),
+            )
         else:
             lp = lp_model(cost, col_lower, col_upper, A_eq, b_eq, b_eq)
         # The mechanism is read from the duals: HiGHS's default dual feasibility (1e-7, absolute)
@@ -121,13 +128,20 @@ class CapLP:
         if sol.termination is not Termination.OPTIMAL:
             return failed(Termination.ERROR, P, pivots)
         x = sol.x
-        y = sol.duals[:self._n]  # ∂(−α)/∂b of the equilibrium rows: u with f_Lᵀu = 1
+        y = sol.duals[: self._n]  # ∂(−α)/∂b of the equilibrium rows: u with f_Lᵀu = 1
         work = float(self.model.live @ y)
         mechanism = y * (self.model.n_free / work) if work > 0 else None
         if self.model.n_bounded:
-            return StaticLP(Termination.OPTIMAL, float(x[0]), x[1:1 + P].copy(), x[1 + P:1 + 2 * P].copy(),
-                            mechanism, pivots, np.clip(x[1 + 2 * P:], 0.0, self.model.capacity))
-        return StaticLP(Termination.OPTIMAL, float(x[0]), x[1:1 + P].copy(), x[1 + P:].copy(), mechanism, pivots)
+            return StaticLP(
+                Termination.OPTIMAL,
+                float(x[0]),
+                x[1 : 1 + P].copy(),
+                x[1 + P : 1 + 2 * P].copy(),
+                mechanism,
+                pivots,
+                np.clip(x[1 + 2 * P :], 0.0, self.model.capacity),
+            )
+        return StaticLP(Termination.OPTIMAL, float(x[0]), x[1 : 1 + P].copy(), x[1 + P :].copy(), mechanism, pivots)
 
 
 class ClosestField:
@@ -142,8 +156,7 @@ class ClosestField:
     (α, caps) change.
     """
 
-    def __init__(self, model: Model, points: ContactPoints, *, tolerance: float = 1e-10,
-                 max_iter: int = 200) -> None:
+    def __init__(self, model: Model, points: ContactPoints, *, tolerance: float = 1e-10, max_iter: int = 200) -> None:
         P, k = points.count, model.n_bounded
         self.model = model
         self._P = P
@@ -151,24 +164,36 @@ class ClosestField:
         eye, zero = sp.identity(P, format="csc"), sp.csc_matrix((P, P))
         rows = [equilibrium, sp.hstack([-eye, zero]), sp.hstack([zero, eye]), sp.hstack([zero, -eye])]
         if k:  # τ beside (N, T): G in the equilibrium, then −τ ≤ 0 and τ ≤ capacity
-            rows = [sp.hstack([row, model.bounded if i == 0 else sp.csc_matrix((row.shape[0], k))])
-                    for i, row in enumerate(rows)]
+            rows = [
+                sp.hstack([row, model.bounded if i == 0 else sp.csc_matrix((row.shape[0], k))])
+                for i, row in enumerate(rows)
+            ]
             eye_k = sp.identity(k, format="csc")
             rows += [sp.hstack([sp.csc_matrix((k, 2 * P)), -eye_k]), sp.hstack([sp.csc_matrix((k, 2 * P)), eye_k])]
         A = sp.vstack(rows).tocsc()
         quadratic = sp.block_diag([sp.identity(P), sp.csc_matrix((P + k, P + k))], format="csc")
         self._n_eq = equilibrium.shape[0]
         # Clarabel's default iterative refinement; presolve off (the data are updated).
-        self._solver = UpdatableQP(quadratic, np.zeros(2 * P + k), A, self._rhs(0.0, np.zeros(P)), self._n_eq,
-                                   3 * P + 2 * k, tolerance=tolerance, max_iter=max_iter, refine=True)
+        self._solver = UpdatableQP(
+            quadratic,
+            np.zeros(2 * P + k),
+            A,
+            self._rhs(0.0, np.zeros(P)),
+            self._n_eq,
+            3 * P + 2 * k,
+            tolerance=tolerance,
+            max_iter=max_iter,
+            refine=True,
+        )
 
     def _rhs(self, alpha: float, cap: np.ndarray) -> np.ndarray:
         k = self.model.n_bounded
         bounds = [np.zeros(k), self.model.capacity] if k else []
         return np.concatenate([-self.model.dead - alpha * self.model.live, np.zeros(self._P), cap, cap, *bounds])
 
-    def solve(self, alpha: float, cap: np.ndarray, target: np.ndarray
-              ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    def solve(
+        self, alpha: float, cap: np.ndarray, target: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         """(N, T, τ) of the closest field (τ empty without bounded forces), or None when the QP
         does not solve."""
         k = self.model.n_bounded
@@ -177,6 +202,9 @@ class ClosestField:
             return None
         x = solution.x
         if k:
-            return (np.maximum(x[:self._P], 0.0), x[self._P:2 * self._P].copy(),
-                    np.clip(x[2 * self._P:], 0.0, self.model.capacity))
-        return np.maximum(x[:self._P], 0.0), x[self._P:].copy(), np.zeros(0)
+            return (
+                np.maximum(x[: self._P], 0.0),
+                x[self._P : 2 * self._P].copy(),
+                np.clip(x[2 * self._P :], 0.0, self.model.capacity),
+            )
+        return np.maximum(x[: self._P], 0.0), x[self._P :].copy(), np.zeros(0)

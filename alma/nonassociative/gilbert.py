@@ -8,6 +8,7 @@ the fictitious cohesion adds to the real one, and at N = N̄ the LP's optimality
 its flow rule (:mod:`alma.nonassociative.bounded`).  Both variants spend a :class:`Work`
 budget (LP solves and simplex iterations) and stop early only at the user's :class:`Cap`.
 """
+
 from __future__ import annotations
 
 from typing import cast
@@ -17,8 +18,9 @@ import numpy as np
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.cap_lp import CapLP, ClosestField
+from alma.nonassociative.exact_states import exact_state
 from alma.nonassociative.limits import Cap, Work, no_cap
-from alma.nonassociative.states import CollapseState, Tally, active_set, bounded_active_set, exact_state, lower, verify
+from alma.nonassociative.states import CollapseState, Tally, active_set, bounded_active_set, lower, verify
 from alma.nonassociative.static_lps import StaticLP, static_lp_clarabel
 from alma.settings import StateTolerances
 
@@ -29,21 +31,47 @@ def _settled(lp: StaticLP, n_bar: np.ndarray, tolerance: float) -> bool:
     return change <= tolerance * max(1.0, float(np.abs(lp.normal).max(initial=0.0)))
 
 
-def _as_state(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray, shear: np.ndarray,
-              mechanism: np.ndarray, start: str, bounded: np.ndarray, tolerances: StateTolerances
-              ) -> CollapseState | None:
+def _as_state(
+    model: Model,
+    points: ContactPoints,
+    alpha: float,
+    normal: np.ndarray,
+    shear: np.ndarray,
+    mechanism: np.ndarray,
+    start: str,
+    bounded: np.ndarray,
+    tolerances: StateTolerances,
+) -> CollapseState | None:
     """The iterate itself (``bounded``: its τ) as a verified collapse state, or None if it fails."""
     residuals, ok = verify(model, points, alpha, normal, shear, mechanism, bounded, tolerances)
     if not ok:
         return None
-    return CollapseState(alpha=alpha, normal=normal, shear=shear, mechanism=mechanism, start=start,
-                         residuals=residuals, verified=True, bounded=bounded)
+    return CollapseState(
+        alpha=alpha,
+        normal=normal,
+        shear=shear,
+        mechanism=mechanism,
+        start=start,
+        residuals=residuals,
+        verified=True,
+        bounded=bounded,
+    )
 
 
-def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, start: str = "gilbert",
-            relaxation: float = 0.5, slope_steps: int = 4, tolerance: float = 1e-7, ipm_above: int = 6000,
-            work: Work = Work(), cap: Cap | None = None,
-            tally: Tally | None = None) -> tuple[CollapseState | None, int]:
+def gilbert(
+    model: Model,
+    points: ContactPoints,
+    initial_normal: np.ndarray,
+    *,
+    start: str = "gilbert",
+    relaxation: float = 0.5,
+    slope_steps: int = 4,
+    tolerance: float = 1e-7,
+    ipm_above: int = 6000,
+    work: Work = Work(),
+    cap: Cap | None = None,
+    tally: Tally | None = None,
+) -> tuple[CollapseState | None, int]:
     """Iterative LP of Gilbert, Casapulla & Ahmed (2006) on Eqs. 3 and 5.
 
     The friction slope is halved each step down to zero while the rest of the shear capacity
@@ -68,8 +96,9 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
         ratio = 0.5 ** (iteration + 1) if iteration < slope_steps else 0.0
         slope = f * ratio
         if interior:
-            lp = static_lp_clarabel(model, points, slope=slope, cap=(f - slope) * n_bar,
-                                    max_iter=work.interior_iterations)
+            lp = static_lp_clarabel(
+                model, points, slope=slope, cap=(f - slope) * n_bar, max_iter=work.interior_iterations
+            )
         else:
             lp = cast(CapLP, cap_lp).solve(slope, (f - slope) * n_bar, max_pivots=work.lp_limit(tally))
         tally.add(lp.pivots)
@@ -78,8 +107,9 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
             break
         last = lp
         if ratio == 0.0:
-            state = _as_state(model, points, lp.alpha, lp.normal, lp.shear, lp.mechanism, start, lp.bounded,
-                              work.tolerances)
+            state = _as_state(
+                model, points, lp.alpha, lp.normal, lp.shear, lp.mechanism, start, lp.bounded, work.tolerances
+            )
             if state is not None and (best is None or state.alpha < best.alpha):
                 best = state
             if _settled(lp, n_bar, tolerance):
@@ -88,21 +118,37 @@ def gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *, 
             # Once an active set comes back (the iterates settle or cycle), its exact state usually
             # verifies: try each such set once, and stop at the first verified state.
             active = work.tolerances.active
-            sets = (*active_set(model, points, lp.mechanism, tolerance=active),
-                    bounded_active_set(model, points, lp.mechanism, active))
+            sets = (
+                *active_set(model, points, lp.mechanism, tolerance=active),
+                bounded_active_set(model, points, lp.mechanism, active),
+            )
             current = tuple(part.tobytes() for part in sets)
             if current in seen and current not in tried:
                 tried.add(current)
-                state = exact_state(model, points, lp.mechanism, start, limits=work.exact_limits(tally),
-                                    method=work.exact_method, tally=tally)
+                state = exact_state(
+                    model,
+                    points,
+                    lp.mechanism,
+                    start,
+                    limits=work.exact_limits(tally),
+                    method=work.exact_method,
+                    tally=tally,
+                )
                 if state is not None and state.verified:
                     return lower(state, best), used
             seen.add(current)
         n_bar = n_bar + relaxation * (lp.normal - n_bar)
     if last is None:
         return best, used
-    final = exact_state(model, points, cast(np.ndarray, last.mechanism), start, limits=work.exact_limits(tally),
-                        method=work.exact_method, tally=tally)
+    final = exact_state(
+        model,
+        points,
+        cast(np.ndarray, last.mechanism),
+        start,
+        limits=work.exact_limits(tally),
+        method=work.exact_method,
+        tally=tally,
+    )
     return lower(final, best), used
 
 
@@ -120,8 +166,8 @@ class _Anderson:
 
     def step(self, n_bar: np.ndarray, step: np.ndarray) -> np.ndarray:
         """The next N̄: the combination of the last steps that best cancels the residual."""
-        self.x = [*self.x, n_bar.copy()][-(self.memory + 1):]
-        self.g = [*self.g, step][-(self.memory + 1):]
+        self.x = [*self.x, n_bar.copy()][-(self.memory + 1) :]
+        self.g = [*self.g, step][-(self.memory + 1) :]
         if len(self.x) == 1:
             return n_bar + step
         d_g = np.diff(np.array(self.g), axis=0).T
@@ -130,11 +176,21 @@ class _Anderson:
         return np.maximum(n_bar + step - (d_x + d_g) @ gamma, 0.0)
 
 
-def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.ndarray, *,
-                      start: str = "gilbert-projected", plain_steps: int = 0, memory: int = 5,
-                      tolerance: float = 1e-7, restart_after: int = 60, restart_plain_steps: int = 20,
-                      work: Work = Work(iterations=400), cap: Cap | None = None,
-                      tally: Tally | None = None) -> tuple[CollapseState | None, int]:
+def projected_gilbert(
+    model: Model,
+    points: ContactPoints,
+    initial_normal: np.ndarray,
+    *,
+    start: str = "gilbert-projected",
+    plain_steps: int = 0,
+    memory: int = 5,
+    tolerance: float = 1e-7,
+    restart_after: int = 60,
+    restart_plain_steps: int = 20,
+    work: Work = Work(iterations=400),
+    cap: Cap | None = None,
+    tally: Tally | None = None,
+) -> tuple[CollapseState | None, int]:
     """Gilbert's iteration at slope zero with the normal forces chosen by projection.
 
     Each iteration takes α* and the mechanism u from the capped LP (cap f N̄, warm HiGHS),
@@ -190,6 +246,7 @@ def projected_gilbert(model: Model, points: ContactPoints, initial_normal: np.nd
         n_bar = anderson.step(n_bar, step)
     if lp is None or lp.mechanism is None:
         return best, used
-    final = exact_state(model, points, lp.mechanism, start, limits=work.exact_limits(tally),
-                        method=work.exact_method, tally=tally)
+    final = exact_state(
+        model, points, lp.mechanism, start, limits=work.exact_limits(tally), method=work.exact_method, tally=tally
+    )
     return lower(final, best), used

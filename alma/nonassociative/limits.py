@@ -4,6 +4,7 @@ A start spends a :class:`Work` budget counted in solver iterations, so it stops 
 point on every machine.  The :class:`Cap` is the only clock: a user's hard limit, checked
 between units of work; when it cuts the work, the search says so.
 """
+
 from __future__ import annotations
 
 import time
@@ -46,8 +47,12 @@ class Work:
     def exact_limits(self, tally: Tally) -> ExactLimits:
         """Caps of the LPs of an exact state taken now."""
         limit = self.lp_limit(tally)
-        return ExactLimits(lp_pivots=limit, vertex_pivots=limit, interior_iterations=self.interior_iterations,
-                           tolerances=self.tolerances)
+        return ExactLimits(
+            lp_pivots=limit,
+            vertex_pivots=limit,
+            interior_iterations=self.interior_iterations,
+            tolerances=self.tolerances,
+        )
 
 
 class Cap:

@@ -11,9 +11,10 @@ d = −Gᵀu = d⁺ − d⁻ (d± ≥ 0): (capacity − τ) d⁺ ≤ ε (a colum
 capacity), τ d⁻ ≤ ε (one that moves against itself carries nothing).  A tiny regularisation of
 the slips keeps multipliers of unloaded points bounded.  Sparse Jacobians and
 exact Hessians come from CasADi.  The result is only a start: its mechanism is
-turned into an exact, verified state by :func:`alma.nonassociative.states.exact_state`.
+turned into an exact, verified state by :func:`alma.nonassociative.exact_states.exact_state`.
 Each relaxed solve is bounded by IPOPT's iteration count, never by its clock.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -21,13 +22,21 @@ import numpy as np
 from alma.backends.ipopt_backend import ComplementarityData, solve_relaxations
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
+from alma.nonassociative.exact_states import exact_state
 from alma.nonassociative.limits import Cap, no_cap
-from alma.nonassociative.states import CollapseState, ExactLimits, exact_state
+from alma.nonassociative.states import CollapseState, ExactLimits
 
 
-def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, seed: CollapseState | None = None,
-                 relaxations: tuple[float, ...] = (1e-2, 1e-4, 1e-6, 1e-8), max_iter: int = 300,
-                 cap: Cap | None = None, limits: ExactLimits | None = None) -> CollapseState | None:
+def ipopt_polish(
+    model: Model,
+    points: ContactPoints,
+    mechanism: np.ndarray,
+    seed: CollapseState | None = None,
+    relaxations: tuple[float, ...] = (1e-2, 1e-4, 1e-6, 1e-8),
+    max_iter: int = 300,
+    cap: Cap | None = None,
+    limits: ExactLimits | None = None,
+) -> CollapseState | None:
     """A candidate collapse state from IPOPT started at ``mechanism`` (and the seed's forces).
 
     The relaxations ε of the complementarity (Eq. 7) are solved in turn, each warm from the
@@ -37,13 +46,22 @@ def ipopt_polish(model: Model, points: ContactPoints, mechanism: np.ndarray, see
     """
     cap = cap or no_cap()
     P, n = points.count, model.dead.shape[0]
-    data = ComplementarityData(points.normal, points.tangent, points.friction, model.dead, model.live, model.n_free,
-                               model.bounded if model.n_bounded else None, model.capacity)
-    sol = solve_relaxations(data, _initial(model, points, mechanism, seed), _bounds(model, P), relaxations,
-                            max_iter, cap.expired)
+    data = ComplementarityData(
+        points.normal,
+        points.tangent,
+        points.friction,
+        model.dead,
+        model.live,
+        model.n_free,
+        model.bounded if model.n_bounded else None,
+        model.capacity,
+    )
+    sol = solve_relaxations(
+        data, _initial(model, points, mechanism, seed), _bounds(model, P), relaxations, max_iter, cap.expired
+    )
     if not sol.x.size:
         return None
-    return exact_state(model, points, sol.x[1 + 2 * P:1 + 2 * P + n], "ipopt", limits=limits or ExactLimits())
+    return exact_state(model, points, sol.x[1 + 2 * P : 1 + 2 * P + n], "ipopt", limits=limits or ExactLimits())
 
 
 def _bounds(model: Model, P: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -72,5 +90,6 @@ def _initial(model: Model, points: ContactPoints, mechanism: np.ndarray, seed: C
     else:
         forces = np.zeros(1 + 2 * P)
         tau = np.where(d > 0, model.capacity, 0.0)
-    return np.concatenate([forces, u0, np.maximum(slip, 0), np.maximum(-slip, 0), tau,
-                           np.maximum(d, 0), np.maximum(-d, 0)])
+    return np.concatenate(
+        [forces, u0, np.maximum(slip, 0), np.maximum(-slip, 0), tau, np.maximum(d, 0), np.maximum(-d, 0)]
+    )

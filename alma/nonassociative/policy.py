@@ -17,6 +17,7 @@
 Every start takes cohesion and ties (bounded forces): ``ipopt`` (:mod:`alma.nonassociative.nlp`)
 and ``milp`` (:mod:`alma.certify.rows`) write them as bounded columns with their flow rule.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -38,7 +39,7 @@ from alma.settings import EFFORTS, SearchSettings
 
 
 def resolve_effort(effort: str, settings: SearchSettings, n_free: int) -> str:
-    """"fast" or "thorough"; "auto" is thorough up to ``settings.thorough_blocks`` free blocks."""
+    """ "fast" or "thorough"; "auto" is thorough up to ``settings.thorough_blocks`` free blocks."""
     if effort == "auto":
         return "thorough" if n_free <= settings.thorough_blocks else "fast"
     if effort not in EFFORTS:  # "auto" is resolved above
@@ -48,9 +49,15 @@ def resolve_effort(effort: str, settings: SearchSettings, n_free: int) -> str:
 
 def _work(settings: SearchSettings, iterations: int, pivots: int | None, points: int) -> Work:
     method = LPMethod.IPM if points > settings.exact_ipm_points else LPMethod.SIMPLEX
-    return Work(iterations=iterations, pivots=pivots, lp_pivots=settings.lp_pivots,
-                floor_pivots=settings.last_state_pivots, interior_iterations=settings.interior_iterations,
-                exact_method=method, tolerances=settings.states)
+    return Work(
+        iterations=iterations,
+        pivots=pivots,
+        lp_pivots=settings.lp_pivots,
+        floor_pivots=settings.last_state_pivots,
+        interior_iterations=settings.interior_iterations,
+        exact_method=method,
+        tolerances=settings.states,
+    )
 
 
 def gilbert_work(settings: SearchSettings, effort: str, verified: bool, points: int) -> Work:
@@ -75,8 +82,12 @@ def projected_work(settings: SearchSettings, n_free: int, points: int) -> Work:
 def plan(settings: SearchSettings, effort: str) -> list[str]:
     """The starts of an effort in the order they run (names of kinds; see :func:`make_start`)."""
     count = len(settings.gilbert_fast if effort == "fast" else settings.gilbert_thorough)
-    return (["lp", "rocking"] + [f"gilbert:{k}" for k in range(count)]
-            + [f"tilt:{k}" for k in range(len(_turns(settings, effort)))] + ["projected", "ipopt", "milp"])
+    return (
+        ["lp", "rocking"]
+        + [f"gilbert:{k}" for k in range(count)]
+        + [f"tilt:{k}" for k in range(len(_turns(settings, effort)))]
+        + ["projected", "ipopt", "milp"]
+    )
 
 
 def parse_kind(kind: str) -> tuple[str, int | None]:
@@ -100,8 +111,13 @@ def wanted(kind: str, ctx: Context, polish: bool | None = None) -> bool:
         return (thorough and ctx.model.n_free <= s.ipopt_blocks) if polish is None else polish
     if kind == "milp":
         alpha = ctx.associative_alpha
-        return (thorough and ctx.model.n_free <= s.milp_start_blocks and alpha is not None
-                and bool(np.isfinite(alpha)) and alpha >= 0)
+        return (
+            thorough
+            and ctx.model.n_free <= s.milp_start_blocks
+            and alpha is not None
+            and bool(np.isfinite(alpha))
+            and alpha >= 0
+        )
     return True
 
 
@@ -116,12 +132,15 @@ def make_start(kind: str, ctx: Context) -> Start:
     if family == "gilbert" and index is not None:
         starts = s.gilbert_fast if ctx.effort == "fast" else s.gilbert_thorough
         scale, relaxation, steps = starts[index]
-        return GilbertStart(scale, relaxation, steps,
-                            gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count))
+        return GilbertStart(
+            scale, relaxation, steps, gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count)
+        )
     if family == "tilt" and index is not None:
-        return TiltStart(_turns(s, ctx.effort)[index],
-                         gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count),
-                         ipm_above=s.interior_points)
+        return TiltStart(
+            _turns(s, ctx.effort)[index],
+            gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count),
+            ipm_above=s.interior_points,
+        )
     if kind == "projected":
         return ProjectedStart(projected_work(s, ctx.model.n_free, ctx.points.count))
     if kind == "ipopt":
@@ -140,5 +159,4 @@ def start_name(kind: str, settings: SearchSettings, effort: str) -> str:
         return GilbertStart(scale, relaxation, steps, Work()).name
     if family == "tilt" and index is not None:
         return TiltStart(_turns(settings, effort)[index], Work()).name
-    return {"lp": "lp", "rocking": "rocking", "projected": "gilbert-projected", "ipopt": "ipopt",
-            "milp": "milp"}[kind]
+    return {"lp": "lp", "rocking": "rocking", "projected": "gilbert-projected", "ipopt": "ipopt", "milp": "milp"}[kind]

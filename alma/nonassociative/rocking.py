@@ -16,6 +16,7 @@ without opening (a corner column rocking off its neighbour's face), and the
 Gilbert iterates find them only by chance; they are ranked by that bound and
 the lowest are made exact and verified like every other candidate.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -38,9 +39,16 @@ class RockingCandidate:
     mechanism: np.ndarray  # u (3 n_free), f_Lᵀu = n_free
 
 
-def rocking_candidates(model: Model, points: ContactPoints, *, max_blocks: int | None = None,
-                       keep: int | None = None, max_seeds: int | None = None, cap: Cap | None = None,
-                       tolerance: float = 1e-9) -> list[RockingCandidate]:
+def rocking_candidates(
+    model: Model,
+    points: ContactPoints,
+    *,
+    max_blocks: int | None = None,
+    keep: int | None = None,
+    max_seeds: int | None = None,
+    cap: Cap | None = None,
+    tolerance: float = 1e-9,
+) -> list[RockingCandidate]:
     """All macro-block rotations grown from single blocks (see module docstring), lowest bound first.
 
     Seeds: every free block, turned clockwise about the support point furthest along
@@ -64,9 +72,20 @@ def rocking_candidates(model: Model, points: ContactPoints, *, max_blocks: int |
         seed_block, seed_pivot, seed_omega = seed_block[:max_seeds], seed_pivot[:max_seeds], seed_omega[:max_seeds]
     if not seed_block:
         return []
-    grown = _grow(np.asarray(seed_block), np.asarray(seed_pivot), np.asarray(seed_omega), table.indptr,
-                  table.offset, table.normal_x, table.normal_y, table.other, n_free,
-                  n_free if max_blocks is None else max_blocks, tolerance, cap or no_cap())
+    grown = _grow(
+        np.asarray(seed_block),
+        np.asarray(seed_pivot),
+        np.asarray(seed_omega),
+        table.indptr,
+        table.offset,
+        table.normal_x,
+        table.normal_y,
+        table.other,
+        n_free,
+        n_free if max_blocks is None else max_blocks,
+        tolerance,
+        cap or no_cap(),
+    )
     return _ranked(model, grown, seed_pivot, seed_omega, keep)
 
 
@@ -137,8 +156,13 @@ def _seeds(model: Model, table: _Incidences) -> tuple[list[int], list[np.ndarray
     return seed_block, seed_pivot, seed_omega
 
 
-def _ranked(model: Model, grown: list[np.ndarray | None], seed_pivot: list[np.ndarray],
-            seed_omega: list[float], keep: int | None) -> list[RockingCandidate]:
+def _ranked(
+    model: Model,
+    grown: list[np.ndarray | None],
+    seed_pivot: list[np.ndarray],
+    seed_omega: list[float],
+    keep: int | None,
+) -> list[RockingCandidate]:
     """Distinct macro-blocks whose live load does positive work, lowest lifting bound first."""
     n_free = model.n_free
     seen: set[tuple[bytes, tuple[float, float]]] = set()
@@ -163,8 +187,9 @@ def _ranked(model: Model, grown: list[np.ndarray | None], seed_pivot: list[np.nd
     for bound, _, index, pivot, omega, scale in ranked[:keep]:
         u = np.zeros((n_free, 3))
         u[index] = scale * _rotation(model.centroid[index], pivot, omega)
-        found.append(RockingCandidate(tuple(index.tolist()), (float(pivot[0]), float(pivot[1])), omega, bound,
-                                      u.ravel()))
+        found.append(
+            RockingCandidate(tuple(index.tolist()), (float(pivot[0]), float(pivot[1])), omega, bound, u.ravel())
+        )
     return found
 
 
@@ -179,9 +204,20 @@ def _rotation(centroids: np.ndarray, pivot: np.ndarray, omega: float) -> np.ndar
 _BATCH_ENTRIES = 8_000_000
 
 
-def _grow(seeds: np.ndarray, pivots: np.ndarray, omegas: np.ndarray, indptr: np.ndarray,
-          offset: np.ndarray, normal_x: np.ndarray, normal_y: np.ndarray, inc_other: np.ndarray,
-          n_free: int, max_blocks: int, tolerance: float, cap: Cap) -> list[np.ndarray | None]:
+def _grow(
+    seeds: np.ndarray,
+    pivots: np.ndarray,
+    omegas: np.ndarray,
+    indptr: np.ndarray,
+    offset: np.ndarray,
+    normal_x: np.ndarray,
+    normal_y: np.ndarray,
+    inc_other: np.ndarray,
+    n_free: int,
+    max_blocks: int,
+    tolerance: float,
+    cap: Cap,
+) -> list[np.ndarray | None]:
     """Members of the macro-block grown from each seed (sorted), or None (ground pushed, too large,
     or not grown before the user's ``cap`` passed).
 
@@ -194,15 +230,39 @@ def _grow(seeds: np.ndarray, pivots: np.ndarray, omegas: np.ndarray, indptr: np.
     out: list[np.ndarray | None] = []
     batch = max(1, _BATCH_ENTRIES // max(n_free, 1))
     for first in range(0, seeds.size, batch):
-        out.extend(_grow_batch(seeds[first:first + batch], pivots[first:first + batch],
-                               omegas[first:first + batch], indptr, offset, normal_x, normal_y, inc_other,
-                               n_free, max_blocks, tolerance, cap))
+        out.extend(
+            _grow_batch(
+                seeds[first : first + batch],
+                pivots[first : first + batch],
+                omegas[first : first + batch],
+                indptr,
+                offset,
+                normal_x,
+                normal_y,
+                inc_other,
+                n_free,
+                max_blocks,
+                tolerance,
+                cap,
+            )
+        )
     return out
 
 
-def _grow_batch(seeds: np.ndarray, pivots: np.ndarray, omegas: np.ndarray, indptr: np.ndarray,
-                offset: np.ndarray, normal_x: np.ndarray, normal_y: np.ndarray, inc_other: np.ndarray,
-                n_free: int, max_blocks: int, tolerance: float, cap: Cap) -> list[np.ndarray | None]:
+def _grow_batch(
+    seeds: np.ndarray,
+    pivots: np.ndarray,
+    omegas: np.ndarray,
+    indptr: np.ndarray,
+    offset: np.ndarray,
+    normal_x: np.ndarray,
+    normal_y: np.ndarray,
+    inc_other: np.ndarray,
+    n_free: int,
+    max_blocks: int,
+    tolerance: float,
+    cap: Cap,
+) -> list[np.ndarray | None]:
     """:func:`_grow` for one batch of seeds."""
     count = seeds.size
     if cap.expired():

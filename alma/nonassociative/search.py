@@ -26,6 +26,7 @@ Every start spends work budgets (:class:`~alma.settings.SearchSettings`), never 
 same scene and settings give the same answer on any machine.  The user's ``time_limit`` is a
 hard cap; when it cuts the work the solution says so and lists what was skipped.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -39,16 +40,24 @@ from alma.geometry.canonical import CanonicalFrame
 from alma.mechanics.canonical import mechanism_to_drawing
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
+from alma.nonassociative.exact_states import fast_exact_state
 from alma.nonassociative.limits import Cap
 from alma.nonassociative.policy import make_start, parse_kind, plan, resolve_effort, start_name, wanted
 from alma.nonassociative.starts import Context
-from alma.nonassociative.states import CollapseState, ExactLimits, Tally, fast_exact_state, lowest
+from alma.nonassociative.states import CollapseState, ExactLimits, Tally, lowest
 from alma.settings import CertifySettings, SearchSettings
 from alma.status import Status
 
 #: Timing keys of the starts' kinds (seconds), summed over starts of a kind.
-_TIMING_KEYS = {"lp": "lp_start_s", "rocking": "rocking_s", "gilbert": "gilbert_s", "projected": "gilbert_s",
-                "ipopt": "ipopt_s", "milp": "milp_start_s", "tilt": "tilt_s"}
+_TIMING_KEYS = {
+    "lp": "lp_start_s",
+    "rocking": "rocking_s",
+    "gilbert": "gilbert_s",
+    "projected": "gilbert_s",
+    "ipopt": "ipopt_s",
+    "milp": "milp_start_s",
+    "tilt": "tilt_s",
+}
 
 
 @dataclass(frozen=True)
@@ -91,8 +100,7 @@ def _associative_normal(multipliers: np.ndarray | None, count: int) -> np.ndarra
     return np.zeros(count)
 
 
-def _run_starts(ctx: Context, polish: bool | None
-                ) -> tuple[list[StartRecord], list[str], dict[str, float]]:
+def _run_starts(ctx: Context, polish: bool | None) -> tuple[list[StartRecord], list[str], dict[str, float]]:
     """Run the plan in order; returns the records, the skipped starts and the timings."""
     records: list[StartRecord] = []
     skipped: list[str] = []
@@ -110,9 +118,17 @@ def _run_starts(ctx: Context, polish: bool | None
         elapsed = time.perf_counter() - t0
         if state is not None:
             ctx.candidates.append(state)
-        records.append(StartRecord(start.name, elapsed, int(iterations),
-                                   state.alpha if state is not None else float("nan"),
-                                   state is not None and state.verified, tally.pivots, tally.solves))
+        records.append(
+            StartRecord(
+                start.name,
+                elapsed,
+                int(iterations),
+                state.alpha if state is not None else float("nan"),
+                state is not None and state.verified,
+                tally.pivots,
+                tally.solves,
+            )
+        )
         if ctx.cap.hit:
             skipped.append(f"{start.name} (cut short)")
         key = _TIMING_KEYS[parse_kind(kind)[0]]
@@ -122,12 +138,18 @@ def _run_starts(ctx: Context, polish: bool | None
     return records, skipped, timings
 
 
-def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
-                         associative_multipliers: np.ndarray | None, *, effort: str = "fast",
-                         settings: SearchSettings = SearchSettings(), polish: bool | None = None,
-                         time_limit: float | None = None,
-                         associative_alpha: float | None = None,
-                         certify: CertifySettings | None = None) -> NonAssociativeSolution:
+def solve_nonassociative(
+    model: Model,
+    associative_mechanism: np.ndarray | None,
+    associative_multipliers: np.ndarray | None,
+    *,
+    effort: str = "fast",
+    settings: SearchSettings = SearchSettings(),
+    polish: bool | None = None,
+    time_limit: float | None = None,
+    associative_alpha: float | None = None,
+    certify: CertifySettings | None = None,
+) -> NonAssociativeSolution:
     """Lowest verified collapse state of Eq. 9 over several starts (see module docstring).
 
     ``associative_mechanism`` / ``associative_multipliers`` / ``associative_alpha``: the
@@ -138,54 +160,79 @@ def solve_nonassociative(model: Model, associative_mechanism: np.ndarray | None,
     certification settings, for the ``milp`` start (default: the defaults).
     """
     points = ContactPoints.from_model(model)
-    ctx = Context(model, points, settings, resolve_effort(effort, settings, model.n_free), Cap(time_limit),
-                  associative_mechanism, _associative_normal(associative_multipliers, points.count),
-                  associative_alpha, certify=certify if certify is not None else CertifySettings())
+    ctx = Context(
+        model,
+        points,
+        settings,
+        resolve_effort(effort, settings, model.n_free),
+        Cap(time_limit),
+        associative_mechanism,
+        _associative_normal(associative_multipliers, points.count),
+        associative_alpha,
+        certify=certify if certify is not None else CertifySettings(),
+    )
     records, skipped, timings = _run_starts(ctx, polish)
-    common: dict[str, Any] = dict(candidates=tuple(ctx.candidates), timings=timings, starts=tuple(records),
-                                  stopped_by_limit=ctx.cap.hit, skipped=tuple(skipped))
+    common: dict[str, Any] = dict(
+        candidates=tuple(ctx.candidates),
+        timings=timings,
+        starts=tuple(records),
+        stopped_by_limit=ctx.cap.hit,
+        skipped=tuple(skipped),
+    )
     best = ctx.best()
     if best is None:
-        return NonAssociativeSolution(Status.NOT_CONVERGED, "no verified collapse state was found", None,
-                                      **common)
+        return NonAssociativeSolution(Status.NOT_CONVERGED, "no verified collapse state was found", None, **common)
     status = Status.FEASIBLE if best.alpha >= 0 else Status.NO_EQUILIBRIUM
-    return NonAssociativeSolution(status, f"lowest verified collapse state from start '{best.start}'", best,
-                                  **common)
+    return NonAssociativeSolution(status, f"lowest verified collapse state from start '{best.start}'", best, **common)
 
 
-def carried_back(solution: NonAssociativeSolution, canonical: Model, frame: CanonicalFrame, model: Model,
-                 settings: SearchSettings = SearchSettings()) -> NonAssociativeSolution:
+def carried_back(
+    solution: NonAssociativeSolution,
+    canonical: Model,
+    frame: CanonicalFrame,
+    model: Model,
+    settings: SearchSettings = SearchSettings(),
+) -> NonAssociativeSolution:
     """The canonical search's answer as an answer for the drawing's ``model``.
 
     Each verified canonical state's mechanism is carried to ``model``'s frame and blocks
     (:func:`~alma.mechanics.canonical.mechanism_to_drawing`) and made exact there, its active set
-    fixed (:func:`~alma.nonassociative.states.fast_exact_state`), lowest α first, until one
+    fixed (:func:`~alma.nonassociative.exact_states.fast_exact_state`), lowest α first, until one
     verifies on ``model`` itself; that state is the answer and takes its candidate's place.  The
     other candidates keep their canonical α and forces, their mechanisms carried back (what the
     MILP's start reads).
     """
     t0 = time.perf_counter()
-    moved = tuple(dataclasses.replace(c, mechanism=mechanism_to_drawing(c.mechanism, canonical, frame, model))
-                  for c in solution.candidates)
+    moved = tuple(
+        dataclasses.replace(c, mechanism=mechanism_to_drawing(c.mechanism, canonical, frame, model))
+        for c in solution.candidates
+    )
     points = ContactPoints.from_model(model)
     limits = ExactLimits(settings.lp_pivots, settings.vertex_pivots, settings.interior_iterations, settings.states)
     best = None
     verified = [k for k, c in enumerate(moved) if c.verified]
     first = lowest([moved[k] for k in verified], settings.same_alpha)
     order = sorted(verified, key=lambda k: (moved[k] is not first, moved[k].alpha))
-    for k in order[:settings.carry_back_tries]:
+    for k in order[: settings.carry_back_tries]:
         exact = fast_exact_state(model, points, moved[k].mechanism, moved[k].start, limits=limits)
         if exact is not None and exact.verified:
             best = exact
-            moved = (*moved[:k], exact, *moved[k + 1:])
+            moved = (*moved[:k], exact, *moved[k + 1 :])
             break
     timings = dict(solution.timings, carry_back_s=time.perf_counter() - t0)
-    common: dict[str, Any] = dict(candidates=moved, timings=timings, starts=solution.starts,
-                                  stopped_by_limit=solution.stopped_by_limit, skipped=solution.skipped)
+    common: dict[str, Any] = dict(
+        candidates=moved,
+        timings=timings,
+        starts=solution.starts,
+        stopped_by_limit=solution.stopped_by_limit,
+        skipped=solution.skipped,
+    )
     if best is None:
-        message = solution.message if solution.best is None else \
-            "no state of the canonical search verified on the drawing's model"
+        message = (
+            solution.message
+            if solution.best is None
+            else "no state of the canonical search verified on the drawing's model"
+        )
         return NonAssociativeSolution(Status.NOT_CONVERGED, message, None, **common)
     status = Status.FEASIBLE if best.alpha >= 0 else Status.NO_EQUILIBRIUM
-    return NonAssociativeSolution(status, f"lowest verified collapse state from start '{best.start}'", best,
-                                  **common)
+    return NonAssociativeSolution(status, f"lowest verified collapse state from start '{best.start}'", best, **common)

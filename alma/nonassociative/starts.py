@@ -4,6 +4,7 @@ A start turns what the search knows so far (:class:`Context`) into one candidate
 state, spending the work its settings allow; :mod:`alma.nonassociative.policy` decides which
 starts run, and :mod:`alma.nonassociative.search` runs them in turn.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
@@ -15,11 +16,12 @@ from alma.backends.linprog_backend import LPMethod
 from alma.certify.milp import certify
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
+from alma.nonassociative.exact_states import exact_state, fast_exact_state
 from alma.nonassociative.gilbert import gilbert, projected_gilbert
 from alma.nonassociative.limits import Cap, Work, no_cap
 from alma.nonassociative.nlp import ipopt_polish
 from alma.nonassociative.rocking import rocking_candidates
-from alma.nonassociative.states import CollapseState, ExactLimits, Tally, exact_state, fast_exact_state, lowest
+from alma.nonassociative.states import CollapseState, ExactLimits, Tally, lowest
 from alma.settings import CertifySettings, SearchSettings
 
 
@@ -77,19 +79,50 @@ class LpStart:
         if ctx.associative_mechanism is None:
             return None, 0
         if ctx.points.count <= ctx.settings.lp_vertex_points:  # HiGHS's vertex: exact to the last digit
-            return exact_state(ctx.model, ctx.points, ctx.associative_mechanism, self.name, dilatant=True,
-                               limits=ctx.exact_limits(), tally=tally), 0
+            return exact_state(
+                ctx.model,
+                ctx.points,
+                ctx.associative_mechanism,
+                self.name,
+                dilatant=True,
+                limits=ctx.exact_limits(),
+                tally=tally,
+            ), 0
         if ctx.points.count > ctx.settings.lp_widest_points:  # the associative set itself, by Clarabel
-            return exact_state(ctx.model, ctx.points, ctx.associative_mechanism, self.name, dilatant=True,
-                               method=LPMethod.CLARABEL, limits=ctx.exact_limits(vertex=True), tally=tally,
-                               widest=False), 0
-        return fast_exact_state(ctx.model, ctx.points, ctx.associative_mechanism, self.name, dilatant=True,
-                                limits=ctx.exact_limits(vertex=True), tally=tally), 0
+            return exact_state(
+                ctx.model,
+                ctx.points,
+                ctx.associative_mechanism,
+                self.name,
+                dilatant=True,
+                method=LPMethod.CLARABEL,
+                limits=ctx.exact_limits(vertex=True),
+                tally=tally,
+                widest=False,
+            ), 0
+        return fast_exact_state(
+            ctx.model,
+            ctx.points,
+            ctx.associative_mechanism,
+            self.name,
+            dilatant=True,
+            limits=ctx.exact_limits(vertex=True),
+            tally=tally,
+        ), 0
 
 
-def rocking_start(model: Model, points: ContactPoints, verified: list[CollapseState], *, tries: int = 4,
-                  upper: float | None = None, max_seeds: int | None = None, limits: ExactLimits = ExactLimits(),
-                  cap: Cap | None = None, tally: Tally | None = None) -> tuple[CollapseState | None, int]:
+def rocking_start(
+    model: Model,
+    points: ContactPoints,
+    verified: list[CollapseState],
+    *,
+    tries: int = 4,
+    upper: float | None = None,
+    max_seeds: int | None = None,
+    limits: ExactLimits = ExactLimits(),
+    cap: Cap | None = None,
+    tally: Tally | None = None,
+) -> tuple[CollapseState | None, int]:
     """The lowest verified exact state among macro-block rotations (:mod:`alma.nonassociative.rocking`).
 
     Candidates are made exact in the order of their lifting bound (a lower bound on the α of any
@@ -118,9 +151,17 @@ class RockingStart:
 
     def run(self, ctx: Context, tally: Tally) -> tuple[CollapseState | None, int]:
         s = ctx.settings
-        return rocking_start(ctx.model, ctx.points, ctx.verified(), tries=s.rocking_tries,
-                             upper=ctx.associative_alpha, max_seeds=s.rocking_seeds,
-                             limits=ctx.exact_limits(vertex=True), cap=ctx.cap, tally=tally)
+        return rocking_start(
+            ctx.model,
+            ctx.points,
+            ctx.verified(),
+            tries=s.rocking_tries,
+            upper=ctx.associative_alpha,
+            max_seeds=s.rocking_seeds,
+            limits=ctx.exact_limits(vertex=True),
+            cap=ctx.cap,
+            tally=tally,
+        )
 
 
 @dataclass(frozen=True)
@@ -137,9 +178,18 @@ class GilbertStart:
         return f"gilbert(N̄={self.scale:g}·N_LP, r={self.relaxation:g}, steps={self.slope_steps})"
 
     def run(self, ctx: Context, tally: Tally) -> tuple[CollapseState | None, int]:
-        return gilbert(ctx.model, ctx.points, self.scale * ctx.associative_normal, start=self.name,
-                       relaxation=self.relaxation, slope_steps=self.slope_steps,
-                       ipm_above=ctx.settings.interior_points, work=self.work, cap=ctx.cap, tally=tally)
+        return gilbert(
+            ctx.model,
+            ctx.points,
+            self.scale * ctx.associative_normal,
+            start=self.name,
+            relaxation=self.relaxation,
+            slope_steps=self.slope_steps,
+            ipm_above=ctx.settings.interior_points,
+            work=self.work,
+            cap=ctx.cap,
+            tally=tally,
+        )
 
 
 @dataclass(frozen=True)
@@ -151,10 +201,17 @@ class ProjectedStart:
 
     def run(self, ctx: Context, tally: Tally) -> tuple[CollapseState | None, int]:
         s = ctx.settings
-        return projected_gilbert(ctx.model, ctx.points, ctx.associative_normal, start=self.name,
-                                 restart_after=s.projected_restart_after,
-                                 restart_plain_steps=s.projected_restart_plain_steps, work=self.work,
-                                 cap=ctx.cap, tally=tally)
+        return projected_gilbert(
+            ctx.model,
+            ctx.points,
+            ctx.associative_normal,
+            start=self.name,
+            restart_after=s.projected_restart_after,
+            restart_plain_steps=s.projected_restart_plain_steps,
+            work=self.work,
+            cap=ctx.cap,
+            tally=tally,
+        )
 
 
 @dataclass(frozen=True)
@@ -168,8 +225,15 @@ class IpoptStart:
         mechanism = seed.mechanism if seed is not None else ctx.associative_mechanism
         if mechanism is None:
             return None, 0
-        return ipopt_polish(ctx.model, ctx.points, mechanism, seed, max_iter=ctx.settings.ipopt_iterations,
-                            cap=ctx.cap, limits=ctx.exact_limits()), 0
+        return ipopt_polish(
+            ctx.model,
+            ctx.points,
+            mechanism,
+            seed,
+            max_iter=ctx.settings.ipopt_iterations,
+            cap=ctx.cap,
+            limits=ctx.exact_limits(),
+        ), 0
 
 
 @dataclass(frozen=True)
@@ -190,10 +254,16 @@ class MilpStart:
         nodes = max(1, ctx.settings.milp_start_work // max(ctx.model.n_free + ctx.model.n_bounded, 1))
         settings = replace(ctx.certify, node_limit=min(nodes, ctx.certify.node_limit))
         # The policy runs this start only with a finite associative α (policy.wanted).
-        certificate = certify(ctx.model, float(cast(float, ctx.associative_alpha)), mechanisms, settings=settings,
-                              alpha_best=best.alpha if best is not None else None,
-                              time_limit=ctx.cap.remaining() if ctx.cap.seconds is not None else None)
+        certificate = certify(
+            ctx.model,
+            float(cast(float, ctx.associative_alpha)),
+            mechanisms,
+            settings=settings,
+            alpha_best=best.alpha if best is not None else None,
+            time_limit=ctx.cap.remaining() if ctx.cap.seconds is not None else None,
+        )
         if certificate.mechanism is None:
             return None, certificate.nodes
-        return exact_state(ctx.model, ctx.points, certificate.mechanism, self.name, limits=ctx.exact_limits(),
-                           tally=tally), certificate.nodes
+        return exact_state(
+            ctx.model, ctx.points, certificate.mechanism, self.name, limits=ctx.exact_limits(), tally=tally
+        ), certificate.nodes

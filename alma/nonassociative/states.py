@@ -1,4 +1,4 @@
-"""Collapse states of Eq. 9: active sets, verification, and the exact state of a mechanism.
+"""Collapse states of Eq. 9: active sets and verification (a mechanism's exact state: :mod:`.exact_states`).
 
 A *collapse state* is a load multiplier α, contact forces (N, T) at every contact point and a
 mechanism u (f_Lᵀu > 0) such that equilibrium holds (Eq. 3), forces are admissible (Eq. 5:
@@ -16,20 +16,16 @@ energy balance becomes α f_Lᵀu = −f_0ᵀu + Σ f N |γ| + Σ c l t |γ_join
 max(0, elongation rate).  The active set of a state then has a third part, the bounded columns'
 signs, fixed in the static LP (τ at capacity, at 0, or free) and in the kinematic LP alike.
 """
+
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
-from alma.backends.linprog_backend import LPMethod
-from alma.backends.termination import Termination
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative import bounded as bf
-from alma.nonassociative.static_lps import LP_METHOD, StaticLP, fixed_set_static_interior, kinematic_lp, static_lp
 from alma.settings import StateTolerances
 
 #: The default tolerances (:class:`alma.settings.StateTolerances`; a search passes its settings').
@@ -78,8 +74,14 @@ class ExactLimits:
     tolerances: StateTolerances = field(default_factory=StateTolerances)
 
 
-def active_set(model: Model, points: ContactPoints, mechanism: np.ndarray, *,
-               dilatant: bool = False, tolerance: float = TOLERANCES.active) -> tuple[np.ndarray, np.ndarray]:
+def active_set(
+    model: Model,
+    points: ContactPoints,
+    mechanism: np.ndarray,
+    *,
+    dilatant: bool = False,
+    tolerance: float = TOLERANCES.active,
+) -> tuple[np.ndarray, np.ndarray]:
     """Open points and slip signs of a mechanism (relative velocities below a threshold are zero).
 
     ``dilatant``: the mechanism obeys the associative flow rule (Eq. 6), where a
@@ -98,15 +100,20 @@ def active_set(model: Model, points: ContactPoints, mechanism: np.ndarray, *,
     return open_points, slip_sign
 
 
-def bounded_active_set(model: Model, points: ContactPoints, mechanism: np.ndarray,
-                       tolerance: float = TOLERANCES.active) -> np.ndarray:
+def bounded_active_set(
+    model: Model, points: ContactPoints, mechanism: np.ndarray, tolerance: float = TOLERANCES.active
+) -> np.ndarray:
     """Signs of the bounded columns' rates d = −Gᵀu (:mod:`alma.nonassociative.bounded`), read
     to the threshold of :func:`active_set` (relative to the largest opening, slip or rate)."""
     if not model.n_bounded:
         return np.zeros(0)
     d = bf.rates(model, mechanism)
-    scale = max(float(np.abs(points.normal.T @ mechanism).max(initial=0.0)),
-                float(np.abs(points.tangent.T @ mechanism).max(initial=0.0)), float(np.abs(d).max(initial=0.0)), 1e-300)
+    scale = max(
+        float(np.abs(points.normal.T @ mechanism).max(initial=0.0)),
+        float(np.abs(points.tangent.T @ mechanism).max(initial=0.0)),
+        float(np.abs(d).max(initial=0.0)),
+        1e-300,
+    )
     return bf.rate_signs(d, tolerance * scale)
 
 
@@ -115,8 +122,9 @@ def _allowed(signs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return signs > 0, signs < 0
 
 
-def force_active_set(points: ContactPoints, normal: np.ndarray, shear: np.ndarray,
-                     tolerance: float = TOLERANCES.force) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def force_active_set(
+    points: ContactPoints, normal: np.ndarray, shear: np.ndarray, tolerance: float = TOLERANCES.force
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The most permissive mechanism set a force field allows (complementarity of Eq. 7).
 
     Returns (may_open, may_slip_sign, free_slip): a point with N = 0 may open and slip either way;
@@ -133,9 +141,16 @@ def force_active_set(points: ContactPoints, normal: np.ndarray, shear: np.ndarra
     return unloaded, sign, unloaded
 
 
-def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray, shear: np.ndarray,
-           mechanism: np.ndarray, bounded: np.ndarray | None = None,
-           tolerances: StateTolerances = TOLERANCES) -> tuple[dict[str, float], bool]:
+def verify(
+    model: Model,
+    points: ContactPoints,
+    alpha: float,
+    normal: np.ndarray,
+    shear: np.ndarray,
+    mechanism: np.ndarray,
+    bounded: np.ndarray | None = None,
+    tolerances: StateTolerances = TOLERANCES,
+) -> tuple[dict[str, float], bool]:
     """Residuals of a collapse state (Eqs. 2, 3, 5, 7 and the energy balance) and whether all pass.
 
     ``bounded``: τ of the model's bounded forces (required when it has them); their equilibrium,
@@ -152,35 +167,57 @@ def verify(model: Model, points: ContactPoints, alpha: float, normal: np.ndarray
     if q:
         balance = balance + model.bounded @ tau  # type: ignore[operator]  # q > 0: the model has its columns
     equilibrium = float(np.abs(balance).max(initial=0.0))
-    yield_violation = float(max(np.maximum(-normal, 0).max(initial=0.0),
-                                np.maximum(np.abs(shear) - points.friction * normal, 0).max(initial=0.0)))
+    yield_violation = float(
+        max(
+            np.maximum(-normal, 0).max(initial=0.0),
+            np.maximum(np.abs(shear) - points.friction * normal, 0).max(initial=0.0),
+        )
+    )
     work = float(model.live @ mechanism)
     u = mechanism * (model.n_free / work) if work > 0 else mechanism
     opening = points.normal.T @ u
     slip = points.tangent.T @ u
     rates = bf.rates(model, u)
-    vel_scale = max(float(np.abs(opening).max(initial=0.0)), float(np.abs(slip).max(initial=0.0)),
-                    float(np.abs(rates).max(initial=0.0)), 1e-300)
+    vel_scale = max(
+        float(np.abs(opening).max(initial=0.0)),
+        float(np.abs(slip).max(initial=0.0)),
+        float(np.abs(rates).max(initial=0.0)),
+        1e-300,
+    )
     penetration = float(np.maximum(-opening, 0).max(initial=0.0)) / vel_scale
     open_force = float((np.maximum(normal, 0) * np.maximum(opening, 0)).max(initial=0.0)) / (force_scale * vel_scale)
     # friction fully mobilised against the slip: f N |γ| + T γ = 0
-    slip_gap = float(np.abs(points.friction * np.maximum(normal, 0) * np.abs(slip) + shear * slip).max(initial=0.0)) \
-        / (force_scale * vel_scale)
+    slip_gap = float(np.abs(points.friction * np.maximum(normal, 0) * np.abs(slip) + shear * slip).max(initial=0.0)) / (
+        force_scale * vel_scale
+    )
     dissipation = float(np.sum(points.friction * np.maximum(normal, 0) * np.abs(slip)))
     bounded_gap = 0.0
     if q:
         bounded_yield, bounded_gap, bounded_work = bf.residuals(model, tau, rates, force_scale, vel_scale)
         yield_violation, dissipation = max(yield_violation, bounded_yield), dissipation + bounded_work
     energy = abs(alpha * (model.live @ u) + model.dead @ u - dissipation) / max(1.0, abs(model.dead @ u), dissipation)
-    residuals = {"equilibrium": equilibrium / force_scale, "yield": yield_violation / force_scale,
-                 "interpenetration": penetration, "open_with_force": open_force, "slip_not_mobilised": slip_gap,
-                 "energy_balance": float(energy), "live_load_work": work}
+    residuals = {
+        "equilibrium": equilibrium / force_scale,
+        "yield": yield_violation / force_scale,
+        "interpenetration": penetration,
+        "open_with_force": open_force,
+        "slip_not_mobilised": slip_gap,
+        "energy_balance": float(energy),
+        "live_load_work": work,
+    }
     if q:
         residuals["bounded_not_mobilised"] = bounded_gap
     t = tolerances
-    ok = (work > 0 and residuals["equilibrium"] <= t.equilibrium and residuals["yield"] <= t.yield_violation
-          and penetration <= t.kinematic and open_force <= t.kinematic
-          and slip_gap <= t.kinematic and bounded_gap <= t.kinematic and energy <= t.energy)
+    ok = (
+        work > 0
+        and residuals["equilibrium"] <= t.equilibrium
+        and residuals["yield"] <= t.yield_violation
+        and penetration <= t.kinematic
+        and open_force <= t.kinematic
+        and slip_gap <= t.kinematic
+        and bounded_gap <= t.kinematic
+        and energy <= t.energy
+    )
     return residuals, bool(ok)
 
 
@@ -196,131 +233,4 @@ def lower(state: CollapseState | None, other: CollapseState | None) -> CollapseS
     """The verified state with the smaller α (an unverified one only if neither is verified)."""
     if state is None or (other is not None and other.verified and (not state.verified or other.alpha < state.alpha)):
         return other
-    return state
-
-
-def _fixed_set_field(model: Model, points: ContactPoints, open_points: np.ndarray, slip_sign: np.ndarray,
-                     signs: np.ndarray, method: LPMethod, limits: ExactLimits, tally: Tally) -> StaticLP:
-    """The smallest α with the active set fixed: a HiGHS vertex, or Clarabel's interior field.
-
-    Clarabel's field is written on the cone generators only; with bounded forces (``signs``, the
-    bounded columns' set) HiGHS's interior point with crossover takes its place."""
-    coulomb: dict[str, Any] = dict(slope=points.friction, cap=np.zeros(points.count), maximise=False,
-                                   open_points=open_points, slip_sign=slip_sign)
-    if model.n_bounded:
-        coulomb["bounded_signs"] = signs
-        method = LPMethod.IPM if method == LPMethod.CLARABEL else method
-    if method != LPMethod.CLARABEL:
-        lp = static_lp(model, points, **coulomb, max_pivots=limits.lp_pivots, method=method)
-        tally.add(lp.pivots)
-        return lp
-    lp = fixed_set_static_interior(model, points, open_points, slip_sign, max_iter=limits.interior_iterations)
-    tally.add(lp.pivots)
-    if lp.status == Termination.ERROR:  # Clarabel did not converge: HiGHS decides, within the vertex's iterations
-        lp = static_lp(model, points, **coulomb, max_pivots=min(limits.lp_pivots, limits.vertex_pivots),
-                       method=LPMethod.IPM)
-        tally.add(lp.pivots)
-    return lp
-
-
-def _vertex(model: Model, points: ContactPoints, open_points: np.ndarray, slip_sign: np.ndarray,
-            signs: np.ndarray, limits: ExactLimits, tally: Tally) -> StaticLP:
-    """A simplex vertex of the fixed-set static LP (its widest set is read from it)."""
-    extra = {"bounded_signs": signs} if model.n_bounded else {}
-    lp = static_lp(model, points, slope=points.friction, cap=np.zeros(points.count), maximise=False,
-                   open_points=open_points, slip_sign=slip_sign,
-                   max_pivots=min(limits.lp_pivots, limits.vertex_pivots), method=LPMethod.SIMPLEX, **extra)
-    tally.add(lp.pivots)
-    return lp
-
-
-def exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, start: str, *,
-                dilatant: bool = False, method: LPMethod = LP_METHOD, limits: ExactLimits = ExactLimits(),
-                tally: Tally | None = None, widest: bool = True) -> CollapseState | None:
-    """Turn a candidate mechanism into an exact collapse state and verify it.
-
-    Its active set is fixed (:func:`active_set`); one static LP takes the smallest
-    α with that set (N = 0 where open, T = −f N sign γ where slipping, |T| ≤ f N
-    elsewhere) and one kinematic LP (:func:`kinematic_lp`) a mechanism with the same
-    set.  The pair satisfies Eq. 9 by construction; :func:`verify` checks it.  When no
-    mechanism has exactly that set, the kinematic LP is asked for one within the widest set
-    the static field allows (:func:`force_active_set`); failing that, the candidate's own
-    mechanism is verified.  ``method``: HiGHS's simplex or interior point for the static LP (a
-    vertex), or Clarabel (:func:`fixed_set_static_interior`; then, when no
-    mechanism has exactly the set, a HiGHS simplex vertex gives the widest set).  With bounded
-    forces their columns' signs (:func:`bounded_active_set`) are part of the set, in both LPs.
-    ``widest=False``: the candidate's own set only (no vertex, no widest set).
-    """
-    tally = Tally() if tally is None else tally
-    work = float(model.live @ mechanism)
-    if not work > 0:
-        return None
-    mechanism = mechanism * (model.n_free / work)
-    tol = limits.tolerances
-    open_points, slip_sign = active_set(model, points, mechanism, dilatant=dilatant, tolerance=tol.active)
-    signs = bounded_active_set(model, points, mechanism, tol.active)
-    lp = _fixed_set_field(model, points, open_points, slip_sign, signs, method, limits, tally)
-    if lp.status != Termination.OPTIMAL:
-        return None
-    clean, pivots = kinematic_lp(model, points, open_points, slip_sign, max_pivots=limits.lp_pivots,
-                                 bounded_allowed=_allowed(signs))
-    tally.add(pivots)
-    if clean is None and not widest:
-        return _verified_pair(model, points, lp, clean, mechanism, start, dilatant, tol)
-    if clean is None and method == LPMethod.CLARABEL and not model.n_bounded:
-        # Clarabel's field lies inside the optimal face, where fewest points are unloaded or at
-        # the friction limit; the widest set is read from a simplex vertex instead.
-        vertex = _vertex(model, points, open_points, slip_sign, signs, limits, tally)
-        if vertex.status == Termination.OPTIMAL:
-            lp = vertex
-    if clean is None:
-        # No mechanism has exactly the candidate's set: take the widest set the static field
-        # allows (open and free slip where N = 0, slip where friction is at its limit, bounded
-        # rates of either sign where their force is at a bound).
-        may_open, may_slip, free = force_active_set(points, lp.normal, lp.shear, tol.force)
-        allowed = bf.force_signs(model, lp.bounded, tol.force * max(1.0, float(np.abs(lp.normal).max(initial=0.0))))
-        clean, pivots = kinematic_lp(model, points, may_open, may_slip, free_slip=free, max_pivots=limits.lp_pivots,
-                                     bounded_allowed=allowed)
-        tally.add(pivots)
-    return _verified_pair(model, points, lp, clean, mechanism, start, dilatant, tol)
-
-
-def _verified_pair(model: Model, points: ContactPoints, lp: StaticLP, clean: np.ndarray | None,
-                   mechanism: np.ndarray, start: str, dilatant: bool,
-                   tolerances: StateTolerances) -> CollapseState | None:
-    """The field with the kinematic LP's mechanism, else with the candidate's own (first verified)."""
-    best = None
-    for u in ((clean, mechanism) if clean is not None else (mechanism,)):
-        if dilatant and u is mechanism:
-            continue  # an associative mechanism opens where it slips: never a non-associative state
-        residuals, ok = verify(model, points, lp.alpha, lp.normal, lp.shear, u, lp.bounded, tolerances)
-        state = CollapseState(alpha=lp.alpha, normal=lp.normal, shear=lp.shear, mechanism=u, start=start,
-                              residuals=residuals, verified=ok, bounded=lp.bounded)
-        if best is None or (ok and not best.verified):
-            best = state
-        if ok:
-            break
-    return best
-
-
-def fast_exact_state(model: Model, points: ContactPoints, mechanism: np.ndarray, start: str, *,
-                     dilatant: bool = False, limits: ExactLimits = ExactLimits(),
-                     tally: Tally | None = None) -> CollapseState | None:
-    """:func:`exact_state` with Clarabel's static LP; HiGHS's vertex within ``limits.vertex_pivots``.
-
-    When a mechanism has exactly the candidate's set, it complements every optimal field, so the
-    interior point of :func:`fixed_set_static_interior` serves as well as a vertex and is far
-    cheaper on large panels.  A vertex is needed when the widest set of the field has to be read
-    (see :func:`exact_state`) or when the interior field's round-off fails the verification.
-    With bounded forces the static LP is HiGHS's interior point with crossover (a vertex) at once.
-    """
-    if model.n_bounded:
-        return exact_state(model, points, mechanism, start, dilatant=dilatant, method=LPMethod.IPM, limits=limits,
-                           tally=tally)
-    state = exact_state(model, points, mechanism, start, dilatant=dilatant, method=LPMethod.CLARABEL, limits=limits,
-                        tally=tally)
-    if state is not None and not state.verified:
-        vertex_limits = dataclasses.replace(limits, lp_pivots=min(limits.lp_pivots, limits.vertex_pivots))
-        state = exact_state(model, points, mechanism, start, dilatant=dilatant, method=LPMethod.IPM,
-                            limits=vertex_limits, tally=tally)
     return state

@@ -8,6 +8,7 @@ With bounded forces (cohesion, ties: :mod:`alma.nonassociative.bounded`) the sta
 their columns G and forces 0 ≤ τ ≤ capacity (within an active set's bounds), and the kinematic
 LP their rates' rows; a scene without them builds exactly the LPs it always did.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -47,12 +48,10 @@ def failed(status: Termination, count: int, pivots: int = 0, alpha: float = np.n
     return StaticLP(status, alpha, np.zeros(count), np.zeros(count), None, pivots)
 
 
-def with_bounded_columns(model: Model, A_eq: sp.csr_matrix, A_ub: sp.csr_matrix
-                         ) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+def with_bounded_columns(model: Model, A_eq: sp.csr_matrix, A_ub: sp.csr_matrix) -> tuple[sp.csr_matrix, sp.csr_matrix]:
     """The rows over x = (α, N, T) extended to x = (α, N, T, τ): G in equilibrium, τ nowhere else."""
     q = model.n_bounded
-    return (sp.hstack([A_eq, model.bounded]).tocsr(),
-            sp.hstack([A_ub, sp.csr_matrix((A_ub.shape[0], q))]).tocsr())
+    return (sp.hstack([A_eq, model.bounded]).tocsr(), sp.hstack([A_ub, sp.csr_matrix((A_ub.shape[0], q))]).tocsr())
 
 
 def _fixed_set_rows(points: ContactPoints, width: int, slip_sign: np.ndarray) -> sp.csr_matrix:
@@ -65,10 +64,19 @@ def _fixed_set_rows(points: ContactPoints, width: int, slip_sign: np.ndarray) ->
     return sp.csr_matrix((values, (rows, cols)), shape=(sliding.size, width))
 
 
-def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np.ndarray,
-              maximise: bool = True, open_points: np.ndarray | None = None,
-              slip_sign: np.ndarray | None = None, max_pivots: int = 200_000,
-              method: LPMethod = LP_METHOD, bounded_signs: np.ndarray | None = None) -> StaticLP:
+def static_lp(
+    model: Model,
+    points: ContactPoints,
+    *,
+    slope: np.ndarray,
+    cap: np.ndarray,
+    maximise: bool = True,
+    open_points: np.ndarray | None = None,
+    slip_sign: np.ndarray | None = None,
+    max_pivots: int = 200_000,
+    method: LPMethod = LP_METHOD,
+    bounded_signs: np.ndarray | None = None,
+) -> StaticLP:
     """The static problem on contact points (Eqs. 3 and 5), solved with HiGHS.
 
     Yield: |T_p| ≤ slope_p N_p + cap_p (Coulomb: slope = f, cap = 0; Gilbert: slope
@@ -87,10 +95,10 @@ def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np
         A_eq, A_ub = with_bounded_columns(model, A_eq, A_ub)
     bounds = np.zeros((1 + 2 * P + q, 2))
     bounds[0] = (-np.inf, np.inf)
-    bounds[1:1 + P] = (0, np.inf)
-    bounds[1 + P:1 + 2 * P] = (-np.inf, np.inf)
+    bounds[1 : 1 + P] = (0, np.inf)
+    bounds[1 + P : 1 + 2 * P] = (-np.inf, np.inf)
     if q:
-        bounds[1 + 2 * P:, 0], bounds[1 + 2 * P:, 1] = bf.force_bounds(model, bounded_signs)
+        bounds[1 + 2 * P :, 0], bounds[1 + 2 * P :, 1] = bf.force_bounds(model, bounded_signs)
     if open_points is not None and open_points.any():
         bounds[1 + np.flatnonzero(open_points), 1] = 0.0
     if slip_sign is not None and np.any(slip_sign != 0):
@@ -99,8 +107,16 @@ def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np
         b_eq = np.concatenate([b_eq, np.zeros(extra.shape[0])])
     c = np.zeros(1 + 2 * P + q)
     c[0] = -1.0 if maximise else 1.0
-    sol = solve_lp(c, A_ub=A_ub, b_ub=np.concatenate([cap, cap]), A_eq=A_eq, b_eq=b_eq, bounds=bounds,
-                   method=method, max_iterations=max_pivots)
+    sol = solve_lp(
+        c,
+        A_ub=A_ub,
+        b_ub=np.concatenate([cap, cap]),
+        A_eq=A_eq,
+        b_eq=b_eq,
+        bounds=bounds,
+        method=method,
+        max_iterations=max_pivots,
+    )
     pivots = sol.iterations
     if sol.termination is Termination.UNBOUNDED:
         return failed(Termination.UNBOUNDED, P, pivots, np.inf if maximise else -np.inf)
@@ -116,14 +132,27 @@ def static_lp(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np
             mechanism = y * (model.n_free / work)
     x = sol.x
     if q:
-        return StaticLP(Termination.OPTIMAL, float(x[0]), x[1:1 + P], x[1 + P:1 + 2 * P], mechanism, pivots,
-                        np.clip(x[1 + 2 * P:], bounds[1 + 2 * P:, 0], bounds[1 + 2 * P:, 1]))
-    return StaticLP(Termination.OPTIMAL, float(x[0]), x[1:1 + P], x[1 + P:], mechanism, pivots)
+        return StaticLP(
+            Termination.OPTIMAL,
+            float(x[0]),
+            x[1 : 1 + P],
+            x[1 + P : 1 + 2 * P],
+            mechanism,
+            pivots,
+            np.clip(x[1 + 2 * P :], bounds[1 + 2 * P :, 0], bounds[1 + 2 * P :, 1]),
+        )
+    return StaticLP(Termination.OPTIMAL, float(x[0]), x[1 : 1 + P], x[1 + P :], mechanism, pivots)
 
 
-def fixed_set_static_interior(model: Model, points: ContactPoints, open_points: np.ndarray,
-                              slip_sign: np.ndarray, *, max_iter: int = 200,
-                              tolerance: float = 1e-12) -> StaticLP:
+def fixed_set_static_interior(
+    model: Model,
+    points: ContactPoints,
+    open_points: np.ndarray,
+    slip_sign: np.ndarray,
+    *,
+    max_iter: int = 200,
+    tolerance: float = 1e-12,
+) -> StaticLP:
     """The smallest α with a fixed active set (as :func:`static_lp` there), by Clarabel.
 
     Written on the cone generators n ± f t of each point (Eq. 5): an open point keeps neither,
@@ -161,13 +190,20 @@ def fixed_set_static_interior(model: Model, points: ContactPoints, open_points: 
     return StaticLP(Termination.OPTIMAL, float(z[0]), plus + minus, points.friction * (plus - minus), None, used)
 
 
-def static_lp_clarabel(model: Model, points: ContactPoints, *, slope: np.ndarray, cap: np.ndarray,
-                       max_iter: int = 200, tolerance: float = 1e-9) -> StaticLP:
+def static_lp_clarabel(
+    model: Model,
+    points: ContactPoints,
+    *,
+    slope: np.ndarray,
+    cap: np.ndarray,
+    max_iter: int = 200,
+    tolerance: float = 1e-9,
+) -> StaticLP:
     """``static_lp`` (maximise α, no fixed active set) with Clarabel's interior point.
 
     Much faster than simplex on large scenes; its mechanism is the interior-point
     one (a blend on degenerate faces), so states built from it are always passed
-    through :func:`alma.nonassociative.states.exact_state` before they count.
+    through :func:`alma.nonassociative.exact_states.exact_state` before they count.
     """
     P, k = points.count, model.n_bounded
     n = model.dead.shape[0]
@@ -177,16 +213,22 @@ def static_lp_clarabel(model: Model, points: ContactPoints, *, slope: np.ndarray
     if k:  # 0 ≤ τ ≤ capacity
         A_eq, A_ub = with_bounded_columns(model, A_eq, A_ub)
         eye = sp.identity(k, format="csr")
-        rows = [A_eq, A_ub, sp.hstack([non_negative, sp.csr_matrix((P, k))]),
-                sp.hstack([sp.csr_matrix((k, 1 + 2 * P)), -eye]), sp.hstack([sp.csr_matrix((k, 1 + 2 * P)), eye])]
+        rows = [
+            A_eq,
+            A_ub,
+            sp.hstack([non_negative, sp.csr_matrix((P, k))]),
+            sp.hstack([sp.csr_matrix((k, 1 + 2 * P)), -eye]),
+            sp.hstack([sp.csr_matrix((k, 1 + 2 * P)), eye]),
+        ]
         rhs += [np.zeros(k), model.capacity]
     A = sp.vstack(rows).tocsc()
     b = np.concatenate(rhs)
     q = np.zeros(1 + 2 * P + k)
     q[0] = -1.0
     # Clarabel's own choice of factorisation here, and its default iterative refinement.
-    sol = solve_conic_lp(q, A, b, n, 3 * P + 2 * k, tolerance=tolerance, max_iter=max_iter, refine=True,
-                         direct=None, form="static")
+    sol = solve_conic_lp(
+        q, A, b, n, 3 * P + 2 * k, tolerance=tolerance, max_iter=max_iter, refine=True, direct=None, form="static"
+    )
     used = sol.iterations
     if sol.termination is Termination.UNBOUNDED:
         return failed(Termination.UNBOUNDED, P, used, np.inf)
@@ -199,14 +241,28 @@ def static_lp_clarabel(model: Model, points: ContactPoints, *, slope: np.ndarray
     work = model.live @ y
     mechanism = y * (model.n_free / work) if work > 0 else None
     if k:
-        return StaticLP(Termination.OPTIMAL, float(x[0]), np.maximum(x[1:1 + P], 0.0), x[1 + P:1 + 2 * P],
-                        mechanism, used, np.clip(x[1 + 2 * P:], 0.0, model.capacity))
-    return StaticLP(Termination.OPTIMAL, float(x[0]), np.maximum(x[1:1 + P], 0.0), x[1 + P:], mechanism, used)
+        return StaticLP(
+            Termination.OPTIMAL,
+            float(x[0]),
+            np.maximum(x[1 : 1 + P], 0.0),
+            x[1 + P : 1 + 2 * P],
+            mechanism,
+            used,
+            np.clip(x[1 + 2 * P :], 0.0, model.capacity),
+        )
+    return StaticLP(Termination.OPTIMAL, float(x[0]), np.maximum(x[1 : 1 + P], 0.0), x[1 + P :], mechanism, used)
 
 
-def kinematic_lp(model: Model, points: ContactPoints, open_points: np.ndarray, slip_sign: np.ndarray,
-                 *, max_pivots: int = 200_000, free_slip: np.ndarray | None = None,
-                 bounded_allowed: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray | None, int]:
+def kinematic_lp(
+    model: Model,
+    points: ContactPoints,
+    open_points: np.ndarray,
+    slip_sign: np.ndarray,
+    *,
+    max_pivots: int = 200_000,
+    free_slip: np.ndarray | None = None,
+    bounded_allowed: tuple[np.ndarray, np.ndarray] | None = None,
+) -> tuple[np.ndarray | None, int]:
     """A mechanism with a prescribed active set (Eq. 2), or None; and the simplex iterations spent.
 
     Closed points do not open (ξ = 0), open points do not interpenetrate (ξ ≥ 0),
@@ -222,19 +278,29 @@ def kinematic_lp(model: Model, points: ContactPoints, open_points: np.ndarray, s
     slipping = closed & (slip_sign != 0) & ~free
     normal_t = points.normal.T.tocsr()
     tangent_t = points.tangent.T.tocsr()
-    A_eq = sp.vstack([sp.csr_matrix(model.live[None, :]), normal_t[np.flatnonzero(closed)],
-                      tangent_t[np.flatnonzero(sticking)]]).tocsr()
+    A_eq = sp.vstack(
+        [sp.csr_matrix(model.live[None, :]), normal_t[np.flatnonzero(closed)], tangent_t[np.flatnonzero(sticking)]]
+    ).tocsr()
     b_eq = np.zeros(A_eq.shape[0])
     b_eq[0] = float(model.n_free)
-    A_ub = sp.vstack([-normal_t[np.flatnonzero(open_points)],
-                      -sp.diags(slip_sign[slipping]) @ tangent_t[np.flatnonzero(slipping)]]).tocsr()
+    A_ub = sp.vstack(
+        [-normal_t[np.flatnonzero(open_points)], -sp.diags(slip_sign[slipping]) @ tangent_t[np.flatnonzero(slipping)]]
+    ).tocsr()
     if model.n_bounded:
         # bounded_allowed is required when the model has bounded forces (docstring).
         equal, below = bf.kinematic_rows(model, *cast("tuple[np.ndarray, np.ndarray]", bounded_allowed))
         A_eq, A_ub = sp.vstack([A_eq, equal]).tocsr(), sp.vstack([A_ub, below]).tocsr()
         b_eq = np.concatenate([b_eq, np.zeros(equal.shape[0])])
     rows = A_ub.shape[0]
-    sol = solve_lp(np.zeros(model.dead.shape[0]), A_ub=A_ub if rows else None, b_ub=np.zeros(rows) if rows else None,
-                   A_eq=A_eq, b_eq=b_eq, bounds=(None, None), method=LP_METHOD, max_iterations=max_pivots,
-                   form="kinematic")
+    sol = solve_lp(
+        np.zeros(model.dead.shape[0]),
+        A_ub=A_ub if rows else None,
+        b_ub=np.zeros(rows) if rows else None,
+        A_eq=A_eq,
+        b_eq=b_eq,
+        bounds=(None, None),
+        method=LP_METHOD,
+        max_iterations=max_pivots,
+        form="kinematic",
+    )
     return (sol.x if sol.termination is Termination.OPTIMAL else None), sol.iterations

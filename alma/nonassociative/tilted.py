@@ -12,6 +12,7 @@ mechanism is made an exact state of the original problem instead (:func:`exact_s
 there).  Dimensionless, as
 :mod:`alma.mechanics.model`.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -23,9 +24,10 @@ import numpy as np
 from alma.associative.lp import solve_lp
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
+from alma.nonassociative.exact_states import exact_state
 from alma.nonassociative.gilbert import gilbert
 from alma.nonassociative.limits import Work
-from alma.nonassociative.states import CollapseState, Tally, exact_state, verify
+from alma.nonassociative.states import CollapseState, Tally, verify
 from alma.settings import StateTolerances
 from alma.status import Status
 
@@ -37,8 +39,14 @@ def turned(model: Model, degrees: float) -> Model:
     return dataclasses.replace(model, dead=c * model.dead + s * model.live, live=c * model.live - s * model.dead)
 
 
-def mapped_back(model: Model, points: ContactPoints, state: CollapseState, degrees: float,
-                name: str, tolerances: StateTolerances | None = None) -> CollapseState | None:
+def mapped_back(
+    model: Model,
+    points: ContactPoints,
+    state: CollapseState,
+    degrees: float,
+    name: str,
+    tolerances: StateTolerances | None = None,
+) -> CollapseState | None:
     """A state of the turned problem as a state of the original (see the module docstring),
     verified there; None when the turned α' is beyond the table's turn (c − s α' ≤ 0)."""
     t = math.radians(degrees)
@@ -49,10 +57,18 @@ def mapped_back(model: Model, points: ContactPoints, state: CollapseState, degre
     alpha = (s + c * state.alpha) / scale
     normal, shear = state.normal / scale, state.shear / scale
     mechanism = state.mechanism * (model.n_free / max(float(model.live @ state.mechanism), 1e-300))
-    residuals, ok = verify(model, points, alpha, normal, shear, mechanism,
-                           tolerances=tolerances if tolerances is not None else StateTolerances())
-    return CollapseState(alpha=alpha, normal=normal, shear=shear, mechanism=mechanism, start=name,
-                         residuals=residuals, verified=ok)
+    residuals, ok = verify(
+        model,
+        points,
+        alpha,
+        normal,
+        shear,
+        mechanism,
+        tolerances=tolerances if tolerances is not None else StateTolerances(),
+    )
+    return CollapseState(
+        alpha=alpha, normal=normal, shear=shear, mechanism=mechanism, start=name, residuals=residuals, verified=ok
+    )
 
 
 @dataclass(frozen=True)
@@ -79,12 +95,28 @@ class TiltStart:
         if lp.status != Status.OPTIMAL or not np.isfinite(lp.alpha):
             return None, 1
         normal = lp.multipliers.reshape(-1, 2).sum(axis=1)
-        state, solves = gilbert(model, ctx.points, self.scale * normal, start=self.name,
-                                relaxation=self.relaxation, slope_steps=self.slope_steps,
-                                ipm_above=self.ipm_above, work=self.work, cap=ctx.cap, tally=tally)
+        state, solves = gilbert(
+            model,
+            ctx.points,
+            self.scale * normal,
+            start=self.name,
+            relaxation=self.relaxation,
+            slope_steps=self.slope_steps,
+            ipm_above=self.ipm_above,
+            work=self.work,
+            cap=ctx.cap,
+            tally=tally,
+        )
         if state is None or not state.verified:
             return None, solves + 1
         if ctx.model.n_bounded:
-            return exact_state(ctx.model, ctx.points, state.mechanism, self.name, limits=self.work.exact_limits(tally),
-                               method=self.work.exact_method, tally=tally), solves + 1
+            return exact_state(
+                ctx.model,
+                ctx.points,
+                state.mechanism,
+                self.name,
+                limits=self.work.exact_limits(tally),
+                method=self.work.exact_method,
+                tally=tally,
+            ), solves + 1
         return mapped_back(ctx.model, ctx.points, state, self.degrees, self.name, self.work.tolerances), solves + 1

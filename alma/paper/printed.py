@@ -1,4 +1,5 @@
 """Comparing with printed values: a number agrees when it prints with the paper's digits."""
+
 from __future__ import annotations
 
 import math

@@ -22,6 +22,7 @@ Runs the 108-panel associative study (resumable: ``DIR/doe/results.csv``) and wr
 The published values live in ``paper_tables/data/`` of the repository, never in the alma
 package: :func:`make_paper` is given that folder (``published``).
 """
+
 from __future__ import annotations
 
 import sys
@@ -41,8 +42,13 @@ from alma.study.compare import run_compare
 from alma.study.doe import run_doe
 
 #: The files of the published tables that ``published`` must hold.
-PUBLISHED_FILES = ("table5_collapse_multipliers.csv", "table2_anova.csv", "table3_r2.csv",
-                   "figure_captions.csv", "figure_titles.csv")
+PUBLISHED_FILES = (
+    "table5_collapse_multipliers.csv",
+    "table2_anova.csv",
+    "table3_r2.csv",
+    "figure_captions.csv",
+    "figure_titles.csv",
+)
 FACTORS = ["panel_ratio", "block_ratio", "bond", "friction"]
 #: Figs. 11-15 show one crisp mechanism of each optimal face, its macro-blocks and its crack.
 CRISP = alma.Settings(associative=alma.AssociativeSettings(crisp_mechanism=True))
@@ -51,9 +57,15 @@ TABLE2_DECIMALS = {"adj_ss": 4, "adj_ms": 4, "f_value": 2, "p_value": 3}
 
 
 def _key(df: pd.DataFrame) -> pd.Series:
-    return (df["panel_ratio"].astype(str) + "|" + df["block_ratio"].astype(str) + "|"
-            + df["bond"].astype(str).str.lower() + "|"
-            + df["friction"].astype(float).map(lambda f: f"{f:.2f}"))
+    return (
+        df["panel_ratio"].astype(str)
+        + "|"
+        + df["block_ratio"].astype(str)
+        + "|"
+        + df["bond"].astype(str).str.lower()
+        + "|"
+        + df["friction"].astype(float).map(lambda f: f"{f:.2f}")
+    )
 
 
 # ------------------------------------------------------------------------------------------
@@ -72,17 +84,23 @@ def table5_comparison(ours: pd.DataFrame, published: pd.DataFrame) -> pd.DataFra
             raise RuntimeError(f"alma has no result for panel {k}")
         o = mine.loc[k]
         a = float(o["alpha_c"])
-        rows.append({
-            "panel_ratio": p["panel_ratio"], "block_ratio": p["block_ratio"], "bond": p["bond"],
-            "friction": float(p["friction"]),
-            "alpha_published": _printed(float(p["alpha_c"]), TABLE5_DECIMALS),
-            "alpha_alma": _printed(a, TABLE5_DECIMALS),
-            "alpha_alma_exact": repr(a),
-            "difference": a - float(p["alpha_c"]),
-            "match": _printed(a, TABLE5_DECIMALS) == _printed(float(p["alpha_c"]), TABLE5_DECIMALS),
-            "alpha_lower": float(o["alpha_lower"]), "alpha_upper": float(o["alpha_upper"]),
-            "status": o["status"], "mechanism_class": o["mechanism_class"],
-        })
+        rows.append(
+            {
+                "panel_ratio": p["panel_ratio"],
+                "block_ratio": p["block_ratio"],
+                "bond": p["bond"],
+                "friction": float(p["friction"]),
+                "alpha_published": _printed(float(p["alpha_c"]), TABLE5_DECIMALS),
+                "alpha_alma": _printed(a, TABLE5_DECIMALS),
+                "alpha_alma_exact": repr(a),
+                "difference": a - float(p["alpha_c"]),
+                "match": _printed(a, TABLE5_DECIMALS) == _printed(float(p["alpha_c"]), TABLE5_DECIMALS),
+                "alpha_lower": float(o["alpha_lower"]),
+                "alpha_upper": float(o["alpha_upper"]),
+                "status": o["status"],
+                "mechanism_class": o["mechanism_class"],
+            }
+        )
     return pd.DataFrame(rows)
 
 
@@ -91,8 +109,7 @@ def table5_comparison(ours: pd.DataFrame, published: pd.DataFrame) -> pd.DataFra
 # ------------------------------------------------------------------------------------------
 
 
-def table2_comparison(ours_anova: Any, exact_anova: Any, t5_anova: Any,
-                      published: pd.DataFrame) -> pd.DataFrame:
+def table2_comparison(ours_anova: Any, exact_anova: Any, t5_anova: Any, published: pd.DataFrame) -> pd.DataFrame:
     """Every printed cell of Table 2.
 
     ``alma``: ANOVA of alma's α rounded to the 4 decimals of Table 5 — the paper's input (its
@@ -104,18 +121,34 @@ def table2_comparison(ours_anova: Any, exact_anova: Any, t5_anova: Any,
     for _, p in published.iterrows():
         src = p["source"]
         mine, raw, theirs = ours_anova.row(src), exact_anova.row(src), t5_anova.row(src)
-        rows.append({"source": src, "column": "dof", "published": str(int(p["dof"])),
-                     "alma": str(mine.dof), "alma_exact": str(mine.dof), "alma_unrounded": str(raw.dof),
-                     "from_table5": str(theirs.dof), "match": int(p["dof"]) == mine.dof})
+        rows.append(
+            {
+                "source": src,
+                "column": "dof",
+                "published": str(int(p["dof"])),
+                "alma": str(mine.dof),
+                "alma_exact": str(mine.dof),
+                "alma_unrounded": str(raw.dof),
+                "from_table5": str(theirs.dof),
+                "match": int(p["dof"]) == mine.dof,
+            }
+        )
         for col, dec in TABLE2_DECIMALS.items():
             want = p[col]
             got = getattr(mine, col)
             want_s = "" if pd.isna(want) else _printed(float(want), dec)
-            rows.append({"source": src, "column": col, "published": want_s,
-                         "alma": _printed(got, dec), "alma_exact": "" if got is None else repr(float(got)),
-                         "alma_unrounded": _printed(getattr(raw, col), dec),
-                         "from_table5": _printed(getattr(theirs, col), dec),
-                         "match": want_s == _printed(got, dec)})
+            rows.append(
+                {
+                    "source": src,
+                    "column": col,
+                    "published": want_s,
+                    "alma": _printed(got, dec),
+                    "alma_exact": "" if got is None else repr(float(got)),
+                    "alma_unrounded": _printed(getattr(raw, col), dec),
+                    "from_table5": _printed(getattr(theirs, col), dec),
+                    "match": want_s == _printed(got, dec),
+                }
+            )
     return pd.DataFrame(rows)
 
 
@@ -125,11 +158,17 @@ def table3_r2(ours_anova: Any, exact_anova: Any, t5_anova: Any, published: dict[
     for name, attr in (("R2", "r2"), ("R2_adj", "r2_adj"), ("R2_pred", "r2_pred")):
         mine = 100.0 * getattr(ours_anova, attr)
         pub = published.get(name)
-        rows.append({"quantity": name, "published_percent": "" if pub is None else f"{pub:.2f}",
-                     "alma_percent": f"{mine:.2f}", "alma_exact": repr(mine),
-                     "alma_unrounded_percent": f"{100.0 * getattr(exact_anova, attr):.2f}",
-                     "from_table5_percent": f"{100.0 * getattr(t5_anova, attr):.2f}",
-                     "match": "" if pub is None else f"{mine:.2f}" == f"{pub:.2f}"})
+        rows.append(
+            {
+                "quantity": name,
+                "published_percent": "" if pub is None else f"{pub:.2f}",
+                "alma_percent": f"{mine:.2f}",
+                "alma_exact": repr(mine),
+                "alma_unrounded_percent": f"{100.0 * getattr(exact_anova, attr):.2f}",
+                "from_table5_percent": f"{100.0 * getattr(t5_anova, attr):.2f}",
+                "match": "" if pub is None else f"{mine:.2f}" == f"{pub:.2f}",
+            }
+        )
     return pd.DataFrame(rows)
 
 
@@ -138,8 +177,9 @@ def table3_r2(ours_anova: Any, exact_anova: Any, t5_anova: Any, published: dict[
 # ------------------------------------------------------------------------------------------
 
 
-def statistics_figures(ours: pd.DataFrame, ours_anova: Any, t5: pd.DataFrame, t5_anova: Any,
-                       folder: Path) -> list[Path]:
+def statistics_figures(
+    ours: pd.DataFrame, ours_anova: Any, t5: pd.DataFrame, t5_anova: Any, folder: Path
+) -> list[Path]:
     folder.mkdir(parents=True, exist_ok=True)
     written = []
     for tag, df, res in (("alma", ours, ours_anova), ("table5", t5, t5_anova)):
@@ -147,13 +187,17 @@ def statistics_figures(ours: pd.DataFrame, ours_anova: Any, t5: pd.DataFrame, t5
         written.append(F.interaction_plot_matrix(df, folder / f"fig06_interactions_{tag}.png"))
         written.append(F.pareto_chart(res, folder / f"fig07_pareto_{tag}.png"))
         written.append(F.residual_plots(df, res, folder / f"fig08_residuals_{tag}.png"))
-        written.extend(F.scale_factor_plots(df, folder / f"fig09_scale_H_over_b_{tag}.png",
-                                            folder / f"fig10_scale_B_over_b_{tag}.png"))
+        written.extend(
+            F.scale_factor_plots(
+                df, folder / f"fig09_scale_H_over_b_{tag}.png", folder / f"fig10_scale_B_over_b_{tag}.png"
+            )
+        )
     return [Path(p) for p in written]
 
 
-def mechanism_figures(captions: pd.DataFrame, t5cmp: pd.DataFrame, titles: dict[int, str],
-                      folder: Path) -> tuple[pd.DataFrame, str]:
+def mechanism_figures(
+    captions: pd.DataFrame, t5cmp: pd.DataFrame, titles: dict[int, str], folder: Path
+) -> tuple[pd.DataFrame, str]:
     """Solve the panels of Figs. 11-15 and plot them; rows for mechanisms.csv."""
     note = ""
     folder.mkdir(parents=True, exist_ok=True)
@@ -171,8 +215,10 @@ def mechanism_figures(captions: pd.DataFrame, t5cmp: pd.DataFrame, titles: dict[
         dec = None if pd.isna(c["decimals"]) else int(c["decimals"])
         printed_s = "" if pd.isna(printed) else f"{float(printed):.{dec}f}"
         # plot_mechanism adds "α = ... (model, mechanism class)" below this title.
-        title = (f"Fig. {fig}{sub}: {c['subcaption']} ({c['bond']}, panel {c['panel_ratio']}, "
-                 f"blocks {c['block_ratio']}, f = {friction:.2f})")
+        title = (
+            f"Fig. {fig}{sub}: {c['subcaption']} ({c['bond']}, panel {c['panel_ratio']}, "
+            f"blocks {c['block_ratio']}, f = {friction:.2f})"
+        )
         png = ""
         path = folder / f"fig{fig}{sub}.png"
         try:
@@ -180,18 +226,29 @@ def mechanism_figures(captions: pd.DataFrame, t5cmp: pd.DataFrame, titles: dict[
             png = str(path.relative_to(folder.parent))
         except Exception as exc:  # a plotting failure must not lose the comparison
             note = f"mechanism figure {fig}{sub} failed: {type(exc).__name__}: {exc}"
-        rows.append({
-            "figure": fig, "panel": sub, "bond": c["bond"], "panel_ratio": c["panel_ratio"],
-            "block_ratio": c["block_ratio"], "friction": friction,
-            "caption": titles.get(fig, ""), "subcaption": c["subcaption"],
-            "alpha_printed": printed_s, "printed_where": "" if pd.isna(c["printed_where"]) else c["printed_where"],
-            "alpha_table5": t5row["alpha_published"], "alpha_alma": f"{a:.4f}", "alpha_alma_exact": repr(a),
-            "match_printed": "" if not printed_s else f"{a:.{dec}f}" == printed_s,
-            "match_table5": f"{a:.4f}" == t5row["alpha_published"],
-            "mechanism_text": "" if pd.isna(c["mechanism_text"]) else c["mechanism_text"],
-            "mechanism_alma": result.mechanism_class,
-            "note": "" if pd.isna(c["note"]) else c["note"], "png": png,
-        })
+        rows.append(
+            {
+                "figure": fig,
+                "panel": sub,
+                "bond": c["bond"],
+                "panel_ratio": c["panel_ratio"],
+                "block_ratio": c["block_ratio"],
+                "friction": friction,
+                "caption": titles.get(fig, ""),
+                "subcaption": c["subcaption"],
+                "alpha_printed": printed_s,
+                "printed_where": "" if pd.isna(c["printed_where"]) else c["printed_where"],
+                "alpha_table5": t5row["alpha_published"],
+                "alpha_alma": f"{a:.4f}",
+                "alpha_alma_exact": repr(a),
+                "match_printed": "" if not printed_s else f"{a:.{dec}f}" == printed_s,
+                "match_table5": f"{a:.4f}" == t5row["alpha_published"],
+                "mechanism_text": "" if pd.isna(c["mechanism_text"]) else c["mechanism_text"],
+                "mechanism_alma": result.mechanism_class,
+                "note": "" if pd.isna(c["note"]) else c["note"],
+                "png": png,
+            }
+        )
     return pd.DataFrame(rows), note
 
 
@@ -226,14 +283,24 @@ def _tables(ours: pd.DataFrame, t5: pd.DataFrame, DATA: Path, out: Path) -> tupl
     r2.to_csv(out / "table3_r2.csv", index=False)
     (out / "table2_alma.txt").write_text(
         "ANOVA of alma's Table 5 as printed (4 decimals), the paper's input:\n\n"
-        + ours_anova.format_table() + "\n\nANOVA of alma's unrounded collapse multipliers:\n\n"
-        + exact_anova.format_table() + "\n", encoding="utf-8")
+        + ours_anova.format_table()
+        + "\n\nANOVA of alma's unrounded collapse multipliers:\n\n"
+        + exact_anova.format_table()
+        + "\n",
+        encoding="utf-8",
+    )
 
     return t5cmp, t2cmp, r2, ours_t5order, ours_anova, exact_anova, t5_anova
 
 
-def make_paper(out_dir: str | Path, published: str | Path, workers: int | None = None, progress: bool = True,
-               nonassociative: bool = False, effort: str | None = None) -> dict[str, Any]:
+def make_paper(
+    out_dir: str | Path,
+    published: str | Path,
+    workers: int | None = None,
+    progress: bool = True,
+    nonassociative: bool = False,
+    effort: str | None = None,
+) -> dict[str, Any]:
     """Run the study (resumable) and write every comparison into ``out_dir``; returns a summary.
 
     ``published`` is the folder of the published tables (``paper_tables/data`` of the
@@ -245,8 +312,9 @@ def make_paper(out_dir: str | Path, published: str | Path, workers: int | None =
     DATA = Path(published)
     missing = [name for name in PUBLISHED_FILES if not (DATA / name).is_file()]
     if missing:
-        raise ValueError(f"the published tables folder {DATA} lacks {', '.join(missing)} "
-                         "(paper_tables/data of alma's repository)")
+        raise ValueError(
+            f"the published tables folder {DATA} lacks {', '.join(missing)} (paper_tables/data of alma's repository)"
+        )
     start = time.perf_counter()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -268,22 +336,29 @@ def make_paper(out_dir: str | Path, published: str | Path, workers: int | None =
         print(mech_note, file=sys.stderr)
     compare_report = None
     if nonassociative:
-        compare_report = run_compare(out / "nonassociative", workers=workers, effort=effort,
-                                     results_dir=out / "doe", progress=progress)
+        compare_report = run_compare(
+            out / "nonassociative", workers=workers, effort=effort, results_dir=out / "doe", progress=progress
+        )
     elapsed = time.perf_counter() - start
     report = write_report(out, t5cmp, t2cmp, r2, mech, mech_note, figs, elapsed)
     if compare_report is not None:
         with open(report, "a", encoding="utf-8") as fh:
-            fh.write("\n## Beyond the paper: non-associative friction\n\n"
-                     f"The same 108 panels without dilatancy: [nonassociative/compare.md]"
-                     f"({compare_report.markdown.relative_to(out)}) (α_NL against α_LP, ANOVA of "
-                     "α_NL and of α_NL/α_LP, mechanisms side by side).\n")
+            fh.write(
+                "\n## Beyond the paper: non-associative friction\n\n"
+                f"The same 108 panels without dilatancy: [nonassociative/compare.md]"
+                f"({compare_report.markdown.relative_to(out)}) (α_NL against α_LP, ANOVA of "
+                "α_NL and of α_NL/α_LP, mechanisms side by side).\n"
+            )
     return {
         "compare_report": str(compare_report.markdown) if compare_report is not None else "",
         "compare_failed": compare_report.failed if compare_report is not None else 0,
         "report": str(report),
-        "table5_match": int(t5cmp["match"].sum()), "table5_rows": len(t5cmp),
-        "table2_match": int(t2cmp["match"].sum()), "table2_cells": len(t2cmp),
-        "r2": ours_anova.r2, "r2_pred": ours_anova.r2_pred,
-        "mechanism_figures": int((mech["png"] != "").sum()), "seconds": elapsed,
+        "table5_match": int(t5cmp["match"].sum()),
+        "table5_rows": len(t5cmp),
+        "table2_match": int(t2cmp["match"].sum()),
+        "table2_cells": len(t2cmp),
+        "r2": ours_anova.r2,
+        "r2_pred": ours_anova.r2_pred,
+        "mechanism_figures": int((mech["png"] != "").sum()),
+        "seconds": elapsed,
     }

@@ -12,6 +12,7 @@ length* is therefore the longest it has been along the curve (the drawn length a
 shorter than its rest length is slack and carries nothing until it is stretched back to it
 (docs/decisions.md, "Ties in the capacity curve").  Lengths in mm, angles in rad.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -22,8 +23,7 @@ from alma.geometry.loads import PointLoad, Tie
 from alma.geometry.scene import Scene
 
 
-def carry(points: np.ndarray, rows: np.ndarray, angle: np.ndarray, shift: np.ndarray,
-          origin: np.ndarray) -> np.ndarray:
+def carry(points: np.ndarray, rows: np.ndarray, angle: np.ndarray, shift: np.ndarray, origin: np.ndarray) -> np.ndarray:
     """``points`` (k, 2) drawn on the blocks ``rows`` (k,), moved by those blocks' rigid motions
     (``angle`` (n,) rad, ``shift`` (n, 2) mm of the centroids ``origin`` (n, 2) mm)."""
     c, s = np.cos(angle[rows]), np.sin(angle[rows])
@@ -60,8 +60,10 @@ def moved_ties(scene: Scene, angle: np.ndarray, shift: np.ndarray, origin: np.nd
         rows = np.array([index[getattr(t, f"{side}_block")] for t in scene.ties])
         points = np.array([getattr(t, f"{side}_point") for t in scene.ties], dtype=float)
         ends.append(carry(points, rows, angle, shift, origin).tolist())
-    return tuple(dataclasses.replace(t, from_point=(a[0], a[1]), to_point=(b[0], b[1]))
-                 for t, a, b in zip(scene.ties, *ends, strict=True))
+    return tuple(
+        dataclasses.replace(t, from_point=(a[0], a[1]), to_point=(b[0], b[1]))
+        for t, a, b in zip(scene.ties, *ends, strict=True)
+    )
 
 
 def tie_lengths(ties: tuple[Tie, ...]) -> np.ndarray:
@@ -88,6 +90,7 @@ def without_slack(scene: Scene, rest: np.ndarray, tolerance: float) -> tuple[Sce
     after = np.maximum(rest, length)
     if taut.all():
         return scene, after
-    kept = dataclasses.replace(scene, ties=tuple(t for t, k in zip(scene.ties, taut.tolist(), strict=True) if k),
-                               validated=scene.validated)
+    kept = dataclasses.replace(
+        scene, ties=tuple(t for t, k in zip(scene.ties, taut.tolist(), strict=True) if k), validated=scene.validated
+    )
     return kept, after

@@ -16,6 +16,7 @@ step that does not reduce the residual by ``PushSettings.corrector_contraction``
 contacts kept over-constrain the motion: a dilatant mechanism's sliding points) and ends the
 iteration at once.  Lengths in mm, angles in rad.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -26,9 +27,16 @@ from alma.push.motion import Bodies, Contacts, MotionError, _perp, _rotate
 from alma.settings import PushSettings
 
 
-def corrected(bodies: Bodies, contacts: Contacts, start: np.ndarray, control: tuple[int, np.ndarray] | None,
-              target: float, length: float, settings: PushSettings,
-              prescribed: np.ndarray | None = None) -> np.ndarray:
+def corrected(
+    bodies: Bodies,
+    contacts: Contacts,
+    start: np.ndarray,
+    control: tuple[int, np.ndarray] | None,
+    target: float,
+    length: float,
+    settings: PushSettings,
+    prescribed: np.ndarray | None = None,
+) -> np.ndarray:
     """Increments (g, 3) that close every hinge and sliding point of ``contacts`` and move the
     control point (``control``: its block and its current position, mm) horizontally by
     ``target`` mm, by Newton's method from ``start``.  ``prescribed`` (g,) bool: bodies whose
@@ -56,12 +64,15 @@ def corrected(bodies: Bodies, contacts: Contacts, start: np.ndarray, control: tu
         step = _least_squares(jacobian @ sp.diags(scale), residual, settings.dense_columns)
         z = z - (step * scale).reshape(-1, 3)
     else:
-        size = float(np.abs(_equations(bodies, contacts, z, control, target, prescribed, start, length)[0]).max(
-            initial=0.0))
+        size = float(
+            np.abs(_equations(bodies, contacts, z, control, target, prescribed, start, length)[0]).max(initial=0.0)
+        )
     if size <= tol * 1e3:
         return z
-    raise MotionError(f"the mechanism's contacts cannot stay closed over this step (residual {size:.3g} mm "
-                      "where Newton's method stalled)")
+    raise MotionError(
+        f"the mechanism's contacts cannot stay closed over this step (residual {size:.3g} mm "
+        "where Newton's method stalled)"
+    )
 
 
 def _least_squares(jacobian: sp.spmatrix, residual: np.ndarray, dense_columns: int) -> np.ndarray:
@@ -82,9 +93,16 @@ def _least_squares(jacobian: sp.spmatrix, residual: np.ndarray, dense_columns: i
     return x
 
 
-def _equations(bodies: Bodies, contacts: Contacts, z: np.ndarray, control: tuple[int, np.ndarray] | None,
-               target: float, prescribed: np.ndarray | None = None, start: np.ndarray | None = None,
-               length: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+def _equations(
+    bodies: Bodies,
+    contacts: Contacts,
+    z: np.ndarray,
+    control: tuple[int, np.ndarray] | None,
+    target: float,
+    prescribed: np.ndarray | None = None,
+    start: np.ndarray | None = None,
+    length: float = 1.0,
+) -> tuple[np.ndarray, np.ndarray]:
     """Residual and Jacobian (columns: angle, shift x, shift y of each body) of the corrector;
     a prescribed body's rows hold its increment at ``start``'s (the angle's times ``length``, mm)."""
     g_count = bodies.count
@@ -116,16 +134,23 @@ def _equations(bodies: Bodies, contacts: Contacts, z: np.ndarray, control: tuple
     if s.size:
         ga, xa, da = side(contacts.a[s], contacts.point[s])
         gb, xb, db = side(contacts.b[s], contacts.point[s])
-        na = np.where((ga >= 0)[:, None], _rotate(contacts.normal[s], z[np.where(ga >= 0, ga, 0), 0]),
-                      contacts.normal[s])
+        na = np.where(
+            (ga >= 0)[:, None], _rotate(contacts.normal[s], z[np.where(ga >= 0, ga, 0), 0]), contacts.normal[s]
+        )
         gap = xb - xa
         residual.append((gap * na).sum(axis=1))
         r = row + np.arange(s.size)
         ma, mb = ga >= 0, gb >= 0
         rows_r += [r[ma], r[ma], r[ma], r[mb], r[mb], r[mb]]
         cols += [3 * ga[ma], 3 * ga[ma] + 1, 3 * ga[ma] + 2, 3 * gb[mb], 3 * gb[mb] + 1, 3 * gb[mb] + 2]
-        vals += [(-(da * na).sum(axis=1) + (gap * _perp(na)).sum(axis=1))[ma], -na[ma, 0], -na[ma, 1],
-                 (db * na).sum(axis=1)[mb], na[mb, 0], na[mb, 1]]
+        vals += [
+            (-(da * na).sum(axis=1) + (gap * _perp(na)).sum(axis=1))[ma],
+            -na[ma, 0],
+            -na[ma, 1],
+            (db * na).sum(axis=1)[mb],
+            na[mb, 0],
+            na[mb, 1],
+        ]
         row += s.size
     if control is not None:
         block, where = control
@@ -137,13 +162,21 @@ def _equations(bodies: Bodies, contacts: Contacts, z: np.ndarray, control: tuple
         row += 1
     if prescribed is not None and start is not None and prescribed.any():
         row = _prescribed_rows(z, start, prescribed, length, row, (residual, rows_r, cols, vals))
-    jac = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows_r).astype(int),
-                                                np.concatenate(cols).astype(int))), shape=(row, 3 * g_count))
+    jac = sp.csr_matrix(
+        (np.concatenate(vals), (np.concatenate(rows_r).astype(int), np.concatenate(cols).astype(int))),
+        shape=(row, 3 * g_count),
+    )
     return np.concatenate(residual), jac
 
 
-def _prescribed_rows(z: np.ndarray, start: np.ndarray, prescribed: np.ndarray, length: float, row: int,
-                     out: tuple[list, list, list, list]) -> int:
+def _prescribed_rows(
+    z: np.ndarray,
+    start: np.ndarray,
+    prescribed: np.ndarray,
+    length: float,
+    row: int,
+    out: tuple[list, list, list, list],
+) -> int:
     """Append the rows z_g = start_g of the prescribed bodies (the angle's times ``length``, mm)
     to ``out`` (residual, rows, columns, values); returns the next row."""
     residual, rows_r, cols, vals = out

@@ -20,13 +20,12 @@ by a guard step ``d0_tolerance`` × L / 2 beyond it, until the bracket of d₀ i
 to L, so a drawing in other units, moved or with its blocks listed in another order takes the
 same steps.  The work is counted in LP solves, never in seconds.
 """
+
 from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable
-from dataclasses import dataclass, field
-from typing import Any, cast
+from typing import cast
 
 import numpy as np
 
@@ -37,8 +36,6 @@ from alma.mechanics.model import Model, build_model
 from alma.push.carried import tie_lengths, without_slack
 from alma.push.corrector import corrected
 from alma.push.motion import (
-    Bodies,
-    Contacts,
     MotionError,
     Pose,
     advance,
@@ -49,8 +46,9 @@ from alma.push.motion import (
     predictor,
     signature,
 )
+from alma.push.result import PushResult, _result, _Run, _State
 from alma.push.stop import lost_equilibrium
-from alma.results.types import Result, finite
+from alma.results.types import Result
 from alma.settings import PushSettings, Settings
 from alma.solve import solve
 from alma.status import Status
@@ -58,93 +56,15 @@ from alma.status import Status
 PUSH_MODELS = ("associative", "nonassociative")
 
 
-@dataclass(frozen=True)
-class PushPoint:
-    """One configuration of the curve: the control displacement ``d`` (mm), α there, whether the
-    mechanism differs from the previous point's, and the blocks' pose (not serialised)."""
-
-    d: float
-    alpha: float
-    mechanism_changed: bool
-    status: Status
-    mechanism_class: str
-    pose: Pose = field(repr=False, compare=False)
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"d": self.d, "alpha": finite(self.alpha), "mechanism_changed": self.mechanism_changed,
-                "status": str(self.status), "mechanism_class": self.mechanism_class}
-
-
-@dataclass(frozen=True)
-class PushResult:
-    """The capacity curve of SPEC §3 ``alma push``: α(d) from α_c to α = 0 at d₀ (mm)."""
-
-    status: Status
-    message: str
-    model: str
-    control: str | None
-    curve: tuple[PushPoint, ...]
-    d0: float
-    d0_bracket: tuple[float, float]
-    solves: int
-    #: The analysis at d = 0 (the collapse mechanism the seismic check reads its virtual
-    #: displacements from).
-    first: Result = field(repr=False, compare=False)
-    #: +1 when d grows with the control block's x, −1 when the mechanism moves it towards −x.
-    sense: float = 1.0
-    #: Why the curve ends: ``reason`` ("alpha_zero": α reached 0 at d₀; "no_equilibrium": a
-    #: configuration beyond the last point carries the dead load at no α, with the ``bracket`` of
-    #: that loss, α there and the blocks of the falling mode; "step_budget", "motion", "solver").
-    end: dict[str, Any] = field(default_factory=dict)
-
-    @property
-    def alpha_c(self) -> float:
-        return self.curve[0].alpha if self.curve else math.nan
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON object of SPEC §3 for ``alma push``."""
-        return {"status": str(self.status), "message": self.message, "model": self.model,
-                "control": self.control, "alpha_c": finite(self.alpha_c),
-                "curve": [p.to_dict() for p in self.curve], "d0": finite(self.d0),
-                "d0_bracket": [finite(x) for x in self.d0_bracket], "solves": self.solves, "end": self.end}
-
-
-@dataclass(frozen=True)
-class _State:
-    """A solved configuration and what the next step needs of it."""
-
-    d: float
-    pose: Pose
-    result: Result
-    bodies: Bodies
-    contacts: Contacts
-    signature: tuple
-    model: Model = field(repr=False, compare=False)
-    #: Each tie's rest length (mm): the longest it has been up to here (:mod:`alma.push.carried`).
-    rest: np.ndarray = field(repr=False, compare=False, default_factory=lambda: np.zeros(0))
-
-    @property
-    def alpha(self) -> float:
-        return float(self.result.alpha)
-
-
-@dataclass(frozen=True)
-class _Run:
-    """What does not change over the analysis."""
-
-    scene: Scene
-    model: str
-    settings: Settings | None
-    push: PushSettings
-    length: float  # L, mm
-    control: int
-    sense: float
-    #: The step to a configuration (default :func:`_move`; the settlement capacity's its own).
-    mover: Callable[[_Run, _State, float], _State] | None = None
-
-
-def push(scene: Scene, *, model: str = "associative", control: str | None = None, steps: int | None = None,
-         settings: Settings | None = None, push_settings: PushSettings | None = None) -> PushResult:
+def push(
+    scene: Scene,
+    *,
+    model: str = "associative",
+    control: str | None = None,
+    steps: int | None = None,
+    settings: Settings | None = None,
+    push_settings: PushSettings | None = None,
+) -> PushResult:
     """The capacity curve α(d) of ``scene`` by incremental large-displacement analysis.
 
     Parameters
@@ -182,12 +102,28 @@ def push(scene: Scene, *, model: str = "associative", control: str | None = None
     free = np.array([not b.fixed for b in scene.blocks])
     length = float(np.sqrt(np.abs(areas[free]).sum()))
     pose = Pose.rest(len(scene.blocks))
-    solved = _solve(scene, pose, find_joints(scene) if joints is None else joints, model, settings,
-                    tie_lengths(scene.ties), p.tie_slack * length)
+    solved = _solve(
+        scene,
+        pose,
+        find_joints(scene) if joints is None else joints,
+        model,
+        settings,
+        tie_lengths(scene.ties),
+        p.tie_slack * length,
+    )
     first = solved[0]
     if first.status not in (Status.OPTIMAL, Status.FEASIBLE):
-        return PushResult(first.status, f"no capacity curve: {first.message}", model, None,
-                          (), math.nan, (math.nan, math.nan), 1, first)
+        return PushResult(
+            first.status,
+            f"no capacity curve: {first.message}",
+            model,
+            None,
+            (),
+            math.nan,
+            (math.nan, math.nan),
+            1,
+            first,
+        )
     index, sense = _control(scene, first, control)
     run = _Run(scene, model, settings, p, length, index, sense)
     return _curve(run, _state(run, 0.0, pose, solved))
@@ -207,13 +143,15 @@ def _control(scene: Scene, result: Result, control: str | None) -> tuple[int, fl
     if control not in ux:
         raise ValueError(f"control block '{control}': a fixed block does not move")
     if not abs(ux[control]) > 1e-6 * top:
-        raise ValueError(f"control block '{control}': its centroid does not move horizontally in the "
-                         "collapse mechanism")
+        raise ValueError(
+            f"control block '{control}': its centroid does not move horizontally in the collapse mechanism"
+        )
     return ids.index(control), math.copysign(1.0, ux[control])
 
 
-def _solve(scene: Scene, pose: Pose, joints: Joints, model: str, settings: Settings | None, rest: np.ndarray,
-           slack: float) -> tuple[Result, Model, np.ndarray]:
+def _solve(
+    scene: Scene, pose: Pose, joints: Joints, model: str, settings: Settings | None, rest: np.ndarray, slack: float
+) -> tuple[Result, Model, np.ndarray]:
     """The limit analysis of ``scene`` at ``pose`` without the ties that are slack there (shorter
     than their ``rest`` lengths by more than ``slack`` mm), and the rest lengths after it."""
     current, after = without_slack(displaced(scene, pose), rest, slack)
@@ -226,8 +164,9 @@ def _state(run: _Run, d: float, pose: Pose, solved: tuple[Result, Model, np.ndar
     result, built, rest = solved
     current = built.scene
     bodies = bodies_of(current, result)
-    contacts = classify(built.joints, bodies, built.friction,
-                        np.isfinite(built.crushing) if built.crushing.size else None)
+    contacts = classify(
+        built.joints, bodies, built.friction, np.isfinite(built.crushing) if built.crushing.size else None
+    )
     return _State(d, pose, result, bodies, contacts, signature(current, result, contacts), built, rest)
 
 
@@ -239,8 +178,11 @@ def _curve(run: _Run, start: _State) -> PushResult:
     solves, bracket, failure, reason = 1, None, None, "step_budget"
     while bracket is None:
         if len(states) > budget:
-            failure = (Status.LIMIT_REACHED, f"α is still {state.alpha:.6g} > 0 after {len(states) - 1} steps "
-                       f"(d = {state.d:.6g} mm): the step budget ran out")
+            failure = (
+                Status.LIMIT_REACHED,
+                f"α is still {state.alpha:.6g} > 0 after {len(states) - 1} steps "
+                f"(d = {state.d:.6g} mm): the step budget ran out",
+            )
             break
         try:
             nxt = (run.mover or _move)(run, state, state.d + step)
@@ -261,17 +203,32 @@ def _curve(run: _Run, start: _State) -> PushResult:
             step = min(max(step, p.probe * run.length), p.max_step * run.length)
         state = nxt
     if bracket is None:  # the loop leaves without a bracket only by a break that sets failure
-        return _result(run, states, failure, (math.nan, math.nan), math.nan, solves,
-                       {"reason": reason, "text": cast("tuple[Status, str]", failure)[1]})
+        return _result(
+            run,
+            states,
+            failure,
+            (math.nan, math.nan),
+            math.nan,
+            solves,
+            {"reason": reason, "text": cast("tuple[Status, str]", failure)[1]},
+        )
     lo, hi, extra, failure = _refine(run, *bracket)
     states += extra
     if not math.isfinite(hi.alpha):
         end = lost_equilibrium((lo.d, hi.d), lo.alpha, lo.model, hi.model, lo.result.joints)
-        return _result(run, [s for s in states if s.d < hi.d], failure, (math.nan, math.nan), math.nan,
-                       solves + len(extra), end)
+        return _result(
+            run, [s for s in states if s.d < hi.d], failure, (math.nan, math.nan), math.nan, solves + len(extra), end
+        )
     root = _secant(lo, hi)
-    return _result(run, [s for s in states if s.d <= hi.d], failure, (lo.d, hi.d), root,
-                   solves + len(extra), {"reason": "alpha_zero", "d": root})
+    return _result(
+        run,
+        [s for s in states if s.d <= hi.d],
+        failure,
+        (lo.d, hi.d),
+        root,
+        solves + len(extra),
+        {"reason": "alpha_zero", "d": root},
+    )
 
 
 def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_State], tuple | None]:
@@ -280,8 +237,15 @@ def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_St
     extra: list[_State] = []
     while hi.d - lo.d > tol:
         if len(extra) >= run.push.refine_solves:
-            return lo, hi, extra, (Status.LIMIT_REACHED, f"d₀ bracketed in [{lo.d:.9g}, {hi.d:.9g}] mm after "
-                                   f"{len(extra)} refining solves")
+            return (
+                lo,
+                hi,
+                extra,
+                (
+                    Status.LIMIT_REACHED,
+                    f"d₀ bracketed in [{lo.d:.9g}, {hi.d:.9g}] mm after {len(extra)} refining solves",
+                ),
+            )
         secant = _secant(lo, hi)
         d = secant if math.isfinite(secant) else 0.5 * (lo.d + hi.d)
         d = min(max(d, lo.d + 0.25 * tol), hi.d - 0.25 * tol)
@@ -330,12 +294,12 @@ def _move(run: _Run, state: _State, d: float) -> _State:
     except MotionError:
         # sliding points kept closed over-constrain a dilatant mechanism of many bodies: let them
         # open as the associative flow rule does, and keep the hinges
-        z = corrected(bodies, dataclasses.replace(state.contacts, sliding=np.zeros_like(state.contacts.sliding)),
-                      *args)
+        z = corrected(bodies, dataclasses.replace(state.contacts, sliding=np.zeros_like(state.contacts.sliding)), *args)
     pose = advance(state.pose, scene0, bodies, z)
     joints = joints_after(displaced(scene0, pose), state.contacts, bodies, z)
-    return _state(run, d, pose, _solve(scene0, pose, joints, run.model, run.settings, state.rest,
-                                       run.push.tie_slack * run.length))
+    return _state(
+        run, d, pose, _solve(scene0, pose, joints, run.model, run.settings, state.rest, run.push.tie_slack * run.length)
+    )
 
 
 def _usable(state: _State) -> bool:
@@ -344,50 +308,3 @@ def _usable(state: _State) -> bool:
     if status == Status.NO_EQUILIBRIUM:
         return not math.isnan(state.alpha)  # −inf: no field carries the dead load at any α
     return status in (Status.OPTIMAL, Status.FEASIBLE) and math.isfinite(state.alpha)
-
-
-def _result(run: _Run, states: list[_State], failure: tuple | None, bracket: tuple[float, float],
-            d0: float, solves: int, end: dict[str, Any]) -> PushResult:
-    ordered = sorted(states, key=lambda s: s.d)
-    points = tuple(PushPoint(s.d, s.alpha, k > 0 and s.signature != ordered[k - 1].signature, s.result.status,
-                             s.result.mechanism_class, s.pose) for k, s in enumerate(ordered))
-    changes = sum(pt.mechanism_changed for pt in points)
-    control = run.scene.blocks[run.control].id
-    if end["reason"] == "no_equilibrium":
-        status, message = _status_lost(run, ordered, failure, end, changes)
-    elif failure is not None:
-        status, message = failure
-    else:
-        status, message = _status(run, ordered, bracket, d0, changes)
-    if failure is not None and math.isfinite(d0):
-        message = f"{message}; d0 = {d0:.6g} mm is known only to its bracket [{bracket[0]:.9g}, {bracket[1]:.9g}] mm"
-    return PushResult(status, message, run.model, control, points, d0, bracket, solves, ordered[0].result, run.sense,
-                      end)
-
-
-def _status_lost(run: _Run, states: list[_State], failure: tuple | None, end: dict[str, Any],
-                 changes: int) -> tuple[Status, str]:
-    """A curve that ends in a loss of equilibrium: d₀ is not defined, the stop is stated."""
-    text = f"{end['text']}; {len(states)} configurations, the mechanism changed {changes} time(s)"
-    if failure is not None:
-        return failure[0], f"{text}; the bracket of the loss is not closed ({failure[1]})"
-    if run.model == "nonassociative":
-        return Status.FEASIBLE, f"{text}; each α is a verified non-associative state"
-    every = all(s.result.status == Status.OPTIMAL for s in states)
-    return (Status.OPTIMAL, f"{text}; every α certified") if every else (Status.NOT_CONVERGED, text)
-
-
-def _status(run: _Run, states: list[_State], bracket: tuple[float, float], d0: float,
-            changes: int) -> tuple[Status, str]:
-    lo = next(s for s in states if s.d == bracket[0])
-    hi = next(s for s in states if s.d == bracket[1])
-    proven = lo.result.bounds.lower > 0 and hi.result.bounds.upper <= 0
-    every = all(s.result.status in (Status.OPTIMAL, Status.NO_EQUILIBRIUM) for s in states)
-    text = (f"d0 = {d0:.6g} mm (bracket width {bracket[1] - bracket[0]:.2g} mm) after {len(states)} "
-            f"configurations; the mechanism changed {changes} time(s)")
-    if run.model == "nonassociative":
-        return Status.FEASIBLE, f"{text}; each α is a verified non-associative state"
-    if proven and every:
-        return Status.OPTIMAL, f"{text}; every α certified"
-    return Status.NOT_CONVERGED, f"{text}; the sign of α at the bracket of d0 is not proven"
-

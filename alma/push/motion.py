@@ -21,6 +21,7 @@ corners meet).  A joint with a finite compressive strength turns about its *crus
 ending at the hinge, so that its capacity σ_c l t stays and the stress block forms at the hinge
 (docs/decisions.md).  Lengths in mm, angles in rad; everything is vectorised over blocks and joints.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -103,11 +104,17 @@ def displaced(scene: Scene, pose: Pose) -> Scene:
     geometry (:mod:`alma.push.carried`; whether it is slack is the curve's history, not the pose's).
     """
     origin = _centroids(scene)
-    blocks = tuple(dataclasses.replace(b, vertices=_apply(b.vertices, pose.angle[i], origin[i],
-                                                          origin[i] + pose.shift[i]))
-                   for i, b in enumerate(scene.blocks))
-    return dataclasses.replace(scene, blocks=blocks, loads=moved_loads(scene, pose.angle, pose.shift, origin),
-                               ties=moved_ties(scene, pose.angle, pose.shift, origin), validated=True)
+    blocks = tuple(
+        dataclasses.replace(b, vertices=_apply(b.vertices, pose.angle[i], origin[i], origin[i] + pose.shift[i]))
+        for i, b in enumerate(scene.blocks)
+    )
+    return dataclasses.replace(
+        scene,
+        blocks=blocks,
+        loads=moved_loads(scene, pose.angle, pose.shift, origin),
+        ties=moved_ties(scene, pose.angle, pose.shift, origin),
+        validated=True,
+    )
 
 
 def bodies_of(scene: Scene, result: Result) -> Bodies:
@@ -170,7 +177,8 @@ def signature(scene: Scene, result: Result, contacts: Contacts) -> tuple:
     ids = np.asarray(scene.block_ids, dtype=object)
     macros = frozenset((frozenset(m.blocks), m.motion) for m in result.macro_blocks)
     pairs = lambda keep: frozenset(  # noqa: E731
-        tuple(sorted(p)) for p in zip(ids[contacts.a[keep]].tolist(), ids[contacts.b[keep]].tolist(), strict=True))
+        tuple(sorted(p)) for p in zip(ids[contacts.a[keep]].tolist(), ids[contacts.b[keep]].tolist(), strict=True)
+    )
     return macros, pairs(contacts.hinge), pairs(contacts.sliding)
 
 
@@ -222,8 +230,11 @@ def joints_after(scene: Scene, contacts: Contacts, bodies: Bodies, z: np.ndarray
     # a corner that slid on a face is where the contact is (the midpoint would leave the face)
     corner_a = _at_vertex(scene, contacts.a[keep], pa[keep], snap)
     corner_b = _at_vertex(scene, contacts.b[keep], pb[keep], snap)
-    point = np.where((corner_b & ~corner_a)[:, None], pb[keep],
-                     np.where((corner_a & ~corner_b)[:, None], pa[keep], 0.5 * (pa + pb)[keep]))
+    point = np.where(
+        (corner_b & ~corner_a)[:, None],
+        pb[keep],
+        np.where((corner_a & ~corner_b)[:, None], pa[keep], 0.5 * (pa + pb)[keep]),
+    )
     normal = _hinge_normal(scene, bodies, z, contacts, keep, snap)
     a, b = contacts.a[keep], contacts.b[keep]
     # one joint per pair of closed points of one previous joint, else a point contact
@@ -235,15 +246,16 @@ def joints_after(scene: Scene, contacts: Contacts, bodies: Bodies, z: np.ndarray
     last = np.concatenate([pair + 1, np.flatnonzero(single)])
     end_point = point[last].copy()
     single_at = np.flatnonzero(single)
-    end_point[pair.size:] = _crushing_segment(contacts, keep[single_at], point[single_at], normal[single_at])
+    end_point[pair.size :] = _crushing_segment(contacts, keep[single_at], point[single_at], normal[single_at])
     block_a = np.concatenate([found.block_a, a[first]])
     block_b = np.concatenate([found.block_b, b[first]])
     start = np.concatenate([found.start, point[first]])
     end = np.concatenate([found.end, end_point])
     normals = np.concatenate([found.normal, normal[first]])
     order = np.lexsort((start[:, 1], start[:, 0], block_b, block_a))
-    return Joints(block_a=block_a[order], block_b=block_b[order], start=start[order], end=end[order],
-                  normal=normals[order])
+    return Joints(
+        block_a=block_a[order], block_b=block_b[order], start=start[order], end=end[order], normal=normals[order]
+    )
 
 
 def face_first(scene: Scene, contacts: Contacts) -> Contacts:
@@ -337,13 +349,15 @@ def _covered(found: Joints, a: np.ndarray, b: np.ndarray, points: np.ndarray, sn
     return out
 
 
-def _hinge_normal(scene: Scene, bodies: Bodies, z: np.ndarray, contacts: Contacts, keep: np.ndarray,
-                  snap: float) -> np.ndarray:
+def _hinge_normal(
+    scene: Scene, bodies: Bodies, z: np.ndarray, contacts: Contacts, keep: np.ndarray, snap: float
+) -> np.ndarray:
     """The normal of each kept point contact after the step: the face's of the block the other's
     corner bears on; the bisector of the two turned normals where two corners meet."""
     a, b, n = contacts.a[keep], contacts.b[keep], contacts.normal[keep]
-    angle = lambda blocks: np.where(bodies.of_block[blocks] >= 0,  # noqa: E731
-                                    z[np.maximum(bodies.of_block[blocks], 0), 0] if bodies.count else 0.0, 0.0)
+    angle = lambda blocks: np.where(  # noqa: E731
+        bodies.of_block[blocks] >= 0, z[np.maximum(bodies.of_block[blocks], 0), 0] if bodies.count else 0.0, 0.0
+    )
     na, nb = _rotate(n, angle(a)), _rotate(n, angle(b))
     corner_a = _at_vertex(scene, a, _moved(bodies, z, a, contacts.point[keep]), snap)
     corner_b = _at_vertex(scene, b, _moved(bodies, z, b, contacts.point[keep]), snap)

@@ -24,24 +24,23 @@ with the largest translation, ties by id): s |t| in mm; when no support translat
 rotation s |r| in rad (scale 1 rad).  Steps and accuracy are relative to L = √(free area) for
 a translation, so units, origin and block order do not change the steps taken.
 """
+
 from __future__ import annotations
 
 import dataclasses
 import functools
 import math
 from dataclasses import dataclass, field
-from typing import Any, cast
+from typing import Any
 
 import numpy as np
 
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
-from alma.geometry.loads import Settlement
 from alma.geometry.scene import Scene
 from alma.mechanics.model import build_model
 from alma.push.corrector import corrected
-from alma.push.curve import PushPoint, PushResult, _curve, _Run, _State
+from alma.push.curve import _curve
 from alma.push.motion import (
-    Bodies,
     MotionError,
     Pose,
     advance,
@@ -52,25 +51,13 @@ from alma.push.motion import (
     predictor,
     signature,
 )
-from alma.results.joints import MOTION_TOLERANCE
+from alma.push.result import PushPoint, PushResult, _Run, _State
+from alma.push.settlement_motion import _bodies, _cracked, _placed, _Supports, _supports, _touching
 from alma.results.types import Result, finite
 from alma.settings import PushSettings, Settings
-from alma.settle import SettleError, SettlementResult, settle
+from alma.settle import settle
 from alma.solve import solve
 from alma.status import Status
-
-
-@dataclass(frozen=True)
-class _Supports:
-    """The settling supports: scene index, translation t (mm), rotation r (rad), point c (mm)."""
-
-    index: np.ndarray  # (k,)
-    translation: np.ndarray  # (k, 2)
-    rotation: np.ndarray  # (k,)
-    about: np.ndarray  # (k, 2)
-    control: int  # scene index of the control support
-    measure: float  # |t| (mm) or |r| (rad) of the control support: abscissa per unit s
-    unit: str  # "mm" or "rad"
 
 
 @dataclass(frozen=True)
@@ -90,7 +77,7 @@ class SettlementCapacity:
 
     ``s_u`` is in ``unit`` (mm of the control support's translation, or rad of its rotation);
     ``factor_u`` = s_u / that measure (the multiple of the scene's settlement at capacity);
-    ``curve`` is push's :class:`~alma.push.curve.PushResult` whose abscissa ``d`` is the
+    ``curve`` is push's :class:`~alma.push.result.PushResult` whose abscissa ``d`` is the
     settlement (its ``control`` the control support).
     """
 
@@ -113,18 +100,40 @@ class SettlementCapacity:
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON object of ``alma settle --capacity``."""
-        points = [{"s": p.d, "factor": p.d / self.measure, "alpha": finite(p.alpha),
-                   "mechanism_changed": p.mechanism_changed, "status": str(p.status),
-                   "cracked": [list(j) for j in c]} for p, c in zip(self.curve.curve, self.cracks, strict=True)]
-        return {"status": str(self.status), "message": self.message, "support": self.support, "unit": self.unit,
-                "s_u": finite(self.s_u), "s_u_bracket": [finite(x) for x in self.bracket],
-                "factor_u": finite(self.factor_u), "alpha_0": finite(self.curve.alpha_c),
-                "cracked_u": [list(j) for j in self.cracked_u], "curve": points,
-                "solves": self.curve.solves, "end": self.curve.end}
+        points = [
+            {
+                "s": p.d,
+                "factor": p.d / self.measure,
+                "alpha": finite(p.alpha),
+                "mechanism_changed": p.mechanism_changed,
+                "status": str(p.status),
+                "cracked": [list(j) for j in c],
+            }
+            for p, c in zip(self.curve.curve, self.cracks, strict=True)
+        ]
+        return {
+            "status": str(self.status),
+            "message": self.message,
+            "support": self.support,
+            "unit": self.unit,
+            "s_u": finite(self.s_u),
+            "s_u_bracket": [finite(x) for x in self.bracket],
+            "factor_u": finite(self.factor_u),
+            "alpha_0": finite(self.curve.alpha_c),
+            "cracked_u": [list(j) for j in self.cracked_u],
+            "curve": points,
+            "solves": self.curve.solves,
+            "end": self.curve.end,
+        }
 
 
-def settlement_capacity(scene: Scene, *, steps: int | None = None, settings: Settings | None = None,
-                        push_settings: PushSettings | None = None) -> SettlementCapacity:
+def settlement_capacity(
+    scene: Scene,
+    *,
+    steps: int | None = None,
+    settings: Settings | None = None,
+    push_settings: PushSettings | None = None,
+) -> SettlementCapacity:
     """The settlement at which ``scene`` can no longer carry its dead load (module docstring).
 
     Parameters
@@ -158,8 +167,7 @@ def settlement_capacity(scene: Scene, *, steps: int | None = None, settings: Set
     free = np.array([not b.fixed for b in scene.blocks])
     ctx = _Context(supports, float(np.sqrt(np.abs(areas[free]).sum())), settings)
     scale = ctx.length if supports.unit == "mm" else 1.0
-    run = _Run(scene, "associative", settings, p, scale, supports.control, 1.0,
-               mover=functools.partial(_move, ctx))
+    run = _Run(scene, "associative", settings, p, scale, supports.control, 1.0, mover=functools.partial(_move, ctx))
     support = scene.blocks[supports.control].id
     try:
         start = _configuration(ctx, run, 0.0, Pose.rest(len(scene.blocks)), find_joints(scene))
@@ -168,8 +176,13 @@ def settlement_capacity(scene: Scene, *, steps: int | None = None, settings: Set
         return _failed(drawn, Status.NOT_CONVERGED, supports, support, f"before any settlement: {exc}")
     if not (start.result.status == Status.OPTIMAL and start.alpha > 0):
         status = Status.NO_EQUILIBRIUM if start.result.status == Status.OPTIMAL else start.result.status
-        return _failed(start.result, status, supports, support, f"before any settlement: {start.result.message} "
-                       f"(α = {start.alpha:.6g})")
+        return _failed(
+            start.result,
+            status,
+            supports,
+            support,
+            f"before any settlement: {start.result.message} (α = {start.alpha:.6g})",
+        )
     # Any settlement cracks the intact structure (a spreading arch takes its hinges at once): α
     # may drop at s = 0⁺, so push's steps start from the first cracked configuration, whose
     # slope, not the jump, sets their length.
@@ -191,10 +204,12 @@ def settlement_capacity(scene: Scene, *, steps: int | None = None, settings: Set
 def _failed(result: Result, status: Status, supports: _Supports, support: str, message: str) -> SettlementCapacity:
     """No curve: the structure does not stand at s = 0, or its first step failed (``result``: the
     analysis of the scene as drawn)."""
-    empty = PushResult(result.status, result.message, "associative", support, (), math.nan, (math.nan, math.nan), 1,
-                       result)
-    return SettlementCapacity(status, message, support, supports.unit, math.nan, (math.nan, math.nan), math.nan,
-                              empty, (), supports.measure)
+    empty = PushResult(
+        result.status, result.message, "associative", support, (), math.nan, (math.nan, math.nan), 1, result
+    )
+    return SettlementCapacity(
+        status, message, support, supports.unit, math.nan, (math.nan, math.nan), math.nan, empty, (), supports.measure
+    )
 
 
 def _capacity(ctx: _Context, curve: PushResult, support: str) -> SettlementCapacity:
@@ -207,57 +222,26 @@ def _capacity(ctx: _Context, curve: PushResult, support: str) -> SettlementCapac
         bracket = curve.d0_bracket
     s_u = curve.d0 if math.isfinite(curve.d0) else 0.5 * (bracket[0] + bracket[1])
     cracks = tuple(ctx.cracks.get(p.d, ()) for p in curve.curve)
-    message = curve.message.replace("d0 = ", "s_u = ").replace(" mm", f" {unit}") if unit == "rad" else \
-        curve.message.replace("d0 = ", "s_u = ")
+    message = (
+        curve.message.replace("d0 = ", "s_u = ").replace(" mm", f" {unit}")
+        if unit == "rad"
+        else curve.message.replace("d0 = ", "s_u = ")
+    )
     if curve.status == Status.LIMIT_REACHED or not math.isfinite(s_u):
         message = f"the structure still carries its dead load at the last settlement tried: {message}"
-    result = SettlementCapacity(curve.status, message, support, unit, s_u, bracket, s_u / ctx.supports.measure,
-                                curve, cracks, ctx.supports.measure)
+    result = SettlementCapacity(
+        curve.status,
+        message,
+        support,
+        unit,
+        s_u,
+        bracket,
+        s_u / ctx.supports.measure,
+        curve,
+        cracks,
+        ctx.supports.measure,
+    )
     return result
-
-
-def _supports(scene: Scene) -> _Supports:
-    """The settling supports and the control one (largest translation, then rotation; ties by id)."""
-    rows = [(i, b.id, b.settlement) for i, b in enumerate(scene.blocks) if b.settlement is not None]
-    if not rows:
-        raise SettleError("no support of the scene has a 'settlement' (a fixed block's prescribed motion, "
-                          "SPEC §2): there is no settlement to grow")
-    index = np.array([i for i, _, _ in rows])
-    t = np.array([m.translation for _, _, m in rows], dtype=np.float64).reshape(-1, 2)
-    r = np.array([m.rotation for _, _, m in rows], dtype=np.float64)
-    c = np.array([m.about for _, _, m in rows], dtype=np.float64).reshape(-1, 2)
-    size = np.hypot(t[:, 0], t[:, 1])
-    ids = [k for _, k, _ in rows]
-    unit, magnitude = ("mm", size) if size.max() > 0 else ("rad", np.abs(r))
-    if not magnitude.max() > 0:
-        raise SettleError("every 'settlement' of the scene is zero: there is no settlement to grow")
-    best = min(range(len(rows)), key=lambda k: (-magnitude[k], ids[k]))
-    return _Supports(index, t, r, c, int(index[best]), float(magnitude[best]), unit)
-
-
-def _placed(scene0: Scene, pose: Pose, supports: _Supports, s: float) -> Scene:
-    """The scene displaced by ``pose``, each settling support's ``about`` carried to c + s t (its
-    settlement there is the rate of the motion at s)."""
-    here = displaced(scene0, pose)
-    blocks = list(here.blocks)
-    for k, i in enumerate(supports.index):  # the few settling supports, not the blocks' loop
-        about = supports.about[k] + s * supports.translation[k]
-        moved = dataclasses.replace(cast(Settlement, blocks[i].settlement), about=(float(about[0]), float(about[1])))
-        blocks[i] = dataclasses.replace(blocks[i], settlement=moved)
-    return dataclasses.replace(here, blocks=tuple(blocks), validated=True)  # a rigid motion of a validated geometry
-
-
-def _touching(scene: Scene, joints: Joints) -> Scene:
-    """``scene`` keeping the joint overrides of the pairs that still touch: a block that moved
-    off its neighbour has no joint there for the override to name (not a mistake of the scene)."""
-    if not scene.joint_overrides:
-        return scene
-    ids = scene.block_ids
-    pairs = {frozenset((ids[a], ids[b])) for a, b in zip(joints.block_a.tolist(), joints.block_b.tolist(), strict=True)}
-    kept = tuple(o for o in scene.joint_overrides if frozenset(o.blocks) in pairs)
-    if len(kept) == len(scene.joint_overrides):
-        return scene
-    return dataclasses.replace(scene, joint_overrides=kept, validated=True)  # fewer overrides of a validated scene
 
 
 def _configuration(ctx: _Context, run: _Run, s: float, pose: Pose, joints: Joints) -> _State:
@@ -273,60 +257,24 @@ def _configuration(ctx: _Context, run: _Run, s: float, pose: Pose, joints: Joint
         # The settlement LP's dual is the dead load's own equilibrium (α = 0): it has none here,
         # although a field carries α_c > 0 of live load (the structure leans on the live load):
         # the dead load is lost, which is the capacity's question.
-        result = dataclasses.replace(result, status=Status.NO_EQUILIBRIUM, alpha=-math.inf,
-                                     message=f"the dead load alone has no equilibrium ({crack.message}); "
-                                             f"α_c = {result.alpha:.6g} needs the live load's help")
+        result = dataclasses.replace(
+            result,
+            status=Status.NO_EQUILIBRIUM,
+            alpha=-math.inf,
+            message=f"the dead load alone has no equilibrium ({crack.message}); "
+            f"α_c = {result.alpha:.6g} needs the live load's help",
+        )
     if crack.status == Status.OPTIMAL:
         bodies = _bodies(here, crack, sup, s, ctx.length)
     elif not (math.isfinite(result.alpha) and result.alpha > 0):
         bodies = _bodies(here, None, sup, s, ctx.length)  # the curve ends here: no step leaves it
     else:
-        raise MotionError(f"the settlement mechanism at s = {d:.6g} {sup.unit} is not certified "
-                          f"({crack.status}: {crack.message})")
+        raise MotionError(
+            f"the settlement mechanism at s = {d:.6g} {sup.unit} is not certified ({crack.status}: {crack.message})"
+        )
     contacts = classify(built.joints, bodies, built.friction)
     ctx.cracks[d] = _cracked(here, built.joints, bodies, ctx.length)
     return _State(d, pose, result, bodies, contacts, signature(here, result, contacts), built)
-
-
-def _bodies(scene: Scene, crack: SettlementResult | None, sup: _Supports, s: float, length: float) -> Bodies:
-    """The moving free blocks of the settlement mechanism (each its own body, velocity at its
-    centroid per unit s) and the settling supports (velocity t at c + s t, rotation rate r)."""
-    n = len(scene.blocks)
-    u = np.zeros((n, 3))
-    if crack is not None and crack.blocks:
-        index = {b.id: i for i, b in enumerate(scene.blocks)}
-        u[[index[b.id] for b in crack.blocks]] = np.array([b.u for b in crack.blocks], dtype=float)
-    own = float((np.hypot(*sup.translation.T) + np.abs(sup.rotation) * length).max())
-    # a free block moves as the joints' states read motion: above this fraction of the largest
-    moving = np.hypot(u[:, 0], u[:, 1]) + np.abs(u[:, 2]) * length > MOTION_TOLERANCE * own
-    moving[sup.index] = False
-    free = np.flatnonzero(moving)
-    of_block = np.full(n, -1)
-    of_block[free] = np.arange(free.size)
-    of_block[sup.index] = free.size + np.arange(sup.index.size)
-    centroid = block_areas_and_centroids(scene)[1]
-    centre = np.vstack([centroid[free], sup.about + s * sup.translation])
-    omega = np.concatenate([u[free, 2], sup.rotation])
-    velocity = np.vstack([u[free, :2], sup.translation])
-    return Bodies(of_block, centre, omega, velocity)
-
-
-def _cracked(scene: Scene, joints: Joints, bodies: Bodies, length: float) -> tuple[tuple[str, str], ...]:
-    """The crack pattern: the joints whose two sides move apart in the settlement mechanism (a
-    relative velocity at either end: hinging, opening or sliding), as sorted id pairs."""
-    if bodies.count == 0 or joints.count == 0:
-        return ()
-    ends = np.concatenate([joints.start, joints.end])
-    a, b = np.tile(joints.block_a, 2), np.tile(joints.block_b, 2)
-    rel = np.hypot(*(bodies.velocity_at(b, ends) - bodies.velocity_at(a, ends)).T)
-    scale = max(float(np.abs(bodies.velocity).max(initial=0.0)), 1e-300)
-    moving = (rel > MOTION_TOLERANCE * scale).reshape(2, -1).any(axis=0)
-    # a hinge's two sides meet at the point and turn at different rates
-    omega = np.where(bodies.of_block >= 0, bodies.omega[np.maximum(bodies.of_block, 0)], 0.0)
-    moving |= np.abs(omega[joints.block_b] - omega[joints.block_a]) * length > MOTION_TOLERANCE * scale
-    ids = scene.block_ids
-    return tuple(sorted({tuple(sorted((ids[i], ids[j]))) for i, j in
-                         zip(joints.block_a[moving].tolist(), joints.block_b[moving].tolist(), strict=True)}))
 
 
 def _move(ctx: _Context, run: _Run, state: _State, d: float) -> _State:
@@ -343,13 +291,16 @@ def _move(ctx: _Context, run: _Run, state: _State, d: float) -> _State:
     args = (z0, None, 0.0, ctx.length, run.push, prescribed)
     contacts = face_first(displaced(run.scene, state.pose), state.contacts)
     on_support = np.isin(contacts.a, sup.index) | np.isin(contacts.b, sup.index)
-    tries = (contacts,
-             # as push does: sliding points kept closed may over-constrain a dilatant mechanism
-             dataclasses.replace(contacts, sliding=np.zeros_like(contacts.sliding)),
-             # a block hinged to a fixed support and resting on a settling one by a corner (a lintel
-             # over a sinking pier) slides on it at second order: its corner stays on the face only
-             dataclasses.replace(contacts, hinge=contacts.hinge & ~on_support,
-                                 sliding=contacts.sliding | (contacts.hinge & on_support)))
+    tries = (
+        contacts,
+        # as push does: sliding points kept closed may over-constrain a dilatant mechanism
+        dataclasses.replace(contacts, sliding=np.zeros_like(contacts.sliding)),
+        # a block hinged to a fixed support and resting on a settling one by a corner (a lintel
+        # over a sinking pier) slides on it at second order: its corner stays on the face only
+        dataclasses.replace(
+            contacts, hinge=contacts.hinge & ~on_support, sliding=contacts.sliding | (contacts.hinge & on_support)
+        ),
+    )
     for k, kept in enumerate(tries):
         try:
             z = corrected(bodies, kept, *args)

@@ -17,6 +17,7 @@ its former contact points), the text says so: the end may then depend on the con
 (on the paper's panels, putting those contacts back leaves another falling mode: docs/seismic.md).
 Dimensionless as :mod:`alma.mechanics.model`; the blocks are named by their scene ids.
 """
+
 from __future__ import annotations
 
 from collections.abc import Iterable
@@ -73,9 +74,11 @@ def falling_mode(model: Model) -> FallingMode | None:
 
 def lost_joints(before: Model, after: Model, blocks: tuple[str, ...]) -> list[tuple[str, str]]:
     """Block pairs in contact in ``before`` and not in ``after`` with one of ``blocks`` among them."""
+
     def pairs(m: Model) -> set[tuple[str, str]]:
         ids = m.scene.block_ids
         return {tuple(sorted((ids[a], ids[b]))) for a, b in zip(m.joints.block_a, m.joints.block_b, strict=True)}
+
     named = set(blocks)
     return sorted(p for p in pairs(before) - pairs(after) if named & set(p))
 
@@ -115,11 +118,19 @@ def crushed_lost(joints: Iterable[JointResult], lost: list[tuple[str, str]]) -> 
     return [p for p in lost if p in crushing]
 
 
-def describe(d: tuple[float, float], alpha: float, mode: FallingMode | None, lost: list[tuple[str, str]],
-             closed: list[tuple[str, str]] | None = None, crushed: list[tuple[str, str]] | None = None) -> str:
+def describe(
+    d: tuple[float, float],
+    alpha: float,
+    mode: FallingMode | None,
+    lost: list[tuple[str, str]],
+    closed: list[tuple[str, str]] | None = None,
+    crushed: list[tuple[str, str]] | None = None,
+) -> str:
     """The stop in words."""
-    text = (f"the curve ends at d in [{d[0]:.6g}, {d[1]:.6g}] mm with α = {alpha:.4g} > 0: beyond it the "
-            "displaced structure carries its dead load at no multiplier (a loss of equilibrium, not a zero of α)")
+    text = (
+        f"the curve ends at d in [{d[0]:.6g}, {d[1]:.6g}] mm with α = {alpha:.4g} > 0: beyond it the "
+        "displaced structure carries its dead load at no multiplier (a loss of equilibrium, not a zero of α)"
+    )
     if mode is None:
         return text
     more = len(mode.blocks) - NAMED
@@ -128,16 +139,22 @@ def describe(d: tuple[float, float], alpha: float, mode: FallingMode | None, los
     if lost:
         text += "; the last step opened the joints " + ", ".join(f"{a}–{b}" for a, b in lost[:NAMED])
     if closed:
-        text += (" and the falling mode moves back into " + ", ".join(f"{a}–{b}" for a, b in closed[:NAMED]) +
-                 " (contacts dropped at the contact tolerance: the end may depend on it)")
+        text += (
+            " and the falling mode moves back into "
+            + ", ".join(f"{a}–{b}" for a, b in closed[:NAMED])
+            + " (contacts dropped at the contact tolerance: the end may depend on it)"
+        )
     if crushed:
-        text += ("; " + ", ".join(f"{a}–{b}" for a, b in crushed[:NAMED]) + " crushed over its whole length "
-                 "(N = σ_c l t) and sank into its support, which the rigid geometry does not follow")
+        text += (
+            "; " + ", ".join(f"{a}–{b}" for a, b in crushed[:NAMED]) + " crushed over its whole length "
+            "(N = σ_c l t) and sank into its support, which the rigid geometry does not follow"
+        )
     return text
 
 
-def lost_equilibrium(bracket: tuple[float, float], alpha: float, before: Model, after: Model,
-                     joints: Iterable[JointResult]) -> dict[str, Any]:
+def lost_equilibrium(
+    bracket: tuple[float, float], alpha: float, before: Model, after: Model, joints: Iterable[JointResult]
+) -> dict[str, Any]:
     """The ``end`` of a curve whose configuration at ``bracket[1]`` (mm) has no equilibrium:
     the falling mode of ``after``, the joints of ``before`` (whose results are ``joints``, α =
     ``alpha`` at ``bracket[0]``) it lost, those the mode closes, and the text."""
@@ -145,8 +162,13 @@ def lost_equilibrium(bracket: tuple[float, float], alpha: float, before: Model, 
     lost = lost_joints(before, after, mode.blocks) if mode is not None else []
     closed = closing(before, after, mode, lost) if mode is not None else []
     crushed = crushed_lost(joints, lost)
-    return {"reason": "no_equilibrium", "bracket": list(bracket), "alpha": alpha,
-            "falling_blocks": list(mode.blocks) if mode is not None else None,
-            "lost_joints": [list(p) for p in lost], "closes_lost_joints": [list(p) for p in closed],
-            "crushed_lost_joints": [list(p) for p in crushed],
-            "text": describe(bracket, alpha, mode, lost, closed, crushed)}
+    return {
+        "reason": "no_equilibrium",
+        "bracket": list(bracket),
+        "alpha": alpha,
+        "falling_blocks": list(mode.blocks) if mode is not None else None,
+        "lost_joints": [list(p) for p in lost],
+        "closes_lost_joints": [list(p) for p in closed],
+        "crushed_lost_joints": [list(p) for p in crushed],
+        "text": describe(bracket, alpha, mode, lost, closed, crushed),
+    }

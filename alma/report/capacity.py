@@ -1,5 +1,6 @@
 """Pictures of capacity curves: α(d) of ``alma.push``, a*(d*) of ``alma.seismic`` with the
 demand, and the structure at chosen steps of the curve (its displaced geometry, drawn to scale)."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -29,9 +30,16 @@ def linear_line(check: SeismicResult) -> float:
     return float(value) if isinstance(value, (int, float)) else float("nan")
 
 
-def plot_capacity(scene: Scene, result: PushResult, path: str | Path, *, check: SeismicResult | None = None,
-                  title: str | None = None, snapshots: int = 3, abscissa: tuple[str, str, str] | None = None
-                  ) -> Path:
+def plot_capacity(
+    scene: Scene,
+    result: PushResult,
+    path: str | Path,
+    *,
+    check: SeismicResult | None = None,
+    title: str | None = None,
+    snapshots: int = 3,
+    abscissa: tuple[str, str, str] | None = None,
+) -> Path:
     """Save a PNG: α(d) (mm), the configurations at ``snapshots`` steps from d = 0 to d₀, and with
     ``check`` the curve a*(d*) (m, m/s²) with a₀*, d_u*, the demand displacement and the linear
     demand.  ``abscissa``: (axis label, name of the root, unit) of another abscissa than the
@@ -55,8 +63,9 @@ def plot_capacity(scene: Scene, result: PushResult, path: str | Path, *, check: 
         ax.plot(d[changed], alpha[changed], "o", mfc="none", color="tab:red", label="mechanism changes")
     if np.isfinite(result.d0):
         ax.axvline(result.d0, color="0.4", ls=":", lw=1)
-        ax.annotate(f"{root} = {result.d0:.4g} {unit}", (result.d0, 0), textcoords="offset points", xytext=(-70, 10),
-                    fontsize=8)
+        ax.annotate(
+            f"{root} = {result.d0:.4g} {unit}", (result.d0, 0), textcoords="offset points", xytext=(-70, 10), fontsize=8
+        )
     ax.axhline(0, color="k", lw=0.5)
     ax.set_xlabel(label)
     ax.set_ylabel("α")
@@ -86,8 +95,9 @@ def _snapshots(ax, scene: Scene, result: PushResult, count: int, name: str = "d"
         fixed = [b.fixed for b in moved.blocks]
         face = ["0.8" if f else "none" for f in fixed]
         label = f"{name} = {points[k].d:.3g} {unit}, α = {points[k].alpha:.3g}"
-        ax.add_collection(PolyCollection(polygons, facecolors=face, edgecolors=colours[n % len(colours)],
-                                         linewidths=0.8, label=label))
+        ax.add_collection(
+            PolyCollection(polygons, facecolors=face, edgecolors=colours[n % len(colours)], linewidths=0.8, label=label)
+        )
     ax.autoscale_view()
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm]")
@@ -102,8 +112,9 @@ def _spectral(ax, check: SeismicResult) -> None:
         return
     ds, a = np.array(check.curve_star).T
     ax.plot(ds * 1e3, a, "-", color="tab:blue", lw=1.5, label="a*(d*)")
-    ax.axhline(linear_line(check), color="tab:red", ls="--", lw=1,
-               label=f"linear check: a₀* ≥ {linear_line(check):.3g} m/s²")
+    ax.axhline(
+        linear_line(check), color="tab:red", ls="--", lw=1, label=f"linear check: a₀* ≥ {linear_line(check):.3g} m/s²"
+    )
     ax.plot([0], [check.a0_star], "o", color="tab:blue", label=f"a₀* = {check.a0_star:.3g} m/s²")
     du, demand = nonlinear_value(check, "du_star"), nonlinear_value(check, "demand")
     if check.nonlinear and np.isfinite(du):
@@ -115,6 +126,5 @@ def _spectral(ax, check: SeismicResult) -> None:
     ax.set_ylabel("a* [m/s²]")
     si = check.linear["safety_index"]
     si2 = nonlinear_value(check, "safety_index")
-    ax.set_title(f"kinematic check (Circolare {check.edition}): linear {si:.3g}, nonlinear {si2:.3g}",
-                 fontsize=10)
+    ax.set_title(f"kinematic check (Circolare {check.edition}): linear {si:.3g}, nonlinear {si2:.3g}", fontsize=10)
     ax.legend(fontsize=7)

@@ -6,6 +6,7 @@ supports grey) in one viewBox shared by all frames, so the slider shows the stru
 marker on the α(d) chart follows the slider.  The page stays standalone: the frames and the few
 lines of script that switch them are inline.  Lengths in mm (y turned down in SVG).
 """
+
 from __future__ import annotations
 
 import html
@@ -37,13 +38,19 @@ def frames_svg(scene: Scene, result: PushResult, *, pixels: float = 520.0) -> st
     for step, (point, polygons) in enumerate(zip(result.curve, outlines, strict=True)):
         moved = (np.abs(point.pose.angle) > 0) | (np.abs(point.pose.shift).max(axis=1) > 0)
         kind = np.where(fixed, "fixed", np.where(moved, "moved", "rest"))
-        body = "".join(f'<polygon points="{_points(v)}" fill="{_FILL[c]}" stroke="#333" '
-                       f'stroke-width="{0.6 / k:.4g}"/>' for v, c in zip(polygons, kind, strict=True))
+        body = "".join(
+            f'<polygon points="{_points(v)}" fill="{_FILL[c]}" stroke="#333" stroke-width="{0.6 / k:.4g}"/>'
+            for v, c in zip(polygons, kind, strict=True)
+        )
         shown = "" if step == 0 else ' style="display:none"'
-        groups.append(f'<g class="frame" data-step="{step}" data-d="{point.d:.6g}" '
-                      f'data-alpha="{point.alpha:.6g}"{shown}>{body}</g>')
-    return (f'<svg id="frames" xmlns="http://www.w3.org/2000/svg" viewBox="{x0:.6g} {-y1:.6g} {w:.6g} {h:.6g}" '
-            f'width="{w * k:.0f}" height="{h * k:.0f}">{"".join(groups)}</svg>')
+        groups.append(
+            f'<g class="frame" data-step="{step}" data-d="{point.d:.6g}" '
+            f'data-alpha="{point.alpha:.6g}"{shown}>{body}</g>'
+        )
+    return (
+        f'<svg id="frames" xmlns="http://www.w3.org/2000/svg" viewBox="{x0:.6g} {-y1:.6g} {w:.6g} {h:.6g}" '
+        f'width="{w * k:.0f}" height="{h * k:.0f}">{"".join(groups)}</svg>'
+    )
 
 
 def slider_html(result: PushResult, name: str = "d", unit: str = "mm") -> str:
@@ -51,16 +58,18 @@ def slider_html(result: PushResult, name: str = "d", unit: str = "mm") -> str:
     shows one frame."""
     n = len(result.curve)
     points = json.dumps([[p.d, p.alpha] for p in result.curve])
-    return (f'<div><input id="step" type="range" min="0" max="{n - 1}" value="0" step="1" style="width:520px">'
-            f'<span id="steplabel"></span></div>'
-            "<script>(function(){var f=document.querySelectorAll('#frames .frame');"
-            f"var pts={html.escape(points, quote=False)};var s=document.getElementById('step');"
-            "var l=document.getElementById('steplabel');var m=document.getElementById('curvemark');"
-            "function show(k){for(var i=0;i<f.length;i++){f[i].style.display=(i==k)?'':'none';}"
-            f"l.textContent=' step '+k+': {html.escape(name)} = '+pts[k][0].toPrecision(4)+' {html.escape(unit)}, "
-            "\u03b1 = '+pts[k][1].toPrecision(4);"
-            "if(m){m.setAttribute('cx',m.dataset['x'+k]);m.setAttribute('cy',m.dataset['y'+k]);}}"
-            "s.addEventListener('input',function(){show(+s.value);});show(0);})();</script>")
+    return (
+        f'<div><input id="step" type="range" min="0" max="{n - 1}" value="0" step="1" style="width:520px">'
+        f'<span id="steplabel"></span></div>'
+        "<script>(function(){var f=document.querySelectorAll('#frames .frame');"
+        f"var pts={html.escape(points, quote=False)};var s=document.getElementById('step');"
+        "var l=document.getElementById('steplabel');var m=document.getElementById('curvemark');"
+        "function show(k){for(var i=0;i<f.length;i++){f[i].style.display=(i==k)?'':'none';}"
+        f"l.textContent=' step '+k+': {html.escape(name)} = '+pts[k][0].toPrecision(4)+' {html.escape(unit)}, "
+        "\u03b1 = '+pts[k][1].toPrecision(4);"
+        "if(m){m.setAttribute('cx',m.dataset['x'+k]);m.setAttribute('cy',m.dataset['y'+k]);}}"
+        "s.addEventListener('input',function(){show(+s.value);});show(0);})();</script>"
+    )
 
 
 def _points(xy: np.ndarray) -> str:

@@ -2,6 +2,7 @@
 result into a :class:`Drawing` (marks at rest, the motion that displaces them, the box that fits
 them); :mod:`alma.report.svg` and :mod:`alma.report.mpl` draw it the same way.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -40,8 +41,16 @@ class Drawing:
         return [c for c in LEGEND if c in used]
 
 
-def draw(scene: Scene, result: Any, *, thrust: bool = True, macro_blocks: bool = True, settling: bool = False,
-         gravity_deg: float | None = None, settings: PictureSettings | None = None) -> Drawing:
+def draw(
+    scene: Scene,
+    result: Any,
+    *,
+    thrust: bool = True,
+    macro_blocks: bool = True,
+    settling: bool = False,
+    gravity_deg: float | None = None,
+    settings: PictureSettings | None = None,
+) -> Drawing:
     """The drawing of ``result`` (a solve, settle or kept result) on ``scene``.
 
     Blocks displaced along the mechanism (supports hatched, moving blocks tinted by their rigid
@@ -61,8 +70,11 @@ def draw(scene: Scene, result: Any, *, thrust: bool = True, macro_blocks: bool =
     scale = s.displacement * size / peak if solved and peak > 0 else 0.0
     motion = motion.scaled(scale)
     share = speeds / peak if peak > 0 else speeds
-    overlay, colour_of = mechanism_marks(scene, result, motion, share, thrust=thrust, macro_blocks=macro_blocks,
-                                         settings=s) if scale > 0 else ([], {})
+    overlay, colour_of = (
+        mechanism_marks(scene, result, motion, share, thrust=thrust, macro_blocks=macro_blocks, settings=s)
+        if scale > 0
+        else ([], {})
+    )
     marks = _blocks(scene, result, share, colour_of, s) + _joints(result, motion, size, crack_drawn=bool(colour_of))
     marks += overlay + load_marks(scene, result, size, s, gravity_deg=gravity_deg, settling=settling)
     moving = int(np.count_nonzero(share >= s.moving)) if scale > 0 else 0
@@ -70,8 +82,7 @@ def draw(scene: Scene, result: Any, *, thrust: bool = True, macro_blocks: bool =
     return Drawing(drawing.marks, motion, size, _box(drawing, s.margin * size), moving)
 
 
-def _blocks(scene: Scene, result: Any, share: np.ndarray, colour_of: dict[int, str],
-            s: PictureSettings) -> list[Mark]:
+def _blocks(scene: Scene, result: Any, share: np.ndarray, colour_of: dict[int, str], s: PictureSettings) -> list[Mark]:
     """One polygon per block: supports hatched, blocks at rest pale, moving blocks tinted."""
     motion = {m.id: m.u for m in result.blocks}
     marks = []
@@ -83,10 +94,24 @@ def _blocks(scene: Scene, result: Any, share: np.ndarray, colour_of: dict[int, s
         else:
             cls, fill = "block-rest", REST_FILL
         u = motion.get(b.id)
-        title = f"block {b.id}" + (" (support)" if b.fixed else "") + (
-            f": u = {u[0]:.4g} mm, v = {u[1]:.4g} mm, θ = {u[2]:.4g} rad" if u is not None and not b.fixed else "")
-        marks.append(Mark("polygon", cls, np.asarray(b.vertices, dtype=float), (i,), stroke="#444444", fill=fill,
-                          width=0.4, hatch=b.fixed, title=title))
+        title = (
+            f"block {b.id}"
+            + (" (support)" if b.fixed else "")
+            + (f": u = {u[0]:.4g} mm, v = {u[1]:.4g} mm, θ = {u[2]:.4g} rad" if u is not None and not b.fixed else "")
+        )
+        marks.append(
+            Mark(
+                "polygon",
+                cls,
+                np.asarray(b.vertices, dtype=float),
+                (i,),
+                stroke="#444444",
+                fill=fill,
+                width=0.4,
+                hatch=b.fixed,
+                title=title,
+            )
+        )
     return marks
 
 
@@ -103,12 +128,23 @@ def _joints(result: Any, motion: Motion, size: float, *, crack_drawn: bool) -> l
         colour = STATE_COLOURS.get(j.state, "#000000")
         cls = "crushing" if j.state == "crushing" else f"joint-{j.state}" if f"joint-{j.state}" in LEGEND else "crack"
         xy = np.array([ends["start"][k], ends["end"][k]])
-        marks.append(Mark("line", cls, xy, carrier, stroke=colour, width=0.8 if crack_drawn else 1.6,
-                          title=_joint_text(j)))
+        marks.append(
+            Mark("line", cls, xy, carrier, stroke=colour, width=0.8 if crack_drawn else 1.6, title=_joint_text(j))
+        )
         if j.state == "crushing":
-            marks.append(Mark("point", "crushing", xy.mean(axis=0, keepdims=True), carrier, stroke=colour,
-                              fill=colour, size=0.012 * size,
-                              text="*", title=_joint_text(j)))
+            marks.append(
+                Mark(
+                    "point",
+                    "crushing",
+                    xy.mean(axis=0, keepdims=True),
+                    carrier,
+                    stroke=colour,
+                    fill=colour,
+                    size=0.012 * size,
+                    text="*",
+                    title=_joint_text(j),
+                )
+            )
     return marks
 
 
@@ -116,8 +152,9 @@ def _joint_text(j: Any) -> str:
     a, b = getattr(j, "blocks", ("?", "?"))
     text = f"joint {a} | {b} ({j.state})"
     if hasattr(j, "N"):
-        text += (f": N = {j.N:.4g} kN, T = {j.T:.4g} kN, M = {j.M:.4g} kN·mm, slip {j.slip:.3g} mm, "
-                 f"length {j.length:.4g} mm")
+        text += (
+            f": N = {j.N:.4g} kN, T = {j.T:.4g} kN, M = {j.M:.4g} kN·mm, slip {j.slip:.3g} mm, length {j.length:.4g} mm"
+        )
     return text
 
 

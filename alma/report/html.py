@@ -6,6 +6,7 @@ Each builds the drawings (:mod:`alma.report.drawing`), says the result in words
 (:mod:`alma.report.summary`) and lays out the page (:mod:`alma.report.page`).  Lengths in mm,
 forces in kN, moments in kN·mm, as in the JSON of SPEC §3.
 """
+
 from __future__ import annotations
 
 import math
@@ -20,8 +21,7 @@ from alma.report.picture import StillPicture
 from alma.report.summary import caption, parts, settle_header, solve_header, tilt_header
 
 
-def write_html(scene: Scene, result: Any, path: str | Path, *, title: str | None = None,
-               thrust: bool = False) -> Path:
+def write_html(scene: Scene, result: Any, path: str | Path, *, title: str | None = None, thrust: bool = False) -> Path:
     """Write the report of ``result`` (a result of :func:`alma.solve`, ``both`` included) on
     ``scene``; the line of thrust shown from the start with ``thrust`` (a switch on the page)."""
     results = parts(result)
@@ -40,8 +40,9 @@ def write_settlement_html(scene: Scene, result: Any, path: str | Path, *, title:
     return _write(path, build_page(title or scene.name or "alma settle", header, [frame]))
 
 
-def write_tilt_html(scene: Scene, result: Any, collapse: Any | None, path: str | Path, *,
-                    title: str | None = None) -> Path:
+def write_tilt_html(
+    scene: Scene, result: Any, collapse: Any | None, path: str | Path, *, title: str | None = None
+) -> Path:
     """Write the report of :func:`alma.tilt`; ``collapse`` is the solve of the scene on the table
     tilted to θ_c (:func:`alma.tilt.tilted`), whose mechanism the page draws (None: the scene
     at rest)."""
@@ -53,7 +54,7 @@ def write_tilt_html(scene: Scene, result: Any, collapse: Any | None, path: str |
 
 
 def caption_angle(result: Any) -> str:
-    """"θ_c = 27.31°" (— where no angle is proven)."""
+    """ "θ_c = 27.31°" (— where no angle is proven)."""
     return f"θ_c = {number(result.angle_deg)}°"
 
 

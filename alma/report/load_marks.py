@@ -1,6 +1,7 @@
 """What acts on the structure, drawn as an engineer would (issue 36): the live load's direction,
 dead and live point loads (an overburden is a row of them), gravity on a tilted table, ties
 with their forces and the settling supports' motions."""
+
 from __future__ import annotations
 
 import math
@@ -14,8 +15,15 @@ from alma.report.numbers import number
 from alma.settings import PictureSettings
 
 
-def load_marks(scene: Scene, result: Any, size: float, s: PictureSettings, *, gravity_deg: float | None = None,
-               settling: bool = False) -> list[Mark]:
+def load_marks(
+    scene: Scene,
+    result: Any,
+    size: float,
+    s: PictureSettings,
+    *,
+    gravity_deg: float | None = None,
+    settling: bool = False,
+) -> list[Mark]:
     """Arrows and symbols of the loads, ties and settlements of ``scene`` (sizes from ``s`` as
     shares of the scene ``size``, mm).  ``gravity_deg``: the table's tilt (``alma tilt``), which
     replaces the live load's arrow by gravity's; ``settling``: draw the settlements (and no live
@@ -23,8 +31,14 @@ def load_marks(scene: Scene, result: Any, size: float, s: PictureSettings, *, gr
     length, font = s.arrow * size, s.font * size
     marks = []
     if gravity_deg is not None:
-        marks += _side_arrow(scene, "gravity", _turn(scene.gravity, gravity_deg), length, font,
-                             f"gravity, table tilted {number(gravity_deg)}°")
+        marks += _side_arrow(
+            scene,
+            "gravity",
+            _turn(scene.gravity, gravity_deg),
+            length,
+            font,
+            f"gravity, table tilted {number(gravity_deg)}°",
+        )
     elif scene.live_self_weight and not settling:
         marks += _side_arrow(scene, "live", scene.live_load_direction, length, font, "α × weight")
     marks += _point_loads(scene, length, font)
@@ -54,8 +68,10 @@ def _side_arrow(scene: Scene, cls: str, direction: Any, length: float, font: flo
     tail = head - 1.5 * length * d
     colour = LIVE_COLOUR if cls == "live" else DEAD_COLOUR
     anchor = "end" if d[0] > 0.3 else "start" if d[0] < -0.3 else "middle"
-    return [*arrow(cls, tail, head, colour, 0.35 * length, width=2.5),
-            label(cls, tail + np.array([0.0, 0.5 * font]), text, font, colour=colour, anchor=anchor)]
+    return [
+        *arrow(cls, tail, head, colour, 0.35 * length, width=2.5),
+        label(cls, tail + np.array([0.0, 0.5 * font]), text, font, colour=colour, anchor=anchor),
+    ]
 
 
 def _point_loads(scene: Scene, length: float, font: float) -> list[Mark]:
@@ -77,8 +93,16 @@ def _point_loads(scene: Scene, length: float, font: float) -> list[Mark]:
             point = np.asarray(ld.point if ld.point is not None else scene.blocks[i].centroid, dtype=float)
             n = float(np.hypot(*f))
             tail = point - max(n / largest, 1 / 3) * length * f / n
-            marks += arrow(cls, tail, point, colour, 0.3 * length, carrier=(i,), width=1.0,
-                           title=f"{cls} load on {ld.block}: [{f[0]:.4g}, {f[1]:.4g}] kN")
+            marks += arrow(
+                cls,
+                tail,
+                point,
+                colour,
+                0.3 * length,
+                carrier=(i,),
+                width=1.0,
+                title=f"{cls} load on {ld.block}: [{f[0]:.4g}, {f[1]:.4g}] kN",
+            )
             tails.append(tail)
             carriers.append(i)
         at = np.array(tails)
@@ -86,10 +110,17 @@ def _point_loads(scene: Scene, length: float, font: float) -> list[Mark]:
         top = int(np.lexsort((np.abs(at[:, 0] - at[:, 0].mean()), -np.round(at[:, 1], 6)))[0])
         total = np.sum([f for _, f in loads], axis=0)
         words = "α × " if cls == "live" else ""
-        marks.append(label(cls, np.array([at[:, 0].mean(), at[top, 1] + 0.5 * font]),
-                           f"{words}{len(loads)} point load{'s' if len(loads) > 1 else ''}, "
-                           f"total {number(float(np.hypot(*total)))} kN", font, colour=colour,
-                           carrier=(carriers[top],)))
+        marks.append(
+            label(
+                cls,
+                np.array([at[:, 0].mean(), at[top, 1] + 0.5 * font]),
+                f"{words}{len(loads)} point load{'s' if len(loads) > 1 else ''}, "
+                f"total {number(float(np.hypot(*total)))} kN",
+                font,
+                colour=colour,
+                carrier=(carriers[top],),
+            )
+        )
     return marks
 
 
@@ -104,10 +135,19 @@ def _ties(scene: Scene, result: Any, font: float) -> list[Mark]:
         f = forces.get(tie.id)
         f = 0.0 if f is not None and abs(f) < 1e-9 * tie.strength else f  # solver round-off reads 0
         force = f"{number(f)} kN of {number(tie.strength)}" if f is not None else f"{number(tie.strength)} kN"
-        marks.append(Mark("line", "tie", xy, carrier, stroke=TIE_COLOUR, width=1.8, dash=True,
-                          title=f"tie {tie.id}: {force}"))
-        marks.append(label("tie", xy.mean(axis=0) + np.array([0.0, 0.4 * font]), f"{tie.id}: {force}", font,
-                           colour=TIE_COLOUR, carrier=carrier))
+        marks.append(
+            Mark("line", "tie", xy, carrier, stroke=TIE_COLOUR, width=1.8, dash=True, title=f"tie {tie.id}: {force}")
+        )
+        marks.append(
+            label(
+                "tie",
+                xy.mean(axis=0) + np.array([0.0, 0.4 * font]),
+                f"{tie.id}: {force}",
+                font,
+                colour=TIE_COLOUR,
+                carrier=carrier,
+            )
+        )
     return marks
 
 
@@ -131,6 +171,14 @@ def _settlements(scene: Scene, length: float, font: float) -> list[Mark]:
             head = start
         below = norm > 0 and d[1] < -0.5 * norm
         at = head + (np.array([0.0, -1.2 * font]) if below else 0.5 * font * (d / norm if norm else np.zeros(2)))
-        marks.append(label("settlement", at, words, font, colour=SETTLEMENT_COLOUR,
-                           anchor="middle" if below or norm == 0 else "start" if d[0] >= 0 else "end"))
+        marks.append(
+            label(
+                "settlement",
+                at,
+                words,
+                font,
+                colour=SETTLEMENT_COLOUR,
+                anchor="middle" if below or norm == 0 else "start" if d[0] >= 0 else "end",
+            )
+        )
     return marks

@@ -6,6 +6,7 @@ Colours: the joint states keep orange, red and blue; macro-blocks get colours of
 (:data:`MACRO_COLOURS`, none of the joint states'); loads are black or grey, ties purple,
 settlements brown, the line of thrust violet.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -84,8 +85,17 @@ LEGEND: dict[str, LegendEntry] = {
 }
 
 
-def arrow(cls: str, tail: np.ndarray, head: np.ndarray, colour: str, head_size: float, *,
-          carrier: tuple[int, ...] = (), width: float = 1.5, title: str = "") -> list[Mark]:
+def arrow(
+    cls: str,
+    tail: np.ndarray,
+    head: np.ndarray,
+    colour: str,
+    head_size: float,
+    *,
+    carrier: tuple[int, ...] = (),
+    width: float = 1.5,
+    title: str = "",
+) -> list[Mark]:
     """An arrow from ``tail`` to ``head`` (mm) as a shaft and a filled head ``head_size`` mm long:
     explicit geometry, so that SVG and matplotlib draw the same arrow."""
     tail, head = np.asarray(tail, dtype=float), np.asarray(head, dtype=float)
@@ -99,12 +109,30 @@ def arrow(cls: str, tail: np.ndarray, head: np.ndarray, colour: str, head_size: 
     base = head - size * d
     tip = np.array([head, base + 0.4 * size * n, base - 0.4 * size * n])
     shaft = np.array([tail, base + 0.1 * size * d])
-    return [Mark("line", cls, shaft, carrier, stroke=colour, width=width, title=title),
-            Mark("polygon", cls, tip, carrier, stroke=colour, fill=colour, width=0.5, title=title)]
+    return [
+        Mark("line", cls, shaft, carrier, stroke=colour, width=width, title=title),
+        Mark("polygon", cls, tip, carrier, stroke=colour, fill=colour, width=0.5, title=title),
+    ]
 
 
-def label(cls: str, at: np.ndarray, text: str, size: float, *, colour: str = "#000000",
-          carrier: tuple[int, ...] = (), anchor: str = "middle") -> Mark:
+def label(
+    cls: str,
+    at: np.ndarray,
+    text: str,
+    size: float,
+    *,
+    colour: str = "#000000",
+    carrier: tuple[int, ...] = (),
+    anchor: str = "middle",
+) -> Mark:
     """Words at ``at`` (mm, the baseline's anchor point), ``size`` the letters' height (mm)."""
-    return Mark("text", cls, np.asarray(at, dtype=float).reshape(1, 2), carrier, fill=colour, size=size,
-                text=text, anchor=anchor)
+    return Mark(
+        "text",
+        cls,
+        np.asarray(at, dtype=float).reshape(1, 2),
+        carrier,
+        fill=colour,
+        size=size,
+        text=text,
+        anchor=anchor,
+    )

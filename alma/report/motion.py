@@ -1,5 +1,6 @@
 """The blocks' rigid motions as arrays, for pictures: velocities and displaced points of many
 points of many blocks at once (mm, rad), the blocks' speeds, the joints' blocks and ends."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
@@ -108,6 +109,9 @@ def joint_arrays(motion: Motion, joints) -> dict[str, np.ndarray]:
     joint does not name its blocks), ends ``start``, ``end`` (mm)."""
     joints = tuple(joints)
     pairs = [getattr(j, "blocks", ("", "")) for j in joints]
-    return {"a": motion.blocks(p[0] for p in pairs), "b": motion.blocks(p[1] for p in pairs),
-            "start": np.array([j.start for j in joints], dtype=float).reshape(-1, 2),
-            "end": np.array([j.end for j in joints], dtype=float).reshape(-1, 2)}
+    return {
+        "a": motion.blocks(p[0] for p in pairs),
+        "b": motion.blocks(p[1] for p in pairs),
+        "start": np.array([j.start for j in joints], dtype=float).reshape(-1, 2),
+        "end": np.array([j.end for j in joints], dtype=float).reshape(-1, 2),
+    }

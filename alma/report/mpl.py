@@ -1,5 +1,6 @@
 """A :class:`~alma.report.drawing.Drawing` on matplotlib axes (issue 36): the same marks, in the
 same order, with the same colours, widths and sizes as :mod:`alma.report.svg`."""
+
 from __future__ import annotations
 
 from typing import Any
@@ -30,22 +31,43 @@ def render_axes(ax: Any, drawing: Drawing, *, thrust: bool = False) -> None:
     for z, run in enumerate(_runs(marks)):
         kind, placed = run[0].kind, [drawing.placed(m) for m in run]
         if kind == "polygon":
-            ax.add_collection(PolyCollection(
-                placed, facecolors=[m.fill or "none" for m in run], edgecolors=[m.stroke or "none" for m in run],
-                linewidths=[0.75 * m.width for m in run], hatch="////" if run[0].hatch else None, zorder=z,
-                joinstyle="round"))
+            ax.add_collection(
+                PolyCollection(
+                    placed,
+                    facecolors=[m.fill or "none" for m in run],
+                    edgecolors=[m.stroke or "none" for m in run],
+                    linewidths=[0.75 * m.width for m in run],
+                    hatch="////" if run[0].hatch else None,
+                    zorder=z,
+                    joinstyle="round",
+                )
+            )
         elif kind == "line":
-            ax.add_collection(LineCollection(placed, colors=[m.stroke for m in run],
-                                             linewidths=[0.75 * m.width for m in run],
-                                             linestyles="--" if run[0].dash else "-", capstyle="round", zorder=z))
+            ax.add_collection(
+                LineCollection(
+                    placed,
+                    colors=[m.stroke for m in run],
+                    linewidths=[0.75 * m.width for m in run],
+                    linestyles="--" if run[0].dash else "-",
+                    capstyle="round",
+                    zorder=z,
+                )
+            )
         elif kind == "point":
             for m, xy in zip(run, placed, strict=True):
                 _point(ax, m, xy[0], z)
         else:
             for m, xy in zip(run, placed, strict=True):
-                ax.text(*xy[0], m.text, fontsize=m.size * points_per_mm, color=m.fill, zorder=z,
-                        ha={"start": "left", "middle": "center", "end": "right"}[m.anchor], va="baseline",
-                        path_effects=[effects.withStroke(linewidth=2.5, foreground="white")])
+                ax.text(
+                    *xy[0],
+                    m.text,
+                    fontsize=m.size * points_per_mm,
+                    color=m.fill,
+                    zorder=z,
+                    ha={"start": "left", "middle": "center", "end": "right"}[m.anchor],
+                    va="baseline",
+                    path_effects=[effects.withStroke(linewidth=2.5, foreground="white")],
+                )
 
 
 def _runs(marks: list[Mark]) -> list[list[Mark]]:
@@ -65,14 +87,26 @@ def _point(ax: Any, m: Mark, xy: np.ndarray, z: int) -> None:
 
     if m.text == "x":
         r = m.size
-        ax.plot([xy[0] - r, xy[0] + r, np.nan, xy[0] - r, xy[0] + r],
-                [xy[1] - r, xy[1] + r, np.nan, xy[1] + r, xy[1] - r],
-                color=m.stroke, linewidth=0.75 * m.width, zorder=z)
+        ax.plot(
+            [xy[0] - r, xy[0] + r, np.nan, xy[0] - r, xy[0] + r],
+            [xy[1] - r, xy[1] + r, np.nan, xy[1] + r, xy[1] - r],
+            color=m.stroke,
+            linewidth=0.75 * m.width,
+            zorder=z,
+        )
     elif m.text == "*":
         ax.add_patch(Polygon(star(xy, m.size), closed=True, facecolor=m.fill, edgecolor=m.stroke, zorder=z))
     else:
-        ax.add_patch(Circle((float(xy[0]), float(xy[1])), m.size, facecolor=m.fill or "none",
-                            edgecolor=m.stroke or "none", linewidth=0.75 * m.width, zorder=z))
+        ax.add_patch(
+            Circle(
+                (float(xy[0]), float(xy[1])),
+                m.size,
+                facecolor=m.fill or "none",
+                edgecolor=m.stroke or "none",
+                linewidth=0.75 * m.width,
+                zorder=z,
+            )
+        )
 
 
 def legend_handles(classes: list[str]) -> list[Any]:
@@ -84,13 +118,33 @@ def legend_handles(classes: list[str]) -> list[Any]:
     for c in classes:
         e = LEGEND[c]
         if e.swatch == "patch":
-            handles.append(Patch(facecolor=e.fill, edgecolor=e.colour, hatch="////" if e.hatch else None,
-                                 label=e.label))
+            handles.append(
+                Patch(facecolor=e.fill, edgecolor=e.colour, hatch="////" if e.hatch else None, label=e.label)
+            )
         elif e.swatch in ("line", "arrow"):
-            handles.append(Line2D([], [], color=e.colour, linewidth=2, linestyle="--" if e.dash else "-",
-                                  marker=">" if e.swatch == "arrow" else None, label=e.label))
+            handles.append(
+                Line2D(
+                    [],
+                    [],
+                    color=e.colour,
+                    linewidth=2,
+                    linestyle="--" if e.dash else "-",
+                    marker=">" if e.swatch == "arrow" else None,
+                    label=e.label,
+                )
+            )
         else:
-            handles.append(Line2D([], [], linestyle="none", marker={"o": "o", "x": "x", "*": "*"}[e.swatch],
-                                  markerfacecolor=e.fill or e.colour, markeredgecolor=e.colour, color=e.colour,
-                                  markersize=8, label=e.label))
+            handles.append(
+                Line2D(
+                    [],
+                    [],
+                    linestyle="none",
+                    marker={"o": "o", "x": "x", "*": "*"}[e.swatch],
+                    markerfacecolor=e.fill or e.colour,
+                    markeredgecolor=e.colour,
+                    color=e.colour,
+                    markersize=8,
+                    label=e.label,
+                )
+            )
     return handles

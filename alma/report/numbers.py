@@ -1,5 +1,6 @@
 """Numbers and words for people (issue 36): significant digits, intervals said in words, `—` where
 nothing is proven.  The JSON keeps every digit; these strings are for pictures and pages only."""
+
 from __future__ import annotations
 
 import math
@@ -76,7 +77,7 @@ def status_words(status: Any) -> str:
 
 
 def status_line(status: Any) -> str:
-    """"Status: proven — … (optimal).", the JSON's word kept in brackets."""
+    """ "Status: proven — … (optimal).", the JSON's word kept in brackets."""
     return f"Status: {status_words(status)} ({status})."
 
 
@@ -91,5 +92,5 @@ def mechanism_words(mechanism_class: Any) -> str:
 
 
 def count(n: int, word: str) -> str:
-    """"1 block", "3 blocks"."""
+    """ "1 block", "3 blocks"."""
     return f"{n} {word}" + ("" if n == 1 else "s")

@@ -4,6 +4,7 @@ below.  Frames side by side (``--model both``) share one scale; ``steps=True`` s
 a time under a slider instead (a capacity curve's steps).  A print stylesheet puts one frame per
 page, in vector graphics.  No network: the page carries its own style, script and data.
 """
+
 from __future__ import annotations
 
 import html
@@ -36,8 +37,15 @@ class Frame:
     drawing: Drawing
 
 
-def build_page(title: str, header: Header, frames: list[Frame] | tuple[Frame, ...], *, steps: bool = False,
-               thrust: bool = False, settings: PictureSettings | None = None) -> str:
+def build_page(
+    title: str,
+    header: Header,
+    frames: list[Frame] | tuple[Frame, ...],
+    *,
+    steps: bool = False,
+    thrust: bool = False,
+    settings: PictureSettings | None = None,
+) -> str:
     """The page: ``header``, ``frames`` (side by side, or one at a time under a step slider with
     ``steps``), details folded.  The line of thrust is hidden unless ``thrust``; the page's
     switches move every frame's mechanism and show the line of thrust."""
@@ -49,28 +57,44 @@ def build_page(title: str, header: Header, frames: list[Frame] | tuple[Frame, ..
     union = (*box[:, :2].min(axis=0), *box[:, 2:].max(axis=0))  # one box: one scale, frames aligned
     four = (float(union[0]), float(union[1]), float(union[2]), float(union[3]))
     frames = [replace(f, drawing=replace(f.drawing, box=four)) for f in frames]
-    figures = [f'<figure class="frame" id="f{k}"><figcaption>{html.escape(f.caption)}</figcaption>'
-               f'{render_svg(f.drawing, f"m{k}")}<ul class="legend">{legend_html(f.drawing.classes())}</ul></figure>'
-               for k, f in enumerate(frames)]
+    figures = [
+        f'<figure class="frame" id="f{k}"><figcaption>{html.escape(f.caption)}</figcaption>'
+        f'{render_svg(f.drawing, f"m{k}")}<ul class="legend">{legend_html(f.drawing.classes())}</ul></figure>'
+        for k, f in enumerate(frames)
+    ]
     data = {f"m{k}": _motion_data(f.drawing, s) for k, f in enumerate(frames)}
-    stepper = (f'<label>step <input type="range" id="step" min="0" max="{len(frames) - 1}" step="1" value="0"> '
-               f'<span id="step-text">1 / {len(frames)}</span></label>') if steps and len(frames) > 1 else ""
+    stepper = (
+        (
+            f'<label>step <input type="range" id="step" min="0" max="{len(frames) - 1}" step="1" value="0"> '
+            f'<span id="step-text">1 / {len(frames)}</span></label>'
+        )
+        if steps and len(frames) > 1
+        else ""
+    )
     lines = "".join(f"<p>{html.escape(line)}</p>" for line in header.lines)
     rows = "".join(f"<tr><th>{html.escape(a)}</th><td>{html.escape(b)}</td></tr>" for a, b in header.details)
     return _PAGE.format(
-        title=html.escape(title), headline=html.escape(header.headline), lines=lines, stepper=stepper,
-        figures="".join(figures), details=rows, displacement=s.displacement, style=_STYLE, script=_SCRIPT,
-        hidden="" if thrust else " hide-thrust", checked=" checked" if thrust else "",
+        title=html.escape(title),
+        headline=html.escape(header.headline),
+        lines=lines,
+        stepper=stepper,
+        figures="".join(figures),
+        details=rows,
+        displacement=s.displacement,
+        style=_STYLE,
+        script=_SCRIPT,
+        hidden="" if thrust else " hide-thrust",
+        checked=" checked" if thrust else "",
         steps=" steps" if steps and len(frames) > 1 else "",
-        data=json.dumps(data, separators=(",", ":")).replace("<", "\\u003c"))
+        data=json.dumps(data, separators=(",", ":")).replace("<", "\\u003c"),
+    )
 
 
 def _motion_data(drawing: Drawing, s: PictureSettings) -> dict[str, Any]:
     """What the script needs to move a frame: each block's motion (u, v in mm, θ in rad) and
     centroid (mm), and the displacement scale per unit of the slider's share."""
     m = drawing.motion
-    return {"u": m.u.tolist(), "c": m.centroid.tolist(),
-            "unit": m.scale / s.displacement if s.displacement else 0.0}
+    return {"u": m.u.tolist(), "c": m.centroid.tolist(), "unit": m.scale / s.displacement if s.displacement else 0.0}
 
 
 _STYLE = """body{font-family:system-ui,sans-serif;margin:1em 2em;color:#222;max-width:110em}

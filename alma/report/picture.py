@@ -1,4 +1,5 @@
 """What a study keeps of a mechanism to draw it again (``mechanisms/<key>.npz``)."""
+
 from __future__ import annotations
 
 import os
@@ -44,14 +45,26 @@ class MechanismPicture:
         table = result.joints
         if isinstance(table, JointTable):  # columns: no JointResult is built
             moving = np.flatnonzero(table.state != "rest")
-            joints = tuple(PictureJoint(str(s), (a[0], a[1]), (b[0], b[1])) for s, a, b in zip(
-                table.state[moving].tolist(), table.start[moving].tolist(), table.end[moving].tolist(), strict=True))
+            joints = tuple(
+                PictureJoint(str(s), (a[0], a[1]), (b[0], b[1]))
+                for s, a, b in zip(
+                    table.state[moving].tolist(), table.start[moving].tolist(), table.end[moving].tolist(), strict=True
+                )
+            )
         else:
-            joints = tuple(PictureJoint(j.state, (float(j.start[0]), float(j.start[1])),
-                                        (float(j.end[0]), float(j.end[1])))
-                           for j in table if j.state != "rest")
-        return cls(str(result.model), str(result.status), float(result.alpha), str(result.mechanism_class or ""),
-                   tuple(result.blocks), joints)
+            joints = tuple(
+                PictureJoint(j.state, (float(j.start[0]), float(j.start[1])), (float(j.end[0]), float(j.end[1])))
+                for j in table
+                if j.state != "rest"
+            )
+        return cls(
+            str(result.model),
+            str(result.status),
+            float(result.alpha),
+            str(result.mechanism_class or ""),
+            tuple(result.blocks),
+            joints,
+        )
 
     def save(self, path: str | Path) -> Path:
         """Write the picture as a compressed ``.npz`` (atomically: a temporary file renamed over it)."""
@@ -62,11 +75,16 @@ class MechanismPicture:
         try:
             with os.fdopen(handle, "wb") as fh:
                 np.savez_compressed(
-                    fh, model=self.model, status=self.status, alpha=self.alpha,
+                    fh,
+                    model=self.model,
+                    status=self.status,
+                    alpha=self.alpha,
                     mechanism_class=self.mechanism_class,
                     block_ids=np.array([b.id for b in self.blocks], dtype=str),
                     motions=np.array([b.u for b in self.blocks], dtype=float).reshape(-1, 3),
-                    joint_states=np.array([j.state for j in self.joints], dtype=str), segments=segments)
+                    joint_states=np.array([j.state for j in self.joints], dtype=str),
+                    segments=segments,
+                )
             os.replace(tmp, path)
         finally:
             if os.path.exists(tmp):
@@ -76,12 +94,22 @@ class MechanismPicture:
     @classmethod
     def load(cls, path: str | Path) -> MechanismPicture:
         with np.load(Path(path), allow_pickle=False) as data:
-            blocks = tuple(BlockMotion(str(i), (float(u[0]), float(u[1]), float(u[2])))
-                           for i, u in zip(data["block_ids"], data["motions"], strict=True))
-            joints = tuple(PictureJoint(str(state), (float(s[0]), float(s[1])), (float(s[2]), float(s[3])))
-                           for state, s in zip(data["joint_states"], data["segments"], strict=True))
-            return cls(str(data["model"]), str(data["status"]), float(data["alpha"]),
-                       str(data["mechanism_class"]), blocks, joints)
+            blocks = tuple(
+                BlockMotion(str(i), (float(u[0]), float(u[1]), float(u[2])))
+                for i, u in zip(data["block_ids"], data["motions"], strict=True)
+            )
+            joints = tuple(
+                PictureJoint(str(state), (float(s[0]), float(s[1])), (float(s[2]), float(s[3])))
+                for state, s in zip(data["joint_states"], data["segments"], strict=True)
+            )
+            return cls(
+                str(data["model"]),
+                str(data["status"]),
+                float(data["alpha"]),
+                str(data["mechanism_class"]),
+                blocks,
+                joints,
+            )
 
 
 @dataclass(frozen=True)
@@ -99,5 +127,8 @@ class StillPicture:
 
     @classmethod
     def of(cls, result: object, status: str | None = None) -> StillPicture:
-        return cls(tuple(getattr(result, "blocks", ())), tuple(getattr(result, "joints", ())),
-                   status or str(getattr(result, "status", "no_collapse")))
+        return cls(
+            tuple(getattr(result, "blocks", ())),
+            tuple(getattr(result, "joints", ())),
+            status or str(getattr(result, "status", "no_collapse")),
+        )

@@ -1,6 +1,7 @@
 """Pictures of collapse mechanisms as PNG (issue 36): the drawing of :mod:`alma.report.drawing`
 rendered by matplotlib (:mod:`alma.report.mpl`), the same picture as the HTML report's SVG, with
 the result in words above it and a legend of every mark below."""
+
 from __future__ import annotations
 
 from dataclasses import replace
@@ -19,10 +20,20 @@ from alma.settings import PictureSettings
 __all__ = ["MechanismPicture", "PictureJoint", "plot_drawings", "plot_mechanism", "plot_side_by_side"]
 
 
-def plot_mechanism(scene: Scene, result: Any, path: str | Path, *, title: str | None = None,
-                   displacement: float | None = None, ax: Any = None, macro_blocks: bool = True,
-                   line_of_thrust: bool = False, settling: bool = False, gravity_deg: float | None = None,
-                   caption_text: str | None = None) -> Path:
+def plot_mechanism(
+    scene: Scene,
+    result: Any,
+    path: str | Path,
+    *,
+    title: str | None = None,
+    displacement: float | None = None,
+    ax: Any = None,
+    macro_blocks: bool = True,
+    line_of_thrust: bool = False,
+    settling: bool = False,
+    gravity_deg: float | None = None,
+    caption_text: str | None = None,
+) -> Path:
     """Draw the mechanism of ``result`` on ``scene`` and save it as PNG (or draw on ``ax``).
 
     The blocks displaced along the mechanism so that the fastest point moves ``displacement`` ×
@@ -32,11 +43,19 @@ def plot_mechanism(scene: Scene, result: Any, path: str | Path, *, title: str | 
     ``title`` and the result in words (α, status, class, how many blocks move).
     """
     if len(parts(result)) > 1 and ax is None:  # model="both": the two side by side
-        return plot_side_by_side(scene, parts(result), path, suptitle=title, displacement=displacement,
-                                 line_of_thrust=line_of_thrust)
+        return plot_side_by_side(
+            scene, parts(result), path, suptitle=title, displacement=displacement, line_of_thrust=line_of_thrust
+        )
     settings = PictureSettings() if displacement is None else replace(PictureSettings(), displacement=displacement)
-    drawing = draw(scene, result, thrust=line_of_thrust, macro_blocks=macro_blocks, settling=settling,
-                   gravity_deg=gravity_deg, settings=settings)
+    drawing = draw(
+        scene,
+        result,
+        thrust=line_of_thrust,
+        macro_blocks=macro_blocks,
+        settling=settling,
+        gravity_deg=gravity_deg,
+        settings=settings,
+    )
     words = caption_text if caption_text is not None else caption(result, drawing)
     text = (title + "\n" if title else "") + words
     if ax is not None:
@@ -46,9 +65,16 @@ def plot_mechanism(scene: Scene, result: Any, path: str | Path, *, title: str | 
     return plot_drawings([drawing], [text], path, thrust=line_of_thrust)
 
 
-def plot_side_by_side(scene: Scene, results: Any, path: str | Path, *, titles: list[str | None] | None = None,
-                      suptitle: str | None = None, displacement: float | None = None,
-                      line_of_thrust: bool = False) -> Path:
+def plot_side_by_side(
+    scene: Scene,
+    results: Any,
+    path: str | Path,
+    *,
+    titles: list[str | None] | None = None,
+    suptitle: str | None = None,
+    displacement: float | None = None,
+    line_of_thrust: bool = False,
+) -> Path:
     """Draw the mechanisms of several results of the same scene side by side, at one scale, and
     save a PNG (typically the associative and the non-associative solution of one panel)."""
     results = list(results)
@@ -63,8 +89,16 @@ def plot_side_by_side(scene: Scene, results: Any, path: str | Path, *, titles: l
     return plot_drawings(drawings, texts, path, suptitle=suptitle, thrust=line_of_thrust)
 
 
-def plot_drawings(drawings: list[Drawing], texts: list[str], path: str | Path, *, suptitle: str | None = None,
-                  thrust: bool = False, width: float = 7.0, dpi: int = 110) -> Path:
+def plot_drawings(
+    drawings: list[Drawing],
+    texts: list[str],
+    path: str | Path,
+    *,
+    suptitle: str | None = None,
+    thrust: bool = False,
+    width: float = 7.0,
+    dpi: int = 110,
+) -> Path:
     """Save ``drawings`` side by side at one scale (one box holds them all), each under its
     text, with one legend of every mark class used below them (PNG)."""
     import matplotlib
@@ -88,8 +122,9 @@ def plot_drawings(drawings: list[Drawing], texts: list[str], path: str | Path, *
         ax = fig.add_axes((k / n + 0.01, bottom, 1.0 / n - 0.02, top - bottom))
         render_axes(ax, d, thrust=thrust)
         ax.set_title(text, fontsize=9)
-    fig.legend(handles=legend_handles(classes), loc="lower center", ncol=2 if n == 1 else 4, fontsize=7.5,
-               frameon=False)
+    fig.legend(
+        handles=legend_handles(classes), loc="lower center", ncol=2 if n == 1 else 4, fontsize=7.5, frameon=False
+    )
     if suptitle:
         fig.suptitle(suptitle, fontsize=11)
     path = Path(path)

@@ -6,6 +6,7 @@ carried mark with the ``transform`` of its displacement (the small-rotation map 
 :meth:`~alma.report.motion.Motion.affine`), so the page's script moves a mark by rewriting one
 attribute; ``data-mark`` names the mark class (the legend's key), ``data-carrier`` its blocks.
 """
+
 from __future__ import annotations
 
 import html
@@ -23,39 +24,52 @@ def render_svg(drawing: Drawing, key: str, *, pixels: float = 900.0) -> str:
     w, h = x1 - x0, y1 - y0
     k = pixels / max(w, h)
     hatch = 0.012 * drawing.size
-    defs = (f'<defs><pattern id="{key}-hatch" patternUnits="userSpaceOnUse" width="{hatch:.4g}" height="{hatch:.4g}" '
-            f'patternTransform="rotate(45)"><rect width="{hatch:.4g}" height="{hatch:.4g}" fill="{SUPPORT_FILL}"/>'
-            f'<line x1="0" y1="0" x2="0" y2="{hatch:.4g}" stroke="#555" stroke-width="{0.25 * hatch:.4g}"/>'
-            f'</pattern></defs>')
+    defs = (
+        f'<defs><pattern id="{key}-hatch" patternUnits="userSpaceOnUse" width="{hatch:.4g}" height="{hatch:.4g}" '
+        f'patternTransform="rotate(45)"><rect width="{hatch:.4g}" height="{hatch:.4g}" fill="{SUPPORT_FILL}"/>'
+        f'<line x1="0" y1="0" x2="0" y2="{hatch:.4g}" stroke="#555" stroke-width="{0.25 * hatch:.4g}"/>'
+        f"</pattern></defs>"
+    )
     body = "".join(_element(m, drawing, key) for m in drawing.marks)
-    return (f'<svg id="{key}" class="mechanism" xmlns="http://www.w3.org/2000/svg" viewBox="{x0:.6g} {-y1:.6g} '
-            f'{w:.6g} {h:.6g}" width="{w * k:.0f}" height="{h * k:.0f}" preserveAspectRatio="xMidYMid meet">'
-            f'{defs}{body}</svg>')
+    return (
+        f'<svg id="{key}" class="mechanism" xmlns="http://www.w3.org/2000/svg" viewBox="{x0:.6g} {-y1:.6g} '
+        f'{w:.6g} {h:.6g}" width="{w * k:.0f}" height="{h * k:.0f}" preserveAspectRatio="xMidYMid meet">'
+        f"{defs}{body}</svg>"
+    )
 
 
 def _element(m: Mark, drawing: Drawing, key: str) -> str:
     attrs = f' class="m-{m.cls}" data-mark="{m.cls}"'
     if m.carrier:
         b, e, f = drawing.motion.affine(m.carrier)
-        attrs += (f' data-carrier="{",".join(map(str, m.carrier))}"'
-                  f' transform="matrix(1 {-b:.6g} {b:.6g} 1 {e:.6g} {-f:.6g})"')
+        attrs += (
+            f' data-carrier="{",".join(map(str, m.carrier))}" transform="matrix(1 {-b:.6g} {b:.6g} 1 {e:.6g} {-f:.6g})"'
+        )
     title = f"<title>{html.escape(m.title)}</title>" if m.title else ""
-    stroke = (f' stroke="{m.stroke}" stroke-width="{m.width:.3g}" vector-effect="non-scaling-stroke"'
-              if m.stroke else ' stroke="none"')
+    stroke = (
+        f' stroke="{m.stroke}" stroke-width="{m.width:.3g}" vector-effect="non-scaling-stroke"'
+        if m.stroke
+        else ' stroke="none"'
+    )
     if m.kind == "polygon":
         fill = f"url(#{key}-hatch)" if m.hatch else (m.fill or "none")
-        return (f'<polygon{attrs} points="{_points(m.xy)}" fill="{fill}"{stroke} stroke-linejoin="round">'
-                f'{title}</polygon>')
+        return (
+            f'<polygon{attrs} points="{_points(m.xy)}" fill="{fill}"{stroke} stroke-linejoin="round">{title}</polygon>'
+        )
     if m.kind == "line":
         dash = ' stroke-dasharray="7 4"' if m.dash else ""
-        return (f'<polyline{attrs} points="{_points(m.xy)}" fill="none"{stroke}{dash} stroke-linecap="round">'
-                f'{title}</polyline>')
+        return (
+            f'<polyline{attrs} points="{_points(m.xy)}" fill="none"{stroke}{dash} stroke-linecap="round">'
+            f"{title}</polyline>"
+        )
     if m.kind == "point":
         return _point(m, attrs, stroke, title)
     x, y = m.xy[0]
-    return (f'<text{attrs} x="{x:.6g}" y="{-y:.6g}" font-size="{m.size:.4g}" text-anchor="{m.anchor}" '
-            f'fill="{m.fill}" stroke="#fff" stroke-width="{0.18 * m.size:.4g}" paint-order="stroke" '
-            f'stroke-linejoin="round">{html.escape(m.text)}</text>')
+    return (
+        f'<text{attrs} x="{x:.6g}" y="{-y:.6g}" font-size="{m.size:.4g}" text-anchor="{m.anchor}" '
+        f'fill="{m.fill}" stroke="#fff" stroke-width="{0.18 * m.size:.4g}" paint-order="stroke" '
+        f'stroke-linejoin="round">{html.escape(m.text)}</text>'
+    )
 
 
 def _point(m: Mark, attrs: str, stroke: str, title: str) -> str:
@@ -88,11 +102,12 @@ def legend_html(classes: list[str]) -> str:
 def _swatch(e: LegendEntry) -> str:
     inner = {
         "patch": f'<rect x="1" y="2" width="18" height="10" fill="{e.fill}" stroke="{e.colour}"/>'
-                 + ('<path d="M3,12L11,2M9,12L17,2" stroke="#555"/>' if e.hatch else ""),
+        + ('<path d="M3,12L11,2M9,12L17,2" stroke="#555"/>' if e.hatch else ""),
         "line": f'<line x1="1" y1="7" x2="19" y2="7" stroke="{e.colour}" stroke-width="2.5"'
-                + (' stroke-dasharray="4 2"' if e.dash else "") + "/>",
+        + (' stroke-dasharray="4 2"' if e.dash else "")
+        + "/>",
         "arrow": f'<line x1="1" y1="7" x2="13" y2="7" stroke="{e.colour}" stroke-width="2"/>'
-                 f'<polygon points="19,7 12,3 12,11" fill="{e.colour}"/>',
+        f'<polygon points="19,7 12,3 12,11" fill="{e.colour}"/>',
         "o": f'<circle cx="10" cy="7" r="4.5" fill="{e.fill}" stroke="{e.colour}" stroke-width="1.5"/>',
         "x": f'<path d="M6,3L14,11M6,11L14,3" stroke="{e.colour}" stroke-width="2"/>',
         "*": f'<polygon points="{_swatch_star()}" fill="{e.colour}"/>',

@@ -6,6 +6,7 @@ arrays) that :func:`alma.results.joints.physical` computes and builds a :class:`
 only when one is asked for, so the typed API stays ``result.joints[i].N`` while a solve does not
 pay for objects nobody reads.  Units as :class:`JointResult`: kN, kN·mm, mm.
 """
+
 from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
@@ -63,11 +64,20 @@ class JointTable(Sequence):
             raise IndexError(f"joint index {index} out of range for {len(self)} joints")
         p = self.points[i].tolist()
         return JointResult(
-            blocks=(str(self.blocks[i, 0]), str(self.blocks[i, 1])), N=float(self.N[i]), T=float(self.T[i]),
-            M=float(self.M[i]), state=str(self.state[i]), length=float(self.length[i]), slip=float(self.slip[i]),
-            opening=tuple(self.opening[i].tolist()), start=tuple(self.start[i].tolist()),
-            end=tuple(self.end[i].tolist()), points=(tuple(p[0]), tuple(p[1])), normal=tuple(self.normal[i].tolist()),
-            **self._strength(i))
+            blocks=(str(self.blocks[i, 0]), str(self.blocks[i, 1])),
+            N=float(self.N[i]),
+            T=float(self.T[i]),
+            M=float(self.M[i]),
+            state=str(self.state[i]),
+            length=float(self.length[i]),
+            slip=float(self.slip[i]),
+            opening=tuple(self.opening[i].tolist()),
+            start=tuple(self.start[i].tolist()),
+            end=tuple(self.end[i].tolist()),
+            points=(tuple(p[0]), tuple(p[1])),
+            normal=tuple(self.normal[i].tolist()),
+            **self._strength(i),
+        )
 
     def _strength(self, i: int) -> dict[str, Any]:
         """Joint i's crushing capacity and stress block, when it has a finite strength."""
@@ -75,8 +85,10 @@ class JointTable(Sequence):
             return {}
         assert self.stress_block is not None  # set together with capacity (alma.results.joints)
         block = self.stress_block[i]
-        return {"capacity": float(self.capacity[i]),
-                "stress_block": (tuple(block[0].tolist()), tuple(block[1].tolist()))}
+        return {
+            "capacity": float(self.capacity[i]),
+            "stress_block": (tuple(block[0].tolist()), tuple(block[1].tolist())),
+        }
 
     def __iter__(self) -> Iterator[JointResult]:
         return (self[i] for i in range(len(self)))
@@ -93,18 +105,40 @@ class JointTable(Sequence):
 
     def records(self) -> list[dict[str, Any]]:
         """The joints as SPEC §3's JSON objects, built column-wise."""
-        cols = zip(self.blocks.tolist(), self.N.tolist(), self.T.tolist(), self.M.tolist(),
-                   self.state.tolist(), self.length.tolist(), self.slip.tolist(), self.opening.tolist(),
-                   self.points.tolist(), strict=True)
-        out = [{"blocks": [str(a), str(b)], "N": n, "T": t, "M": mo, "state": str(s), "length": le, "slip": sl,
-                "opening": op, "points": [{"N": pn, "T": pt} for pn, pt in pts]}
-               for (a, b), n, t, mo, s, le, sl, op, pts in cols]
+        cols = zip(
+            self.blocks.tolist(),
+            self.N.tolist(),
+            self.T.tolist(),
+            self.M.tolist(),
+            self.state.tolist(),
+            self.length.tolist(),
+            self.slip.tolist(),
+            self.opening.tolist(),
+            self.points.tolist(),
+            strict=True,
+        )
+        out = [
+            {
+                "blocks": [str(a), str(b)],
+                "N": n,
+                "T": t,
+                "M": mo,
+                "state": str(s),
+                "length": le,
+                "slip": sl,
+                "opening": op,
+                "points": [{"N": pn, "T": pt} for pn, pt in pts],
+            }
+            for (a, b), n, t, mo, s, le, sl, op, pts in cols
+        ]
         if self.capacity is not None:  # finite compressive strength only: other results stay as they were
             assert self.stress_block is not None  # set together with capacity (alma.results.joints)
             extent = np.hypot(*(self.stress_block[:, 1] - self.stress_block[:, 0]).T)
             for i in np.flatnonzero(np.isfinite(self.capacity)).tolist():
                 out[i]["capacity"] = float(self.capacity[i])
-                out[i]["stress_block"] = {"extent": float(extent[i]), "start": self.stress_block[i, 0].tolist(),
-                                          "end": self.stress_block[i, 1].tolist()}
+                out[i]["stress_block"] = {
+                    "extent": float(extent[i]),
+                    "start": self.stress_block[i, 0].tolist(),
+                    "end": self.stress_block[i, 1].tolist(),
+                }
         return out
-

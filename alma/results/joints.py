@@ -6,6 +6,7 @@ order of :class:`alma.mechanics.contact_points.ContactPoints`).  This module tur
 :class:`~alma.results.types.BlockMotion` and :class:`~alma.results.types.JointResult` in mm,
 rad, kN and kN·mm.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -68,8 +69,7 @@ def mechanism_class(model: Model, mechanism: np.ndarray, states: np.ndarray) -> 
     return "mixed"
 
 
-def describe(model: Model, mechanism: np.ndarray, rel: np.ndarray | None = None
-             ) -> tuple[tuple[MacroBlock, ...], str]:
+def describe(model: Model, mechanism: np.ndarray, rel: np.ndarray | None = None) -> tuple[tuple[MacroBlock, ...], str]:
     """The moving macro-blocks of a mechanism and its class in the paper's words
     (:mod:`alma.results.macro_blocks`)."""
     if not model.n_joints or not np.any(mechanism):
@@ -79,8 +79,15 @@ def describe(model: Model, mechanism: np.ndarray, rel: np.ndarray | None = None
     scale = max(float(np.abs(rel).max(initial=0.0)), float(np.abs(mechanism).max(initial=0.0)), 1e-300)
     bodies, klass = macro_blocks(model, mechanism, rel, MOTION_TOLERANCE * scale)
     ids = model.scene.block_ids
-    out = tuple(MacroBlock(blocks=tuple(ids[model.free_blocks[i]] for i in b["members"]), motion=b["motion"],
-                           centre=b["centre"], direction=b["direction"]) for b in bodies)
+    out = tuple(
+        MacroBlock(
+            blocks=tuple(ids[model.free_blocks[i]] for i in b["members"]),
+            motion=b["motion"],
+            centre=b["centre"],
+            direction=b["direction"],
+        )
+        for b in bodies
+    )
     return out, klass
 
 
@@ -103,8 +110,9 @@ class Physical:
     macro_blocks: tuple[MacroBlock, ...]
 
 
-def physical(model: Model, mechanism: np.ndarray, normal: np.ndarray, shear: np.ndarray,
-             moving: bool, *, dilatant: bool = False) -> Physical:
+def physical(
+    model: Model, mechanism: np.ndarray, normal: np.ndarray, shear: np.ndarray, moving: bool, *, dilatant: bool = False
+) -> Physical:
     """Blocks, joints, mechanism class and macro-blocks of a solution (see the module docstring).
 
     ``moving``: the mechanism is a real one (else every joint is at rest, the class 'none' and
@@ -115,8 +123,9 @@ def physical(model: Model, mechanism: np.ndarray, normal: np.ndarray, shear: np.
     ids = model.scene.block_ids
     motion = mechanism.reshape(-1, 3) * model.n_free
     motion[:, 2] /= model.length_scale
-    blocks = tuple(BlockMotion(id=ids[i], u=tuple(row))
-                   for i, row in zip(model.free_blocks.tolist(), motion.tolist(), strict=True))
+    blocks = tuple(
+        BlockMotion(id=ids[i], u=tuple(row)) for i, row in zip(model.free_blocks.tolist(), motion.tolist(), strict=True)
+    )
     macros: tuple[MacroBlock, ...] = ()
     if moving and model.n_joints:
         states, rel = joint_states(model, mechanism, dilatant=dilatant)
@@ -143,8 +152,9 @@ def _crushing_states(model: Model, normal: np.ndarray, states: np.ndarray, rel: 
     return out
 
 
-def _joint_table(model: Model, normal: np.ndarray, shear: np.ndarray, states: np.ndarray,
-                 rel: np.ndarray) -> JointTable:
+def _joint_table(
+    model: Model, normal: np.ndarray, shear: np.ndarray, states: np.ndarray, rel: np.ndarray
+) -> JointTable:
     """The joints' forces (kN), moments about their centres (kN·mm) and motions as columns."""
     joints = model.joints
     n_point = normal.reshape(-1, 2) * model.force_scale  # (m, point) kN
@@ -158,13 +168,21 @@ def _joint_table(model: Model, normal: np.ndarray, shear: np.ndarray, states: np
     pairs = np.stack([ids[np.asarray(joints.block_a, dtype=int)], ids[np.asarray(joints.block_b, dtype=int)]], axis=1)
     capacity, block = _stress_blocks(model, normal) if model.crushes else (None, None)
     return JointTable(
-        blocks=pairs.reshape(-1, 2), N=n_point.sum(axis=1), T=t_point.sum(axis=1), M=moment,
-        state=states.astype(str), length=np.asarray(joints.length, dtype=float),
-        slip=rel[:, :, 1].mean(axis=1) * model.n_free, opening=rel[:, :, 0] * model.n_free,
+        blocks=pairs.reshape(-1, 2),
+        N=n_point.sum(axis=1),
+        T=t_point.sum(axis=1),
+        M=moment,
+        state=states.astype(str),
+        length=np.asarray(joints.length, dtype=float),
+        slip=rel[:, :, 1].mean(axis=1) * model.n_free,
+        opening=rel[:, :, 0] * model.n_free,
         start=np.asarray(joints.start, dtype=float).reshape(-1, 2),
         end=np.asarray(joints.end, dtype=float).reshape(-1, 2),
-        points=np.stack([n_point, t_point], axis=2), normal=np.asarray(joints.normal, dtype=float).reshape(-1, 2),
-        capacity=capacity, stress_block=block)
+        points=np.stack([n_point, t_point], axis=2),
+        normal=np.asarray(joints.normal, dtype=float).reshape(-1, 2),
+        capacity=capacity,
+        stress_block=block,
+    )
 
 
 def _stress_blocks(model: Model, normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -188,8 +206,9 @@ def _stress_blocks(model: Model, normal: np.ndarray) -> tuple[np.ndarray, np.nda
     return model.crushing * model.force_scale, block
 
 
-def bounded_forces(model: Model, tau: np.ndarray, mechanism: np.ndarray
-                   ) -> tuple[np.ndarray, tuple[dict[str, float | str], ...]]:
+def bounded_forces(
+    model: Model, tau: np.ndarray, mechanism: np.ndarray
+) -> tuple[np.ndarray, tuple[dict[str, float | str], ...]]:
     """The bounded forces (:mod:`alma.mechanics.forces`) in physical form.
 
     Returns the cohesive shear of each contact point (dimensionless, half of each joint's
@@ -211,5 +230,7 @@ def bounded_forces(model: Model, tau: np.ndarray, mechanism: np.ndarray
     power = model.bounded.T @ mechanism if mechanism.size else np.zeros(model.n_bounded)
     ties: tuple[dict[str, float | str], ...] = tuple(
         {"id": str(x)[4:], "force": float(f * model.force_scale), "elongation": float(-p * model.n_free)}
-        for x, f, p, c in zip(labels, tau, power, cohesive, strict=True) if not c)
+        for x, f, p, c in zip(labels, tau, power, cohesive, strict=True)
+        if not c
+    )
     return shear, ties

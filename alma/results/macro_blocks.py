@@ -9,6 +9,7 @@ rotates about a centre on a contact point it shares with a support, a block at r
 macro-block (relative to that one), ``mixed`` otherwise, ``none`` when nothing moves.
 Lengths in mm; velocities per unit mechanism.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -25,8 +26,7 @@ TRANSLATION_TOLERANCE = 1e-3
 HINGE_TOLERANCE = 1e-2
 
 
-def macro_blocks(model: Model, mechanism: np.ndarray, rel: np.ndarray, tol: float
-                 ) -> tuple[list[dict], str]:
+def macro_blocks(model: Model, mechanism: np.ndarray, rel: np.ndarray, tol: float) -> tuple[list[dict], str]:
     """The moving macro-blocks of a mechanism and its class.
 
     ``mechanism``: u (dimensionless, 3 per free block about its centroid); ``rel``: the joints'
@@ -51,12 +51,24 @@ def macro_blocks(model: Model, mechanism: np.ndarray, rel: np.ndarray, tol: floa
     split = np.split(members, np.cumsum(np.bincount(of_block[of_block >= 0]))[:-1])
     for g, block_ids in enumerate(split):
         if translating[g]:
-            bodies.append({"members": block_ids, "motion": "translation", "centre": None,
-                           "direction": tuple((velocity[g] / speed[g]).tolist())})
+            bodies.append(
+                {
+                    "members": block_ids,
+                    "motion": "translation",
+                    "centre": None,
+                    "direction": tuple((velocity[g] / speed[g]).tolist()),
+                }
+            )
         else:
             pivot = centre[g] + np.array([-velocity[g, 1], velocity[g, 0]]) / theta[g]
-            bodies.append({"members": block_ids, "motion": "rotation", "direction": None,
-                           "centre": tuple((model.origin + pivot * model.length_scale).tolist())})
+            bodies.append(
+                {
+                    "members": block_ids,
+                    "motion": "rotation",
+                    "direction": None,
+                    "centre": tuple((model.origin + pivot * model.length_scale).tolist()),
+                }
+            )
     if translating.all():
         return bodies, "sliding"
     return bodies, "rocking" if hinged.all() else "mixed"
@@ -96,8 +108,9 @@ def _velocity_at(model: Model, u: np.ndarray, blocks: np.ndarray, point: np.ndar
     return np.column_stack([u[blocks, 0] - u[blocks, 2] * d[:, 1], u[blocks, 1] + u[blocks, 2] * d[:, 0]])
 
 
-def _rigid_motions(model: Model, u: np.ndarray, of_block: np.ndarray, count: int
-                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _rigid_motions(
+    model: Model, u: np.ndarray, of_block: np.ndarray, count: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Per macro-block: centre (mean centroid), rotation, velocity at the centre (means over the
     members) and reach (farthest member centroid + one reference length), dimensionless."""
     blocks = np.flatnonzero(of_block >= 0)
@@ -112,8 +125,9 @@ def _rigid_motions(model: Model, u: np.ndarray, of_block: np.ndarray, count: int
     return centre, theta, velocity, reach + 1.0
 
 
-def _hinged(model: Model, u: np.ndarray, of_block: np.ndarray, centre: np.ndarray, theta: np.ndarray,
-            velocity: np.ndarray) -> np.ndarray:
+def _hinged(
+    model: Model, u: np.ndarray, of_block: np.ndarray, centre: np.ndarray, theta: np.ndarray, velocity: np.ndarray
+) -> np.ndarray:
     """Per macro-block: it turns about a contact point it shares with a neighbour (a support, a
     block at rest, or another macro-block, relative to that one's motion)."""
     joints = model.joints
@@ -134,8 +148,10 @@ def _hinged(model: Model, u: np.ndarray, of_block: np.ndarray, centre: np.ndarra
     rel_v[free] -= _velocity_at(model, u, other[free], centre[g[free]])
     turning = np.abs(rel_theta) > 1e-300
     j, g, rel_theta, rel_v = j[turning], g[turning], rel_theta[turning], rel_v[turning]
-    pivot = model.origin + (centre[g] + np.column_stack([-rel_v[:, 1], rel_v[:, 0]]) / rel_theta[:, None]) \
-        * model.length_scale
+    pivot = (
+        model.origin
+        + (centre[g] + np.column_stack([-rel_v[:, 1], rel_v[:, 0]]) / rel_theta[:, None]) * model.length_scale
+    )
     gap = np.minimum(np.hypot(*(joints.start[j] - pivot).T), np.hypot(*(joints.end[j] - pivot).T))
     areas = np.abs(signed_areas(scene_edges(model.scene)))
     near = gap <= HINGE_TOLERANCE * float(np.median(np.sqrt(areas)))

@@ -7,6 +7,7 @@
 
 Each serialises to the JSON object of SPEC §3 with ``to_dict()``.
 """
+
 from __future__ import annotations
 
 import math
@@ -40,6 +41,7 @@ class Bounds:
     def describe(self, digits: int = 9) -> str:
         """The interval as text, ``[lower, upper]`` with what each side is and the relative gap when
         both sides are finite; a side that proves nothing is written "none" (never ±inf or nan)."""
+
         def side(value: float) -> str:
             return f"{value:.{digits}g}" if math.isfinite(value) else "none"
 
@@ -99,9 +101,12 @@ class MacroBlock:
     direction: tuple[float, float] | None
 
     def to_dict(self) -> dict[str, Any]:
-        return {"blocks": list(self.blocks), "motion": self.motion,
-                "centre": list(self.centre) if self.centre is not None else None,
-                "direction": list(self.direction) if self.direction is not None else None}
+        return {
+            "blocks": list(self.blocks),
+            "motion": self.motion,
+            "centre": list(self.centre) if self.centre is not None else None,
+            "direction": list(self.direction) if self.direction is not None else None,
+        }
 
 
 @dataclass(frozen=True)
@@ -144,9 +149,13 @@ class Result:
             "status": str(self.status),
             "message": self.message,
             "alpha": finite(self.alpha),
-            "bounds": {"lower": finite(self.bounds.lower), "upper": finite(self.bounds.upper),
-                       "gap": finite(self.bounds.gap), "lower_is": self.bounds.lower_is,
-                       "upper_is": self.bounds.upper_is},
+            "bounds": {
+                "lower": finite(self.bounds.lower),
+                "upper": finite(self.bounds.upper),
+                "gap": finite(self.bounds.gap),
+                "lower_is": self.bounds.lower_is,
+                "upper_is": self.bounds.upper_is,
+            },
             "alpha_associative": finite(self.alpha_associative),
             "mechanism_class": self.mechanism_class,
             "macro_blocks": [m.to_dict() for m in self.macro_blocks],
@@ -197,8 +206,13 @@ class NonAssociativeResult(Result):
 
     @property
     def extra(self) -> dict[str, Any]:
-        out = {**super().extra, "start": self.start, "candidates": list(self.candidates),
-               "starts": list(self.starts), "search": dict(self.search)}
+        out = {
+            **super().extra,
+            "start": self.start,
+            "candidates": list(self.candidates),
+            "starts": list(self.starts),
+            "search": dict(self.search),
+        }
         if self.certificate is not None:
             out["certificate"] = dict(self.certificate)
         if self.ties:
@@ -233,16 +247,20 @@ class Comparison:
 
     @property
     def extra(self) -> dict[str, Any]:
-        return {**self.nonassociative.extra, "alpha_nonassociative": self.nonassociative.alpha,
-                "ratio": self.ratio}
+        return {**self.nonassociative.extra, "alpha_nonassociative": self.nonassociative.alpha, "ratio": self.ratio}
 
     def to_dict(self) -> dict[str, Any]:
         """SPEC §3 for ``both``: the non-associative object at the top, ``alpha_associative``,
         ``alpha_nonassociative``, ``ratio``, and both results whole."""
         out = self.nonassociative.to_dict()
-        out.update(model="both", alpha_associative=finite(self.associative.alpha),
-                   alpha_nonassociative=finite(self.nonassociative.alpha), ratio=finite(self.ratio),
-                   associative=self.associative.to_dict(), nonassociative=self.nonassociative.to_dict())
+        out.update(
+            model="both",
+            alpha_associative=finite(self.associative.alpha),
+            alpha_nonassociative=finite(self.nonassociative.alpha),
+            ratio=finite(self.ratio),
+            associative=self.associative.to_dict(),
+            nonassociative=self.nonassociative.to_dict(),
+        )
         return out
 
 
@@ -256,6 +274,17 @@ def _joint_records(joints: Sequence[JointResult]) -> list[dict[str, Any]]:
     records = getattr(joints, "records", None)
     if records is not None:
         return records()
-    return [{"blocks": list(j.blocks), "N": j.N, "T": j.T, "M": j.M, "state": j.state, "length": j.length,
-             "slip": j.slip, "opening": list(j.opening), "points": [{"N": n, "T": t} for n, t in j.points]}
-            for j in joints]
+    return [
+        {
+            "blocks": list(j.blocks),
+            "N": j.N,
+            "T": j.T,
+            "M": j.M,
+            "state": j.state,
+            "length": j.length,
+            "slip": j.slip,
+            "opening": list(j.opening),
+            "points": [{"N": n, "T": t} for n, t in j.points],
+        }
+        for j in joints
+    ]

@@ -29,6 +29,7 @@ n. 617/2009 §C8A.4, below), with P_i the weights of the n moving masses (kN):
 Units: masses in kg, accelerations in m/s², displacements in m (the scene's mm converted),
 periods in s.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -95,11 +96,17 @@ class Site:
         site = cls(**values)
         for name in ("ag", "F0", "Tc_star", "FC", "q"):
             value = getattr(site, name)
-            if (isinstance(value, bool) or not isinstance(value, (int, float))
-                    or not (math.isfinite(value) and value > 0)):
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, (int, float))
+                or not (math.isfinite(value) and value > 0)
+            ):
                 raise ValueError(f"site: {name} must be a positive number, got {value!r}")
-        if (isinstance(site.Z, bool) or not isinstance(site.Z, (int, float))
-                or not (math.isfinite(site.Z) and site.Z >= 0)):
+        if (
+            isinstance(site.Z, bool)
+            or not isinstance(site.Z, (int, float))
+            or not (math.isfinite(site.Z) and site.Z >= 0)
+        ):
             raise ValueError(f"site: Z must be a number >= 0 (m), got {site.Z!r}")
         if site.Z > 0:
             if not (isinstance(site.H, (int, float)) and site.H >= site.Z and site.H > 0):
@@ -155,21 +162,39 @@ class SeismicResult:
         du, ts = _TOP_FIELDS[self.edition]
         masses = self.masses
         carried = [{"load": i, "block": b, "weight": w, "dx": d} for i, b, w, d in masses.carried] if masses else []
-        return {"status": str(self.status), "message": self.message, "edition": self.edition,
-                "control": self.push.control,
-                "alpha0": finite(self.alpha0), "M_star": finite(self.M_star), "e_star": finite(self.e_star),
-                "a0_star": finite(self.a0_star), "demand": finite(self.linear["demand"]),
-                "safety_index": finite(self.linear["safety_index"]), "linear": clean(self.linear),
-                "d0_star": nl.get("d0_star"), "du_star": nl.get(du), "Ts": nl.get(ts),
-                "nonlinear": nl, "spectrum": self.spectrum.to_dict(),
-                "site": {k: getattr(self.site, k) for k in sorted(_SITE_KEYS)},
-                "carried_loads": carried, "external_forces": list(masses.forces) if masses else [],
-                "curve_star": [[finite(d), finite(a)] for d, a in self.curve_star],
-                "push": self.push.to_dict()}
+        return {
+            "status": str(self.status),
+            "message": self.message,
+            "edition": self.edition,
+            "control": self.push.control,
+            "alpha0": finite(self.alpha0),
+            "M_star": finite(self.M_star),
+            "e_star": finite(self.e_star),
+            "a0_star": finite(self.a0_star),
+            "demand": finite(self.linear["demand"]),
+            "safety_index": finite(self.linear["safety_index"]),
+            "linear": clean(self.linear),
+            "d0_star": nl.get("d0_star"),
+            "du_star": nl.get(du),
+            "Ts": nl.get(ts),
+            "nonlinear": nl,
+            "spectrum": self.spectrum.to_dict(),
+            "site": {k: getattr(self.site, k) for k in sorted(_SITE_KEYS)},
+            "carried_loads": carried,
+            "external_forces": list(masses.forces) if masses else [],
+            "curve_star": [[finite(d), finite(a)] for d, a in self.curve_star],
+            "push": self.push.to_dict(),
+        }
 
 
-def seismic(scene: Scene, site: Site | Mapping[str, Any], *, edition: str | None = None,
-            curve: PushResult | None = None, **push_options: Any) -> SeismicResult:
+def seismic(
+    scene: Scene,
+    site: Site | Mapping[str, Any],
+    *,
+    edition: str | None = None,
+    curve: PushResult | None = None,
+    **push_options: Any,
+) -> SeismicResult:
     """The linear and nonlinear kinematic checks of ``scene``'s collapse mechanism at ``site``.
 
     Parameters
@@ -200,37 +225,56 @@ def seismic(scene: Scene, site: Site | Mapping[str, Any], *, edition: str | None
     if edition != site.edition:
         site = dataclasses.replace(site, edition=edition)
     if edition == "2019" and site.Z > 0:
-        raise ValueError("edition 2019: a mechanism at Z > 0 needs the floor spectrum of the Circolare 2019 "
-                         "(Eqs. C7.2.5-C7.2.10), which alma does not implement; use edition 2009 for Z > 0")
+        raise ValueError(
+            "edition 2019: a mechanism at Z > 0 needs the floor spectrum of the Circolare 2019 "
+            "(Eqs. C7.2.5-C7.2.10), which alma does not implement; use edition 2009 for Z > 0"
+        )
     if not scene.validated:
         scene = scene.validate()
     if not (scene.live_self_weight and abs(scene.live_load_direction[1]) < 1e-12 and abs(scene.gravity[0]) < 1e-12):
-        raise ValueError("the kinematic check needs gravity along -y and the live load the weights along ±x: "
-                         "the code's action is proportional to the masses")
+        raise ValueError(
+            "the kinematic check needs gravity along -y and the live load the weights along ±x: "
+            "the code's action is proportional to the masses"
+        )
     check_loads(scene)
     spec = elastic_spectrum(site.ag, site.F0, site.Tc_star, site.soil, site.topography)
     pushed = curve if curve is not None else push(scene, **push_options)
     if not pushed.curve:
         nan = math.nan
         demand = _linear_demand(site, spec) if edition == "2009" else spec.ag
-        return SeismicResult(pushed.status, pushed.message, site, spec, nan, nan, nan, nan,
-                             {"demand": demand, "safety_index": nan, "verified": None},
-                             {}, (), pushed, edition)
+        return SeismicResult(
+            pushed.status,
+            pushed.message,
+            site,
+            spec,
+            nan,
+            nan,
+            nan,
+            nan,
+            {"demand": demand, "safety_index": nan, "verified": None},
+            {},
+            (),
+            pushed,
+            edition,
+        )
     masses = mass_points(scene, pushed)
     weights, dx, k = masses.weight, masses.dx, masses.control
     alpha0 = pushed.curve[0].alpha
     sum_p = float(weights.sum())
-    m_star = float((weights @ dx) ** 2 / (G * (weights @ dx ** 2))) * 1e3  # kN → N, so kg
+    m_star = float((weights @ dx) ** 2 / (G * (weights @ dx**2))) * 1e3  # kN → N, so kg
     e_star = G * m_star / (sum_p * 1e3)
     a0_star = alpha0 * G / (e_star * site.FC)
-    factor = float((weights @ dx ** 2) / (dx[k] * (weights @ dx)))  # d* = d_k · factor
+    factor = float((weights @ dx**2) / (dx[k] * (weights @ dx)))  # d* = d_k · factor
     d_star = np.array([p.d for p in pushed.curve]) * factor * 1e-3
     a_star = np.array([p.alpha for p in pushed.curve]) * G / (e_star * site.FC)
     curve_star = tuple(zip(d_star.tolist(), a_star.tolist(), strict=True))
     if edition == "2009":
         demand = _linear_demand(site, spec)
-        linear: dict[str, float | bool | None] = {"demand": demand, "safety_index": a0_star / demand,
-                                                  "verified": bool(a0_star >= demand)}
+        linear: dict[str, float | bool | None] = {
+            "demand": demand,
+            "safety_index": a0_star / demand,
+            "verified": bool(a0_star >= demand),
+        }
         nonlinear = _nonlinear(site, spec, pushed, d_star, a_star, factor)
     else:
         linear = linear_2019(site.q, spec, a0_star)
@@ -240,8 +284,22 @@ def seismic(scene: Scene, site: Site | Mapping[str, Any], *, edition: str | None
     safety = cast(float, nonlinear.get("safety_index", math.nan))  # a number when present
     if not math.isfinite(safety):
         message = f"{message}; the nonlinear check needs d0 (the curve must reach α = 0)"
-    return SeismicResult(status, message, site, spec, alpha0, m_star, e_star, a0_star, linear, nonlinear,
-                         curve_star, pushed, edition, masses)
+    return SeismicResult(
+        status,
+        message,
+        site,
+        spec,
+        alpha0,
+        m_star,
+        e_star,
+        a0_star,
+        linear,
+        nonlinear,
+        curve_star,
+        pushed,
+        edition,
+        masses,
+    )
 
 
 def _linear_demand(site: Site, spec: Spectrum) -> float:
@@ -257,16 +315,25 @@ def _building(site: Site) -> tuple[float, float, float]:
     """T₁ = C₁ H^¾ (s), ψ(Z) = Z/H and γ = 3N/(2N + 1)."""
     # Only at Z > 0, where Site.from_dict requires H and storeys.
     n, H = cast(int, site.storeys), cast(float, site.H)
-    return C1_MASONRY * H ** 0.75, site.Z / H, 3 * n / (2 * n + 1)
+    return C1_MASONRY * H**0.75, site.Z / H, 3 * n / (2 * n + 1)
 
 
-def _nonlinear(site: Site, spec: Spectrum, pushed: PushResult, d_star: np.ndarray, a_star: np.ndarray,
-               factor: float) -> dict[str, float | bool | None]:
+def _nonlinear(
+    site: Site, spec: Spectrum, pushed: PushResult, d_star: np.ndarray, a_star: np.ndarray, factor: float
+) -> dict[str, float | bool | None]:
     """d₀*, d_u*, d_s*, a_s*, T_s and the displacement check of the Circolare 2009 (module docstring)."""
     d0_star, lost = d0_star_of(pushed, factor)
     if not math.isfinite(d0_star):
-        return {"d0_star": math.nan, "du_star": math.nan, "ds_star": math.nan, "as_star": math.nan,
-                "Ts": math.nan, "demand": math.nan, "safety_index": math.nan, "verified": None}
+        return {
+            "d0_star": math.nan,
+            "du_star": math.nan,
+            "ds_star": math.nan,
+            "as_star": math.nan,
+            "Ts": math.nan,
+            "demand": math.nan,
+            "safety_index": math.nan,
+            "verified": None,
+        }
     du_star = min(ULTIMATE_FRACTION * d0_star, lost) if math.isfinite(lost) else ULTIMATE_FRACTION * d0_star
     ds_star = SECANT_FRACTION * du_star
     as_star = float(np.interp(ds_star, d_star, a_star))
@@ -275,7 +342,16 @@ def _nonlinear(site: Site, spec: Spectrum, pushed: PushResult, d_star: np.ndarra
     if site.Z > 0:
         T1, psi, gamma = _building(site)
         r = Ts / T1
-        demand = max(demand, spec.SDe(T1) * psi * gamma * r ** 2 / math.sqrt((1 - r) ** 2 + 0.02 * r))
-    return {"d0_star": d0_star, "du_star": du_star, "ds_star": ds_star, "as_star": as_star, "Ts": Ts,
-            "demand": demand, "safety_index": du_star / demand, "verified": bool(du_star >= demand),
-            "d0_extrapolated": bool(math.isfinite(lost)), "d_lost_star": lost}
+        demand = max(demand, spec.SDe(T1) * psi * gamma * r**2 / math.sqrt((1 - r) ** 2 + 0.02 * r))
+    return {
+        "d0_star": d0_star,
+        "du_star": du_star,
+        "ds_star": ds_star,
+        "as_star": as_star,
+        "Ts": Ts,
+        "demand": demand,
+        "safety_index": du_star / demand,
+        "verified": bool(du_star >= demand),
+        "d0_extrapolated": bool(math.isfinite(lost)),
+        "d_lost_star": lost,
+    }

@@ -35,6 +35,7 @@ building's modes), which is not implemented: the 2019 check refuses Z > 0.
 
 Units: accelerations in m/s², displacements in m, periods in s.
 """
+
 from __future__ import annotations
 
 import math
@@ -73,15 +74,24 @@ def linear_2019(site_q: float, spec: Spectrum, a0_star: float) -> dict[str, floa
     a_z = a0_star  # Eq. C8.7.1.8: a_{Z,SLD} = α₀ g / (e* FC)
     a_g_sld = a_z / spec.S
     a_g_slv = site_q * a_g_sld
-    return {"a_Z_SLD": a_z, "S": spec.S, "a_g_SLD": a_g_sld, "q": site_q, "a_g_SLV": a_g_slv,
-            "capacity": a_g_slv, "demand": spec.ag, "safety_index": a_g_slv / spec.ag,
-            "verified": bool(a_g_slv >= spec.ag),
-            # the spectral acceleration a₀* must reach for the same verdict (for the pictures)
-            "a0_star_required": spec.ag * spec.S / site_q}
+    return {
+        "a_Z_SLD": a_z,
+        "S": spec.S,
+        "a_g_SLD": a_g_sld,
+        "q": site_q,
+        "a_g_SLV": a_g_slv,
+        "capacity": a_g_slv,
+        "demand": spec.ag,
+        "safety_index": a_g_slv / spec.ag,
+        "verified": bool(a_g_slv >= spec.ag),
+        # the spectral acceleration a₀* must reach for the same verdict (for the pictures)
+        "a0_star_required": spec.ag * spec.S / site_q,
+    }
 
 
-def nonlinear_2019(pushed: PushResult, d_star: np.ndarray, a_star: np.ndarray, factor: float,
-                   spec8: Spectrum, a_g_sld: float) -> dict[str, float | bool | None]:
+def nonlinear_2019(
+    pushed: PushResult, d_star: np.ndarray, a_star: np.ndarray, factor: float, spec8: Spectrum, a_g_sld: float
+) -> dict[str, float | bool | None]:
     """The displacement check at SLV of §C8.7.1.2.1.8 at z = 0 (module docstring).
 
     ``spec8`` is the site's spectrum at ξ = 8 %; ``d_star``, ``a_star`` the curve of
@@ -89,15 +99,39 @@ def nonlinear_2019(pushed: PushResult, d_star: np.ndarray, a_star: np.ndarray, f
     """
     d0_star, lost = d0_star_of(pushed, factor)
     if not math.isfinite(d0_star):
-        return {"d0_star": math.nan, "d_SLV": math.nan, "a_SLV": math.nan, "T_SLV": math.nan,
-                "xi": XI_SLV, "eta": spec8.eta, "displacement_demand": math.nan, "a_g_SLV": math.nan,
-                "capacity": math.nan, "demand": spec8.ag, "safety_index": math.nan, "verified": None}
+        return {
+            "d0_star": math.nan,
+            "d_SLV": math.nan,
+            "a_SLV": math.nan,
+            "T_SLV": math.nan,
+            "xi": XI_SLV,
+            "eta": spec8.eta,
+            "displacement_demand": math.nan,
+            "a_g_SLV": math.nan,
+            "capacity": math.nan,
+            "demand": spec8.ag,
+            "safety_index": math.nan,
+            "verified": None,
+        }
     d_slv = min(SLV_FRACTION * d0_star, lost) if math.isfinite(lost) else SLV_FRACTION * d0_star
     a_slv = float(np.interp(d_slv, d_star, a_star))
     t_slv = T_SLV_COEFFICIENT * math.pi * math.sqrt(d_slv / a_slv)  # Eq. C8.7.1.10
     demand = spec8.SDe_max(t_slv)  # Eq. C8.7.1.12 at the ground, over [0, T_SLV]
     a_g_slv = max(spec8.ag * d_slv / demand, a_g_sld)
-    return {"d0_star": d0_star, "d_SLV": d_slv, "a_SLV": a_slv, "T_SLV": t_slv, "xi": XI_SLV, "eta": spec8.eta,
-            "displacement_demand": demand, "a_g_SLD": a_g_sld, "a_g_SLV": a_g_slv, "capacity": a_g_slv,
-            "demand": spec8.ag, "safety_index": a_g_slv / spec8.ag, "verified": bool(a_g_slv >= spec8.ag),
-            "d0_extrapolated": bool(math.isfinite(lost)), "d_lost_star": lost}
+    return {
+        "d0_star": d0_star,
+        "d_SLV": d_slv,
+        "a_SLV": a_slv,
+        "T_SLV": t_slv,
+        "xi": XI_SLV,
+        "eta": spec8.eta,
+        "displacement_demand": demand,
+        "a_g_SLD": a_g_sld,
+        "a_g_SLV": a_g_slv,
+        "capacity": a_g_slv,
+        "demand": spec8.ag,
+        "safety_index": a_g_slv / spec8.ag,
+        "verified": bool(a_g_slv >= spec8.ag),
+        "d0_extrapolated": bool(math.isfinite(lost)),
+        "d_lost_star": lost,
+    }

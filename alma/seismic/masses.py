@@ -24,6 +24,7 @@ worked examples use.)
 
 Units: weights in kN, virtual displacements in mm (the mechanism's velocities, any scale).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -78,10 +79,12 @@ def check_loads(scene: Scene) -> None:
     bad = (across > _PARALLEL * size) | (along < -_PARALLEL * size)
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
-        raise ValueError(f"load #{i} on block '{scene.loads[i].block}': its live part {list(scene.loads[i].live)} "
-                         f"is not a weight along the live load direction {list(scene.live_load_direction)} "
-                         "(the kinematic check's action is α times the carried masses' weights; "
-                         "an external force F_k has no live part)")
+        raise ValueError(
+            f"load #{i} on block '{scene.loads[i].block}': its live part {list(scene.loads[i].live)} "
+            f"is not a weight along the live load direction {list(scene.live_load_direction)} "
+            "(the kinematic check's action is α times the carried masses' weights; "
+            "an external force F_k has no live part)"
+        )
 
 
 def mass_points(scene: Scene, pushed: PushResult) -> MassPoints:
@@ -108,12 +111,14 @@ def mass_points(scene: Scene, pushed: PushResult) -> MassPoints:
         return MassPoints(weights[keep], dx[keep], k, (), forces)
     extra_w = np.array([c[2] for c in carried])
     extra_dx = np.array([c[3] for c in carried])
-    return MassPoints(np.concatenate([weights[keep], extra_w]), np.concatenate([dx[keep], extra_dx]), k,
-                      tuple(carried), forces)
+    return MassPoints(
+        np.concatenate([weights[keep], extra_w]), np.concatenate([dx[keep], extra_dx]), k, tuple(carried), forces
+    )
 
 
-def _carried(scene: Scene, ids: list[str], u: np.ndarray, centroids: np.ndarray, moving: set[str],
-             sense: float) -> tuple[list[tuple[int, str, float, float]], tuple[int, ...]]:
+def _carried(
+    scene: Scene, ids: list[str], u: np.ndarray, centroids: np.ndarray, moving: set[str], sense: float
+) -> tuple[list[tuple[int, str, float, float]], tuple[int, ...]]:
     """The carried masses on moving blocks (load index, block, m g kN, δx mm) and the F_k loads."""
     if not scene.loads:
         return [], ()
@@ -126,11 +131,13 @@ def _carried(scene: Scene, ids: list[str], u: np.ndarray, centroids: np.ndarray,
     on = np.array([load.block in moving for load in scene.loads])
     block_row = np.array([row.get(load.block, 0) for load in scene.loads])
     centre = centroids[[index[load.block] for load in scene.loads]]
-    point = np.array([load.point if load.point is not None else centre[i] for i, load in enumerate(scene.loads)],
-                     dtype=float)
+    point = np.array(
+        [load.point if load.point is not None else centre[i] for i, load in enumerate(scene.loads)], dtype=float
+    )
     velocity = u[block_row, 0] - u[block_row, 2] * (point[:, 1] - centre[:, 1])
     mass = (weight > 0) & on
-    carried = [(int(i), scene.loads[i].block, float(weight[i]), float(velocity[i] * sense))
-               for i in np.flatnonzero(mass)]
+    carried = [
+        (int(i), scene.loads[i].block, float(weight[i]), float(velocity[i] * sense)) for i in np.flatnonzero(mass)
+    ]
     forces = tuple(int(i) for i in np.flatnonzero(weight <= 0))
     return carried, forces

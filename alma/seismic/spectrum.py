@@ -33,6 +33,7 @@ Formulas, written from the code's text:
 
 Units: accelerations in m/s², displacements in m, periods in s.
 """
+
 from __future__ import annotations
 
 import math
@@ -41,9 +42,13 @@ from dataclasses import dataclass
 #: Standard gravity (m/s²): a_g is given in g.
 G = 9.80665
 #: S_S = max(low, min(high, a − b F₀ a_g/g)) and C_C = c (T_C*)^e per soil (NTC 2018 Tab. 3.2.IV).
-SOILS = {"A": (1.0, 0.0, 1.0, 1.0, 1.0, 0.0), "B": (1.40, 0.40, 1.00, 1.20, 1.10, -0.20),
-         "C": (1.70, 0.60, 1.00, 1.50, 1.05, -0.33), "D": (2.40, 1.50, 0.90, 1.80, 1.25, -0.50),
-         "E": (2.00, 1.10, 1.00, 1.60, 1.15, -0.40)}
+SOILS = {
+    "A": (1.0, 0.0, 1.0, 1.0, 1.0, 0.0),
+    "B": (1.40, 0.40, 1.00, 1.20, 1.10, -0.20),
+    "C": (1.70, 0.60, 1.00, 1.50, 1.05, -0.33),
+    "D": (2.40, 1.50, 0.90, 1.80, 1.25, -0.50),
+    "E": (2.00, 1.10, 1.00, 1.60, 1.15, -0.40),
+}
 #: S_T at the top of the relief (NTC 2018 Tab. 3.2.V).
 TOPOGRAPHY = {"T1": 1.0, "T2": 1.2, "T3": 1.2, "T4": 1.4}
 #: The lower bound of the damping correction η (NTC 2018 Eq. 3.2.4).
@@ -83,7 +88,7 @@ class Spectrum:
             return top
         if T < self.TD:
             return top * self.TC / T
-        return top * self.TC * self.TD / T ** 2
+        return top * self.TC * self.TD / T**2
 
     def SDe(self, T: float) -> float:
         """Elastic displacement S_De(T) in m (NTC 2018 §3.2.3.2.3)."""
@@ -104,12 +109,24 @@ class Spectrum:
         return best
 
     def to_dict(self) -> dict[str, float | str]:
-        return {"ag": self.ag, "F0": self.F0, "soil": self.soil, "S_S": self.S_S, "S_T": self.S_T, "S": self.S,
-                "C_C": self.C_C, "TB": self.TB, "TC": self.TC, "TD": self.TD, "eta": self.eta}
+        return {
+            "ag": self.ag,
+            "F0": self.F0,
+            "soil": self.soil,
+            "S_S": self.S_S,
+            "S_T": self.S_T,
+            "S": self.S,
+            "C_C": self.C_C,
+            "TB": self.TB,
+            "TC": self.TC,
+            "TD": self.TD,
+            "eta": self.eta,
+        }
 
 
-def elastic_spectrum(ag: float, F0: float, Tc_star: float, soil: str, topography: str = "T1",
-                     damping: float = 5.0) -> Spectrum:
+def elastic_spectrum(
+    ag: float, F0: float, Tc_star: float, soil: str, topography: str = "T1", damping: float = 5.0
+) -> Spectrum:
     """The site's spectrum from a_g (in g), F₀, T_C* (s), the soil and topographic categories, at
     the viscous damping ξ = ``damping`` (percent; η of NTC 2018 Eq. 3.2.4)."""
     if soil not in SOILS:
@@ -121,7 +138,17 @@ def elastic_spectrum(ag: float, F0: float, Tc_star: float, soil: str, topography
             raise ValueError(f"{name} must be a positive number, got {value!r}")
     a, b, low, high, c, e = SOILS[soil]
     s_s = min(high, max(low, a - b * F0 * ag))
-    c_c = c * Tc_star ** e
+    c_c = c * Tc_star**e
     tc = c_c * Tc_star
-    return Spectrum(ag=ag * G, F0=F0, soil=soil, S_S=s_s, S_T=TOPOGRAPHY[topography], C_C=c_c,
-                    TB=tc / 3, TC=tc, TD=4.0 * ag + 1.6, eta=max(ETA_MIN, math.sqrt(10.0 / (5.0 + damping))))
+    return Spectrum(
+        ag=ag * G,
+        F0=F0,
+        soil=soil,
+        S_S=s_s,
+        S_T=TOPOGRAPHY[topography],
+        C_C=c_c,
+        TB=tc / 3,
+        TC=tc,
+        TD=4.0 * ag + 1.6,
+        eta=max(ETA_MIN, math.sqrt(10.0 / (5.0 + damping))),
+    )

@@ -102,8 +102,7 @@ def load_results(path: str | PathLike[str]) -> pd.DataFrame:
     missing = [c for c in RESULT_COLUMNS if c not in raw.columns]
     if missing:
         raise ValueError(
-            f"{path}: missing column {missing[0]!r} (a results CSV needs columns "
-            f"{', '.join(RESULT_COLUMNS)})"
+            f"{path}: missing column {missing[0]!r} (a results CSV needs columns {', '.join(RESULT_COLUMNS)})"
         )
     if len(raw) == 0:
         raise ValueError(f"{path}: no data rows")
@@ -209,16 +208,14 @@ def _prepare(df: pd.DataFrame, response: str, factors: Sequence[str] | None = No
 
 
 def fit_model(
-    df: pd.DataFrame, response: str = "alpha_c", order: int = 2,
-    factors: Sequence[str] | None = None,
+    df: pd.DataFrame, response: str = "alpha_c", order: int = 2, factors: Sequence[str] | None = None
 ) -> RegressionResultsWrapper:
     """OLS fit of the ANOVA model (main effects + interactions up to ``order``) of the
     ``factors`` columns (default: :func:`default_factors`, the four of Table 1 and a varying
     chain)."""
     if order not in range(1, _MAX_ORDER + 1):
         raise ValueError(
-            f"order must be 1, 2 or 3 (got {order!r}); order 4 leaves no error DoF "
-            "in a single-replicate design"
+            f"order must be 1, 2 or 3 (got {order!r}); order 4 leaves no error DoF in a single-replicate design"
         )
     if factors is None:
         factors = default_factors(df)
@@ -227,8 +224,9 @@ def fit_model(
     return smf.ols(formula, data=data).fit()
 
 
-def anova(df: pd.DataFrame, response: str = "alpha_c", order: int = 2,
-          factors: Sequence[str] | None = None) -> AnovaResult:
+def anova(
+    df: pd.DataFrame, response: str = "alpha_c", order: int = 2, factors: Sequence[str] | None = None
+) -> AnovaResult:
     """ANOVA table of Table 2 (paper, Appendix A, Eqs. 14-16) via statsmodels.
 
     Factors are categorical with sum contrasts; terms are tested with adjusted (Type III)
@@ -249,8 +247,10 @@ def anova(df: pd.DataFrame, response: str = "alpha_c", order: int = 2,
     if rank < exog.shape[1]:
         # An unbalanced subset can leave a combination of levels without a panel: its
         # interaction is then not estimable and the adjusted sums of squares are meaningless.
-        raise ValueError(f"the order-{order} model is not estimable on these panels "
-                         f"(design matrix rank {rank} < {exog.shape[1]} coefficients)")
+        raise ValueError(
+            f"the order-{order} model is not estimable on these panels "
+            f"(design matrix rank {rank} < {exog.shape[1]} coefficients)"
+        )
     n = int(res.nobs)
     dfe = int(round(res.df_resid))
     if dfe <= 0:
@@ -265,24 +265,34 @@ def anova(df: pd.DataFrame, response: str = "alpha_c", order: int = 2,
     press = press_from_leverage(resid, leverage)
     std_resid = np.asarray(influence.resid_studentized_internal, dtype=float)
     return AnovaResult(
-        response=response, order=order, n=n, rows=tuple(rows), r2=1.0 - sse / sst,
-        r2_adj=1.0 - mse / (sst / (n - 1)), r2_pred=1.0 - press / sst, press=press, dfe=dfe, mse=mse,
-        n_params=int(round(res.df_model)) + 1, fitted=tuple(float(v) for v in np.asarray(res.fittedvalues)),
-        residuals=tuple(float(v) for v in resid), leverage=tuple(float(v) for v in leverage),
+        response=response,
+        order=order,
+        n=n,
+        rows=tuple(rows),
+        r2=1.0 - sse / sst,
+        r2_adj=1.0 - mse / (sst / (n - 1)),
+        r2_pred=1.0 - press / sst,
+        press=press,
+        dfe=dfe,
+        mse=mse,
+        n_params=int(round(res.df_model)) + 1,
+        fitted=tuple(float(v) for v in np.asarray(res.fittedvalues)),
+        residuals=tuple(float(v) for v in resid),
+        leverage=tuple(float(v) for v in leverage),
         std_residuals=tuple(float(v) for v in std_resid),
     )
 
 
-def _table_rows(res: RegressionResultsWrapper, order: int, factors: Sequence[str] | None, mse: float,
-                dfe: int) -> list[AnovaRow]:
+def _table_rows(
+    res: RegressionResultsWrapper, order: int, factors: Sequence[str] | None, mse: float, dfe: int
+) -> list[AnovaRow]:
     """Model, the group rows (Linear, Two-Way Interactions, ...) and every term's row."""
     table = anova_lm(res, typ=3)
     columns = _term_columns(res.model.exog_names)
 
     def term_row(term: tuple[str, ...]) -> AnovaRow:
         key = _patsy_term(term)
-        return _row(_TERM_SEP.join(term), int(round(table.loc[key, "df"])), float(table.loc[key, "sum_sq"]),
-                    mse, dfe)
+        return _row(_TERM_SEP.join(term), int(round(table.loc[key, "df"])), float(table.loc[key, "sum_sq"]), mse, dfe)
 
     def group_row(name: str, terms: Sequence[tuple[str, ...]]) -> AnovaRow:
         # Joint Wald test of all coefficients of the group = extra SS of dropping the group.

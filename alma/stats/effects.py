@@ -1,5 +1,6 @@
 """Effects of the ANOVA's terms: standardized effects for the Pareto chart (Figure 7) and
 Tukey's comparisons of the bonds (the paper's "Results and discussion")."""
+
 from __future__ import annotations
 
 import math
@@ -52,7 +53,6 @@ class TukeyResult:
         return tuple((c.group1, c.group2) for c in self.comparisons if c.reject)
 
 
-
 def equivalent_t(p_value: float, dfe: int) -> float:
     """The |t| whose two-sided p-value with ``dfe`` DoF equals ``p_value``.
 
@@ -69,9 +69,7 @@ def pareto_reference(dfe: int, alpha: float = 0.05) -> float:
     return float(scipy.stats.t.isf(alpha / 2.0, dfe))
 
 
-def standardized_effects(
-    result: AnovaResult, alpha: float = 0.05
-) -> tuple[StandardizedEffect, ...]:
+def standardized_effects(result: AnovaResult, alpha: float = 0.05) -> tuple[StandardizedEffect, ...]:
     """Standardized effects of the model terms for the Pareto chart (Figure 7).
 
     One-DoF terms: |t| of the coefficient, which equals sqrt(F). Several-DoF terms: the t

@@ -26,14 +26,7 @@ import pandas as pd
 import scipy.stats
 from matplotlib.figure import Figure
 
-from alma.stats.anova import (
-    BLOCK_LENGTH_MM,
-    FACTORS,
-    PANEL_HEIGHT_MM,
-    PANEL_LENGTH_MM,
-    AnovaResult,
-    anova,
-)
+from alma.stats.anova import BLOCK_LENGTH_MM, FACTORS, PANEL_HEIGHT_MM, PANEL_LENGTH_MM, AnovaResult, anova
 from alma.stats.effects import pareto_reference, standardized_effects
 from alma.stats.levels import level_label as _level_label, levels as _levels
 
@@ -46,12 +39,7 @@ __all__ = [
     "scale_factor_plots",
 ]
 
-_LABELS = {
-    "panel_ratio": "Panel ratio",
-    "block_ratio": "Block ratio",
-    "bond": "Bond type",
-    "friction": "Friction",
-}
+_LABELS = {"panel_ratio": "Panel ratio", "block_ratio": "Block ratio", "bond": "Bond type", "friction": "Friction"}
 _RESPONSE_LABEL = r"mean $\langle\alpha_c\rangle$"
 _DPI = 150
 
@@ -122,18 +110,25 @@ def pareto_chart(result: AnovaResult, path: str | PathLike[str], alpha: float = 
 
 
 def main_effects_plot(
-    df: pd.DataFrame, path: str | PathLike[str], response: str = "alpha_c",
-    ylabel: str | None = None, title: str | None = None,
+    df: pd.DataFrame,
+    path: str | PathLike[str],
+    response: str = "alpha_c",
+    ylabel: str | None = None,
+    title: str | None = None,
 ) -> Path:
     """Main effects plot (Figure 5): mean response at each level of each factor, the other
     factors averaged out (e.g. the 2:1 point is the mean of the 36 panels with ratio 2:1)."""
-    return main_effects_overlay(df, path, {response: None}, ylabel=ylabel or _RESPONSE_LABEL,
-                                title=title or f"Main effects plot for {response}")
+    return main_effects_overlay(
+        df, path, {response: None}, ylabel=ylabel or _RESPONSE_LABEL, title=title or f"Main effects plot for {response}"
+    )
 
 
 def main_effects_overlay(
-    df: pd.DataFrame, path: str | PathLike[str], responses: dict[str, str | None],
-    ylabel: str = _RESPONSE_LABEL, title: str | None = None,
+    df: pd.DataFrame,
+    path: str | PathLike[str],
+    responses: dict[str, str | None],
+    ylabel: str = _RESPONSE_LABEL,
+    title: str | None = None,
 ) -> Path:
     """Main effects of several responses of the same panels on shared axes (one line per
     response, labelled by the values of ``responses``; e.g. the associative and the
@@ -151,10 +146,14 @@ def main_effects_overlay(
         for ax, col in zip(axes, factors, strict=True):
             levels = _levels(data, col)
             means = _means(data, [col], response)
-            ax.plot(range(len(levels)), [means[v] for v in levels], "o-", color=colour,
-                    label=label if col == factors[0] else None)
-            ax.axhline(grand, color=colour if len(responses) > 1 else "gray", linestyle="--",
-                       linewidth=0.8)
+            ax.plot(
+                range(len(levels)),
+                [means[v] for v in levels],
+                "o-",
+                color=colour,
+                label=label if col == factors[0] else None,
+            )
+            ax.axhline(grand, color=colour if len(responses) > 1 else "gray", linestyle="--", linewidth=0.8)
             ax.set_xticks(range(len(levels)), [_level_label(col, v) for v in levels])
             ax.set_xlim(-0.5, len(levels) - 0.5)
             ax.set_title(_LABELS[col])
@@ -172,9 +171,7 @@ def main_effects_overlay(
 # --------------------------------------------------------------------------------------------
 
 
-def interaction_plot_matrix(
-    df: pd.DataFrame, path: str | PathLike[str], response: str = "alpha_c"
-) -> Path:
+def interaction_plot_matrix(df: pd.DataFrame, path: str | PathLike[str], response: str = "alpha_c") -> Path:
     """Two-way interaction plot matrix (Figure 6), Minitab layout: the cell in row i and
     column j (j > i) plots the mean response against the levels of factor j, one line per
     level of factor i; each point is the mean over the two other factors."""
@@ -214,9 +211,7 @@ def interaction_plot_matrix(
 # --------------------------------------------------------------------------------------------
 
 
-def _fits_and_std_residuals(
-    df: pd.DataFrame, result_or_model: Any, response: str
-) -> tuple[np.ndarray, np.ndarray]:
+def _fits_and_std_residuals(df: pd.DataFrame, result_or_model: Any, response: str) -> tuple[np.ndarray, np.ndarray]:
     if result_or_model is None:
         result_or_model = anova(df, response=response)
     if isinstance(result_or_model, AnovaResult):
@@ -230,10 +225,7 @@ def _fits_and_std_residuals(
 
 
 def residual_plots(
-    df: pd.DataFrame,
-    result_or_model: Any,
-    path: str | PathLike[str],
-    response: str = "alpha_c",
+    df: pd.DataFrame, result_or_model: Any, path: str | PathLike[str], response: str = "alpha_c"
 ) -> Path:
     """Four-in-one residual plots of Figure 8 for the standardized residuals
     e_i / (S sqrt(1 - h_ii)): normal probability plot, versus fits, histogram and versus
@@ -376,4 +368,3 @@ def scale_factor_plots(
     fig.tight_layout()
     out_b = _save(fig, path_b)
     return out_h, out_b
-

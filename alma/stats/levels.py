@@ -1,5 +1,6 @@
 """The factor levels present in a results table, in the paper's Table 1 order, and their labels
 on the figures' axes (:mod:`alma.stats.figures`)."""
+
 from __future__ import annotations
 
 from collections.abc import Sequence

@@ -1,4 +1,5 @@
 """The ANOVA table's types (Table 2 of the paper): rows, and the result with R², R²(adj), R²(pred)."""
+
 from __future__ import annotations
 
 import math
@@ -96,10 +97,7 @@ class AnovaResult:
         2 for F-Value, 3 for P-Value.
         """
         width = max(len("Source"), *(len(r.source) for r in self.rows))
-        head = (
-            f"{'Source':<{width}}  {'DoF':>4}  {'Adj SS':>8}  {'Adj MS':>8}"
-            f"  {'F-Value':>8}  {'P-Value':>7}"
-        )
+        head = f"{'Source':<{width}}  {'DoF':>4}  {'Adj SS':>8}  {'Adj MS':>8}  {'F-Value':>8}  {'P-Value':>7}"
         lines = [head]
         for r in self.rows:
             lines.append(

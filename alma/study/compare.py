@@ -18,6 +18,7 @@ resumable after a kill, parallel — and everything else is derived from that fi
 A rerun solves nothing already in ``results.csv``; only the report and the figures of panels
 whose results changed are redrawn.
 """
+
 from __future__ import annotations
 
 import json
@@ -32,19 +33,27 @@ import pandas as pd
 
 import alma
 from alma.report.plot import MechanismPicture, plot_side_by_side
-from alma.study.compare_report import start_times, write_report
-from alma.study.compare_stats import _statistics
+from alma.study.compare_report import write_report
+from alma.study.compare_stats import _statistics, start_times
 from alma.study.compare_table import COMPARE_COLUMNS, DIFFER_TOLERANCE, CompareReport, _panel_name, compare_table
 from alma.study.doe import PAPER_DESIGN, RESULTS_FILE, Design, load_design, picture_path, read_results, run_doe
 
 __all__ = ["COMPARE_COLUMNS", "CompareReport", "compare_table", "run_compare", "start_times", "write_report"]
 
 
-def run_compare(out_dir: str | os.PathLike[str], design: Design | str | os.PathLike[str] | None = None,
-                workers: int | None = None, effort: str | None = None, *, scheduler: Any = None,
-                results_dir: str | os.PathLike[str] | None = None, progress: bool = True,
-                retry_errors: bool = False, n_figures: int = 6,
-                time_limit: float | None = None) -> CompareReport:
+def run_compare(
+    out_dir: str | os.PathLike[str],
+    design: Design | str | os.PathLike[str] | None = None,
+    workers: int | None = None,
+    effort: str | None = None,
+    *,
+    scheduler: Any = None,
+    results_dir: str | os.PathLike[str] | None = None,
+    progress: bool = True,
+    retry_errors: bool = False,
+    n_figures: int = 6,
+    time_limit: float | None = None,
+) -> CompareReport:
     """Run (or resume) the study with both models and write the comparison report.
 
     ``results_dir`` holds ``results.csv`` (default ``out_dir``; ``alma paper`` points it at
@@ -66,8 +75,17 @@ def run_compare(out_dir: str | os.PathLike[str], design: Design | str | os.PathL
             before = set(read_results(rdir / RESULTS_FILE)["key"])
         except Exception:  # run_doe reports what is wrong with the file
             before = set()
-    results = run_doe(rdir, model="both", workers=workers, scheduler=scheduler, design=design,
-                      progress=progress, retry_errors=retry_errors, effort=effort, time_limit=time_limit)
+    results = run_doe(
+        rdir,
+        model="both",
+        workers=workers,
+        scheduler=scheduler,
+        design=design,
+        progress=progress,
+        retry_errors=retry_errors,
+        effort=effort,
+        time_limit=time_limit,
+    )
     solve_wall = time.perf_counter() - start
     resumed = int(results["key"].isin(before).sum())
     table = compare_table(results)
@@ -80,15 +98,31 @@ def run_compare(out_dir: str | os.PathLike[str], design: Design | str | os.PathL
     stats = _statistics(table, figures_dir, report)
     mech = _mechanism_figures(table, figures_dir, n_figures, effort, report, time_limit, rdir)
     wall = time.perf_counter() - start
-    write_report(report, design, stats, mech, effort=effort, time_limit=time_limit, wall=wall,
-                 solve_wall=solve_wall,
-                 resumed=resumed, n_results=len(results), results_path=rdir / RESULTS_FILE)
+    write_report(
+        report,
+        design,
+        stats,
+        mech,
+        effort=effort,
+        time_limit=time_limit,
+        wall=wall,
+        solve_wall=solve_wall,
+        resumed=resumed,
+        n_results=len(results),
+        results_path=rdir / RESULTS_FILE,
+    )
     return report
 
 
-
-def _mechanism_figures(table: pd.DataFrame, folder: Path, n: int, effort: str | None,
-                       report: CompareReport, time_limit: float | None, results_dir: Path) -> pd.DataFrame:
+def _mechanism_figures(
+    table: pd.DataFrame,
+    folder: Path,
+    n: int,
+    effort: str | None,
+    report: CompareReport,
+    time_limit: float | None,
+    results_dir: Path,
+) -> pd.DataFrame:
     """Side-by-side mechanisms of the ``n`` panels with the smallest ratio (ratio < 1 only)."""
     valid = table[np.isfinite(table["ratio"].to_numpy(dtype=float))]
     differ = valid[valid["ratio"] < 1.0 - DIFFER_TOLERANCE]
@@ -103,8 +137,9 @@ def _mechanism_figures(table: pd.DataFrame, folder: Path, n: int, effort: str | 
         index = {}
     pngs: list[Path | None] = []
     for r in chosen.itertuples():
-        name = (f"mechanisms_{r.bond}_panel{r.panel_ratio}_blocks{r.block_ratio}_"
-                f"f{float(r.friction):.2f}.png").replace(":", "-")
+        name = (f"mechanisms_{r.bond}_panel{r.panel_ratio}_blocks{r.block_ratio}_f{float(r.friction):.2f}.png").replace(
+            ":", "-"
+        )
         path = folder / name
         stamp = f"{r.key_lp}|{r.key_nl}"
         if index.get(name) == stamp and path.is_file():
@@ -123,8 +158,9 @@ def _mechanism_figures(table: pd.DataFrame, folder: Path, n: int, effort: str | 
     return chosen.assign(png=[str(p.relative_to(folder.parent)) if p is not None else "" for p in pngs])
 
 
-def _draw_pair(r: Any, path: Path, effort: str | None, report: CompareReport,
-               time_limit: float | None, results_dir: Path) -> None:
+def _draw_pair(
+    r: Any, path: Path, effort: str | None, report: CompareReport, time_limit: float | None, results_dir: Path
+) -> None:
 
     scene = alma.paper_panel(r.bond, r.panel_ratio, r.block_ratio, float(r.friction))
     stored = _stored_pictures(r, results_dir)
@@ -143,13 +179,18 @@ def _draw_pair(r: Any, path: Path, effort: str | None, report: CompareReport,
         start = nl.extra.get("start")
         for label, res, stored in (("α_LP", lp, r.alpha_lp), ("α_NL", nl, r.alpha_nl)):
             if not (math.isfinite(res.alpha) and abs(res.alpha - stored) <= 1e-7 * max(1.0, abs(stored))):
-                report.notes.append(f"{_panel_name(r)}: re-solved {label} = {res.alpha:.9g} differs from "
-                                    f"results.csv ({stored:.9g}); the figure shows the re-solved state")
+                report.notes.append(
+                    f"{_panel_name(r)}: re-solved {label} = {res.alpha:.9g} differs from "
+                    f"results.csv ({stored:.9g}); the figure shows the re-solved state"
+                )
     ratio = nl.alpha / lp.alpha if lp.alpha > 0 else math.nan
-    plot_side_by_side(scene, [lp, nl], path,
-                      titles=["associative (dilatant sliding)", f"non-associative, start {start}"],
-                      suptitle=f"{_panel_name(r)}: α_LP = {lp.alpha:.4f}, α_NL = {nl.alpha:.4f}, "
-                               f"α_NL/α_LP = {ratio:.3f}")
+    plot_side_by_side(
+        scene,
+        [lp, nl],
+        path,
+        titles=["associative (dilatant sliding)", f"non-associative, start {start}"],
+        suptitle=f"{_panel_name(r)}: α_LP = {lp.alpha:.4f}, α_NL = {nl.alpha:.4f}, α_NL/α_LP = {ratio:.3f}",
+    )
 
 
 def _stored_pictures(r: Any, results_dir: Path) -> tuple[Any, Any] | None:

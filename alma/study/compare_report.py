@@ -1,4 +1,6 @@
-"""The markdown report of ``alma compare`` (``compare.md``)."""
+"""The markdown report of ``alma compare`` (``compare.md``): its text; the tables are
+:mod:`alma.study.compare_report_tables`."""
+
 from __future__ import annotations
 
 import math
@@ -10,12 +12,20 @@ import numpy as np
 import pandas as pd
 
 import alma
-from alma.stats.effects import pareto_reference
-from alma.study.compare_stats import _Anova, start_times
+from alma.study.compare_report_tables import (
+    _all_panel_lines,
+    _anova_lines,
+    _differ_lines,
+    _f,
+    _gap_rows,
+    _md_table,
+    _start_rows,
+    _time_by_start,
+)
+from alma.study.compare_stats import _Anova
 from alma.study.compare_table import (
     _LABELS,
     BOUND_TOLERANCE,
-    DIFFER_TOLERANCE,
     FACTOR_COLUMNS,
     SIGNIFICANCE,
     VERIFIED,
@@ -23,44 +33,6 @@ from alma.study.compare_table import (
     _panel_name,
 )
 from alma.study.design import Design
-
-
-def _f(x: Any, fmt: str = ".4f") -> str:
-    try:
-        v = float(x)
-    except (TypeError, ValueError):
-        return str(x) if x not in (None, "") else "–"
-    return format(v, fmt) if math.isfinite(v) else "–"
-
-
-def _md_table(header: list[str], rows: list[list[Any]]) -> list[str]:
-    out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    out += ["| " + " | ".join(str(x) for x in r) + " |" for r in rows]
-    return out
-
-
-def _anova_lines(a: _Anova) -> list[str]:
-    lines = [f"### ANOVA of {a.label}", ""]
-    if a.result is None:
-        lines += [f"ANOVA of {a.label} {a.note}.", ""]
-        return lines
-    res = a.result
-    if a.note:
-        lines += [f"Note: {a.note}.", ""]
-    lines += _md_table(["Source", "DoF", "Adj SS", "Adj MS", "F-Value", "P-Value"],
-                       [[r.source, r.dof, _f(r.adj_ss, ".6g"), _f(r.adj_ms, ".6g"),
-                         _f(r.f_value, ".2f"), _f(r.p_value, ".3f")] for r in res.rows])
-    lines.append("")
-    lines.append(f"R² = {100 * res.r2:.2f} %, R²(adj) = {100 * res.r2_adj:.2f} %, "
-                 f"R²(pred) = {100 * res.r2_pred:.2f} % (S = {res.s:.4g}, {res.n} panels, DFE = {res.dfe}).")
-    lines.append("")
-
-    ref = pareto_reference(res.dfe, SIGNIFICANCE)
-    order = " > ".join(f"{e.source} ({e.effect:.2f}{'*' if e.significant else ''})" for e in a.effects)
-    lines.append(f"Pareto ordering of the standardized effects (* = beyond the reference "
-                 f"t = {ref:.3f}, α = {SIGNIFICANCE}): {order}.")
-    lines.append("")
-    return lines
 
 
 def _level_means(table: pd.DataFrame, col: str, response: str) -> pd.Series:
@@ -105,20 +77,27 @@ def _factor_change(valid: pd.DataFrame, col: str, stats: dict[str, _Anova]) -> t
     reasons = []
     if math.isfinite(p_ratio) and p_ratio < SIGNIFICANCE:
         lo, hi = m_r.idxmin(), m_r.idxmax()
-        reasons.append(f"it is significant for the ratio (p = {p_ratio:.3g}; mean ratio "
-                       f"{m_r[lo]:.3f} at {_lvl(col, lo)} against {m_r[hi]:.3f} at {_lvl(col, hi)})")
+        reasons.append(
+            f"it is significant for the ratio (p = {p_ratio:.3g}; mean ratio "
+            f"{m_r[lo]:.3f} at {_lvl(col, lo)} against {m_r[hi]:.3f} at {_lvl(col, hi)})"
+        )
     sig_lp = math.isfinite(_p_value(a_lp, name)) and _p_value(a_lp, name) < SIGNIFICANCE
     sig_nl = math.isfinite(_p_value(a_nl, name)) and _p_value(a_nl, name) < SIGNIFICANCE
     tested = a_lp.result is not None and a_nl.result is not None
     # The order of the level means of a factor without significant effect is noise.
     if order_lp != order_nl and (sig_lp or sig_nl or not tested):
-        reasons.append(f"the order of its level means changes ({' > '.join(_lvl(col, v) for v in order_lp)} "
-                       f"with dilatancy, {' > '.join(_lvl(col, v) for v in order_nl)} without"
-                       + ("" if tested else "; no ANOVA to test it") + ")")
+        reasons.append(
+            f"the order of its level means changes ({' > '.join(_lvl(col, v) for v in order_lp)} "
+            f"with dilatancy, {' > '.join(_lvl(col, v) for v in order_nl)} without"
+            + ("" if tested else "; no ANOVA to test it")
+            + ")"
+        )
     if tested and sig_lp != sig_nl:
         reasons.append("it is significant for α " + ("with dilatancy only" if sig_lp else "without dilatancy only"))
-    detail = (f"effect range (largest minus smallest level mean) {float(m_lp.max() - m_lp.min()):.4f} → "
-              f"{float(m_nl.max() - m_nl.min()):.4f}")
+    detail = (
+        f"effect range (largest minus smallest level mean) {float(m_lp.max() - m_lp.min()):.4f} → "
+        f"{float(m_nl.max() - m_nl.min()):.4f}"
+    )
     s_lp, s_nl = _share(a_lp, name), _share(a_nl, name)
     if math.isfinite(s_lp) and math.isfinite(s_nl):
         detail += f", share of the total sum of squares {100 * s_lp:.1f} % → {100 * s_nl:.1f} %"
@@ -144,10 +123,12 @@ def _changes_paragraph(table: pd.DataFrame, stats: dict[str, _Anova]) -> list[st
             changed.append(f"**{_LABELS[col]}** ({detail}): {'; '.join(reasons)}")
         else:
             unchanged.append(f"{_LABELS[col]} ({detail})")
-    text = ("Without dilatancy, a factor changes its effect when it moves the ratio α_NL/α_LP (a "
-            "factor without effect on the ratio scales both multipliers alike), when the order of "
-            "its level means changes while it is significant (p < 0.05) in either model, or when it "
-            "is significant in one model only. ")
+    text = (
+        "Without dilatancy, a factor changes its effect when it moves the ratio α_NL/α_LP (a "
+        "factor without effect on the ratio scales both multipliers alike), when the order of "
+        "its level means changes while it is significant (p < 0.05) in either model, or when it "
+        "is significant in one model only. "
+    )
     if changed:
         text += "By these tests the effect changes for " + "; ".join(changed) + ". "
     else:
@@ -156,8 +137,11 @@ def _changes_paragraph(table: pd.DataFrame, stats: dict[str, _Anova]) -> list[st
         text += "It is unchanged for " + "; ".join(unchanged) + " (values: with dilatancy → without). "
     inter = [e for e in a_ratio.effects if "*" in e.source and e.significant]
     if inter:
-        text += ("Significant interactions for the ratio: "
-                 + ", ".join(f"{e.source} (p = {e.p_value:.3g})" for e in inter) + ".")
+        text += (
+            "Significant interactions for the ratio: "
+            + ", ".join(f"{e.source} (p = {e.p_value:.3g})" for e in inter)
+            + "."
+        )
     elif a_ratio.result is not None and a_ratio.order >= 2:
         text += "No two-way interaction is significant for the ratio."
     return [text.strip()]
@@ -167,34 +151,20 @@ def _lvl(col: str, v: Any) -> str:
     return f"f = {float(v):.2f}" if col == "friction" else str(v)
 
 
-def _time_by_start(t: pd.DataFrame) -> list[str]:
-    """The report's section on where the search time goes, per start."""
-    runs = start_times(t)
-    lines = ["## Where the search time goes", ""]
-    if runs.empty:
-        return [*lines, "No per-start times recorded (results written by an older alma).", ""]
-    total = float(runs["time_s"].sum())
-    lost = float(runs.loc[~runs["panel_converged"], "time_s"].sum())
-    lines.append(f"{total:.0f} s of search over {t['starts_nl'].astype(bool).sum()} panels; "
-                 f"{lost:.0f} s ({100 * lost / max(total, 1e-300):.0f} %) of it on the panels that ended "
-                 "without a verified state. Each start in the order of the search; a start that spent "
-                 "its work budget without a verified state counts all of it.")
-    lines.append("")
-    table = []
-    for name, g in runs.groupby("start", sort=False):
-        table.append([name, len(g), f"{g['time_s'].sum():.1f}", f"{g['time_s'].median():.2f}",
-                      int(g["verified"].sum()), int(g["won"].sum()),
-                      f"{g.loc[~g['panel_converged'], 'time_s'].sum():.1f}"])
-    lines += _md_table(["Start", "Panels run", "Time [s]", "Median [s]", "Verified", "Won",
-                        "Time on unconverged panels [s]"], table)
-    lines.append("")
-    return lines
-
-
-def write_report(report: CompareReport, design: Design, stats: dict[str, Any], mech: pd.DataFrame, *,
-                 effort: str | None, wall: float, solve_wall: float, resumed: int, n_results: int,
-                 time_limit: float | None = None,
-                 results_path: Path) -> Path:
+def write_report(
+    report: CompareReport,
+    design: Design,
+    stats: dict[str, Any],
+    mech: pd.DataFrame,
+    *,
+    effort: str | None,
+    wall: float,
+    solve_wall: float,
+    resumed: int,
+    n_results: int,
+    time_limit: float | None = None,
+    results_path: Path,
+) -> Path:
     """Write ``compare.md``: header, summary, times by start, where the models differ, the
     ANOVA, every panel."""
     t = report.table
@@ -208,72 +178,39 @@ def write_report(report: CompareReport, design: Design, stats: dict[str, Any], m
     return report.markdown
 
 
-def _header_lines(report: CompareReport, design: Design, effort: str | None, time_limit: float | None,
-                  results_path: Path, n_results: int, resumed: int) -> list[str]:
+def _header_lines(
+    report: CompareReport,
+    design: Design,
+    effort: str | None,
+    time_limit: float | None,
+    results_path: Path,
+    n_results: int,
+    resumed: int,
+) -> list[str]:
     t, out = report.table, report.out
     limit = f"time limit {time_limit:g} s per search" if time_limit is not None else "no time limit (work budgets)"
     lines = ["# Associative against non-associative collapse multipliers", ""]
-    lines.append(f"alma {getattr(alma, '__version__', '?')}; {len(t)} panels "
-                 f"({' × '.join(str(len(getattr(design, c))) for c in FACTOR_COLUMNS)} design: "
-                 + "; ".join(f"{c} {', '.join(_lvl(c, v) if c == 'friction' else str(v) for v in getattr(design, c))}"
-                             for c in FACTOR_COLUMNS)
-                 + f"); non-associative effort {effort or 'auto'} (auto: thorough up to 200 blocks, fast above), "
-                 f"{limit}. "
-                 f"Results: `{_rel(results_path, out)}` ({n_results} rows, {resumed} resumed from an earlier run); "
-                 f"table: `compare.csv`.")
+    lines.append(
+        f"alma {getattr(alma, '__version__', '?')}; {len(t)} panels "
+        f"({' × '.join(str(len(getattr(design, c))) for c in FACTOR_COLUMNS)} design: "
+        + "; ".join(
+            f"{c} {', '.join(_lvl(c, v) if c == 'friction' else str(v) for v in getattr(design, c))}"
+            for c in FACTOR_COLUMNS
+        )
+        + f"); non-associative effort {effort or 'auto'} (auto: thorough up to 200 blocks, fast above), "
+        f"{limit}. "
+        f"Results: `{_rel(results_path, out)}` ({n_results} rows, {resumed} resumed from an earlier run); "
+        f"table: `compare.csv`."
+    )
     lines.append("")
-    lines.append("α_LP: the associative LP (dilatant sliding, certified). α_NL: the lowest verified "
-                 "collapse state of the non-associative search (an upper bound of the frictional "
-                 "collapse multiplier, not proven global). Ratio = α_NL/α_LP ≤ 1.")
+    lines.append(
+        "α_LP: the associative LP (dilatant sliding, certified). α_NL: the lowest verified "
+        "collapse state of the non-associative search (an upper bound of the frictional "
+        "collapse multiplier, not proven global). Ratio = α_NL/α_LP ≤ 1."
+    )
     lines.append("")
 
     return lines
-
-
-def _gap_rows(t: pd.DataFrame) -> list[list[Any]]:
-    """How far α_NL lies below α_LP over the panels."""
-    valid = t[np.isfinite(t["ratio"].to_numpy(dtype=float))]
-    gap = 1.0 - valid["ratio"]
-    summary: list[list[Any]] = []
-    summary.append(["Panels", len(t)])
-    summary.append(["Panels with both α (ratio defined)", len(valid)])
-    n_diff = int((valid["ratio"] < 1.0 - DIFFER_TOLERANCE).sum())
-    summary.append([f"Panels where α_NL < α_LP (relative gap > {DIFFER_TOLERANCE:g})", n_diff])
-    if not valid.empty:
-        i = gap.idxmax()
-        r = t.loc[i]
-        summary.append(["Largest gap 1 − α_NL/α_LP",
-                        f"{gap.max():.4f} ({_panel_name(r)}: α_LP = {r.alpha_lp:.4f}, α_NL = {r.alpha_nl:.4f})"])
-        summary.append(["Median gap (all panels with both α)", f"{float(gap.median()):.4f}"])
-        if n_diff:
-            summary.append(["Median gap (panels where the models differ)",
-                            f"{float(gap[valid['ratio'] < 1.0 - DIFFER_TOLERANCE].median()):.4f}"])
-        summary.append(["Mean ratio α_NL/α_LP", f"{float(valid['ratio'].mean()):.4f}"])
-    return summary
-
-
-def _start_rows(t: pd.DataFrame) -> list[list[Any]]:
-    """What the multi-start adds over the candidate started from the LP mechanism."""
-    summary: list[list[Any]] = []
-    has_lp = t[t["lp_start_verified"].isin(["True", "False"])]
-    lp_ok = t[t["lp_start_verified"] == "True"]
-    gains = lp_ok["lp_start_gain"].to_numpy(dtype=float)
-    tol = 1e-9 * np.maximum(1.0, np.abs(lp_ok["alpha_nl"].to_numpy(dtype=float)))
-    improved = lp_ok[gains > tol]
-    summary.append(["LP-started candidate ('lp') present / verified", f"{len(has_lp)} / {len(lp_ok)}"])
-    if len(improved):
-        g = improved["lp_start_gain"]
-        rel = g / improved["alpha_lp_start"]
-        summary.append(["Multi-start below the verified LP-started candidate",
-                        f"{len(improved)} panels; by up to {g.max():.4f} ({100 * rel.max():.2f} %), "
-                        f"median {g.median():.4f}"])
-    else:
-        summary.append(["Multi-start below the verified LP-started candidate", f"0 of {len(lp_ok)} panels"])
-    no_lp = t[(t["lp_start_verified"] != "True") & np.isfinite(t["alpha_nl"].to_numpy(dtype=float))]
-    summary.append(["Panels solved only by the other starts (no verified 'lp' candidate)", len(no_lp)])
-    starts = t["start_nl"].replace("", np.nan).dropna().value_counts()
-    summary.append(["Winning starts", ", ".join(f"{s} × {n}" for s, n in starts.items()) or "–"])
-    return summary
 
 
 def _summary_lines(report: CompareReport, wall: float, solve_wall: float) -> list[str]:
@@ -288,26 +225,50 @@ def _summary_lines(report: CompareReport, wall: float, solve_wall: float) -> lis
     summary.append(["Failures (status error)", len(errors)])
     unverified = t[t["status_nl"] == "not_converged"]
     summary.append(["Non-associative not converged (no verified state)", len(unverified)])
-    summary.append(["Non-associative verified states: feasible / optimal (proven minimum)",
-                    f"{int((t['status_nl'] == 'feasible').sum())} / {int((t['status_nl'] == 'optimal').sum())}"])
+    summary.append(
+        [
+            "Non-associative verified states: feasible / optimal (proven minimum)",
+            f"{int((t['status_nl'] == 'feasible').sum())} / {int((t['status_nl'] == 'optimal').sum())}",
+        ]
+    )
     other = t[~t["status_nl"].isin([*VERIFIED, "not_converged", "error"])]
     if len(other):
-        summary.append(["Other non-associative statuses",
-                        ", ".join(f"{s} × {n}" for s, n in other["status_nl"].value_counts().items())])
+        summary.append(
+            [
+                "Other non-associative statuses",
+                ", ".join(f"{s} × {n}" for s, n in other["status_nl"].value_counts().items()),
+            ]
+        )
     lp_not_opt = t[t["status_lp"] != "optimal"]
     if len(lp_not_opt):
-        summary.append(["Associative status not optimal",
-                        ", ".join(f"{s} × {n}" for s, n in lp_not_opt["status_lp"].value_counts().items())])
+        summary.append(
+            [
+                "Associative status not optimal",
+                ", ".join(f"{s} × {n}" for s, n in lp_not_opt["status_lp"].value_counts().items()),
+            ]
+        )
     summary.append(["Mechanism class changes (LP → NL)", _class_changes(t)])
     tl, tn = t["time_lp_s"].to_numpy(dtype=float), t["time_nl_s"].to_numpy(dtype=float)
-    summary.append(["Solve time, associative LP (sum / median / max per panel)",
-                    f"{np.nansum(tl):.1f} s / {_f(np.nanmedian(tl) if np.isfinite(tl).any() else math.nan, '.3f')} s / "
-                    f"{_f(np.nanmax(tl) if np.isfinite(tl).any() else math.nan, '.3f')} s"])
-    summary.append(["Solve time, non-associative search (sum / median / max per panel)",
-                    f"{np.nansum(tn):.1f} s / {_f(np.nanmedian(tn) if np.isfinite(tn).any() else math.nan, '.3f')} s / "
-                    f"{_f(np.nanmax(tn) if np.isfinite(tn).any() else math.nan, '.3f')} s"])
-    summary.append(["Wall time of this run (study / report with figures)",
-                    f"{wall:.1f} s ({solve_wall:.1f} s / {wall - solve_wall:.1f} s)"])
+    summary.append(
+        [
+            "Solve time, associative LP (sum / median / max per panel)",
+            f"{np.nansum(tl):.1f} s / {_f(np.nanmedian(tl) if np.isfinite(tl).any() else math.nan, '.3f')} s / "
+            f"{_f(np.nanmax(tl) if np.isfinite(tl).any() else math.nan, '.3f')} s",
+        ]
+    )
+    summary.append(
+        [
+            "Solve time, non-associative search (sum / median / max per panel)",
+            f"{np.nansum(tn):.1f} s / {_f(np.nanmedian(tn) if np.isfinite(tn).any() else math.nan, '.3f')} s / "
+            f"{_f(np.nanmax(tn) if np.isfinite(tn).any() else math.nan, '.3f')} s",
+        ]
+    )
+    summary.append(
+        [
+            "Wall time of this run (study / report with figures)",
+            f"{wall:.1f} s ({solve_wall:.1f} s / {wall - solve_wall:.1f} s)",
+        ]
+    )
     lines += _md_table(["Item", "Value"], summary)
     lines.append("")
     for r in errors.itertuples():
@@ -324,53 +285,29 @@ def _summary_lines(report: CompareReport, wall: float, solve_wall: float) -> lis
     return lines
 
 
-def _differ_lines(mech: pd.DataFrame) -> list[str]:
-    lines: list[str] = []
-    lines += ["## Where the two models differ most", ""]
-    if mech.empty:
-        lines.append("The two models give the same α (within the relative tolerance "
-                     f"{DIFFER_TOLERANCE:g}) on every panel: no mechanism figure.")
-    else:
-        lines += _md_table(["Panel", "α_LP", "α_NL", "Ratio", "Mechanism LP → NL", "Winning start", "Figure"],
-                           [[_panel_name(r), _f(r.alpha_lp), _f(r.alpha_nl), _f(r.ratio),
-                             f"{r.mechanism_lp} → {r.mechanism_nl}", r.start_nl,
-                             f"[png]({r.png})" if r.png else "–"] for r in mech.itertuples()])
-    lines.append("")
-
-    return lines
-
-
 def _anova_section(t: pd.DataFrame, stats: dict[str, Any]) -> list[str]:
     lines: list[str] = []
-    lines += ["## Beyond the paper: ANOVA without dilatancy", "",
-              "The two-way ANOVA of Table 2 of the paper (main effects and two-way interactions, "
-              "adjusted sums of squares) on the non-associative α and on the ratio α_NL/α_LP; the "
-              "ANOVA of α_LP of the same panels is given for reference.", ""]
+    lines += [
+        "## Beyond the paper: ANOVA without dilatancy",
+        "",
+        "The two-way ANOVA of Table 2 of the paper (main effects and two-way interactions, "
+        "adjusted sums of squares) on the non-associative α and on the ratio α_NL/α_LP; the "
+        "ANOVA of α_LP of the same panels is given for reference.",
+        "",
+    ]
     for key in ("alpha_nl", "ratio", "alpha_lp"):
         lines += _anova_lines(stats[key])
     lines += ["### Which factors change their effect when sliding has no dilatancy", ""]
     lines += _changes_paragraph(t, stats)
     lines.append("")
-    lines += ["Main effects plots (as Fig. 5 of the paper): `figures/main_effects_alpha_nl.png`, "
-              "`figures/main_effects_ratio.png`, both models on the same axes "
-              "`figures/main_effects_lp_vs_nl.png`; Pareto charts `figures/pareto_alpha_nl.png`, "
-              "`figures/pareto_ratio.png` (when the ANOVA is defined).", ""]
+    lines += [
+        "Main effects plots (as Fig. 5 of the paper): `figures/main_effects_alpha_nl.png`, "
+        "`figures/main_effects_ratio.png`, both models on the same axes "
+        "`figures/main_effects_lp_vs_nl.png`; Pareto charts `figures/pareto_alpha_nl.png`, "
+        "`figures/pareto_ratio.png` (when the ANOVA is defined).",
+        "",
+    ]
 
-    return lines
-
-
-def _all_panel_lines(t: pd.DataFrame) -> list[str]:
-    lines: list[str] = []
-    lines += ["## All panels", ""]
-    lines += _md_table(
-        ["Panel", "Block", "Bond", "f", "Blocks", "α_LP", "α_NL", "Ratio", "Mech. LP", "Mech. NL",
-         "t_LP [s]", "t_NL [s]", "Winning start", "α 'lp' start", "Status NL"],
-        [[r.panel_ratio, r.block_ratio, r.bond, f"{float(r.friction):.2f}", _f(r.n_blocks, ".0f"),
-          _f(r.alpha_lp), _f(r.alpha_nl), _f(r.ratio), r.mechanism_lp, r.mechanism_nl,
-          _f(r.time_lp_s, ".3f"), _f(r.time_nl_s, ".2f"), r.start_nl or "–",
-          (_f(r.alpha_lp_start) + ("" if r.lp_start_verified == "True" else " (not verified)"))
-          if r.lp_start_verified else "none", r.status_nl] for r in t.itertuples()])
-    lines.append("")
     return lines
 
 

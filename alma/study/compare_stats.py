@@ -1,4 +1,5 @@
 """The ANOVA of ``alma compare``: Table 2's model on α_NL, on the ratio and on α_LP."""
+
 from __future__ import annotations
 
 import json
@@ -31,8 +32,7 @@ def _balanced(table: pd.DataFrame) -> bool:
     return len(table) == int(np.prod(levels)) and not table.duplicated(list(FACTOR_COLUMNS)).any()
 
 
-def _run_anova(table: pd.DataFrame, response: str, label: str, keep: np.ndarray | None = None,
-               why: str = "") -> _Anova:
+def _run_anova(table: pd.DataFrame, response: str, label: str, keep: np.ndarray | None = None, why: str = "") -> _Anova:
     """ANOVA of one response over the panels of a full factorial that have it (or ``keep``).
 
     Panels left out (no verified state, or not in ``keep``: ``why`` says) make the analysis
@@ -47,8 +47,10 @@ def _run_anova(table: pd.DataFrame, response: str, label: str, keep: np.ndarray 
     keep = np.isfinite(y) if keep is None else keep & np.isfinite(y)
     notes = []
     if not keep.all():
-        notes.append(f"unbalanced: {int(keep.sum())} of {len(table)} panels, "
-                     + (why or f"the others have no {label} (no verified state)"))
+        notes.append(
+            f"unbalanced: {int(keep.sum())} of {len(table)} panels, "
+            + (why or f"the others have no {label} (no verified state)")
+        )
         table, y = table[keep], y[keep]
     factors = varying_factors(table)
     if not factors:
@@ -79,26 +81,50 @@ def _statistics(table: pd.DataFrame, figures_dir: Path, report: CompareReport) -
     valid_rows = np.isfinite(table["ratio"].to_numpy(dtype=float))
     # α_LP on the panels that have α_NL, so that both models are compared on the same panels
     # (the paper's full-design ANOVA of α_LP is `alma anova` / `alma paper`).
-    stats = {"alpha_lp": _run_anova(table, "alpha_lp", "α_LP", keep=valid_rows,
-                                    why="those with α_NL, so that both models are compared on the same panels"),
-             "alpha_nl": _run_anova(table, "alpha_nl", "α_NL"),
-             "ratio": _run_anova(table, "ratio", "α_NL/α_LP")}
+    stats = {
+        "alpha_lp": _run_anova(
+            table,
+            "alpha_lp",
+            "α_LP",
+            keep=valid_rows,
+            why="those with α_NL, so that both models are compared on the same panels",
+        ),
+        "alpha_nl": _run_anova(table, "alpha_nl", "α_NL"),
+        "ratio": _run_anova(table, "ratio", "α_NL/α_LP"),
+    }
     figures_dir.mkdir(parents=True, exist_ok=True)
     valid = table[valid_rows]
     if valid.empty:
         report.notes.append("statistics figures skipped: no panel has both multipliers")
         return stats
     try:
-        report.figures.append(F.main_effects_plot(valid, figures_dir / "main_effects_alpha_nl.png",
-                                                  "alpha_nl", ylabel=r"mean $\alpha_{NL}$",
-                                                  title="Main effects plot for α_NL (non-associative)"))
-        report.figures.append(F.main_effects_plot(valid, figures_dir / "main_effects_ratio.png",
-                                                  "ratio", ylabel=r"mean $\alpha_{NL}/\alpha_{LP}$",
-                                                  title="Main effects plot for the ratio α_NL/α_LP"))
-        report.figures.append(F.main_effects_overlay(
-            valid, figures_dir / "main_effects_lp_vs_nl.png",
-            {"alpha_lp": "associative (LP)", "alpha_nl": "non-associative"},
-            ylabel=r"mean $\alpha_c$", title="Main effects of both contact models"))
+        report.figures.append(
+            F.main_effects_plot(
+                valid,
+                figures_dir / "main_effects_alpha_nl.png",
+                "alpha_nl",
+                ylabel=r"mean $\alpha_{NL}$",
+                title="Main effects plot for α_NL (non-associative)",
+            )
+        )
+        report.figures.append(
+            F.main_effects_plot(
+                valid,
+                figures_dir / "main_effects_ratio.png",
+                "ratio",
+                ylabel=r"mean $\alpha_{NL}/\alpha_{LP}$",
+                title="Main effects plot for the ratio α_NL/α_LP",
+            )
+        )
+        report.figures.append(
+            F.main_effects_overlay(
+                valid,
+                figures_dir / "main_effects_lp_vs_nl.png",
+                {"alpha_lp": "associative (LP)", "alpha_nl": "non-associative"},
+                ylabel=r"mean $\alpha_c$",
+                title="Main effects of both contact models",
+            )
+        )
         for key in ("alpha_nl", "ratio"):
             if stats[key].result is not None:
                 report.figures.append(F.pareto_chart(stats[key].result, figures_dir / f"pareto_{key}.png"))
@@ -124,8 +150,15 @@ def start_times(table: pd.DataFrame) -> pd.DataFrame:
         for run in runs:
             if isinstance(run, list) and len(run) in (3, 4):
                 alpha = run[3] if len(run) == 4 and run[3] is not None else math.nan
-                rows.append({"start": str(run[0]), "time_s": float(run[1]), "verified": bool(run[2]),
-                             "alpha": float(alpha), "won": str(run[0]) == r.start_nl,
-                             "panel_converged": r.status_nl in VERIFIED, "n_blocks": r.n_blocks})
-    return pd.DataFrame(rows, columns=["start", "time_s", "verified", "alpha", "won", "panel_converged",
-                                       "n_blocks"])
+                rows.append(
+                    {
+                        "start": str(run[0]),
+                        "time_s": float(run[1]),
+                        "verified": bool(run[2]),
+                        "alpha": float(alpha),
+                        "won": str(run[0]) == r.start_nl,
+                        "panel_converged": r.status_nl in VERIFIED,
+                        "n_blocks": r.n_blocks,
+                    }
+                )
+    return pd.DataFrame(rows, columns=["start", "time_s", "verified", "alpha", "won", "panel_converged", "n_blocks"])

@@ -1,4 +1,5 @@
 """The comparison table of ``alma compare``: one row per panel, both models side by side."""
+
 from __future__ import annotations
 
 import math
@@ -11,10 +12,31 @@ import pandas as pd
 FACTOR_COLUMNS = ("panel_ratio", "block_ratio", "bond", "friction")
 #: Columns of ``compare.csv``, in order.
 COMPARE_COLUMNS: tuple[str, ...] = (
-    "panel_ratio", "block_ratio", "bond", "friction", "n_blocks",
-    "alpha_lp", "alpha_nl", "ratio", "status_lp", "status_nl", "mechanism_lp", "mechanism_nl",
-    "time_lp_s", "time_nl_s", "start_nl", "alpha_lp_start", "lp_start_verified", "lp_start_gain",
-    "n_candidates", "n_verified", "effort", "message_nl", "key_lp", "key_nl", "starts_nl",
+    "panel_ratio",
+    "block_ratio",
+    "bond",
+    "friction",
+    "n_blocks",
+    "alpha_lp",
+    "alpha_nl",
+    "ratio",
+    "status_lp",
+    "status_nl",
+    "mechanism_lp",
+    "mechanism_nl",
+    "time_lp_s",
+    "time_nl_s",
+    "start_nl",
+    "alpha_lp_start",
+    "lp_start_verified",
+    "lp_start_gain",
+    "n_candidates",
+    "n_verified",
+    "effort",
+    "message_nl",
+    "key_lp",
+    "key_nl",
+    "starts_nl",
 )
 #: α_NL below α_LP by more than this (relative) counts as "the models differ".
 DIFFER_TOLERANCE = 1e-6
@@ -67,37 +89,39 @@ def compare_table(results: pd.DataFrame) -> pd.DataFrame:
         lp_alpha = float(n["alpha_lp_start"]) if n is not None else math.nan
         lp_verified = str(n["lp_start_verified"]) if n is not None else ""
         gain = lp_alpha - alpha_nl if lp_verified == "True" and math.isfinite(alpha_nl) else math.nan
-        n_blocks = next((float(r["n_blocks"]) for r in (a, n)
-                         if r is not None and math.isfinite(float(r["n_blocks"]))), math.nan)
-        rows.append({
-            **dict(zip(FACTOR_COLUMNS, idx, strict=True)),
-            "n_blocks": n_blocks,
-            "alpha_lp": alpha_lp, "alpha_nl": alpha_nl,
-            "ratio": alpha_nl / alpha_lp if ok else math.nan,
-            "status_lp": a["status"] if a is not None else "missing",
-            "status_nl": n["status"] if n is not None else "missing",
-            "mechanism_lp": a["mechanism_class"] if a is not None else "",
-            "mechanism_nl": n["mechanism_class"] if n is not None else "",
-            "time_lp_s": float(a["solve_s"]) + float(a["certify_s"]) if a is not None else math.nan,
-            "time_nl_s": float(n["nonassociative_s"]) if n is not None else math.nan,
-            "start_nl": n["start"] if n is not None else "",
-            "alpha_lp_start": lp_alpha,
-            "lp_start_verified": lp_verified,
-            "lp_start_gain": gain,
-            "n_candidates": float(n["n_candidates"]) if n is not None else math.nan,
-            "n_verified": float(n["n_verified"]) if n is not None else math.nan,
-            "effort": n["effort"] if n is not None else "",
-            "message_nl": n["message"] if n is not None else "",
-            "key_lp": a["key"] if a is not None else "",
-            "key_nl": n["key"] if n is not None else "",
-            "starts_nl": n["starts"] if n is not None and "starts" in n.index else "",
-        })
+        n_blocks = next(
+            (float(r["n_blocks"]) for r in (a, n) if r is not None and math.isfinite(float(r["n_blocks"]))), math.nan
+        )
+        rows.append(
+            {
+                **dict(zip(FACTOR_COLUMNS, idx, strict=True)),
+                "n_blocks": n_blocks,
+                "alpha_lp": alpha_lp,
+                "alpha_nl": alpha_nl,
+                "ratio": alpha_nl / alpha_lp if ok else math.nan,
+                "status_lp": a["status"] if a is not None else "missing",
+                "status_nl": n["status"] if n is not None else "missing",
+                "mechanism_lp": a["mechanism_class"] if a is not None else "",
+                "mechanism_nl": n["mechanism_class"] if n is not None else "",
+                "time_lp_s": float(a["solve_s"]) + float(a["certify_s"]) if a is not None else math.nan,
+                "time_nl_s": float(n["nonassociative_s"]) if n is not None else math.nan,
+                "start_nl": n["start"] if n is not None else "",
+                "alpha_lp_start": lp_alpha,
+                "lp_start_verified": lp_verified,
+                "lp_start_gain": gain,
+                "n_candidates": float(n["n_candidates"]) if n is not None else math.nan,
+                "n_verified": float(n["n_verified"]) if n is not None else math.nan,
+                "effort": n["effort"] if n is not None else "",
+                "message_nl": n["message"] if n is not None else "",
+                "key_lp": a["key"] if a is not None else "",
+                "key_nl": n["key"] if n is not None else "",
+                "starts_nl": n["starts"] if n is not None and "starts" in n.index else "",
+            }
+        )
     out = pd.DataFrame(rows, columns=list(COMPARE_COLUMNS))
     for col in ("n_blocks", "n_candidates", "n_verified"):
         out[col] = out[col].astype("Int64") if out[col].notna().all() else out[col]
     return out
-
-
 
 
 def _panel_name(r: Any) -> str:

@@ -22,6 +22,7 @@ The compressive-strength factor (default ``[0]``: infinitely strong blocks, toda
 every joint of the panel, the ground joint included, the crushing strength σ_c in MPa, as the
 scene key ``compressive_strength`` does (issue 34; associative model only).
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -61,8 +62,7 @@ class Design:
     compressive_strength: tuple[float, ...] = (0.0,)
 
     def __post_init__(self) -> None:
-        for name, allowed in (("panel_ratio", _PANEL_RATIOS), ("block_ratio", _BLOCK_RATIOS),
-                              ("bond", _BONDS)):
+        for name, allowed in (("panel_ratio", _PANEL_RATIOS), ("block_ratio", _BLOCK_RATIOS), ("bond", _BONDS)):
             values = tuple(str(v).strip() for v in getattr(self, name))
             if name == "bond":
                 values = tuple(v.lower() for v in values)
@@ -91,8 +91,13 @@ class Design:
 
     def panels(self) -> list[tuple[str, str, str, float]]:
         """(panel_ratio, block_ratio, bond, friction) of every panel, Table 5 order."""
-        return [(p, b, bond, f) for f in self.friction for bond in self.bond
-                for b in self.block_ratio for p in self.panel_ratio]
+        return [
+            (p, b, bond, f)
+            for f in self.friction
+            for bond in self.bond
+            for b in self.block_ratio
+            for p in self.panel_ratio
+        ]
 
     def runs(self) -> list[tuple[str, str, str, float, float, float]]:
         """(panel_ratio, block_ratio, bond, friction, chain, compressive_strength) of every run,
@@ -112,8 +117,14 @@ class Design:
 
     def __len__(self) -> int:
         """Number of runs per contact model (panels × chain levels × compressive strengths)."""
-        return (len(self.panel_ratio) * len(self.block_ratio) * len(self.bond) * len(self.friction)
-                * len(self.chain) * len(self.compressive_strength))
+        return (
+            len(self.panel_ratio)
+            * len(self.block_ratio)
+            * len(self.bond)
+            * len(self.friction)
+            * len(self.chain)
+            * len(self.compressive_strength)
+        )
 
     def to_dict(self) -> dict[str, Any]:
         return {k: list(v) if isinstance(v, tuple) else v for k, v in dataclasses.asdict(self).items()}
@@ -143,13 +154,20 @@ def _levels(name: str, values: tuple[Any, ...]) -> tuple[float, ...]:
 PAPER_DESIGN = Design()
 
 _DESIGN_KEYS = {
-    "panel_ratio": "panel_ratio", "panel_ratios": "panel_ratio",
-    "block_ratio": "block_ratio", "block_ratios": "block_ratio",
-    "bond": "bond", "bonds": "bond",
-    "friction": "friction", "frictions": "friction",
-    "chain": "chain", "chains": "chain",
-    "chain_height": "chain_height", "chain_anchored": "chain_anchored",
-    "compressive_strength": "compressive_strength", "compressive_strengths": "compressive_strength",
+    "panel_ratio": "panel_ratio",
+    "panel_ratios": "panel_ratio",
+    "block_ratio": "block_ratio",
+    "block_ratios": "block_ratio",
+    "bond": "bond",
+    "bonds": "bond",
+    "friction": "friction",
+    "frictions": "friction",
+    "chain": "chain",
+    "chains": "chain",
+    "chain_height": "chain_height",
+    "chain_anchored": "chain_anchored",
+    "compressive_strength": "compressive_strength",
+    "compressive_strengths": "compressive_strength",
 }
 #: Options of the design that take one value, not a list of levels.
 _SCALARS = ("chain_height", "chain_anchored")
@@ -189,8 +207,10 @@ def load_design(path: str | os.PathLike[str]) -> Design:
     for key, value in data.items():
         field = _DESIGN_KEYS.get(key)
         if field is None:
-            raise ValueError(f"{p}: unknown key {key!r}; expected panel_ratio, block_ratio, bond, friction, "
-                             "chain, chain_height, chain_anchored, compressive_strength")
+            raise ValueError(
+                f"{p}: unknown key {key!r}; expected panel_ratio, block_ratio, bond, friction, "
+                "chain, chain_height, chain_anchored, compressive_strength"
+            )
         if field in kwargs:
             raise ValueError(f"{p}: factor {field!r} given twice")
         if field in _SCALARS:

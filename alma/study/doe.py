@@ -32,6 +32,7 @@ change it (:func:`load_design`)::
     friction = [0.27, 0.6]
     chain = [0, 0.25, 1, 5]
 """
+
 from __future__ import annotations
 
 import math
@@ -76,10 +77,17 @@ def _models(model: str) -> tuple[str, ...]:
     return MODELS if model == "both" else (model,)
 
 
-def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
-            workers: int | None = None, scheduler: Any = None, design: Design | str | os.PathLike[str] | None = None,
-            progress: bool = True, retry_errors: bool = False,
-            effort: str | None = None, time_limit: float | None = None) -> pd.DataFrame:
+def run_doe(
+    out_dir: str | os.PathLike[str],
+    model: str = "associative",
+    workers: int | None = None,
+    scheduler: Any = None,
+    design: Design | str | os.PathLike[str] | None = None,
+    progress: bool = True,
+    retry_errors: bool = False,
+    effort: str | None = None,
+    time_limit: float | None = None,
+) -> pd.DataFrame:
     """Run (or resume) the full-factorial study and return its rows in Table 5 order.
 
     ``out_dir/results.csv`` receives one line per finished panel and model. Panels whose key
@@ -102,8 +110,10 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
     models = _models(model)
     design, n_workers = _check(design, workers, effort, time_limit)
     if any(s > 0 for s in design.compressive_strength) and "nonassociative" in models:
-        raise ValueError("the non-associative model (Eq. 9) takes no finite compressive strength: "
-                         "run the compressive_strength levels with --model associative")
+        raise ValueError(
+            "the non-associative model (Eq. 9) takes no finite compressive strength: "
+            "run the compressive_strength levels with --model associative"
+        )
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     # effort: checked against EFFORTS by _check above.
@@ -119,15 +129,17 @@ def run_doe(out_dir: str | os.PathLike[str], model: str = "associative",
     if sink.lost_rows:
         raise RuntimeError(
             f"{len(sink.lost_rows)} panel(s) were not solved ({sink.lost_rows[0]}); the other results are in "
-            f"{results.path}; run again to retry them")
+            f"{results.path}; run again to retry them"
+        )
     df = frame([results.rows[k] for k in dict.fromkeys(wanted) if k in results.rows])
     order = {k: i for i, k in enumerate(wanted)}
     df = df.assign(_order=df["key"].map(order)).sort_values("_order").drop(columns="_order")
     return df.reset_index(drop=True)
 
 
-def _check(design: Design | str | os.PathLike[str] | None, workers: int | None, effort: str | None,
-           time_limit: float | None) -> tuple[Design, int]:
+def _check(
+    design: Design | str | os.PathLike[str] | None, workers: int | None, effort: str | None, time_limit: float | None
+) -> tuple[Design, int]:
     """The design and the number of local workers, every option checked before any work."""
     if effort is not None and effort not in EFFORTS:
         raise ValueError(f"effort must be auto, fast or thorough, got {effort!r}")
@@ -142,34 +154,72 @@ def _check(design: Design | str | os.PathLike[str] | None, workers: int | None, 
     return design, int(workers) if workers is not None else (os.cpu_count() or 1)
 
 
-def _plan(design: Design, models: tuple[str, ...], settings: Settings, results: _ResultsFile,
-          retry_errors: bool) -> tuple[list[str], list[_Task]]:
+def _plan(
+    design: Design, models: tuple[str, ...], settings: Settings, results: _ResultsFile, retry_errors: bool
+) -> tuple[list[str], list[_Task]]:
     """Every wanted row's key (Table 5 order), and the tasks of those not yet in the file,
     largest first (better load balance)."""
     version = _alma_version()
     wanted: list[str] = []
     todo: dict[tuple[str, str, str, float], list[tuple[float, float, str, str]]] = {}
     runs = [(*run, m) for run in design.runs() for m in models]
-    keys = [panel_key(p, b, bond, friction, m, version=version, settings=settings, chain=chain,
-                      chain_y=design.chain_y(p), chain_anchored=design.chain_anchored, compressive_strength=sigma)
-            for p, b, bond, friction, chain, sigma, m in runs]
-    results.set_aside({key: why for key, run in zip(keys, runs, strict=True)
-                       if key in results.rows and (why := _mismatch(results.rows[key], *run))})
+    keys = [
+        panel_key(
+            p,
+            b,
+            bond,
+            friction,
+            m,
+            version=version,
+            settings=settings,
+            chain=chain,
+            chain_y=design.chain_y(p),
+            chain_anchored=design.chain_anchored,
+            compressive_strength=sigma,
+        )
+        for p, b, bond, friction, chain, sigma, m in runs
+    ]
+    results.set_aside(
+        {
+            key: why
+            for key, run in zip(keys, runs, strict=True)
+            if key in results.rows and (why := _mismatch(results.rows[key], *run))
+        }
+    )
     for (p, b, bond, friction, chain, sigma, m), key in zip(runs, keys, strict=True):
         wanted.append(key)
         done = results.rows.get(key)
         if done is not None and not (retry_errors and done["status"] == "error"):
             continue
         todo.setdefault((p, b, bond, sigma), []).append((chain, friction, m, key))
-    tasks = [_Task(p, b, bond, tuple(items), version, settings, chain_y=design.chain_y(p),
-                   chain_anchored=design.chain_anchored, compressive_strength=sigma)
-             for (p, b, bond, sigma), items in todo.items()]
+    tasks = [
+        _Task(
+            p,
+            b,
+            bond,
+            tuple(items),
+            version,
+            settings,
+            chain_y=design.chain_y(p),
+            chain_anchored=design.chain_anchored,
+            compressive_strength=sigma,
+        )
+        for (p, b, bond, sigma), items in todo.items()
+    ]
     tasks.sort(key=lambda task: task.size, reverse=True)
     return wanted, tasks
 
 
-def _mismatch(row: dict[str, str], panel_ratio: str, block_ratio: str, bond: str, friction: float,
-              chain: float, compressive_strength: float, model: str) -> str:
+def _mismatch(
+    row: dict[str, str],
+    panel_ratio: str,
+    block_ratio: str,
+    bond: str,
+    friction: float,
+    chain: float,
+    compressive_strength: float,
+    model: str,
+) -> str:
     """Why a stored row is not the run its key names (factors swapped or edited), or ''."""
     expected = {"panel_ratio": panel_ratio, "block_ratio": block_ratio, "bond": bond, "model": model}
     wrong = [c for c, v in expected.items() if row.get(c) != v]
@@ -189,8 +239,9 @@ class _Sink:
         self.out, self.results = out, results
         self.weight = {item[-1]: task.size / len(task.items) for task in tasks for item in task.items}
         remaining = sum(len(task.items) for task in tasks)
-        self.bar = _Progress(total=n_wanted, resumed=n_wanted - remaining, enabled=progress,
-                             work=sum(self.weight.values()))
+        self.bar = _Progress(
+            total=n_wanted, resumed=n_wanted - remaining, enabled=progress, work=sum(self.weight.values())
+        )
         self.written: set[str] = set()
         self.lost_rows: list[str] = []
 
@@ -230,7 +281,9 @@ def _execute(tasks: list[_Task], sink: _Sink, scheduler: Any, n_workers: int, re
         else:
             _run_local(tasks, min(n_workers, len(tasks)), sink.record, sink.lost)
     except KeyboardInterrupt:
-        bar.close(f"interrupted: {bar.done} of {bar.total} results are in {results.path}; "
-                  "run the same command again to resume")
+        bar.close(
+            f"interrupted: {bar.done} of {bar.total} results are in {results.path}; "
+            "run the same command again to resume"
+        )
         raise
     bar.close(f"{bar.failed} failed" if bar.failed else "")

@@ -6,6 +6,7 @@ damaged line — an unbalanced quote, a line cut by a kill and continued by the 
 garbage, a hand edit — spoils only itself: it is found here, set aside and solved again, and
 the rows around it are kept.
 """
+
 from __future__ import annotations
 
 import csv

@@ -1,5 +1,6 @@
 """Keys of study rows: a hash of everything that changes a row (factors, model, the alma version,
 alma's source code, the settings), so that a results file never serves a row computed otherwise."""
+
 from __future__ import annotations
 
 import functools
@@ -40,11 +41,21 @@ def _friction_text(f: float) -> str:
     return format(float(f), ".12g")
 
 
-def panel_key(panel_ratio: str, block_ratio: str, bond: str, friction: float, model: str,
-              *, version: str | None = None, revision: str | None = None,
-              settings: Settings | dict[str, Any] | None = None,
-              chain: float = 0.0, chain_y: float | None = None, chain_anchored: bool = False,
-              compressive_strength: float = 0.0) -> str:
+def panel_key(
+    panel_ratio: str,
+    block_ratio: str,
+    bond: str,
+    friction: float,
+    model: str,
+    *,
+    version: str | None = None,
+    revision: str | None = None,
+    settings: Settings | dict[str, Any] | None = None,
+    chain: float = 0.0,
+    chain_y: float | None = None,
+    chain_anchored: bool = False,
+    compressive_strength: float = 0.0,
+) -> str:
     """Stable key of one result row: hash of factors, model, alma version, the code revision
     (``revision``, default :func:`code_revision`) and every setting that changes the row
     (:func:`key_settings`; a dict is taken as it is).
@@ -57,8 +68,11 @@ def panel_key(panel_ratio: str, block_ratio: str, bond: str, friction: float, mo
     if not isinstance(settings, dict):
         settings = key_settings(settings if settings is not None else Settings(), model)
     payload = {
-        "panel_ratio": panel_ratio, "block_ratio": block_ratio, "bond": bond,
-        "friction": _friction_text(friction), "model": model,
+        "panel_ratio": panel_ratio,
+        "block_ratio": block_ratio,
+        "bond": bond,
+        "friction": _friction_text(friction),
+        "model": model,
         "alma": _alma_version() if version is None else version,
         "code": code_revision() if revision is None else revision,
         "solver": settings,
@@ -66,8 +80,11 @@ def panel_key(panel_ratio: str, block_ratio: str, bond: str, friction: float, mo
     if chain > 0:
         if chain_y is None:
             raise ValueError("panel_key: a chain needs its height chain_y (mm)")
-        payload["chain"] = {"strength": _friction_text(chain), "y": _friction_text(chain_y),
-                            "anchored": bool(chain_anchored)}
+        payload["chain"] = {
+            "strength": _friction_text(chain),
+            "y": _friction_text(chain_y),
+            "anchored": bool(chain_anchored),
+        }
     if compressive_strength > 0:
         payload["compressive_strength"] = _friction_text(compressive_strength)
     text = json.dumps(payload, sort_keys=True, separators=(",", ":"))

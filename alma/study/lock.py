@@ -5,6 +5,7 @@ process ends however it ends (a kill, a crash): a lock file left behind by a kil
 never stale.  A second run on the same folder is refused at once with the first one's pid, so
 no panel is ever solved twice by two runs.
 """
+
 from __future__ import annotations
 
 import os
@@ -36,8 +37,10 @@ def study_lock(out_dir: str | os.PathLike[str]) -> Iterator[Path]:
     try:
         if not _try_lock(fd):
             holder = os.pread(fd, 64, 0).decode("ascii", "replace").strip() or "unknown"
-            raise StudyBusy(f"{out_dir}: another alma run (pid {holder}) is writing this study; "
-                            "wait for it to finish, or choose another --out")
+            raise StudyBusy(
+                f"{out_dir}: another alma run (pid {holder}) is writing this study; "
+                "wait for it to finish, or choose another --out"
+            )
         os.ftruncate(fd, 0)
         os.pwrite(fd, str(os.getpid()).encode("ascii"), 0)
         yield path

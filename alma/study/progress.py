@@ -1,4 +1,5 @@
 """The study's progress line on stderr: done/total, failures, elapsed, time left."""
+
 from __future__ import annotations
 
 import sys
@@ -9,8 +10,7 @@ from typing import Any
 class _Progress:
     """Plain-text progress bar on stderr: done/total, failures, elapsed, time left."""
 
-    def __init__(self, total: int, resumed: int, enabled: bool, stream: Any = None,
-                 work: float = 0.0) -> None:
+    def __init__(self, total: int, resumed: int, enabled: bool, stream: Any = None, work: float = 0.0) -> None:
         self.total = total
         self.work = work  # estimated work of the panels to solve (ETA weights)
         self.work_done = 0.0
@@ -44,8 +44,10 @@ class _Progress:
         width = 24
         filled = int(width * self.done / self.total) if self.total else width
         resumed = f" ({self.resumed} resumed)" if self.resumed else ""
-        return (f"doe [{'#' * filled}{'.' * (width - filled)}] {self.done}/{self.total}"
-                f"{resumed}, {self.failed} failed, elapsed {_hms(elapsed)}, left {eta}")
+        return (
+            f"doe [{'#' * filled}{'.' * (width - filled)}] {self.done}/{self.total}"
+            f"{resumed}, {self.failed} failed, elapsed {_hms(elapsed)}, left {eta}"
+        )
 
     def show(self, force: bool = False) -> None:
         if not self.enabled:

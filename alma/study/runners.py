@@ -1,4 +1,5 @@
 """Where a study's tasks run: a local process pool or a Dask cluster; rows stream back."""
+
 from __future__ import annotations
 
 import gc
@@ -10,8 +11,9 @@ from typing import Any
 from alma.study.tasks import _error_text, _init_worker, _solve_task, _solve_task_pooled, _Task
 
 
-def _run_local(tasks: Sequence[_Task], n_workers: int, record: Callable[[dict[str, Any]], None],
-               lost: Callable[[_Task, str], None]) -> None:
+def _run_local(
+    tasks: Sequence[_Task], n_workers: int, record: Callable[[dict[str, Any]], None], lost: Callable[[_Task, str], None]
+) -> None:
     import multiprocessing as mp
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
@@ -19,8 +21,7 @@ def _run_local(tasks: Sequence[_Task], n_workers: int, record: Callable[[dict[st
     methods = mp.get_all_start_methods()
     ctx = mp.get_context("fork" if "fork" in methods and sys.platform != "darwin" else "spawn")
     q = ctx.Queue()
-    pool = ProcessPoolExecutor(max_workers=n_workers, mp_context=ctx,
-                               initializer=_init_worker, initargs=(q,))
+    pool = ProcessPoolExecutor(max_workers=n_workers, mp_context=ctx, initializer=_init_worker, initargs=(q,))
 
     def drain(block: float | None) -> None:
         try:
@@ -78,8 +79,9 @@ def _run_local(tasks: Sequence[_Task], n_workers: int, record: Callable[[dict[st
         q.close()
 
 
-def _run_dask(tasks: Sequence[_Task], scheduler: Any, record: Callable[[dict[str, Any]], None],
-              lost: Callable[[_Task, str], None]) -> None:
+def _run_dask(
+    tasks: Sequence[_Task], scheduler: Any, record: Callable[[dict[str, Any]], None], lost: Callable[[_Task, str], None]
+) -> None:
     try:
         from distributed import Client, as_completed
     except ImportError as exc:  # pragma: no cover - depends on the environment

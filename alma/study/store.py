@@ -6,6 +6,7 @@ unbalanced quote, a cut line, binary garbage, an edited value, bounds out of ord
 reported on stderr with their line numbers, moved to ``quarantine.txt`` beside the file and
 left out, so that their panels are solved again; reading never fails on them.
 """
+
 from __future__ import annotations
 
 import csv
@@ -21,12 +22,35 @@ from alma.study.integrity import Line, describe_lines, read_line, row_checksum
 
 #: Columns of ``results.csv``, in order. The first five are those of Table 5 (``alma anova``).
 COLUMNS: tuple[str, ...] = (
-    "panel_ratio", "block_ratio", "bond", "friction", "alpha_c",
-    "model", "status", "alpha_lower", "alpha_upper", "gap", "mechanism_class",
-    "joints_s", "build_s", "solve_s", "certify_s", "message", "alma_version", "key",
+    "panel_ratio",
+    "block_ratio",
+    "bond",
+    "friction",
+    "alpha_c",
+    "model",
+    "status",
+    "alpha_lower",
+    "alpha_upper",
+    "gap",
+    "mechanism_class",
+    "joints_s",
+    "build_s",
+    "solve_s",
+    "certify_s",
+    "message",
+    "alma_version",
+    "key",
     # The model comparison (``alma compare``).
-    "alpha_associative", "ratio", "start", "alpha_lp_start", "lp_start_verified",
-    "n_candidates", "n_verified", "nonassociative_s", "n_blocks", "effort",
+    "alpha_associative",
+    "ratio",
+    "start",
+    "alpha_lp_start",
+    "lp_start_verified",
+    "n_candidates",
+    "n_verified",
+    "nonassociative_s",
+    "n_blocks",
+    "effort",
     # Each start of the non-associative search, as JSON [[start, seconds, verified], ...].
     "starts",
     # Strength (kN) of the chain across the panel; 0: none (a design's chain factor).
@@ -45,9 +69,26 @@ _HEADERS = (COLUMNS, _COLUMNS_BEFORE_STRENGTH, _COLUMNS_BEFORE_CHECKSUM, _COLUMN
 #: The value an earlier header's row gets in a column it lacks: none of the factor.
 _MISSING = {"chain": "0.0", "compressive_strength": "0.0"}
 #: Numeric columns of ``results.csv``.
-_NUMERIC = ("friction", "alpha_c", "alpha_lower", "alpha_upper", "gap", "joints_s", "build_s",
-            "solve_s", "certify_s", "alpha_associative", "ratio", "alpha_lp_start",
-            "n_candidates", "n_verified", "nonassociative_s", "n_blocks", "chain", "compressive_strength")
+_NUMERIC = (
+    "friction",
+    "alpha_c",
+    "alpha_lower",
+    "alpha_upper",
+    "gap",
+    "joints_s",
+    "build_s",
+    "solve_s",
+    "certify_s",
+    "alpha_associative",
+    "ratio",
+    "alpha_lp_start",
+    "n_candidates",
+    "n_verified",
+    "nonassociative_s",
+    "n_blocks",
+    "chain",
+    "compressive_strength",
+)
 #: Where damaged lines go, beside ``results.csv``: each after a comment naming its line and fault.
 QUARANTINE_FILE = "quarantine.txt"
 RESULTS_FILE = "results.csv"
@@ -99,8 +140,9 @@ def scan(path: Path) -> tuple[tuple[str, ...], list[Line], list[Line]]:
     header_text = pieces[0].rstrip(b"\r").decode("utf-8", "replace")
     header = tuple(next(csv.reader([header_text]), []))
     if header not in _HEADERS:
-        raise ValueError(f"{path}: not a results file of this alma version (columns {list(header)}); "
-                         "choose another --out folder")
+        raise ValueError(
+            f"{path}: not a results file of this alma version (columns {list(header)}); choose another --out folder"
+        )
     good: list[Line] = []
     bad: list[Line] = []
     for number, raw in enumerate(pieces[1:], start=2):
@@ -130,8 +172,10 @@ def report_damage(path: Path, bad: list[Line], action: str) -> None:
         return
     faults = "; ".join(f"line {line.number}: {line.problem}" for line in bad[:5])
     more = f"; and {len(bad) - 5} more" if len(bad) > 5 else ""
-    sys.stderr.write(f"alma: {path}: {len(bad)} damaged or inconsistent row(s) "
-                     f"(lines {describe_lines([line.number for line in bad])}) {action} — {faults}{more}\n")
+    sys.stderr.write(
+        f"alma: {path}: {len(bad)} damaged or inconsistent row(s) "
+        f"(lines {describe_lines([line.number for line in bad])}) {action} — {faults}{more}\n"
+    )
 
 
 class _ResultsFile:
@@ -164,8 +208,11 @@ class _ResultsFile:
         """Move the rows of ``keys`` (key → why) to the quarantine, to be solved again."""
         if not keys:
             return
-        bad = [Line(line.number, line.raw, problem=keys[line.fields[COLUMNS.index("key")]])
-               for line in self._lines if line.fields[COLUMNS.index("key")] in keys]
+        bad = [
+            Line(line.number, line.raw, problem=keys[line.fields[COLUMNS.index("key")]])
+            for line in self._lines
+            if line.fields[COLUMNS.index("key")] in keys
+        ]
         self._lines = [line for line in self._lines if line.fields[COLUMNS.index("key")] not in keys]
         for key in keys:
             self.rows.pop(key, None)
@@ -175,8 +222,9 @@ class _ResultsFile:
 
     def _set_aside(self, bad: list[Line]) -> None:
         """Quarantine first, then the file without them: a kill in between keeps both copies."""
-        text = b"".join(f"# {self.path.name} line {line.number}: {line.problem}\n".encode()
-                        + line.raw + b"\n" for line in bad)
+        text = b"".join(
+            f"# {self.path.name} line {line.number}: {line.problem}\n".encode() + line.raw + b"\n" for line in bad
+        )
         _fsync_write(self.quarantine, text, "ab")
         self._rewrite()
         self.set_aside_lines.extend(bad)

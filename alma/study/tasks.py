@@ -1,4 +1,5 @@
 """The worker side of a study: one task is one geometry with all its chains, frictions and models."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -40,7 +41,7 @@ class _Task:
     def size(self) -> float:
         """Rough relative cost (LP time grows faster than the block count; measured on Table 5)."""
         n_blocks = PANEL_HEIGHTS.get(self.panel_ratio, 1.0) / 60.0 * 1440.0 / BLOCK_LENGTHS.get(self.block_ratio, 1.0)
-        return n_blocks ** 1.7 * _BOND_COST.get(self.bond, 1.0) * len(self.items)
+        return n_blocks**1.7 * _BOND_COST.get(self.bond, 1.0) * len(self.items)
 
 
 def _num(x: Any) -> float:
@@ -51,33 +52,58 @@ def _num(x: Any) -> float:
     return v
 
 
-def _row(task: _Task, item: tuple[float, float, str, str], *, result: Any = None,
-         error: str = "", timings: dict[str, float] | None = None) -> dict[str, Any]:
+def _row(
+    task: _Task,
+    item: tuple[float, float, str, str],
+    *,
+    result: Any = None,
+    error: str = "",
+    timings: dict[str, float] | None = None,
+) -> dict[str, Any]:
     chain, friction, model, key = item
     row: dict[str, Any] = {
-        "panel_ratio": task.panel_ratio, "block_ratio": task.block_ratio, "bond": task.bond,
-        "friction": float(friction), "model": model, "alma_version": task.version, "key": key,
-        "chain": float(chain), "compressive_strength": float(task.compressive_strength),
+        "panel_ratio": task.panel_ratio,
+        "block_ratio": task.block_ratio,
+        "bond": task.bond,
+        "friction": float(friction),
+        "model": model,
+        "alma_version": task.version,
+        "key": key,
+        "chain": float(chain),
+        "compressive_strength": float(task.compressive_strength),
     }
     t = dict(timings or {})
     row["effort"] = "" if model == "associative" else task.settings.search.effort
     if result is not None:
         t.update({k: v for k, v in result.timings.items() if k in ("solve_s", "certify_s")})
-        row.update({
-            "alpha_c": _num(result.alpha), "status": str(result.status),
-            "alpha_lower": _num(result.bounds.lower), "alpha_upper": _num(result.bounds.upper),
-            "gap": _num(result.bounds.gap), "mechanism_class": str(result.mechanism_class or ""),
-            "message": str(getattr(result, "message", "") or ""),
-        })
+        row.update(
+            {
+                "alpha_c": _num(result.alpha),
+                "status": str(result.status),
+                "alpha_lower": _num(result.bounds.lower),
+                "alpha_upper": _num(result.bounds.upper),
+                "gap": _num(result.bounds.gap),
+                "mechanism_class": str(result.mechanism_class or ""),
+                "message": str(getattr(result, "message", "") or ""),
+            }
+        )
         row.update(_comparison_fields(result, model))
         try:
             row[PICTURE] = MechanismPicture.from_result(result)
         except Exception:  # a picture is a convenience: it must not lose the result
             pass
     else:
-        row.update({"alpha_c": math.nan, "status": "error", "alpha_lower": math.nan,
-                    "alpha_upper": math.nan, "gap": math.nan, "mechanism_class": "",
-                    "message": error})
+        row.update(
+            {
+                "alpha_c": math.nan,
+                "status": "error",
+                "alpha_lower": math.nan,
+                "alpha_upper": math.nan,
+                "gap": math.nan,
+                "mechanism_class": "",
+                "message": error,
+            }
+        )
     for name in ("joints_s", "build_s", "solve_s", "certify_s"):
         row[name] = float(t.get(name, 0.0))
     return row
@@ -90,27 +116,41 @@ def _comparison_fields(result: Any, model: str) -> dict[str, Any]:
     extra = getattr(result, "extra", None) or {}
     alpha_lp = _num(getattr(result, "alpha_associative", math.nan))
     n_blocks = extra.get("n_blocks")
-    out: dict[str, Any] = {"alpha_associative": alpha_lp,
-                           "n_blocks": int(n_blocks) if isinstance(n_blocks, (int, float)) else math.nan}
+    out: dict[str, Any] = {
+        "alpha_associative": alpha_lp,
+        "n_blocks": int(n_blocks) if isinstance(n_blocks, (int, float)) else math.nan,
+    }
     if model == "associative":
         return out
     alpha = _num(result.alpha)
     ratio = alpha / alpha_lp if math.isfinite(alpha) and math.isfinite(alpha_lp) and alpha_lp > 0 else math.nan
     candidates = [c for c in extra.get("candidates") or [] if isinstance(c, dict)]
     lp = [c for c in candidates if c.get("start") == "lp"]
-    out.update({
-        "ratio": ratio,
-        "start": str(extra.get("start") or ""),
-        "alpha_lp_start": _num(lp[0].get("alpha")) if lp else math.nan,
-        "lp_start_verified": str(bool(lp[0].get("verified"))) if lp else "",
-        "n_candidates": len(candidates),
-        "n_verified": sum(bool(c.get("verified")) for c in candidates),
-        "nonassociative_s": _num(result.timings.get("nonassociative_s", math.nan)),
-        # [start, seconds, verified, α of its state (null if none)]
-        "starts": json.dumps([[r.get("start"), round(float(r.get("time_s", math.nan)), 3), bool(r.get("verified")),
-                               r.get("alpha")]  # already None when not finite (alma.result)
-                              for r in extra.get("starts") or [] if isinstance(r, dict)], ensure_ascii=False),
-    })
+    out.update(
+        {
+            "ratio": ratio,
+            "start": str(extra.get("start") or ""),
+            "alpha_lp_start": _num(lp[0].get("alpha")) if lp else math.nan,
+            "lp_start_verified": str(bool(lp[0].get("verified"))) if lp else "",
+            "n_candidates": len(candidates),
+            "n_verified": sum(bool(c.get("verified")) for c in candidates),
+            "nonassociative_s": _num(result.timings.get("nonassociative_s", math.nan)),
+            # [start, seconds, verified, α of its state (null if none)]
+            "starts": json.dumps(
+                [
+                    [
+                        r.get("start"),
+                        round(float(r.get("time_s", math.nan)), 3),
+                        bool(r.get("verified")),
+                        r.get("alpha"),
+                    ]  # already None when not finite (alma.result)
+                    for r in extra.get("starts") or []
+                    if isinstance(r, dict)
+                ],
+                ensure_ascii=False,
+            ),
+        }
+    )
     return out
 
 
@@ -183,8 +223,9 @@ def _chained_model(task: _Task, scene: Any, joints: Any, strength: float) -> Any
     return alma.build_model(chained, found if task.chain_anchored else joints)
 
 
-def _solve_models(built: Any, models: tuple[str, ...], settings: Settings,
-                  patterns: PatternCache | None = None) -> dict[str, Any]:
+def _solve_models(
+    built: Any, models: tuple[str, ...], settings: Settings, patterns: PatternCache | None = None
+) -> dict[str, Any]:
     """Each model's result for one panel and friction, the associative LP solved once: with
     both models, one ``alma.solve(model="both")`` gives both rows."""
 
