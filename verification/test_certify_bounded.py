@@ -35,6 +35,7 @@ def _certified(scene: alma.Scene) -> alma.NonAssociativeResult:
     return result
 
 
+@pytest.mark.slow  # 8–16 s: `make test` keeps to 5 minutes; `make test-slow` (CI) runs it
 @settings(max_examples=12, deadline=None)
 @given(b=st.floats(60, 400), h=st.floats(40, 600), f=st.floats(0.1, 1.5), c=st.floats(0.5, 20.0))
 def test_single_block_with_base_cohesion_is_proven(b, h, f, c):
@@ -46,6 +47,7 @@ def test_single_block_with_base_cohesion_is_proven(b, h, f, c):
     assert result.bounds.lower <= result.alpha + 1e-12
 
 
+@pytest.mark.slow  # 8–16 s: `make test` keeps to 5 minutes; `make test-slow` (CI) runs it
 @settings(max_examples=12, deadline=None)
 @given(
     b=st.floats(60, 300),

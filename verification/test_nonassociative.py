@@ -69,6 +69,7 @@ def test_certificate_matches_search(k, f):
     assert result.bounds.lower == pytest.approx(result.alpha, abs=1e-6)
 
 
+@pytest.mark.slow  # 8–16 s: `make test` keeps to 5 minutes; `make test-slow` (CI) runs it
 @given(data=assemblies(max_courses=2, max_per_course=3))
 @settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 def test_default_search_reaches_certified_optimum(data):
