@@ -32,7 +32,7 @@ import numpy as np
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
 from alma.geometry.edges import contact_lengths, scene_edges
 from alma.geometry.scene import Scene
-from alma.push.carried import moved_loads, moved_ties
+from alma.push.carried import carry, moved_loads, moved_ties
 from alma.results.joints import MOTION_TOLERANCE
 from alma.results.types import Result
 
@@ -104,10 +104,11 @@ def displaced(scene: Scene, pose: Pose) -> Scene:
     geometry (:mod:`alma.push.carried`; whether it is slack is the curve's history, not the pose's).
     """
     origin = _centroids(scene)
-    blocks = tuple(
-        dataclasses.replace(b, vertices=_apply(b.vertices, pose.angle[i], origin[i], origin[i] + pose.shift[i]))
-        for i, b in enumerate(scene.blocks)
-    )
+    counts = np.array([len(b.vertices) for b in scene.blocks])
+    rows = np.repeat(np.arange(counts.size), counts)
+    moved = carry(np.concatenate([b.vertices for b in scene.blocks]), rows, pose.angle, pose.shift, origin)
+    parts = np.split(moved, np.cumsum(counts)[:-1])
+    blocks = tuple(dataclasses.replace(b, vertices=v) for b, v in zip(scene.blocks, parts, strict=True))
     return dataclasses.replace(
         scene,
         blocks=blocks,
@@ -306,12 +307,6 @@ def _perp(v: np.ndarray) -> np.ndarray:
 def _transform(x: np.ndarray, angle: np.ndarray, centre: np.ndarray, shift: np.ndarray) -> np.ndarray:
     """x ↦ R(angle)(x − centre) + centre + shift, row by row."""
     return _rotate(x - centre, angle) + centre + shift
-
-
-def _apply(vertices: np.ndarray, angle: float, origin: np.ndarray, target: np.ndarray) -> np.ndarray:
-    c, s = np.cos(angle), np.sin(angle)
-    r = vertices - origin
-    return np.column_stack([c * r[:, 0] - s * r[:, 1], s * r[:, 0] + c * r[:, 1]]) + target
 
 
 def _moved(bodies: Bodies, z: np.ndarray, blocks: np.ndarray, points: np.ndarray) -> np.ndarray:
