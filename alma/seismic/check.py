@@ -34,10 +34,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, cast
 
 import numpy as np
@@ -45,93 +43,26 @@ import numpy as np
 from alma.geometry.scene import Scene
 from alma.push import PushResult, push
 from alma.results.types import finite
-from alma.seismic.check_2019 import XI_SLV, d0_star_of, linear_2019, nonlinear_2019
+from alma.seismic.check_2019 import (
+    XI_SLC,
+    XI_SLV,
+    d0_star_of,
+    linear_2019,
+    nonlinear_2019,
+    nonlinear_at_height,
+    slc_2019,
+)
+from alma.seismic.floor_spectrum import C1_MASONRY, first_mode, floor_terms
 from alma.seismic.masses import MassPoints, check_loads, mass_points
+from alma.seismic.site import EDITIONS, SITE_KEYS, SLC_KEYS, Site
 from alma.seismic.spectrum import G, Spectrum, elastic_spectrum
 from alma.status import Status
 
-#: C₁ of T₁ = C₁ H^¾ for masonry buildings (NTC 2018 Eq. 7.3.6).
-C1_MASONRY = 0.050
 #: Ultimate and secant displacements as fractions of d₀* and d_u* (Circolare 2009 §C8A.4).
 ULTIMATE_FRACTION = 0.4
 SECANT_FRACTION = 0.4
-#: The editions of the Circolare whose checks are implemented; the first is the default.
-EDITIONS = ("2019", "2009")
-_SITE_KEYS = {"ag", "F0", "Tc_star", "soil", "topography", "FC", "q", "Z", "H", "storeys", "edition"}
 #: The JSON fields ``du_star`` and ``Ts`` (SPEC §3) are these terms of each edition's nonlinear check.
 _TOP_FIELDS = {"2009": ("du_star", "Ts"), "2019": ("d_SLV", "T_SLV")}
-
-
-@dataclass(frozen=True)
-class Site:
-    """A site's parameters (SPEC §3 site file): a_g in g, T_C* in s, Z and H in m."""
-
-    ag: float
-    F0: float
-    Tc_star: float
-    soil: str
-    topography: str = "T1"
-    #: Confidence factor: 1.35 (knowledge level LC1) unless the user's survey earns less.
-    FC: float = 1.35
-    #: Behaviour factor of the linear check: 2.0 as the Circolare sets it.
-    q: float = 2.0
-    Z: float = 0.0
-    H: float | None = None
-    storeys: int | None = None
-    #: The Circolare whose form of the checks applies: "2019" or "2009".
-    edition: str = EDITIONS[0]
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> Site:
-        """The site of a TOML table (keys of SPEC §3), checked key by key."""
-        unknown = set(data) - _SITE_KEYS
-        if unknown:
-            raise ValueError(f"site: unknown key(s) {sorted(unknown)}; allowed: {sorted(_SITE_KEYS)}")
-        missing = {"ag", "F0", "Tc_star", "soil"} - set(data)
-        if missing:
-            raise ValueError(f"site: missing key(s) {sorted(missing)}")
-        values = dict(data)
-        if isinstance(values.get("edition"), int) and not isinstance(values["edition"], bool):
-            values["edition"] = str(values["edition"])  # edition = 2019 in TOML reads as a number
-        site = cls(**values)
-        for name in ("ag", "F0", "Tc_star", "FC", "q"):
-            value = getattr(site, name)
-            if (
-                isinstance(value, bool)
-                or not isinstance(value, (int, float))
-                or not (math.isfinite(value) and value > 0)
-            ):
-                raise ValueError(f"site: {name} must be a positive number, got {value!r}")
-        if (
-            isinstance(site.Z, bool)
-            or not isinstance(site.Z, (int, float))
-            or not (math.isfinite(site.Z) and site.Z >= 0)
-        ):
-            raise ValueError(f"site: Z must be a number >= 0 (m), got {site.Z!r}")
-        if site.Z > 0:
-            if not (isinstance(site.H, (int, float)) and site.H >= site.Z and site.H > 0):
-                raise ValueError(f"site: a mechanism at Z = {site.Z} m needs the building's height H >= Z (m)")
-            if not (isinstance(site.storeys, int) and not isinstance(site.storeys, bool) and site.storeys >= 1):
-                raise ValueError("site: a mechanism at Z > 0 needs 'storeys', a positive integer")
-        if site.edition not in EDITIONS:
-            raise ValueError(f"site: edition must be one of {list(EDITIONS)}, got {site.edition!r}")
-        elastic_spectrum(site.ag, site.F0, site.Tc_star, site.soil, site.topography)  # checks soil, topography
-        return site
-
-
-def load_site(path: str | Path) -> Site:
-    """Read a site file (TOML, SPEC §3)."""
-    path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text())
-    except OSError as exc:
-        raise ValueError(f"site file '{path}': cannot be read ({exc.strerror})") from exc
-    except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"site file '{path}': not valid TOML ({exc})") from exc
-    try:
-        return Site.from_dict(data)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"site file '{path}': {exc}") from exc
 
 
 @dataclass(frozen=True)
@@ -146,8 +77,8 @@ class SeismicResult:
     M_star: float
     e_star: float
     a0_star: float
-    linear: dict[str, float | bool | None]
-    nonlinear: dict[str, float | bool | None]
+    linear: dict[str, Any]
+    nonlinear: dict[str, Any]
     #: The capacity curve in spectral coordinates: (d* m, a* m/s²) per point of the push curve.
     curve_star: tuple[tuple[float, float], ...]
     push: PushResult = field(repr=False, compare=False)
@@ -155,6 +86,8 @@ class SeismicResult:
     edition: str = EDITIONS[0]
     #: The moving masses and their virtual displacements (None when there is no curve).
     masses: MassPoints | None = field(default=None, repr=False, compare=False)
+    #: The 2019 displacement check at SLC (None unless the site gives the SLC's hazard).
+    slc: dict[str, Any] | None = None
 
     def to_dict(self) -> dict[str, Any]:
         clean = lambda d: {k: (finite(v) if isinstance(v, float) else v) for k, v in d.items()}  # noqa: E731
@@ -178,8 +111,9 @@ class SeismicResult:
             "du_star": nl.get(du),
             "Ts": nl.get(ts),
             "nonlinear": nl,
+            "slc": clean(self.slc) if self.slc is not None else None,
             "spectrum": self.spectrum.to_dict(),
-            "site": {k: getattr(self.site, k) for k in sorted(_SITE_KEYS)},
+            "site": {k: getattr(self.site, k) for k in sorted(SITE_KEYS)},
             "carried_loads": carried,
             "external_forces": list(masses.forces) if masses else [],
             "curve_star": [[finite(d), finite(a)] for d, a in self.curve_star],
@@ -224,11 +158,7 @@ def seismic(
         raise ValueError(f"edition must be one of {list(EDITIONS)}, got {edition!r}")
     if edition != site.edition:
         site = dataclasses.replace(site, edition=edition)
-    if edition == "2019" and site.Z > 0:
-        raise ValueError(
-            "edition 2019: a mechanism at Z > 0 needs the floor spectrum of the Circolare 2019 "
-            "(Eqs. C7.2.5-C7.2.10), which alma does not implement; use edition 2009 for Z > 0"
-        )
+    site.needs_for(edition)
     if not scene.validated:
         scene = scene.validate()
     if not (scene.live_self_weight and abs(scene.live_load_direction[1]) < 1e-12 and abs(scene.gravity[0]) < 1e-12):
@@ -270,19 +200,20 @@ def seismic(
     curve_star = tuple(zip(d_star.tolist(), a_star.tolist(), strict=True))
     if edition == "2009":
         demand = _linear_demand(site, spec)
-        linear: dict[str, float | bool | None] = {
+        linear: dict[str, Any] = {
             "demand": demand,
             "safety_index": a0_star / demand,
             "verified": bool(a0_star >= demand),
         }
-        nonlinear = _nonlinear(site, spec, pushed, d_star, a_star, factor)
+        nonlinear: dict[str, Any] = _nonlinear(site, spec, pushed, d_star, a_star, factor)
+        slc = None
     else:
-        linear = linear_2019(site.q, spec, a0_star)
-        spec8 = elastic_spectrum(site.ag, site.F0, site.Tc_star, site.soil, site.topography, damping=XI_SLV)
-        nonlinear = nonlinear_2019(pushed, d_star, a_star, factor, spec8, cast(float, linear["a_g_SLD"]))
+        linear, nonlinear, slc = _checks_2019(site, spec, a0_star, pushed, d_star, a_star, factor)
     status, message = pushed.status, pushed.message
     safety = cast(float, nonlinear.get("safety_index", math.nan))  # a number when present
-    if not math.isfinite(safety):
+    if "refused" in nonlinear:
+        message = f"{message}; not done: {nonlinear['refused']}"
+    elif not math.isfinite(safety):
         message = f"{message}; the nonlinear check needs d0 (the curve must reach α = 0)"
     return SeismicResult(
         status,
@@ -299,7 +230,39 @@ def seismic(
         pushed,
         edition,
         masses,
+        slc,
     )
+
+
+def _checks_2019(
+    site: Site,
+    spec: Spectrum,
+    a0_star: float,
+    pushed: PushResult,
+    d_star: np.ndarray,
+    a_star: np.ndarray,
+    factor: float,
+) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any] | None]:
+    """The 2019 linear, SLV displacement and SLC displacement checks (:mod:`alma.seismic.check_2019`).
+
+    At Z > 0 the linear check reads the floor acceleration a_Z(z) of Eqs. C7.2.7–8 (first mode,
+    the ground spectrum at ξ_1) and the displacement checks are not done (their ``refused``).
+    """
+    if site.Z > 0:
+        n, H, xi1 = cast(int, site.storeys), cast(float, site.H), cast(float, site.xi1)
+        mode = first_mode(site.Z, H, n, xi1, site.T1)
+        spec1 = elastic_spectrum(site.ag, site.F0, site.Tc_star, site.soil, site.topography, damping=xi1)
+        linear = linear_2019(site.q, spec, a0_star, floor_terms(spec1, mode))
+        refused = nonlinear_at_height(pushed, factor)
+        return linear, refused, (dict(refused) if site.ag_SLC is not None else None)
+    linear = linear_2019(site.q, spec, a0_star)
+    spec8 = elastic_spectrum(site.ag, site.F0, site.Tc_star, site.soil, site.topography, damping=XI_SLV)
+    nonlinear = nonlinear_2019(pushed, d_star, a_star, factor, spec8, cast(float, linear["a_g_SLD"]))
+    if site.ag_SLC is None:
+        return linear, nonlinear, None
+    ag, f0, tc = (cast(float, getattr(site, k)) for k in SLC_KEYS)
+    spec10 = elastic_spectrum(ag, f0, tc, site.soil, site.topography, damping=XI_SLC)
+    return linear, nonlinear, slc_2019(pushed, d_star, a_star, factor, spec10)
 
 
 def _linear_demand(site: Site, spec: Spectrum) -> float:

@@ -30,8 +30,21 @@ Nonlinear check (displacements at SLV, §C8.7.1.2.1.6 and .8):
   proportional to a_g, so a_{g,SLV} = a_g d_SLV / demand; when it is below a_{g,SLD} the
   latter is taken (§C8.7.1.2.1.8); safety index a_{g,SLV} / a_g.
 
-A mechanism at a height z > 0 needs the floor spectrum S_eZ of Eqs. C7.2.5–C7.2.10 (the
-building's modes), which is not implemented: the 2019 check refuses Z > 0.
+Linear check of a mechanism at a height z > 0 (§C8.7.1.2.1.7: "attraverso le equazioni
+[C8.7.1.8] e [C7.2.8], nel caso di meccanismi locali rigidamente vincolati alla struttura
+principale"): the mechanism activates when the peak floor acceleration a_Z(z) of Eq. C7.2.8
+(:mod:`alma.seismic.floor_spectrum`, first mode) reaches a_{Z,SLD}; a_Z(z) is proportional to
+a_g with the spectrum's shape held at the site's, so a_{g,SLD} = a_g a_{Z,SLD} / a_Z(z) and
+a_{g,SLV} = q a_{g,SLD}.  The displacement checks at z > 0 (Eq. C8.7.1.12 on the floor spectrum
+S_eZ of Eqs. C7.2.5–6) are not done: ``nonlinear`` says why (``refused``).
+
+SLC (§C8.7.1.2.1.6 and .8), when the site gives its hazard at the SLC's return period
+(a_g, F₀, T_C* there): d_SLC is the smaller of 60 % of d₀ and the displacement "localmente
+incompatibile con la stabilità degli elementi" (the curve's loss of equilibrium);
+T_SLC = 1.56 π √(d_SLC / a(d_SLC)) (Eq. C8.7.1.11); "un'espressione analoga alla [C8.7.1.12]"
+at the ground: the largest S_De over [0, T_SLC] of the SLC spectrum at ξ = 10 %, and
+a_{g,SLC} = a_{g,SLC site} d_SLC / demand, compared with the SLC's a_g.  The text does not carry
+the floor a_{g,SLD} over to the SLC (it says so of the SLV only), so none is applied.
 
 Units: accelerations in m/s², displacements in m, periods in s.
 """
@@ -39,18 +52,33 @@ Units: accelerations in m/s², displacements in m, periods in s.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
 from alma.push import PushResult
 from alma.seismic.spectrum import Spectrum
 
+#: A check's named terms (numbers, verdicts, names) as the JSON gives them.
+Terms = dict[str, Any]
 #: d_SLV as a fraction of d₀ (Circolare 2019 §C8.7.1.2.1.6).
 SLV_FRACTION = 0.4
 #: The coefficient of π in T_SLV = 1.68 π √(d_SLV / a(d_SLV)) (Eq. C8.7.1.10).
 T_SLV_COEFFICIENT = 1.68
 #: Equivalent viscous damping of the local mechanism at SLV, percent (§C8.7.1.2.1.8).
 XI_SLV = 8.0
+#: d_SLC as a fraction of d₀ (Circolare 2019 §C8.7.1.2.1.6).
+SLC_FRACTION = 0.6
+#: The coefficient of π in T_SLC = 1.56 π √(d_SLC / a(d_SLC)) (Eq. C8.7.1.11).
+T_SLC_COEFFICIENT = 1.56
+#: Equivalent viscous damping of the local mechanism at SLC, percent (§C8.7.1.2.1.8).
+XI_SLC = 10.0
+#: Why the displacement checks at z > 0 are not done (docs/seismic.md).
+HEIGHT_REFUSED = (
+    "the 2019 displacement checks at Z > 0 need the floor spectrum S_eZ of Eqs. C7.2.5-6, whose "
+    "text (xi_k in percent) gives a peak below the floor's peak acceleration and a vanishing "
+    "denominator; alma does not implement it (docs/seismic.md)"
+)
 
 
 def d0_star_of(pushed: PushResult, factor: float) -> tuple[float, float]:
@@ -69,12 +97,23 @@ def d0_star_of(pushed: PushResult, factor: float) -> tuple[float, float]:
     return d0 * factor * 1e-3, lost
 
 
-def linear_2019(site_q: float, spec: Spectrum, a0_star: float) -> dict[str, float | bool | None]:
-    """The linear check of §C8.7.1.2.1.7 at z = 0 (module docstring): a_{g,SLV} = q a_{Z,SLD} / S ≥ a_g."""
+def linear_2019(site_q: float, spec: Spectrum, a0_star: float, floor: dict[str, float | bool] | None = None) -> Terms:
+    """The linear check of §C8.7.1.2.1.7 (module docstring): a_{g,SLV} = q a_{g,SLD} >= a_g.
+
+    At z = 0 ``floor`` is None and a_{g,SLD} = a_{Z,SLD} / S; at z > 0 ``floor`` holds the terms
+    of a_Z(z) (Eqs. C7.2.7–8, :func:`alma.seismic.floor_spectrum.floor_terms`) at the site's a_g
+    and a_{g,SLD} = a_g a_{Z,SLD} / a_Z(z).  ``governs`` names the demand: "ground" or "floor".
+    """
     a_z = a0_star  # Eq. C8.7.1.8: a_{Z,SLD} = α₀ g / (e* FC)
-    a_g_sld = a_z / spec.S
+    if floor is None:
+        a_g_sld = a_z / spec.S
+        required = spec.ag * spec.S / site_q
+    else:
+        a_floor = float(floor["a_Z"])
+        a_g_sld = spec.ag * a_z / a_floor  # a_Z(z) is proportional to a_g (Eq. C7.2.7)
+        required = a_floor / site_q
     a_g_slv = site_q * a_g_sld
-    return {
+    terms: Terms = {
         "a_Z_SLD": a_z,
         "S": spec.S,
         "a_g_SLD": a_g_sld,
@@ -85,39 +124,59 @@ def linear_2019(site_q: float, spec: Spectrum, a0_star: float) -> dict[str, floa
         "safety_index": a_g_slv / spec.ag,
         "verified": bool(a_g_slv >= spec.ag),
         # the spectral acceleration a₀* must reach for the same verdict (for the pictures)
-        "a0_star_required": spec.ag * spec.S / site_q,
+        "a0_star_required": required,
+        "governs": "ground" if floor is None else "floor",
     }
+    if floor is not None:
+        terms.update(floor)
+    return terms
+
+
+def _nan_check(spec: Spectrum, xi: float, d_name: str, a_name: str, t_name: str) -> Terms:
+    """The displacement check's fields when the curve gives no d₀."""
+    nan = math.nan
+    return {
+        "d0_star": nan,
+        d_name: nan,
+        a_name: nan,
+        t_name: nan,
+        "xi": xi,
+        "eta": spec.eta,
+        "displacement_demand": nan,
+        "a_g_SLV" if d_name == "d_SLV" else "a_g_SLC": nan,
+        "capacity": nan,
+        "demand": spec.ag,
+        "safety_index": nan,
+        "verified": None,
+    }
+
+
+def _displacement_check(
+    d_ls: float, d_star: np.ndarray, a_star: np.ndarray, coefficient: float, spec: Spectrum
+) -> tuple[float, float, float, float]:
+    """a(d), T = c π √(d / a(d)) (Eqs. C8.7.1.10–11), the demand max S_De over [0, T] and
+    a_g d / demand (Eq. C8.7.1.12 at the ground, the spectrum's shape held): m/s², s, m, m/s²."""
+    a_ls = float(np.interp(d_ls, d_star, a_star))
+    t_ls = coefficient * math.pi * math.sqrt(d_ls / a_ls)
+    demand = spec.SDe_max(t_ls)
+    return a_ls, t_ls, demand, spec.ag * d_ls / demand
 
 
 def nonlinear_2019(
     pushed: PushResult, d_star: np.ndarray, a_star: np.ndarray, factor: float, spec8: Spectrum, a_g_sld: float
-) -> dict[str, float | bool | None]:
+) -> Terms:
     """The displacement check at SLV of §C8.7.1.2.1.8 at z = 0 (module docstring).
 
     ``spec8`` is the site's spectrum at ξ = 8 %; ``d_star``, ``a_star`` the curve of
-    Eqs. C8.7.1.3–4 (m, m/s²); ``a_g_sld`` the linear check's a_{g,SLD} (m/s²).
+    Eqs. C8.7.1.3–4 (m, m/s²); ``a_g_sld`` the linear check's a_{g,SLD} (m/s²).  ``governs``
+    says whether the displacement or a_{g,SLD} gave a_{g,SLV}.
     """
     d0_star, lost = d0_star_of(pushed, factor)
     if not math.isfinite(d0_star):
-        return {
-            "d0_star": math.nan,
-            "d_SLV": math.nan,
-            "a_SLV": math.nan,
-            "T_SLV": math.nan,
-            "xi": XI_SLV,
-            "eta": spec8.eta,
-            "displacement_demand": math.nan,
-            "a_g_SLV": math.nan,
-            "capacity": math.nan,
-            "demand": spec8.ag,
-            "safety_index": math.nan,
-            "verified": None,
-        }
+        return _nan_check(spec8, XI_SLV, "d_SLV", "a_SLV", "T_SLV")
     d_slv = min(SLV_FRACTION * d0_star, lost) if math.isfinite(lost) else SLV_FRACTION * d0_star
-    a_slv = float(np.interp(d_slv, d_star, a_star))
-    t_slv = T_SLV_COEFFICIENT * math.pi * math.sqrt(d_slv / a_slv)  # Eq. C8.7.1.10
-    demand = spec8.SDe_max(t_slv)  # Eq. C8.7.1.12 at the ground, over [0, T_SLV]
-    a_g_slv = max(spec8.ag * d_slv / demand, a_g_sld)
+    a_slv, t_slv, demand, by_displacement = _displacement_check(d_slv, d_star, a_star, T_SLV_COEFFICIENT, spec8)
+    a_g_slv = max(by_displacement, a_g_sld)
     return {
         "d0_star": d0_star,
         "d_SLV": d_slv,
@@ -134,4 +193,41 @@ def nonlinear_2019(
         "verified": bool(a_g_slv >= spec8.ag),
         "d0_extrapolated": bool(math.isfinite(lost)),
         "d_lost_star": lost,
+        "governs": "displacement" if by_displacement >= a_g_sld else "a_g_SLD",
+    }
+
+
+def nonlinear_at_height(pushed: PushResult, factor: float) -> Terms:
+    """The displacement check at z > 0, not done (module docstring): d₀* and the reason."""
+    d0_star, lost = d0_star_of(pushed, factor)
+    return {"d0_star": d0_star, "d_lost_star": lost, "verified": None, "refused": HEIGHT_REFUSED}
+
+
+def slc_2019(pushed: PushResult, d_star: np.ndarray, a_star: np.ndarray, factor: float, spec10: Spectrum) -> Terms:
+    """The displacement check at SLC of §C8.7.1.2.1.6 and .8 at z = 0 (module docstring).
+
+    ``spec10`` is the spectrum of the SLC's hazard (a_g, F₀, T_C* at its return period) at
+    ξ = 10 %; ``d_star``, ``a_star`` the curve of Eqs. C8.7.1.3–4 (m, m/s²).
+    """
+    d0_star, lost = d0_star_of(pushed, factor)
+    if not math.isfinite(d0_star):
+        return _nan_check(spec10, XI_SLC, "d_SLC", "a_SLC", "T_SLC")
+    d_slc = min(SLC_FRACTION * d0_star, lost) if math.isfinite(lost) else SLC_FRACTION * d0_star
+    a_slc, t_slc, demand, a_g_slc = _displacement_check(d_slc, d_star, a_star, T_SLC_COEFFICIENT, spec10)
+    return {
+        "d0_star": d0_star,
+        "d_SLC": d_slc,
+        "a_SLC": a_slc,
+        "T_SLC": t_slc,
+        "xi": XI_SLC,
+        "eta": spec10.eta,
+        "displacement_demand": demand,
+        "a_g_SLC": a_g_slc,
+        "capacity": a_g_slc,
+        "demand": spec10.ag,
+        "safety_index": a_g_slc / spec10.ag,
+        "verified": bool(a_g_slc >= spec10.ag),
+        "d0_extrapolated": bool(math.isfinite(lost)),
+        "d_lost_star": lost,
+        "spectrum": spec10.to_dict(),
     }
