@@ -176,16 +176,30 @@ def _lines_2009(result: SeismicResult) -> list[str]:
 
 
 def _lines_2019(result: SeismicResult) -> list[str]:
-    lin, nl = result.linear, result.nonlinear
+    lin, nl, slc = result.linear, result.nonlinear, result.slc
+    formula = "q a_g a_Z,SLD / a_Z(z)" if lin.get("governs") == "floor" else "q a_Z,SLD / S"
     lines = [
-        f"  linear     a_g,SLV = q a_Z,SLD / S = {lin['a_g_SLV']:.4g} m/s² vs a_g {lin['demand']:.4g} m/s²: "
-        f"{_verdict(lin)}"
+        f"  linear     a_g,SLV = {formula} = {lin['a_g_SLV']:.4g} m/s² vs a_g {lin['demand']:.4g} m/s²: {_verdict(lin)}"
     ]
-    if nl.get("verified") is not None:
+    if lin.get("governs") == "floor":
+        lines.append(
+            f"  floor      a_Z(z) = {lin['a_Z']:.4g} m/s² at Z = {result.site.Z:g} m (T1 = {lin['T1']:.3f} s"
+            f"{', NTC Eq. 7.3.6' if lin['T1_estimated'] else ''}, ξ1 = {lin['xi1']:g} %)"
+        )
+    if "refused" in nl:
+        lines.append(f"  nonlinear  not done: {nl['refused']}")
+    elif nl.get("verified") is not None:
         d, demand = cast(float, nl["d_SLV"]), cast(float, nl["displacement_demand"])
         lines.append(
             f"  nonlinear  d_SLV = {d * 1e3:.4g} mm vs demand {demand * 1e3:.4g} mm (T_SLV = "
             f"{nl['T_SLV']:.3f} s, ξ = 8 %): a_g,SLV = {nl['a_g_SLV']:.4g} m/s², {_verdict(nl)}"
+        )
+    if slc is not None and slc.get("verified") is not None:
+        d, demand = cast(float, slc["d_SLC"]), cast(float, slc["displacement_demand"])
+        lines.append(
+            f"  SLC        d_SLC = {d * 1e3:.4g} mm vs demand {demand * 1e3:.4g} mm (T_SLC = "
+            f"{slc['T_SLC']:.3f} s, ξ = 10 %): a_g,SLC = {slc['a_g_SLC']:.4g} m/s² vs "
+            f"{slc['demand']:.4g} m/s², {_verdict(slc)}"
         )
     return lines
 
