@@ -5,8 +5,11 @@ multiplier of the horizontal load proportional to the weights, the virtual displ
 are the horizontal velocities of its masses in the collapse mechanism (blocks' self-weights and
 carried loads: :mod:`alma.seismic.masses`), and the capacity curve is ``alma.push``'s α(d) on
 the displaced geometry.  ``edition`` chooses the form of the checks: ``"2019"`` (the default,
-Circolare n. 7/2019 §C8.7.1.2.1.5–8: :mod:`alma.seismic.check_2019`) or ``"2009"`` (Circolare
-n. 617/2009 §C8A.4, below), with P_i the weights of the n moving masses (kN):
+Circolare n. 7/2019 §C8.7.1.2.1.5–8: :mod:`alma.seismic.check_2019`; at a height Z > 0 its
+linear check reads the floor acceleration of Eqs. C7.2.7–8, :mod:`alma.seismic.floor_spectrum`,
+and its displacement checks are refused; the SLC check when the site gives the SLC's hazard)
+or ``"2009"`` (Circolare n. 617/2009 §C8A.4, below), with P_i the weights of the n moving
+masses (kN):
 
 - participating mass and fraction (both editions; 2019 Eq. C8.7.1.5):
   M* = (Σ P_i δx,i)² / (g Σ P_i δx,i²), e* = g M* / Σ P_i;
