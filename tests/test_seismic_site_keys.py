@@ -97,3 +97,9 @@ def test_cli_text_gives_the_floor_and_slc_lines(tmp_path):
     data = json.loads(slc.stdout)
     assert data["slc"]["xi"] == 10.0 and data["site"]["ag_SLC"] == 0.25
     assert data["nonlinear"]["governs"] in ("displacement", "a_g_SLD") and data["linear"]["governs"] == "ground"
+
+
+def test_a_site_built_directly_is_checked():
+    scene = alma.Scene.from_dict(SCENE)
+    with pytest.raises(ValueError, match="xi1"):
+        alma.seismic(scene, Site(**SITE, **HIGH, xi1=-10.0), steps=4)

@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 
 import pytest
+from hypothesis import given, settings, strategies as st
 
 import alma
 from alma.seismic import Site
@@ -187,3 +188,19 @@ def test_slc_keys_leave_the_slv_checks_unchanged():
     with_slc = alma.seismic(_block(), Site(**SITE1, **SLC1), steps=8)
     assert plain.slc is None and plain.to_dict()["slc"] is None
     assert with_slc.linear == plain.linear and with_slc.nonlinear == plain.nonlinear
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    z=st.floats(0.05, 1.0),
+    n=st.integers(1, 12),
+    xi1=st.floats(2.0, 25.0),
+    t1=st.one_of(st.none(), st.floats(0.05, 3.0)),
+)
+def test_the_floor_acceleration_grows_as_the_linear_mode(z, n, xi1, t1):
+    """a_Z(z) = a_Z(H) z/H (ψ_1 = z/H), and 1 <= γ_1 = 3n/(2n + 1) < 1.5."""
+    spec1 = elastic_spectrum(**SITE2, damping=xi1)
+    at_z = floor_acceleration(spec1, first_mode(z * 12.0, 12.0, n, xi1, t1))
+    top = floor_acceleration(spec1, first_mode(12.0, 12.0, n, xi1, t1))
+    assert at_z == pytest.approx(top * z, rel=1e-12)
+    assert 1.0 <= first_mode(6.0, 12.0, n, xi1, t1).gamma < 1.5

@@ -155,7 +155,10 @@ def seismic(
     SeismicResult
         Both checks' terms under the edition's names; ``edition`` says which applied.
     """
-    site = site if isinstance(site, Site) else Site.from_dict(site)
+    if isinstance(site, Site):
+        site.check()  # a Site built directly is checked as a site file is
+    else:
+        site = Site.from_dict(site)
     edition = site.edition if edition is None else edition
     if edition not in EDITIONS:
         raise ValueError(f"edition must be one of {list(EDITIONS)}, got {edition!r}")
