@@ -42,11 +42,16 @@ TARGETS = (
 
 def test_timed_takes_medians_and_keeps_the_last_value():
     calls = []
-    timing, value = harness.timed(lambda: calls.append(1) or len(calls), 3)
+
+    def counted() -> int:
+        calls.append(1)
+        return len(calls)
+
+    timing, value = harness.timed(counted, 3)
     assert value == 3 and timing.repeat == 3 and len(calls) == 3
     assert timing.best <= timing.median <= max(timing.times)
-    timing, value = harness.timed(lambda: "once", 0)  # at least one run
-    assert timing.repeat == 1 and value == "once"
+    timing, word = harness.timed(lambda: "once", 0)  # at least one run
+    assert timing.repeat == 1 and word == "once"
     median, value = harness.median_time(lambda: 7, 2)
     assert median >= 0 and value == 7
 

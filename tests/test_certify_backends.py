@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import ast
 from pathlib import Path
+from typing import TypedDict
 
 import numpy as np
 import pytest
@@ -44,7 +45,10 @@ def test_certify_imports_no_solver_package(path):
     assert not bad, f"{path.name} imports {sorted(bad)}: solver calls belong in alma/backends/"
 
 
-def _knapsack():
+Problem = tuple[np.ndarray, np.ndarray, np.ndarray, sp.csr_matrix, np.ndarray, np.ndarray]
+
+
+def _knapsack() -> Problem:
     """max 5a + 4b + 3c s.t. 2a + 3b + c ≤ 5, 4a + b + 2c ≤ 11, 3a + 4b + 2c ≤ 8, a, b, c ∈ {0..5}:
     optimum 13 at (2, 0, 1) (checked by enumeration below), as a minimisation of −(…)."""
     cost = -np.array([5.0, 4.0, 3.0])
@@ -59,7 +63,16 @@ def _enumerated_optimum() -> float:
     return float((grid[feasible] @ cost).min())
 
 
-MIP = dict(node_limit=10_000, absolute_gap=1e-9, relative_gap=1e-9, integrality_tolerance=1e-9)
+class MipOptions(TypedDict):
+    """The keyword arguments of :func:`highs_backend.solve_milp` these tests set."""
+
+    node_limit: int
+    absolute_gap: float
+    relative_gap: float
+    integrality_tolerance: float
+
+
+MIP: MipOptions = dict(node_limit=10_000, absolute_gap=1e-9, relative_gap=1e-9, integrality_tolerance=1e-9)
 
 
 def test_solve_milp_proves_the_enumerated_optimum():
@@ -98,7 +111,8 @@ def test_solve_milp_node_budget_is_reported():
     problem = (cost, np.zeros(30), np.ones(30), A, np.full(10, -np.inf), hi, np.ones(30, dtype=bool))
     full = highs_backend.solve_milp(*problem, **MIP)
     assert full.status == "optimal" and full.nodes > 1
-    cut = highs_backend.solve_milp(*problem, **{**MIP, "node_limit": 1})
+    one_node: MipOptions = {**MIP, "node_limit": 1}
+    cut = highs_backend.solve_milp(*problem, **one_node)
     assert cut.status == "node_limit" and cut.nodes <= 1
     assert cut.dual_bound <= float(cost @ full.x) + 1e-9
 

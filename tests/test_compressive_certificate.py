@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import dataclasses
 import types
+from typing import cast
 
 import numpy as np
 import pytest
@@ -16,7 +17,7 @@ from alma.associative.cone_field import blend_theta
 from alma.associative.crushing import cone_violation, crushing_dissipation, static_cone_form, uniform_margins
 from alma.associative.lp import solve_lp
 from alma.geometry.panels import paper_panel
-from alma.mechanics.model import build_model
+from alma.mechanics.model import Model, build_model
 from alma.settings import AssociativeSettings, CrushingSettings, Settings
 from alma.status import Status
 
@@ -46,7 +47,7 @@ def test_blend_is_the_smallest_theta_inside_every_cone(joints):
     """θ puts every point inside 2 c N_p ≥ N², and no smaller θ does (when an end is outside)."""
     c = np.array([j[0] for j in joints])
     mu1, mu0 = (np.array([j[i] for j in joints], dtype=float) for i in (1, 2))
-    model = types.SimpleNamespace(crushing=c)
+    model = cast(Model, types.SimpleNamespace(crushing=c))  # blend_theta reads model.crushing only
     theta = blend_theta(model, fields_of(mu1), fields_of(mu0))
     g0, g1 = cone_values(c, mu1), cone_values(c, mu0)
     if np.any((g0 < 0) & (g1 < 0)):
@@ -69,7 +70,7 @@ def test_blend_is_the_smallest_theta_inside_every_cone(joints):
 
 
 def test_blend_of_a_field_inside_is_zero():
-    model = types.SimpleNamespace(crushing=np.array([10.0]))
+    model = cast(Model, types.SimpleNamespace(crushing=np.array([10.0])))  # model.crushing only
     assert blend_theta(model, fields_of(np.array([[3.0, 1.0]])), fields_of(np.array([[0.0, 5.0]]))) == 0.0
 
 
@@ -85,7 +86,12 @@ def test_anchor_solve_certifies_a_field_left_outside_a_cone(monkeypatch):
     cone of a joint carrying 0.005 block weights by 2.9e-9; the anchor's blend is admissible."""
     calls = []
     real = cone_field_module.solve_static_crushing
-    monkeypatch.setattr(cone_field_module, "solve_static_crushing", lambda *a, **k: calls.append(1) or real(*a, **k))
+
+    def counted(*a, **k):
+        calls.append(1)
+        return real(*a, **k)
+
+    monkeypatch.setattr(cone_field_module, "solve_static_crushing", counted)
     model = panel_model("english", "1:1", "4:1", 0.6, 10.0)
     lp = solve_lp(model)
     assert lp.status == Status.OPTIMAL and "anchor solve, blend" in lp.message and len(calls) == 1

@@ -6,6 +6,7 @@ from __future__ import annotations
 import copy
 import json
 import types
+from typing import cast
 
 import numpy as np
 import pytest
@@ -16,7 +17,7 @@ import alma.associative.lp_crushing as lp_crushing_module
 from alma.associative.crushing import crushing_dissipation
 from alma.cli.main import main
 from alma.geometry.scene import SceneError
-from alma.mechanics.model import build_model
+from alma.mechanics.model import Model, build_model
 from alma.status import Status
 
 B, H, T = 240.0, 600.0, 120.0
@@ -100,6 +101,7 @@ def test_pure_crushing_state():
     joint = result.joints[0]
     # the static field keeps the solver's cone margin (crushing.CONE_RELATIVE_MARGIN = 5e-8)
     assert joint.state == "crushing" and joint.N == pytest.approx(capacity, rel=1e-7)
+    assert joint.stress_block is not None
     (x0, _), (x1, _) = joint.stress_block
     assert abs(x1 - x0) == pytest.approx(B, rel=1e-7)
 
@@ -183,7 +185,7 @@ def test_closed_form_dissipation_is_the_sup(g, c):
     which Clarabel closes to 'optimal' at 1e-9 on every case tried (worst error 1.4e-9 c); unscaled,
     it stops 'optimal_inaccurate' on some."""
     cp = pytest.importorskip("cvxpy")
-    model = types.SimpleNamespace(crushing=np.array([c]))
+    model = cast(Model, types.SimpleNamespace(crushing=np.array([c])))  # only model.crushing is read
     nu = cp.Variable(4, nonneg=True)
     N = cp.sum(nu)
     problem = cp.Problem(

@@ -16,7 +16,7 @@ from hypothesis import given, settings, strategies as st
 
 import alma
 from alma.geometry import contacts
-from alma.geometry.contacts import find_joints
+from alma.geometry.contacts import Joints, find_joints
 from alma.geometry.edges import contact_lengths, local_origin, scene_edges
 from alma.geometry.scene import Scene
 
@@ -30,7 +30,7 @@ def _wall(far: float | None) -> Scene:
     return Scene.from_dict(data)
 
 
-def _peak_bytes(scene: Scene) -> tuple[int, object]:
+def _peak_bytes(scene: Scene) -> tuple[int, Joints]:
     tracemalloc.start()
     try:
         joints = find_joints(scene)

@@ -8,6 +8,7 @@ import dataclasses
 import pickle
 import warnings
 from pathlib import Path
+from typing import TypedDict
 
 import numpy as np
 import pytest
@@ -28,9 +29,15 @@ from alma.engine import (
 )
 from alma.settings import AssociativeSettings
 
+
+class Thresholds(TypedDict):  # the keyword arguments of select.choose that set engine="auto"'s sizes
+    min_blocks: int
+    min_blocks_bounded: int
+
+
 #: The default thresholds of engine="auto".
 AUTO = AssociativeSettings()
-THRESHOLDS = {"min_blocks": AUTO.auto_min_blocks, "min_blocks_bounded": AUTO.auto_min_blocks_bounded}
+THRESHOLDS: Thresholds = {"min_blocks": AUTO.auto_min_blocks, "min_blocks_bounded": AUTO.auto_min_blocks_bounded}
 
 ENGINE_DIR = Path(alma.__file__).parent / "engine"
 

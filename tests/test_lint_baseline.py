@@ -9,6 +9,7 @@ import dataclasses
 import importlib
 import tomllib
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
 TEXT = (ROOT / "pyproject.toml").read_text()
@@ -29,10 +30,28 @@ def test_no_file_is_left_out_of_the_lint():
     assert "lint-baseline" not in (ROOT / "Makefile").read_text()
 
 
+def test_mypy_checks_every_folder_ruff_checks():
+    # The test suites too: their types are checked, not only their style.
+    makefile = (ROOT / "Makefile").read_text()
+    lint_paths = next(line for line in makefile.splitlines() if line.startswith("LINT_PATHS :="))
+    folders = set(lint_paths.split(":=", 1)[1].split())
+    assert {"alma", "tests", "verification"} <= folders
+    assert set(CONFIG["tool"]["mypy"]["files"]) == folders
+    hook = (ROOT / ".pre-commit-config.yaml").read_text()
+    assert "files: ^(" + "|".join(CONFIG["tool"]["mypy"]["files"]) + ")/" in hook
+
+
 def test_the_defaults_ruff_allows_in_arguments_are_frozen_dataclasses():
     allowed = RUFF["flake8-bugbear"]["extend-immutable-calls"]
     assert allowed
     for name in allowed:
         module, _, attribute = name.rpartition(".")
         cls = getattr(importlib.import_module(module), attribute)
-        assert dataclasses.is_dataclass(cls) and cls.__dataclass_params__.frozen, name
+        assert dataclasses.is_dataclass(cls) and _frozen(cls), name
+
+
+def _frozen(cls: object) -> bool:
+    """Whether the dataclass ``cls`` was declared frozen (typeshed's dataclass protocol does not
+    name ``__dataclass_params__``, so it is read here untyped)."""
+    params: Any = getattr(cls, "__dataclass_params__", None)
+    return params is not None and bool(params.frozen)

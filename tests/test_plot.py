@@ -94,10 +94,11 @@ def test_the_png_draws_the_marks_where_the_drawing_places_them(tmp_path):
     fig, ax = plt.subplots()
     render_axes(ax, drawing)
     polygons = [
-        p.vertices[:-1] if len(p.vertices) > 4 else p.vertices
+        v[:-1] if len(v) > 4 else v
         for c in ax.collections
         if isinstance(c, PolyCollection)
         for p in c.get_paths()
+        for v in [np.asarray(p.vertices)]  # matplotlib types vertices as ArrayLike
     ]
     blocks = [drawing.placed(m) for m in drawing.marks if m.cls.startswith("block-")]
     for b in blocks:

@@ -216,6 +216,7 @@ def test_killed_study_resumes_without_loss_or_duplicates(tmp_path):
         stderr=subprocess.PIPE,
     )
     try:
+        assert proc.stderr is not None  # stderr=PIPE
         deadline = time.monotonic() + 60
         while _data_rows(path) < 8 and proc.poll() is None and time.monotonic() < deadline:
             time.sleep(0.01)

@@ -219,6 +219,7 @@ def test_a_second_run_on_one_folder_is_refused_and_a_killed_holder_does_not_bloc
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     holder = subprocess.Popen([sys.executable, "-c", _HOLDER, str(out)], env=env, stdout=subprocess.PIPE, text=True)
     try:
+        assert holder.stdout is not None  # stdout=PIPE
         assert holder.stdout.readline().strip() == "locked"
         with pytest.raises(StudyBusy, match=f"pid {holder.pid}"):
             run_doe(out, workers=1, design=TINY, progress=False)

@@ -63,11 +63,11 @@ def _kinematic(model, pts, opened, slip, rate, U: float) -> bool:
     A_ub += [r * G[[i]] for i, r in enumerate(rate) if r]  # d = −Gᵀu has the sign of r
     b_eq = np.zeros(len(A_eq))
     b_eq[0] = model.n_free
-    A_ub = np.vstack(A_ub)
+    ub = np.vstack(A_ub)
     res = linprog(
         np.zeros(Nn.shape[1]),
-        A_ub=A_ub,
-        b_ub=np.zeros(A_ub.shape[0]),
+        A_ub=ub,
+        b_ub=np.zeros(ub.shape[0]),
         A_eq=np.vstack(A_eq),
         b_eq=b_eq,
         bounds=[(-U, U)] * Nn.shape[1],

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import csv
 import math
+from collections.abc import Mapping
 from functools import cache, lru_cache
 from pathlib import Path
 
@@ -34,7 +35,7 @@ try:  # hypothesis is a test dependency; the profile keeps property tests bounde
         suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
     )
 except ImportError:  # pragma: no cover
-    st = None
+    st = None  # type: ignore[assignment]  # no hypothesis: no strategies below (None is the sign)
 
 DATA = Path(__file__).resolve().parent / "data"
 TABLE5 = DATA / "table5_collapse_multipliers.csv"
@@ -300,6 +301,14 @@ def check_against_independent(result: alma.Result, model: alma.Model) -> None:
 #: mean block weight, flow rule relative), so its bounds are proven to that accuracy only: the
 #: static lower bound has been seen to exceed the exact α_c (and the upper bound) by up to 4e-12.
 CERTIFICATE = 1e-9
+
+
+def number(row: Mapping[str, float | bool | None], key: str) -> float:
+    """``row[key]`` of a report whose values may be numbers, flags or None, where the test expects
+    a number: a flag or None fails the test here, not later in the arithmetic."""
+    value = row[key]
+    assert value is not None and not isinstance(value, bool), f"{key} is {value!r}, not a number"
+    return value
 
 
 def assert_bounds_bracket(result, certificate: float = CERTIFICATE) -> None:

@@ -102,6 +102,7 @@ def _inputs(scene: alma.Scene):
     model = build_model(scene)
     lp = solve_lp(model)
     sol = solve_nonassociative(model, lp.mechanism, lp.multipliers)
+    assert sol.best is not None
     return model, lp.alpha, [c.mechanism for c in sol.candidates] + [lp.mechanism], sol.best.alpha
 
 
@@ -167,6 +168,7 @@ def test_milp_state_beside_short_block_is_a_verified_collapse_state():
     assert alpha_lp == pytest.approx(1.0, rel=1e-7)
     cert = certify(model, alpha_lp, mechanisms, alpha_best=best)
     assert cert.status == "proven" and cert.lower == pytest.approx(0.5, abs=1e-6)
+    assert cert.mechanism is not None
     state = exact_state(model, ContactPoints.from_model(model), cert.mechanism, "milp")
-    assert state.verified
+    assert state is not None and state.verified
     assert state.alpha == pytest.approx(0.5, abs=1e-9)

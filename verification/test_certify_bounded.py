@@ -79,9 +79,10 @@ def test_milp_finds_the_trap_state_with_cohesion():
     cert = certify(model, lp.alpha, [c.mechanism for c in search.candidates] + [lp.mechanism])
     assert cert.status == "proven"
     assert cert.lower <= cert.upper + 1e-12 < lp.alpha - 1e-3
+    assert cert.mechanism is not None
     state = exact_state(model, ContactPoints.from_model(model), cert.mechanism, "milp")
-    assert state.verified and state.alpha == pytest.approx(cert.upper, abs=1e-6)
-    assert cert.lower == pytest.approx(search.best.alpha, abs=1e-6)
+    assert state is not None and state.verified and state.alpha == pytest.approx(cert.upper, abs=1e-6)
+    assert search.best is not None and cert.lower == pytest.approx(search.best.alpha, abs=1e-6)
 
 
 def test_cohesion_to_zero_recovers_the_cohesionless_proof():

@@ -94,8 +94,9 @@ def test_scip_state_is_a_verified_collapse_state():
     model, alpha_lp, mechanisms, _ = _inputs(alma.Scene.from_dict(COLUMN_BESIDE_SHORT_BLOCK))
     cert = certify(model, alpha_lp, mechanisms, settings=SCIP)
     assert cert.status == "proven" and cert.upper == pytest.approx(0.5, abs=1e-6)
+    assert cert.mechanism is not None
     state = exact_state(model, ContactPoints.from_model(model), cert.mechanism, "milp")
-    assert state.verified and state.alpha == pytest.approx(cert.upper, abs=1e-6)
+    assert state is not None and state.verified and state.alpha == pytest.approx(cert.upper, abs=1e-6)
 
 
 @pytest.mark.slow  # ~13 s, the search on the wall most of it

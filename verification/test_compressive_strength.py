@@ -67,6 +67,7 @@ def test_single_block_rocking_with_crushing(b, h, fraction):
     assert result.alpha == pytest.approx(expected, rel=1e-9)
     assert result.bounds.lower <= expected * (1 + 1e-9) and result.bounds.upper >= expected * (1 - 1e-9)
     joint = result.joints[0]
+    assert joint.stress_block is not None
     extent = math.dist(*joint.stress_block)
     assert extent == pytest.approx(W / (sigma * MPA_MM2 * T), rel=1e-7)  # N/(σ_c t)
     assert joint.capacity == pytest.approx(sigma * MPA_MM2 * b * T, rel=1e-12)
@@ -126,6 +127,7 @@ def cvxpy_alpha(scene: alma.Scene) -> float:
             rows[i, 1] + w * g[1] + alpha * w * d[1] == 0,
             rows[i, 2] == 0,
         ]
+    assert scene.compressive_strength is not None
     capacity = scene.compressive_strength * MPA_MM2 * length * scene.thickness
     constraints += [
         N >= 0,
@@ -136,6 +138,7 @@ def cvxpy_alpha(scene: alma.Scene) -> float:
     problem = cp.Problem(cp.Maximize(alpha), constraints)
     problem.solve(solver=cp.CLARABEL, tol_gap_abs=1e-10, tol_gap_rel=1e-10, tol_feas=1e-10)
     assert problem.status == cp.OPTIMAL, problem.status
+    assert alpha.value is not None
     return float(alpha.value)
 
 

@@ -197,7 +197,12 @@ def base(name: str, build) -> alma.Result:
 
 def same(a: alma.Result, b: alma.Result) -> None:
     assert a.status == b.status, (a.status, b.status, a.alpha, b.alpha)
-    assert b.alpha == pytest.approx(a.alpha, rel=REL, abs=REL), (a.alpha, b.alpha, a.start, b.start)
+    assert b.alpha == pytest.approx(a.alpha, rel=REL, abs=REL), (
+        a.alpha,
+        b.alpha,
+        a.extra.get("start"),
+        b.extra.get("start"),
+    )
 
 
 rewrite = st.fixed_dictionaries(

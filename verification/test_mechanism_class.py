@@ -98,7 +98,7 @@ def test_a_slender_block_rocks_on_a_block_at_rest():
     assert result.mechanism_class == "rocking"
     (macro,) = result.macro_blocks
     assert macro.blocks == ("top",)
-    assert macro.centre == pytest.approx((60.0, 100.0), abs=1e-6)
+    assert macro.centre is not None and macro.centre == pytest.approx((60.0, 100.0), abs=1e-6)
     assert result.to_dict()["macro_blocks"] == [
         {"blocks": ["top"], "motion": "rotation", "centre": list(macro.centre), "direction": None}
     ]

@@ -79,6 +79,7 @@ def test_default_search_reaches_certified_optimum(data):
     result = alma.solve(scene, model="nonassociative", certify=True)
     cert = result.extra.get("certificate")
     assume(cert is not None and cert["status"] == "proven" and not cert["velocity_bound_active"])
+    assert cert is not None  # for the type checker: assume() has already ruled None out
     assert result.status in ("feasible", "optimal")  # "optimal" once the certificate closes the bounds
     assert result.alpha == pytest.approx(cert["lower"], abs=1e-6), (result.alpha, cert, result.extra["candidates"])
     assert result.alpha <= result.alpha_associative + 1e-7
@@ -138,6 +139,7 @@ def test_gilbert_interior_point_path_gives_verified_states():
     start = lp.multipliers.reshape(-1, 2).sum(axis=1)
     simplex, _ = gilbert(model, points, start, ipm_above=10**9)
     ipm, _ = gilbert(model, points, start, ipm_above=0)
+    assert simplex is not None and ipm is not None
     assert simplex.verified and ipm.verified
     # 1/6 = b/H is the certified optimum (whole-panel rocking): no verified state lies below it.
     for state in (simplex, ipm):
@@ -163,7 +165,7 @@ def test_gilbert_simplex_path_reaches_b_over_H():
     simplex, _ = gilbert(
         model, ContactPoints.from_model(model), lp.multipliers.reshape(-1, 2).sum(axis=1), ipm_above=10**9
     )
-    assert simplex.verified
+    assert simplex is not None and simplex.verified
     assert simplex.alpha == pytest.approx(120 / 720, rel=1e-9)
 
 
@@ -255,7 +257,9 @@ def test_closest_field_returns_a_field_that_is_already_admissible():
     # from the vertex the caps-as-bounds model returns since 2026-11-23.  The projection itself is
     # checked here at 1e-12.
     closest = ClosestField(model, points, tolerance=1e-12)
-    normal, shear, tau = closest.solve(vertex.alpha, cap, vertex.normal)
+    solved = closest.solve(vertex.alpha, cap, vertex.normal)
+    assert solved is not None
+    normal, shear, tau = solved
     assert tau.size == 0  # no cohesion, no ties
     scale = float(np.abs(vertex.normal).max())
     assert np.abs(normal - vertex.normal).max() <= 1e-6 * scale
@@ -264,7 +268,9 @@ def test_closest_field_returns_a_field_that_is_already_admissible():
     assert normal.min() >= 0 and (np.abs(shear) - cap).max() <= 1e-7 * scale
     # Another target: the result is at least as close to it as the vertex is.
     target = 0.5 * vertex.normal
-    normal2, _, _ = closest.solve(vertex.alpha, cap, target)
+    solved = closest.solve(vertex.alpha, cap, target)
+    assert solved is not None
+    normal2, _, _ = solved
     assert np.linalg.norm(normal2 - target) <= np.linalg.norm(vertex.normal - target) + 1e-7 * scale
 
 

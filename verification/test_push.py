@@ -141,10 +141,14 @@ def _portal_alpha(theta):
             if w is None:
                 lintel_v = v
             else:
-                weights.append(w), vx.append(v[0]), vy.append(v[1])
-    weights.append((SPAN + 200) * LT), vx.append(lintel_v[0]), vy.append(lintel_v[1])
-    w = np.array(weights)
-    return float(w @ np.array(vy) / (w @ np.array(vx)))
+                weights.append(w)
+                vx.append(v[0])
+                vy.append(v[1])
+    weights.append((SPAN + 200) * LT)
+    vx.append(lintel_v[0])
+    vy.append(lintel_v[1])
+    weight = np.array(weights)
+    return float(weight @ np.array(vy) / (weight @ np.array(vx)))
 
 
 def _portal_theta(d):

@@ -12,6 +12,7 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings, strategies as st
 
 import alma
+from alma.backends.linprog_backend import LPMethod
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
 from alma.nonassociative.exact_states import exact_state
@@ -52,7 +53,7 @@ def test_candidates_are_mechanisms_and_bound_their_states(data):
         assert tuple(moving) == candidate.blocks
     bounds = [c.lifting_bound for c in candidates]
     assert bounds == sorted(bounds)
-    state = exact_state(model, points, candidates[0].mechanism, "rocking", method="clarabel")
+    state = exact_state(model, points, candidates[0].mechanism, "rocking", method=LPMethod.CLARABEL)
     if state is not None and state.verified:
         assert state.alpha >= candidates[0].lifting_bound - 1e-9
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TypedDict
 
 import pytest
 
@@ -19,16 +20,29 @@ import alma
 from alma.seismic import Site, elastic_spectrum
 from alma.seismic.spectrum import G
 
+from helpers import number
+
+
+class SiteArgs(TypedDict):
+    """A site's keys of :func:`elastic_spectrum` (the arguments :class:`Site` shares with it)."""
+
+    ag: float
+    F0: float
+    Tc_star: float
+    soil: str
+    topography: str
+
+
 # site 1: a_g = 0.20 g, F0 = 2.4, T_C* = 0.30 s, soil B, flat (T1)
 #   S_S = 1.40 − 0.40 · 2.4 · 0.20 = 1.208 → capped at 1.20;  C_C = 1.10 · 0.30^−0.20 = 1.399486
 #   T_C = C_C T_C* = 0.419846 s, T_B = 0.139949 s, T_D = 4 · 0.20 + 1.6 = 2.40 s
 #   plateau a_g S F0 = 0.20 · 9.80665 · 1.20 · 2.4 = 5.648630 m/s²
-SITE1 = dict(ag=0.20, F0=2.4, Tc_star=0.30, soil="B", topography="T1")
+SITE1: SiteArgs = dict(ag=0.20, F0=2.4, Tc_star=0.30, soil="B", topography="T1")
 # site 2: a_g = 0.25 g, F0 = 2.5, T_C* = 0.35 s, soil C, ridge (T2: S_T = 1.2)
 #   S_S = 1.70 − 0.60 · 2.5 · 0.25 = 1.325;  C_C = 1.05 · 0.35^−0.33 = 1.05 · 1.414027 = 1.484728;  S = 1.59
 #   T_C = 0.519655 s, T_B = 0.173218 s, T_D = 4 · 0.25 + 1.6 = 2.60 s
 #   plateau 0.25 · 9.80665 · 1.59 · 2.5 = 9.745358 m/s²
-SITE2 = dict(ag=0.25, F0=2.5, Tc_star=0.35, soil="C", topography="T2")
+SITE2: SiteArgs = dict(ag=0.25, F0=2.5, Tc_star=0.35, soil="C", topography="T2")
 
 
 def test_site_one_spectrum_by_hand():
@@ -89,8 +103,8 @@ def test_single_block_kinematic_check():
     # one block: d* = d (e* = 1, the control is the block), d₀* = b/2
     assert nl["d0_star"] == pytest.approx(b / 2 * 1e-3, rel=1e-6)
     assert nl["du_star"] == pytest.approx(0.4 * b / 2 * 1e-3, rel=1e-6)
-    assert nl["Ts"] == pytest.approx(2 * math.pi * math.sqrt(nl["ds_star"] / nl["as_star"]), rel=1e-12)
-    assert nl["demand"] == pytest.approx(check.spectrum.SDe(nl["Ts"]), rel=1e-12)
+    assert nl["Ts"] == pytest.approx(2 * math.pi * math.sqrt(number(nl, "ds_star") / number(nl, "as_star")), rel=1e-12)
+    assert nl["demand"] == pytest.approx(check.spectrum.SDe(number(nl, "Ts")), rel=1e-12)
 
 
 def test_elevated_mechanism_takes_the_larger_demand():
@@ -141,5 +155,5 @@ def test_a_curve_that_loses_equilibrium_bounds_the_ultimate_displacement():
     factor = curve[-1].d and check.curve_star[-1][0] / (curve[-1].d * 1e-3)
     assert nl["d0_star"] == pytest.approx((d2 + (d2 - d1) * a2 / (a1 - a2)) * factor * 1e-3, rel=1e-12)
     assert nl["d_lost_star"] == pytest.approx(check.push.end["bracket"][0] * factor * 1e-3, rel=1e-12)
-    assert nl["du_star"] == pytest.approx(min(0.4 * nl["d0_star"], nl["d_lost_star"]), rel=1e-12)
-    assert math.isfinite(nl["safety_index"])
+    assert nl["du_star"] == pytest.approx(min(0.4 * number(nl, "d0_star"), number(nl, "d_lost_star")), rel=1e-12)
+    assert math.isfinite(number(nl, "safety_index"))

@@ -178,7 +178,7 @@ def test_aspect_ratio(data):
 def _sliver_scene(eps: float, friction: float = 0.6) -> alma.Scene:
     """A top block resting on two blocks, overlapping the right one by eps of the top joint length."""
     L = 200.0
-    blocks = [
+    blocks: list[dict] = [
         {"id": "ground", "vertices": rect(-500.0, -50.0, 1000.0, 0.0), "fixed": True},
         {"id": "left", "vertices": rect(0.0, 0.0, L, 100.0)},
         {"id": "right", "vertices": rect(L + 10.0, 0.0, 2 * L + 10.0, 100.0)},
@@ -264,7 +264,7 @@ def test_load_directions_and_statuses(data, gravity, live):
 
 # ----------------------------------------------------------------------------- plain cases
 def test_boxed_block_no_collapse_and_upward_gravity_no_equilibrium():
-    box = [
+    box: list[dict] = [
         {"id": "ground", "vertices": rect(-100, -50, 300, 0), "fixed": True},
         {"id": "left", "vertices": rect(-100, 0, 0, 100), "fixed": True},
         {"id": "right", "vertices": rect(200, 0, 300, 100), "fixed": True},

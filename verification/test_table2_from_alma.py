@@ -103,7 +103,7 @@ def _cells():
         for col, dec in DECIMALS.items():
             if pd.isna(row[col]):
                 continue
-            marks = ()
+            marks: pytest.MarkDecorator | tuple[()] = ()
             if (row["source"], col) in KNOWN_TABLE2:
                 marks = pytest.mark.xfail(strict=True, reason=_REASON + KNOWN_TABLE2[(row["source"], col)])
             yield pytest.param(row["source"], col, dec, float(row[col]), marks=marks, id=f"{row['source']}-{col}")
