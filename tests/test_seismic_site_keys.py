@@ -6,14 +6,33 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from typing import TypedDict
 
 import pytest
 
 import alma
 from alma.seismic import Site
 
-SITE = dict(ag=0.2, F0=2.4, Tc_star=0.3, soil="B")
-HIGH = dict(Z=6.0, H=9.0, storeys=3)
+
+class SiteArgs(TypedDict):
+    """The ground's keys of :class:`Site`."""
+
+    ag: float
+    F0: float
+    Tc_star: float
+    soil: str
+
+
+class HeightArgs(TypedDict):
+    """A mechanism's height in its building (keys of :class:`Site`)."""
+
+    Z: float
+    H: float
+    storeys: int
+
+
+SITE: SiteArgs = dict(ag=0.2, F0=2.4, Tc_star=0.3, soil="B")
+HIGH: HeightArgs = dict(Z=6.0, H=9.0, storeys=3)
 SCENE = {
     "thickness": 120.0,
     "unit_weight": 18.0,

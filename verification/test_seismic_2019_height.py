@@ -18,6 +18,7 @@ Two sites for each check, every term written out.
 from __future__ import annotations
 
 import math
+from typing import TypedDict
 
 import pytest
 from hypothesis import given, settings, strategies as st
@@ -27,11 +28,40 @@ from alma.seismic import Site
 from alma.seismic.floor_spectrum import first_mode, floor_acceleration
 from alma.seismic.spectrum import G, elastic_spectrum
 
+
+class SiteArgs(TypedDict):
+    """A site's keys of :func:`elastic_spectrum` (the arguments :class:`Site` shares with it)."""
+
+    ag: float
+    F0: float
+    Tc_star: float
+    soil: str
+    topography: str
+
+
+class HeightArgs(TypedDict, total=False):
+    """A mechanism's height and its building (keys of :class:`Site`; ``T1`` may be left out)."""
+
+    Z: float
+    H: float
+    storeys: int
+    xi1: float
+    T1: float
+
+
+class SlcArgs(TypedDict):
+    """The hazard at the SLC's return period (keys of :class:`Site`)."""
+
+    ag_SLC: float
+    F0_SLC: float
+    Tc_star_SLC: float
+
+
 B, H = 240.0, 600.0  # mm
 T = 120.0  # mm
-SITE1 = dict(ag=0.20, F0=2.4, Tc_star=0.30, soil="B", topography="T1")
+SITE1: SiteArgs = dict(ag=0.20, F0=2.4, Tc_star=0.30, soil="B", topography="T1")
 S1, TB1, TC1 = 1.20, 0.419846 / 3, 0.419846  # verification/test_seismic.py
-SITE2 = dict(ag=0.25, F0=2.5, Tc_star=0.35, soil="C", topography="T2")
+SITE2: SiteArgs = dict(ag=0.25, F0=2.5, Tc_star=0.35, soil="C", topography="T2")
 # site 2 by hand: S_S = 1.70 − 0.60 · 2.5 · 0.25 = 1.325 (within [1.0, 1.5]), S_T = 1.2 (T2),
 # C_C = 1.05 · 0.35^−0.33 = 1.484728, T_C = C_C T_C* = 0.5196547 s, T_D = 4 · 0.25 + 1.6 = 2.6 s
 S2, TC2, TD2 = 1.325 * 1.2, 0.5196547, 2.6
@@ -71,8 +101,8 @@ def _floor_site2() -> float:
     return se * gamma * psi * math.sqrt(1 + 0.0004 * 15.0**2)
 
 
-HEIGHT1 = dict(Z=6.0, H=9.0, storeys=3, xi1=10.0)
-HEIGHT2 = dict(Z=4.0, H=12.0, storeys=4, xi1=15.0, T1=0.9)
+HEIGHT1: HeightArgs = dict(Z=6.0, H=9.0, storeys=3, xi1=10.0)
+HEIGHT2: HeightArgs = dict(Z=4.0, H=12.0, storeys=4, xi1=15.0, T1=0.9)
 
 
 def test_site2_spectrum_by_hand():
@@ -123,11 +153,11 @@ def test_the_displacement_checks_at_height_are_refused_with_the_reason():
     assert "not done" in check.message
 
 
-SLC1 = dict(ag_SLC=0.25, F0_SLC=2.5, Tc_star_SLC=0.32)
+SLC1: SlcArgs = dict(ag_SLC=0.25, F0_SLC=2.5, Tc_star_SLC=0.32)
 # SLC 1 on soil B by hand: S = 1.40 − 0.40 · 2.5 · 0.25 = 1.15, C_C = 1.10 · 0.32^−0.2 = 1.381538,
 # T_C = 0.442092 s, T_D = 2.6 s
 SLC1_S, SLC1_TC, SLC1_TD = 1.15, 0.442092, 2.6
-SLC2 = dict(ag_SLC=0.30, F0_SLC=2.45, Tc_star_SLC=0.36)
+SLC2: SlcArgs = dict(ag_SLC=0.30, F0_SLC=2.45, Tc_star_SLC=0.36)
 # SLC 2 on soil C, T2: S_S = 1.70 − 0.60 · 2.45 · 0.30 = 1.259, S = 1.259 · 1.2 = 1.5108,
 # C_C = 1.05 · 0.36^−0.33 = 1.470989, T_C = 0.529556 s, T_D = 4 · 0.30 + 1.6 = 2.8 s
 SLC2_S, SLC2_TC, SLC2_TD = 1.259 * 1.2, 0.529556, 2.8
@@ -153,6 +183,7 @@ def test_slc_check_by_hand(base, slc, k, s, tc, td):
     assert spec.S == pytest.approx(s, rel=1e-12) and spec.TC == pytest.approx(tc, abs=1e-6)
     check = alma.seismic(_block(k), Site(**base, **slc, FC=1.35), steps=20)
     out = check.slc
+    assert out is not None
     d_slc = 0.6 * k * B / 2 * 1e-3  # 60 % of d₀ = b/2 (one block: d* = d), m
     assert out["d_SLC"] == pytest.approx(d_slc, rel=1e-6)
     theta = _angle_at(d_slc * 1e3, k)
@@ -173,13 +204,15 @@ def test_slc_check_by_hand(base, slc, k, s, tc, td):
     assert out["a_g_SLC"] == pytest.approx(ag * out["d_SLC"] / demand, rel=1e-5)
     assert out["safety_index"] == pytest.approx(out["d_SLC"] / demand, rel=1e-5)
     assert out["verified"] is (out["d_SLC"] >= demand)
-    assert check.to_dict()["slc"]["T_SLC"] == out["T_SLC"]
+    as_dict = check.to_dict()["slc"]
+    assert as_dict is not None and as_dict["T_SLC"] == out["T_SLC"]
 
 
 def test_both_slc_branches_are_met():
     """The two cases above read the two branches of S_e (T_SLC below and above T_D)."""
     small = alma.seismic(_block(1.0), Site(**SITE1, **SLC1), steps=8).slc
     large = alma.seismic(_block(5.0), Site(**SITE2, **SLC2), steps=8).slc
+    assert small is not None and large is not None
     assert small["T_SLC"] < SLC1_TD < SLC2_TD < large["T_SLC"]
 
 
