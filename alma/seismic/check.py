@@ -124,6 +124,43 @@ class SeismicResult:
         }
 
 
+def _site_for(site: Site | Mapping[str, Any], edition: str | None) -> Site:
+    """The site checked as a site file is, with ``edition`` (None: the site's own) applied."""
+    if isinstance(site, Site):
+        site.check()  # a Site built directly is checked as a site file is
+    else:
+        site = Site.from_dict(site)
+    edition = site.edition if edition is None else edition
+    if edition not in EDITIONS:
+        raise ValueError(f"edition must be one of {list(EDITIONS)}, got {edition!r}")
+    if edition != site.edition:
+        site = dataclasses.replace(site, edition=edition)
+    site.needs_for(edition)
+    return site
+
+
+def _checked_scene(scene: Scene) -> Scene:
+    """``scene`` validated, its actions those the code's check assumes (else a ValueError naming them)."""
+    if not scene.validated:
+        scene = scene.validate()
+    if not (scene.live_self_weight and abs(scene.live_load_direction[1]) < 1e-12 and abs(scene.gravity[0]) < 1e-12):
+        raise ValueError(
+            "the kinematic check needs gravity along -y and the live load the weights along ±x: "
+            "the code's action is proportional to the masses"
+        )
+    check_loads(scene)
+    return scene
+
+
+def _participation(masses: MassPoints) -> tuple[float, float, float]:
+    """M* (kg), e* and d*/d_k of the mass points (module docstring; weights in kN, δ in mm)."""
+    weights, dx, k = masses.weight, masses.dx, masses.control
+    m_star = float((weights @ dx) ** 2 / (G * (weights @ dx**2))) * 1e3  # kN → N, so kg
+    e_star = G * m_star / (float(weights.sum()) * 1e3)
+    factor = float((weights @ dx**2) / (dx[k] * (weights @ dx)))  # d* = d_k · factor
+    return m_star, e_star, factor
+
+
 def seismic(
     scene: Scene,
     site: Site | Mapping[str, Any],
@@ -155,24 +192,9 @@ def seismic(
     SeismicResult
         Both checks' terms under the edition's names; ``edition`` says which applied.
     """
-    if isinstance(site, Site):
-        site.check()  # a Site built directly is checked as a site file is
-    else:
-        site = Site.from_dict(site)
-    edition = site.edition if edition is None else edition
-    if edition not in EDITIONS:
-        raise ValueError(f"edition must be one of {list(EDITIONS)}, got {edition!r}")
-    if edition != site.edition:
-        site = dataclasses.replace(site, edition=edition)
-    site.needs_for(edition)
-    if not scene.validated:
-        scene = scene.validate()
-    if not (scene.live_self_weight and abs(scene.live_load_direction[1]) < 1e-12 and abs(scene.gravity[0]) < 1e-12):
-        raise ValueError(
-            "the kinematic check needs gravity along -y and the live load the weights along ±x: "
-            "the code's action is proportional to the masses"
-        )
-    check_loads(scene)
+    site = _site_for(site, edition)
+    edition = site.edition
+    scene = _checked_scene(scene)
     spec = elastic_spectrum(site.ag, site.F0, site.Tc_star, site.soil, site.topography)
     pushed = curve if curve is not None else push(scene, **push_options)
     if not pushed.curve:
@@ -194,13 +216,9 @@ def seismic(
             edition,
         )
     masses = mass_points(scene, pushed)
-    weights, dx, k = masses.weight, masses.dx, masses.control
     alpha0 = pushed.curve[0].alpha
-    sum_p = float(weights.sum())
-    m_star = float((weights @ dx) ** 2 / (G * (weights @ dx**2))) * 1e3  # kN → N, so kg
-    e_star = G * m_star / (sum_p * 1e3)
+    m_star, e_star, factor = _participation(masses)
     a0_star = alpha0 * G / (e_star * site.FC)
-    factor = float((weights @ dx**2) / (dx[k] * (weights @ dx)))  # d* = d_k · factor
     d_star = np.array([p.d for p in pushed.curve]) * factor * 1e-3
     a_star = np.array([p.alpha for p in pushed.curve]) * G / (e_star * site.FC)
     curve_star = tuple(zip(d_star.tolist(), a_star.tolist(), strict=True))
