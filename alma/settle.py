@@ -106,15 +106,7 @@ def settle(
     relative slack of the optimum) instead of the interior point's blend of all of them.
     """
     s = settings or AssociativeSettings()
-    if not scene.validated:
-        scene, found = validated(scene)  # the check's joints serve the model unless given
-        joints = found if joints is None else joints
-    # An explicit zero settlement is answered (nothing moves, work 0); none at all is a mistake.
-    if not any(b.settlement is not None for b in scene.blocks):
-        raise SettleError(
-            "no support of the scene has a 'settlement' (a fixed block's prescribed motion, "
-            "SPEC §2): there is nothing to settle"
-        )
+    scene, joints = _settling(scene, joints)
     t0 = time.perf_counter()
     model = build_model(scene, joints)
     if model.crushes:
@@ -123,15 +115,10 @@ def settle(
             "remove compressive_strength from the scene"
         )
     h, g = support_power(model), bounded_support_power(model)
-    H, q = model.equilibrium, model.n_bounded
-    n, k = H.shape
+    n, k = model.equilibrium.shape
+    q = model.n_bounded
     G = model.bounded if q and model.bounded is not None else sp.csc_matrix((n, 0))
-    capacity = model.capacity
-    # x = (u, w): min −f₀ᵀu + cᵀw  s.t.  Hᵀu + h ≥ 0, w ≥ −(Gᵀu + g), w ≥ 0 (no equality rows);
-    # the duals of the three row blocks are μ, τ and c − τ.
-    eye = sp.identity(q, format="csc")
-    A = sp.bmat([[-H.T, None], [-G.T, -eye], [None, -eye]], format="csc") if q else -H.T.tocsc()
-    q_cost, b = np.concatenate([-model.dead, capacity]), np.concatenate([h, g, np.zeros(q)])
+    q_cost, A, b = _kinematic_lp(model, G, h, g)
     sol = solve_conic_lp(q_cost, A, b, 0, k + 2 * q, tolerance=s.tolerance, max_iter=s.max_iter)
     timings = {"build_s": 0.0, "solve_s": sol.solve_time}
     if sol.status in (Status.NO_EQUILIBRIUM, Status.NO_COLLAPSE):
@@ -145,7 +132,60 @@ def settle(
     moves = h.any() or g.any()
     x = _vertex(q_cost, A, b, sol.x, k, n, crisp) if moves and crisp is not None else sol.x
     u = x[:n] if moves else np.zeros(n)
-    fields = np.clip(sol.duals[: k + q], 0.0, np.concatenate([np.full(k, np.inf), capacity]))
+    mu, tau, static_residual = _static_field(model, G, sol.duals, s)
+    bounds, kinematic_residual = _work_bounds(model, G, h, g, u, mu, tau, static_residual, s)
+    status, message = _verdict(bounds, static_residual, kinematic_residual, s)
+    timings["certify_s"] = time.perf_counter() - t0 - sol.solve_time
+    return _result(
+        model,
+        status,
+        message,
+        u,
+        mu,
+        tau,
+        bounds,
+        {"static_equilibrium": static_residual, "kinematic_compatibility": kinematic_residual},
+        timings,
+    )
+
+
+def _settling(scene: Scene, joints: Joints | None) -> tuple[Scene, Joints | None]:
+    """``scene`` validated and ``joints`` (the check's when not given); :class:`SettleError` when
+    no support of it has a settlement."""
+    if not scene.validated:
+        scene, found = validated(scene)  # the check's joints serve the model unless given
+        joints = found if joints is None else joints
+    # An explicit zero settlement is answered (nothing moves, work 0); none at all is a mistake.
+    if not any(b.settlement is not None for b in scene.blocks):
+        raise SettleError(
+            "no support of the scene has a 'settlement' (a fixed block's prescribed motion, "
+            "SPEC §2): there is nothing to settle"
+        )
+    return scene, joints
+
+
+def _kinematic_lp(
+    model: Model, G: sp.csc_matrix, h: np.ndarray, g: np.ndarray
+) -> tuple[np.ndarray, sp.csc_matrix, np.ndarray]:
+    """(cost, A, b) of the kinematic LP of the module docstring in Clarabel's form A x + s = b,
+    s ≥ 0, over x = (u, w) (model units, the work per unit force and length)."""
+    H, q = model.equilibrium, model.n_bounded
+    # x = (u, w): min −f₀ᵀu + cᵀw  s.t.  Hᵀu + h ≥ 0, w ≥ −(Gᵀu + g), w ≥ 0 (no equality rows);
+    # the duals of the three row blocks are μ, τ and c − τ.
+    eye = sp.identity(q, format="csc")
+    A = sp.bmat([[-H.T, None], [-G.T, -eye], [None, -eye]], format="csc") if q else -H.T.tocsc()
+    return np.concatenate([-model.dead, model.capacity]), A, np.concatenate([h, g, np.zeros(q)])
+
+
+def _static_field(
+    model: Model, G: sp.csc_matrix, duals: np.ndarray, s: AssociativeSettings
+) -> tuple[np.ndarray, np.ndarray, float]:
+    """(μ, τ, residual): the LP's duals repaired to a stress field in equilibrium with the dead
+    load alone, H μ + G τ + f₀ = 0, μ ≥ 0, 0 ≤ τ ≤ c (the static side; residual in mean block
+    weights)."""
+    H, capacity = model.equilibrium, model.capacity
+    (n, k), q = H.shape, model.n_bounded
+    fields = np.clip(duals[: k + q], 0.0, np.concatenate([np.full(k, np.inf), capacity]))
     field = types.SimpleNamespace(dead=model.dead, live=np.zeros(n))
     # _repair_field reads only .dead and .live of its model: the settlement's field carries no live load.
     fields, _, static_residual = _repair_field(
@@ -159,7 +199,24 @@ def settle(
         s.gap_tolerance,
         s.feral_min_rows,
     )
-    mu, tau = fields[:k], fields[k:]
+    return fields[:k], fields[k:], static_residual
+
+
+def _work_bounds(
+    model: Model,
+    G: sp.csc_matrix,
+    h: np.ndarray,
+    g: np.ndarray,
+    u: np.ndarray,
+    mu: np.ndarray,
+    tau: np.ndarray,
+    static_residual: float,
+    s: AssociativeSettings,
+) -> tuple[Bounds, float]:
+    """The certified interval of W* in kN·mm (the kinematic side's f₀ᵀu − cᵀ max(0, −(Gᵀu + g))
+    below, the static side's hᵀμ + gᵀτ above, each only when its residual is within tolerance)
+    and the mechanism's compatibility residual."""
+    H, capacity = model.equilibrium, model.capacity
     power = H.T @ u + h
     size = float((abs(H.T) @ np.abs(u)).max(initial=0.0)) + float(np.abs(h).max(initial=0.0))
     kinematic_residual = max(0.0, -float(power.min(initial=0.0))) / max(size, 1e-300)
@@ -167,6 +224,14 @@ def settle(
     dissipation = float(capacity @ np.maximum(-(G.T @ u + g), 0.0))
     lower = float(model.dead @ u - dissipation) * scale if kinematic_residual <= s.residual_tolerance else -math.inf
     upper = float(h @ mu + g @ tau) * scale if static_residual <= s.residual_tolerance else math.inf
+    return Bounds(lower, upper), kinematic_residual
+
+
+def _verdict(
+    bounds: Bounds, static_residual: float, kinematic_residual: float, s: AssociativeSettings
+) -> tuple[Status, str]:
+    """``optimal`` when the certified bounds of W* meet within the gap tolerance, with its message."""
+    lower, upper = bounds.lower, bounds.upper
     gap = (upper - lower) / max(1.0, abs(upper)) if math.isfinite(lower) and math.isfinite(upper) else math.inf
     status = Status.OPTIMAL if gap <= s.gap_tolerance else Status.NOT_CONVERGED
     message = (
@@ -174,18 +239,7 @@ def settle(
         if status == Status.OPTIMAL
         else f"relative gap {gap:.2e}, residuals static {static_residual:.1e}, kinematic {kinematic_residual:.1e}"
     )
-    timings["certify_s"] = time.perf_counter() - t0 - sol.solve_time
-    return _result(
-        model,
-        status,
-        message,
-        u,
-        mu,
-        tau,
-        Bounds(lower, upper),
-        {"static_equilibrium": static_residual, "kinematic_compatibility": kinematic_residual},
-        timings,
-    )
+    return status, message
 
 
 def _vertex(

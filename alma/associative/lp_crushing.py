@@ -16,6 +16,7 @@ from alma.associative.certificate import certify_pair, repair_mechanism
 from alma.associative.cone_field import ConeField, admissible_field
 from alma.associative.crushing import crushing_work, rigid_columns, solve_static_crushing, uniform_margins
 from alma.associative.lp_forms import LPSolution, _judge, _trivial, dissipation
+from alma.backends.termination import SolverResult
 from alma.mechanics.model import Model
 from alma.settings import AssociativeSettings
 from alma.status import Status
@@ -63,26 +64,51 @@ def _crushing_pair(
         margins=uniform_margins(model, s.crushing),
     )
     if sol.status in (Status.NO_COLLAPSE, Status.NO_EQUILIBRIUM):
-        message = (
-            "no kinematically admissible mechanism with positive live-load work"
-            if sol.status == Status.NO_COLLAPSE
-            else "no statically admissible stress field for any load multiplier: the joints cannot carry "
-            "the dead load within their compressive strength (a joint crushes, N > σ_c l t, or no "
-            "stress block fits the moment)"
-        )
-        return _trivial(
-            model,
-            sol.status,
-            f"{message} (Clarabel: {sol.raw_status})",
-            iterations=sol.iterations,
-            solve_time=sol.solve_time,
-        )
+        return _crushing_trivial(model, sol)
     t0 = time.perf_counter()
     n, k = H.shape
-    q_count = model.n_bounded
-    static = sp.hstack([H, model.bounded]).tocsc() if q_count else H
+    static = sp.hstack([H, model.bounded]).tocsc() if model.n_bounded else H
     bound = np.concatenate([np.full(k, np.inf), model.capacity])
     rigid = rigid_columns(model, H.T @ sol.duals[:n], s.crushing.rest)
+    mechanisms, first = _crushing_candidates(model, H, sol, static, bound, rigid, s)
+    field = _crushing_field(model, H, sol, static, bound, mechanisms, first, s, (iters, time_limit, refine))
+    return _crushing_solution(model, H, sol, static, rigid, mechanisms, field, s, t0)
+
+
+def _crushing_trivial(model: Model, sol: SolverResult) -> LPSolution:
+    """The answer of Eq. 10 with finite compressive strength when Clarabel proves that no
+    mechanism does positive live-load work or that no stress field carries the dead load."""
+    message = (
+        "no kinematically admissible mechanism with positive live-load work"
+        if sol.status == Status.NO_COLLAPSE
+        else "no statically admissible stress field for any load multiplier: the joints cannot carry "
+        "the dead load within their compressive strength (a joint crushes, N > σ_c l t, or no "
+        "stress block fits the moment)"
+    )
+    return _trivial(
+        model,
+        sol.status,
+        f"{message} (Clarabel: {sol.raw_status})",
+        iterations=sol.iterations,
+        solve_time=sol.solve_time,
+    )
+
+
+def _crushing_candidates(
+    model: Model,
+    H: sp.csc_matrix,
+    sol: SolverResult,
+    static: sp.csc_matrix,
+    bound: np.ndarray,
+    rigid: np.ndarray,
+    s: AssociativeSettings,
+) -> tuple[tuple, ConeField]:
+    """The two candidate mechanisms of the upper bound ((u, held columns, their flow-rule
+    residual), ...) and the plain repair of the solver's stress field (loads per mean block
+    weight): the mechanism held to the flow rule on the ``rigid`` columns, and the solver's held
+    on the infinitely strong joints only."""
+    n, k = H.shape
+    q_count = model.n_bounded
     u, fields, lower, equilibrium_residual, held_residual = certify_pair(
         H[:, rigid],
         model,
@@ -103,24 +129,44 @@ def _crushing_pair(
         H[:, strong], model, sol.duals[:n], s.residual_tolerance, s.feral_min_rows
     )
     mechanisms = ((u, rigid, held_residual), (strong_u, strong, strong_residual))
+    return mechanisms, ConeField(fields, lower, equilibrium_residual)
+
+
+def _crushing_field(
+    model: Model,
+    H: sp.csc_matrix,
+    sol: SolverResult,
+    static: sp.csc_matrix,
+    bound: np.ndarray,
+    mechanisms: tuple,
+    first: ConeField,
+    s: AssociativeSettings,
+    attempt: tuple[int, float | None, bool],
+) -> ConeField:
+    """The admissible stress field of the lower bound (:func:`admissible_field`) from the plain
+    repair ``first``; ``attempt`` = (Clarabel's iteration cap, time limit, refinement)."""
+    k = H.shape[1]
     # The anchor solve (cone_field) only pays when a mechanism can prove the upper bound.
-    _, _, kinematic_residual = _crushing_mechanism(model, H, mechanisms, fields[:k], s)
-    anchor = (
-        (iters, time_limit, refine)
-        if (sol.status == Status.OPTIMAL and kinematic_residual <= s.residual_tolerance)
-        else None
-    )
-    field = admissible_field(
-        model,
-        H,
-        static,
-        bound,
-        sol.x[1 : 1 + k + q_count],
-        sol.x[0],
-        ConeField(fields, lower, equilibrium_residual),
-        s,
-        anchor,
-    )
+    _, _, kinematic_residual = _crushing_mechanism(model, H, mechanisms, first.fields[:k], s)
+    anchor = attempt if (sol.status == Status.OPTIMAL and kinematic_residual <= s.residual_tolerance) else None
+    return admissible_field(model, H, static, bound, sol.x[1 : 1 + k + model.n_bounded], sol.x[0], first, s, anchor)
+
+
+def _crushing_solution(
+    model: Model,
+    H: sp.csc_matrix,
+    sol: SolverResult,
+    static: sp.csc_matrix,
+    rigid: np.ndarray,
+    mechanisms: tuple,
+    field: ConeField,
+    s: AssociativeSettings,
+    t0: float,
+) -> LPSolution:
+    """The certified pair of Eq. 10 with finite compressive strength: the lower bound of ``field``,
+    the lowest proven upper bound of ``mechanisms``, judged by the gap (loads per mean block
+    weight); ``t0``: when certification started (s, for the certify time)."""
+    k = H.shape[1]
     fields, lower, static_residual = field.fields, field.alpha, field.residual
     mu, tau = fields[:k], fields[k:]
     u, upper, kinematic_residual = _crushing_mechanism(model, H, mechanisms, mu, s)

@@ -12,9 +12,10 @@ from typing import NoReturn, cast
 
 from alma.backends import scip_backend
 from alma.cli import generate, push as push_cli, study as study_cli
+from alma.cli.common_options import add_common_options
 from alma.cli.json_output import dumps
 from alma.cli.outputs import OutputPathError, check_outputs
-from alma.cli.scene_options import add_scene_options, positive_float, scene_from_args, with_compressive_strength
+from alma.cli.scene_options import add_scene_options, scene_from_args, with_compressive_strength
 from alma.geometry.chains import parse_chain, with_chain
 from alma.geometry.dxf import write_dxf
 from alma.geometry.panels import BLOCK_LENGTHS, BONDS, PANEL_HEIGHTS, paper_panel
@@ -22,9 +23,9 @@ from alma.geometry.scene import Scene, SceneError
 from alma.report.html import write_html, write_settlement_html, write_tilt_html
 from alma.report.picture import StillPicture
 from alma.report.plot import plot_mechanism
-from alma.settings import CERTIFY_BACKENDS, EFFORTS, AssociativeSettings, CertifyBackend, CertifySettings, Settings
+from alma.settings import AssociativeSettings, CertifyBackend, CertifySettings, Settings
 from alma.settle import SettleError, after_settlement, settle
-from alma.solve import MODELS, solve
+from alma.solve import solve
 from alma.tilt import tilt, tilted
 
 
@@ -59,6 +60,7 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _build_parser() -> argparse.ArgumentParser:
+    """The ``alma`` parser with every subcommand (SPEC §3), in the order ``alma --help`` lists them."""
     parser = _Parser(
         prog="alma",
         description="Limit analysis of masonry block structures.",
@@ -66,7 +68,19 @@ def _build_parser() -> argparse.ArgumentParser:
         "worked examples in examples/.",
     )
     sub = parser.add_subparsers(dest="command", required=True)
+    _add_solve(sub)
+    _add_panel(sub)
+    _add_settle(sub)
+    _add_tilt(sub)
+    generate.register(sub, add_common_options, _run, export_scene, _invalid)
+    push_cli.register(sub, _invalid)
 
+    study_cli.register(sub)
+    return parser
+
+
+def _add_solve(sub: argparse._SubParsersAction) -> None:
+    """Add ``alma solve``: the collapse load of a scene file."""
     p_solve = sub.add_parser("solve", help="solve a scene file (SPEC §2)")
     p_solve.add_argument("scene", help="scene file: JSON (SPEC §2) or a DXF drawing (one polyline per block)")
     add_scene_options(p_solve)
@@ -75,9 +89,12 @@ def _build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="solve the settled structure: cohesion lost on every joint its settlement opens",
     )
-    _add_common(p_solve)
+    add_common_options(p_solve)
     p_solve.set_defaults(func=_cmd_solve)
 
+
+def _add_panel(sub: argparse._SubParsersAction) -> None:
+    """Add ``alma panel``: the collapse load of one of the paper's panels (Table 1)."""
     p_panel = sub.add_parser("panel", help="solve one of the paper's panels")
     p_panel.add_argument("--bond", required=True, choices=BONDS)
     p_panel.add_argument("--panel-ratio", required=True, choices=sorted(PANEL_HEIGHTS))
@@ -97,9 +114,12 @@ def _build_parser() -> argparse.ArgumentParser:
     p_panel.add_argument(
         "--anchored", action="store_true", help="tie each chain's ends to fixed anchors outside the panel instead"
     )
-    _add_common(p_panel)
+    add_common_options(p_panel)
     p_panel.set_defaults(func=_cmd_panel)
 
+
+def _add_settle(sub: argparse._SubParsersAction) -> None:
+    """Add ``alma settle``: the crack pattern of a prescribed support settlement."""
     p_settle = sub.add_parser("settle", help="the crack pattern a prescribed support settlement opens (SPEC §3)")
     p_settle.add_argument("scene", help="scene file (JSON or DXF) with a 'settlement' on a fixed block")
     add_scene_options(p_settle)
@@ -114,6 +134,9 @@ def _build_parser() -> argparse.ArgumentParser:
     push_cli.add_capacity_options(p_settle)
     p_settle.set_defaults(func=_cmd_settle)
 
+
+def _add_tilt(sub: argparse._SubParsersAction) -> None:
+    """Add ``alma tilt``: the critical tilt angle θ_c (degrees) on a tilting table."""
     p_tilt = sub.add_parser("tilt", help="the critical tilt angle on a tilting table (SPEC §3)")
     p_tilt.add_argument("scene", help="scene file: JSON or a DXF drawing")
     add_scene_options(p_tilt)
@@ -125,76 +148,6 @@ def _build_parser() -> argparse.ArgumentParser:
         help="write a self-contained page: the collapse on the tilted table in SVG and the critical angle in words",
     )
     p_tilt.set_defaults(func=_cmd_tilt)
-
-    generate.register(sub, _add_common, _run, export_scene, _invalid)
-    push_cli.register(sub, _invalid)
-
-    study_cli.register(sub)
-    return parser
-
-
-def _add_common(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--model", default="associative", choices=MODELS)
-    p.add_argument(
-        "--certify", action="store_true", help="prove a lower bound of the non-associative α by mixed-integer LP"
-    )
-    p.add_argument(
-        "--certify-backend",
-        default="highs",
-        choices=CERTIFY_BACKENDS,
-        help="the MIP solver of --certify: highs (big-M binaries, the default) or scip (SOS1 "
-        "pairs, no big-M; needs the extra alma[scip])",
-    )
-    p.add_argument(
-        "--certify-nodes",
-        type=int,
-        default=None,
-        metavar="N",
-        help=f"branch-and-bound node budget of --certify (default {CertifySettings().node_limit:,}); "
-        "when it stops the proof, the bound reached is reported",
-    )
-    p.add_argument(
-        "--effort",
-        default="auto",
-        choices=EFFORTS,
-        help="non-associative search effort (auto: thorough up to 200 blocks)",
-    )
-    p.add_argument(
-        "--time-limit",
-        type=positive_float,
-        default=None,
-        help="a hard wall-clock cap in seconds (default: none); the searches spend work budgets, "
-        "so the answer does not depend on the machine unless the cap cuts it (status "
-        "limit_reached)",
-    )
-    p.add_argument(
-        "--crisp",
-        action="store_true",
-        help="show one crisp mechanism of the associative optimal face (a vertex) instead of the "
-        "interior point's blend of all of them (about 1-5x the solve)",
-    )
-    p.add_argument(
-        "--compressive-strength",
-        type=float,
-        default=None,
-        metavar="MPA",
-        help="σ_c of every joint in MPa (overrides the scene's compressive_strength; default: the "
-        "scene's, else infinitely strong blocks); associative model only",
-    )
-    p.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
-    p.add_argument("--plot", metavar="OUT.png", help="write a picture of the collapse mechanism")
-    p.add_argument(
-        "--html",
-        metavar="OUT.html",
-        help="write a self-contained page: the result in words, the "
-        "mechanism in SVG (loads, supports, rigid parts, crack, hinges) with a displacement slider, "
-        "hover details, bounds and timings folded (both models side by side for --model both)",
-    )
-    p.add_argument(
-        "--thrust",
-        action="store_true",
-        help="draw the line of thrust on --plot and show it from the start on --html (a switch on the page)",
-    )
 
 
 def _cmd_solve(args: argparse.Namespace) -> int:

@@ -33,6 +33,14 @@ __all__ = ["anova_handler", "compare_handler", "doe_handler", "paper_handler", "
 
 def register(subparsers: Any) -> None:
     """Add ``doe``, ``anova``, ``paper`` and ``compare`` to an argparse ``add_subparsers()`` object."""
+    _register_doe(subparsers)
+    _register_anova(subparsers)
+    _register_paper(subparsers)
+    _register_compare(subparsers)
+
+
+def _register_doe(subparsers: Any) -> None:
+    """Add ``alma doe``: the full-factorial study of Table 1, resumable."""
     p = subparsers.add_parser(
         "doe",
         help="run (or resume) the paper's 108-panel full-factorial study",
@@ -79,6 +87,9 @@ def register(subparsers: Any) -> None:
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=doe_handler)
 
+
+def _register_anova(subparsers: Any) -> None:
+    """Add ``alma anova``: the ANOVA of a results CSV (Table 2)."""
     p = subparsers.add_parser(
         "anova",
         help="ANOVA of a results CSV (Table 2 of the paper)",
@@ -97,6 +108,9 @@ def register(subparsers: Any) -> None:
     p.add_argument("--model", default=None, help="rows of this contact model only, when the CSV holds several")
     p.set_defaults(func=anova_handler)
 
+
+def _register_paper(subparsers: Any) -> None:
+    """Add ``alma paper``: the paper's tables and figures beside the published ones."""
     p = subparsers.add_parser(
         "paper",
         help="regenerate the paper's tables and figures beside the published ones",
@@ -131,6 +145,9 @@ def register(subparsers: Any) -> None:
     )
     p.set_defaults(func=paper_handler)
 
+
+def _register_compare(subparsers: Any) -> None:
+    """Add ``alma compare``: associative against non-associative α, with ANOVA."""
     p = subparsers.add_parser(
         "compare",
         help="associative against non-associative α on the paper's panels, with ANOVA",
