@@ -206,6 +206,33 @@ def _data_rows(path: Path) -> int:
         return 0
 
 
+def _wait_group_gone(pgid: int, seconds: float = 60.0) -> None:
+    """Until every process of the group has exited: a worker still dying holds the study's lock
+    (its forked copy of the lock's descriptor), and the resumed run would find the study busy."""
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline and _living_members(pgid):
+        time.sleep(0.01)
+
+
+def _living_members(pgid: int) -> bool:
+    """Whether a process of the group is alive (a zombie has released its descriptors)."""
+    proc = Path("/proc")
+    if not proc.is_dir():  # no procfs: ask the kernel whether the group has any process left
+        try:
+            os.killpg(pgid, 0)
+        except ProcessLookupError:
+            return False
+        return True
+    for stat in proc.glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except (OSError, IndexError):
+            continue  # exited while read
+        if int(fields[2]) == pgid and fields[0] != "Z":
+            return True
+    return False
+
+
 def test_killed_study_resumes_without_loss_or_duplicates(tmp_path):
     out = tmp_path / "killed"
     path = out / "results.csv"
@@ -224,6 +251,7 @@ def test_killed_study_resumes_without_loss_or_duplicates(tmp_path):
     finally:
         os.killpg(proc.pid, signal.SIGKILL)  # the study and its worker processes
         proc.wait()
+        _wait_group_gone(proc.pid)
     done_at_kill = _data_rows(path)
     assert 8 <= done_at_kill < len(MEDIUM)
     partial = read_results(path)
