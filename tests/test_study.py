@@ -207,30 +207,20 @@ def _data_rows(path: Path) -> int:
 
 
 def _wait_group_gone(pgid: int, seconds: float = 60.0) -> None:
-    """Until every process of the group has exited: a worker still dying holds the study's lock
-    (its forked copy of the lock's descriptor), and the resumed run would find the study busy."""
+    """Until no process of the group is alive (procfs; without it, no wait): a dying worker holds
+    a forked copy of the study lock's descriptor, and the resumed run would find the study busy."""
     deadline = time.monotonic() + seconds
-    while time.monotonic() < deadline and _living_members(pgid):
+    while time.monotonic() < deadline and any(_alive_in(stat, pgid) for stat in Path("/proc").glob("[0-9]*/stat")):
         time.sleep(0.01)
 
 
-def _living_members(pgid: int) -> bool:
-    """Whether a process of the group is alive (a zombie has released its descriptors)."""
-    proc = Path("/proc")
-    if not proc.is_dir():  # no procfs: ask the kernel whether the group has any process left
-        try:
-            os.killpg(pgid, 0)
-        except ProcessLookupError:
-            return False
-        return True
-    for stat in proc.glob("[0-9]*/stat"):
-        try:
-            fields = stat.read_text().rsplit(")", 1)[1].split()
-        except (OSError, IndexError):
-            continue  # exited while read
-        if int(fields[2]) == pgid and fields[0] != "Z":
-            return True
-    return False
+def _alive_in(stat: Path, pgid: int) -> bool:
+    """Whether the process of this /proc stat file is in the group and not a zombie."""
+    try:
+        state, _, group = stat.read_text().rsplit(")", 1)[1].split()[:3]
+    except (OSError, IndexError, ValueError):  # exited while read
+        return False
+    return int(group) == pgid and state != "Z"
 
 
 def test_killed_study_resumes_without_loss_or_duplicates(tmp_path):
