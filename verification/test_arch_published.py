@@ -111,6 +111,7 @@ def _rupture_angle(result, n: int) -> float:
     return 90.0 - inner[0] * 180.0 / n
 
 
+@pytest.mark.slow  # a bisection of Eq. 10 solves: 11-12 s here; make test-slow (CI) runs it
 def test_limit_thickness_thrust_and_rupture_joint_against_cocchetti_rizzi_2020():
     lo, hi = _limit(142, centreline=True)
     assert hi - lo < 2e-7  # measured 1.1e-7: the certificate decides almost to the limit
@@ -131,6 +132,7 @@ def test_limit_thickness_thrust_and_rupture_joint_against_cocchetti_rizzi_2020()
     assert _rupture_angle(_settle(20, hi20, centreline=True)[0], 20) == pytest.approx(54.0)
 
 
+@pytest.mark.slow  # a bisection of Eq. 10 solves: 11-12 s here; make test-slow (CI) runs it
 def test_limit_thickness_with_the_true_self_weight_against_milankovitch():
     """Milankovitch (true weight, radial joints) t/R = 0.1075 to four digits; alma's voussoirs are
     trapezoids (chords of the intrados and extrados), whose weight and centroid differ from the

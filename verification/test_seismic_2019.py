@@ -218,6 +218,7 @@ def test_edition_2019_refuses_a_mechanism_at_height_by_name():
         Site.from_dict({**SITE1, "edition": "1999"})
 
 
+@pytest.mark.slow  # four CLI runs with a capacity curve each: 7 s here; make test-slow (CI) runs it
 def test_edition_from_the_site_file_and_the_command_line(tmp_path):
     assert Site.from_dict({**SITE1, "edition": 2009}).edition == "2009"  # a TOML number is read too
     (tmp_path / "scene.json").write_text(json.dumps(_block().to_dict()))
