@@ -14,6 +14,7 @@ import math
 from collections.abc import Mapping
 from functools import cache, lru_cache
 from pathlib import Path
+from typing import TypedDict
 
 import numpy as np
 import scipy.sparse as sp
@@ -36,6 +37,17 @@ try:  # hypothesis is a test dependency; the profile keeps property tests bounde
     )
 except ImportError:  # pragma: no cover
     st = None  # type: ignore[assignment]  # no hypothesis: no strategies below (None is the sign)
+
+
+class SiteArgs(TypedDict):
+    """A site's keys of :func:`elastic_spectrum` (the arguments ``alma.seismic.Site`` shares with it)."""
+
+    ag: float
+    F0: float
+    Tc_star: float
+    soil: str
+    topography: str
+
 
 DATA = Path(__file__).resolve().parent / "data"
 TABLE5 = DATA / "table5_collapse_multipliers.csv"

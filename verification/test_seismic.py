@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import TypedDict
 
 import pytest
 
@@ -20,18 +19,7 @@ import alma
 from alma.seismic import Site, elastic_spectrum
 from alma.seismic.spectrum import G
 
-from helpers import number
-
-
-class SiteArgs(TypedDict):
-    """A site's keys of :func:`elastic_spectrum` (the arguments :class:`Site` shares with it)."""
-
-    ag: float
-    F0: float
-    Tc_star: float
-    soil: str
-    topography: str
-
+from helpers import SiteArgs, number
 
 # site 1: a_g = 0.20 g, F0 = 2.4, T_C* = 0.30 s, soil B, flat (T1)
 #   S_S = 1.40 − 0.40 · 2.4 · 0.20 = 1.208 → capped at 1.20;  C_C = 1.10 · 0.30^−0.20 = 1.399486

@@ -22,7 +22,6 @@ import json
 import math
 import subprocess
 import sys
-from typing import TypedDict
 
 import numpy as np
 import pytest
@@ -32,18 +31,7 @@ from alma.seismic import Site, elastic_spectrum
 from alma.seismic.spectrum import G
 from alma.status import Status
 
-from helpers import number
-
-
-class SiteArgs(TypedDict):
-    """A site's keys of :func:`elastic_spectrum` (the arguments :class:`Site` shares with it)."""
-
-    ag: float
-    F0: float
-    Tc_star: float
-    soil: str
-    topography: str
-
+from helpers import SiteArgs, number
 
 B, H = 240.0, 600.0  # mm
 T = 120.0  # mm

@@ -28,15 +28,7 @@ from alma.seismic import Site
 from alma.seismic.floor_spectrum import first_mode, floor_acceleration
 from alma.seismic.spectrum import G, elastic_spectrum
 
-
-class SiteArgs(TypedDict):
-    """A site's keys of :func:`elastic_spectrum` (the arguments :class:`Site` shares with it)."""
-
-    ag: float
-    F0: float
-    Tc_star: float
-    soil: str
-    topography: str
+from helpers import SiteArgs
 
 
 class HeightArgs(TypedDict, total=False):
