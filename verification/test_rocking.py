@@ -15,7 +15,7 @@ import alma
 from alma.backends.linprog_backend import LPMethod
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
-from alma.nonassociative.exact_states import exact_state
+from alma.nonassociative.exact_states import exact_state, exact_state_by
 from alma.nonassociative.rocking import rocking_candidates
 from alma.nonassociative.starts import rocking_start
 
@@ -72,6 +72,10 @@ def test_corner_column_of_a_flemish_panel():
     state, tried = rocking_start(model, points, [], tries=1)
     assert tried == 1 and state is not None and state.verified
     assert state.alpha == pytest.approx(13 / 44, rel=1e-9)
+    # Gilbert's exact states above `exact_ipm_points` contact points (4,520 here) take the same route.
+    by_field = exact_state_by(LPMethod.CLARABEL, model, points, first.mechanism, "gilbert")
+    assert by_field is not None and by_field.verified
+    assert by_field.alpha == pytest.approx(13 / 44, rel=1e-9)
 
 
 @given(data=assemblies(max_courses=3, max_per_course=4))

@@ -219,3 +219,20 @@ def fast_exact_state(
             model, points, mechanism, start, dilatant=dilatant, method=LPMethod.IPM, limits=vertex_limits, tally=tally
         )
     return state
+
+
+def exact_state_by(
+    method: LPMethod,
+    model: Model,
+    points: ContactPoints,
+    mechanism: np.ndarray,
+    start: str,
+    *,
+    limits: ExactLimits = ExactLimits(),
+    tally: Tally | None = None,
+) -> CollapseState | None:
+    """:func:`fast_exact_state` when ``method`` is Clarabel (its field, a vertex where that does not
+    verify), else :func:`exact_state` with ``method``'s vertex."""
+    if method == LPMethod.CLARABEL:
+        return fast_exact_state(model, points, mechanism, start, limits=limits, tally=tally)
+    return exact_state(model, points, mechanism, start, method=method, limits=limits, tally=tally)

@@ -18,7 +18,7 @@ import numpy as np
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.cap_lp import CapLP, ClosestField
-from alma.nonassociative.exact_states import exact_state
+from alma.nonassociative.exact_states import exact_state_by
 from alma.nonassociative.limits import Cap, Work, no_cap
 from alma.nonassociative.states import CollapseState, Tally, active_set, bounded_active_set, lower, verify
 from alma.nonassociative.static_lps import StaticLP, static_lp_clarabel
@@ -125,14 +125,8 @@ def gilbert(
             current = tuple(part.tobytes() for part in sets)
             if current in seen and current not in tried:
                 tried.add(current)
-                state = exact_state(
-                    model,
-                    points,
-                    lp.mechanism,
-                    start,
-                    limits=work.exact_limits(tally),
-                    method=work.exact_method,
-                    tally=tally,
+                state = exact_state_by(
+                    work.exact_method, model, points, lp.mechanism, start, limits=work.exact_limits(tally), tally=tally
                 )
                 if state is not None and state.verified:
                     return lower(state, best), used
@@ -140,13 +134,13 @@ def gilbert(
         n_bar = n_bar + relaxation * (lp.normal - n_bar)
     if last is None:
         return best, used
-    final = exact_state(
+    final = exact_state_by(
+        work.exact_method,
         model,
         points,
         cast(np.ndarray, last.mechanism),
         start,
         limits=work.exact_limits(tally),
-        method=work.exact_method,
         tally=tally,
     )
     return lower(final, best), used
@@ -246,7 +240,7 @@ def projected_gilbert(
         n_bar = anderson.step(n_bar, step)
     if lp is None or lp.mechanism is None:
         return best, used
-    final = exact_state(
-        model, points, lp.mechanism, start, limits=work.exact_limits(tally), method=work.exact_method, tally=tally
+    final = exact_state_by(
+        work.exact_method, model, points, lp.mechanism, start, limits=work.exact_limits(tally), tally=tally
     )
     return lower(final, best), used

@@ -29,7 +29,8 @@ class Work:
     floor_pivots: int = 2_000
     #: Clarabel iterations of one interior-point solve.
     interior_iterations: int = 200
-    #: How the static LP of the exact states taken is solved (a HiGHS vertex).
+    #: How the static LP of the exact states taken is solved: a HiGHS vertex, or Clarabel's field
+    #: (with a vertex where the widest set is read or the field does not verify).
     exact_method: LPMethod = LPMethod.SIMPLEX
     #: When a state is verified, and how active sets are read (:attr:`alma.settings.SearchSettings.states`).
     tolerances: StateTolerances = field(default_factory=StateTolerances)

@@ -48,7 +48,7 @@ def resolve_effort(effort: str, settings: SearchSettings, n_free: int) -> str:
 
 
 def _work(settings: SearchSettings, iterations: int, pivots: int | None, points: int) -> Work:
-    method = LPMethod.IPM if points > settings.exact_ipm_points else LPMethod.SIMPLEX
+    method = LPMethod.CLARABEL if points > settings.exact_ipm_points else LPMethod.SIMPLEX
     return Work(
         iterations=iterations,
         pivots=pivots,

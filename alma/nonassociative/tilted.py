@@ -24,7 +24,7 @@ import numpy as np
 from alma.associative.lp import solve_lp
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
-from alma.nonassociative.exact_states import exact_state
+from alma.nonassociative.exact_states import exact_state_by
 from alma.nonassociative.gilbert import gilbert
 from alma.nonassociative.limits import Work
 from alma.nonassociative.states import CollapseState, Tally, verify
@@ -110,13 +110,13 @@ class TiltStart:
         if state is None or not state.verified:
             return None, solves + 1
         if ctx.model.n_bounded:
-            return exact_state(
+            return exact_state_by(
+                self.work.exact_method,
                 ctx.model,
                 ctx.points,
                 state.mechanism,
                 self.name,
                 limits=self.work.exact_limits(tally),
-                method=self.work.exact_method,
                 tally=tally,
             ), solves + 1
         return mapped_back(ctx.model, ctx.points, state, self.degrees, self.name, self.work.tolerances), solves + 1
