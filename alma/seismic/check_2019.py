@@ -132,18 +132,18 @@ def linear_2019(site_q: float, spec: Spectrum, a0_star: float, floor: dict[str, 
     return terms
 
 
-def _nan_check(spec: Spectrum, xi: float, d_name: str, a_name: str, t_name: str) -> Terms:
-    """The displacement check's fields when the curve gives no d₀."""
+def _nan_check(spec: Spectrum, xi: float, state: str) -> Terms:
+    """The displacement check's fields at limit state ``state`` ("SLV", "SLC") when the curve gives no d₀."""
     nan = math.nan
     return {
         "d0_star": nan,
-        d_name: nan,
-        a_name: nan,
-        t_name: nan,
+        f"d_{state}": nan,
+        f"a_{state}": nan,
+        f"T_{state}": nan,
         "xi": xi,
         "eta": spec.eta,
         "displacement_demand": nan,
-        "a_g_SLV" if d_name == "d_SLV" else "a_g_SLC": nan,
+        f"a_g_{state}": nan,
         "capacity": nan,
         "demand": spec.ag,
         "safety_index": nan,
@@ -162,6 +162,45 @@ def _displacement_check(
     return a_ls, t_ls, demand, spec.ag * d_ls / demand
 
 
+def _limit_state(
+    state: str,
+    xi: float,
+    fraction: float,
+    coefficient: float,
+    pushed: tuple[float, float],
+    curve: tuple[np.ndarray, np.ndarray],
+    spec: Spectrum,
+) -> tuple[Terms, float]:
+    """The displacement check's terms at ``state`` ("SLV", "SLC") up to its demand, and
+    a_g d / demand (m/s²).  ``pushed`` is (d₀*, the loss of equilibrium), d = min(``fraction``
+    d₀*, the loss); ``curve`` the curve (d*, a*) of Eqs. C8.7.1.3–4 (m, m/s²)."""
+    d0_star, lost = pushed
+    d_ls = min(fraction * d0_star, lost) if math.isfinite(lost) else fraction * d0_star
+    a_ls, t_ls, demand, by_displacement = _displacement_check(d_ls, *curve, coefficient, spec)
+    terms: Terms = {
+        "d0_star": d0_star,
+        f"d_{state}": d_ls,
+        f"a_{state}": a_ls,
+        f"T_{state}": t_ls,
+        "xi": xi,
+        "eta": spec.eta,
+        "displacement_demand": demand,
+    }
+    return terms, by_displacement
+
+
+def _verdict(capacity: float, spec: Spectrum, lost: float) -> Terms:
+    """The check's last terms: the capacity a_g (m/s²) against the site's, and the curve's end."""
+    return {
+        "capacity": capacity,
+        "demand": spec.ag,
+        "safety_index": capacity / spec.ag,
+        "verified": bool(capacity >= spec.ag),
+        "d0_extrapolated": bool(math.isfinite(lost)),
+        "d_lost_star": lost,
+    }
+
+
 def nonlinear_2019(
     pushed: PushResult, d_star: np.ndarray, a_star: np.ndarray, factor: float, spec8: Spectrum, a_g_sld: float
 ) -> Terms:
@@ -173,26 +212,15 @@ def nonlinear_2019(
     """
     d0_star, lost = d0_star_of(pushed, factor)
     if not math.isfinite(d0_star):
-        return _nan_check(spec8, XI_SLV, "d_SLV", "a_SLV", "T_SLV")
-    d_slv = min(SLV_FRACTION * d0_star, lost) if math.isfinite(lost) else SLV_FRACTION * d0_star
-    a_slv, t_slv, demand, by_displacement = _displacement_check(d_slv, d_star, a_star, T_SLV_COEFFICIENT, spec8)
+        return _nan_check(spec8, XI_SLV, "SLV")
+    curve = (d_star, a_star)
+    terms, by_displacement = _limit_state("SLV", XI_SLV, SLV_FRACTION, T_SLV_COEFFICIENT, (d0_star, lost), curve, spec8)
     a_g_slv = max(by_displacement, a_g_sld)
     return {
-        "d0_star": d0_star,
-        "d_SLV": d_slv,
-        "a_SLV": a_slv,
-        "T_SLV": t_slv,
-        "xi": XI_SLV,
-        "eta": spec8.eta,
-        "displacement_demand": demand,
+        **terms,
         "a_g_SLD": a_g_sld,
         "a_g_SLV": a_g_slv,
-        "capacity": a_g_slv,
-        "demand": spec8.ag,
-        "safety_index": a_g_slv / spec8.ag,
-        "verified": bool(a_g_slv >= spec8.ag),
-        "d0_extrapolated": bool(math.isfinite(lost)),
-        "d_lost_star": lost,
+        **_verdict(a_g_slv, spec8, lost),
         "governs": "displacement" if by_displacement >= a_g_sld else "a_g_SLD",
     }
 
@@ -211,23 +239,7 @@ def slc_2019(pushed: PushResult, d_star: np.ndarray, a_star: np.ndarray, factor:
     """
     d0_star, lost = d0_star_of(pushed, factor)
     if not math.isfinite(d0_star):
-        return _nan_check(spec10, XI_SLC, "d_SLC", "a_SLC", "T_SLC")
-    d_slc = min(SLC_FRACTION * d0_star, lost) if math.isfinite(lost) else SLC_FRACTION * d0_star
-    a_slc, t_slc, demand, a_g_slc = _displacement_check(d_slc, d_star, a_star, T_SLC_COEFFICIENT, spec10)
-    return {
-        "d0_star": d0_star,
-        "d_SLC": d_slc,
-        "a_SLC": a_slc,
-        "T_SLC": t_slc,
-        "xi": XI_SLC,
-        "eta": spec10.eta,
-        "displacement_demand": demand,
-        "a_g_SLC": a_g_slc,
-        "capacity": a_g_slc,
-        "demand": spec10.ag,
-        "safety_index": a_g_slc / spec10.ag,
-        "verified": bool(a_g_slc >= spec10.ag),
-        "d0_extrapolated": bool(math.isfinite(lost)),
-        "d_lost_star": lost,
-        "spectrum": spec10.to_dict(),
-    }
+        return _nan_check(spec10, XI_SLC, "SLC")
+    curve = (d_star, a_star)
+    terms, a_g_slc = _limit_state("SLC", XI_SLC, SLC_FRACTION, T_SLC_COEFFICIENT, (d0_star, lost), curve, spec10)
+    return {**terms, "a_g_SLC": a_g_slc, **_verdict(a_g_slc, spec10, lost), "spectrum": spec10.to_dict()}
