@@ -16,7 +16,6 @@ import scipy.sparse as sp
 from alma.geometry.canonical import CanonicalFrame
 from alma.mechanics.model import Model
 
-
 #: Below this (1.5e-11) a datum is round-off of a zero and becomes 0: the model's data are of
 #: order one, and a zero's round-off reached 6.9e-13 in panels turned and moved 100 m away.
 ZERO = 2.0**-36
