@@ -90,7 +90,7 @@ def test_cohesion_solved_by_both_models_and_certified():
     milp = [s for s in result.extra["starts"] if s["start"] == "milp"]  # the MILP start takes cohesion
     assert milp, result.extra["starts"]
     # IPOPT takes cohesion.  A start's record holds α on the search's canonical model, whose data
-    # are rounded to 28 bits (alma.mechanics.canonical); only the kept state is exact on the scene.
+    # are rounded to canonical_bits (alma.mechanics.canonical); only the kept state is exact on the scene.
     ipopt = [s for s in result.extra["starts"] if s["start"] == "ipopt"]
     assert ipopt and ipopt[0]["verified"] and ipopt[0]["alpha"] == pytest.approx(2.0, rel=1e-6), ipopt
 

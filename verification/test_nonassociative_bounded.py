@@ -100,7 +100,7 @@ def test_radenkovic_bounds_hold_on_random_cohesive_and_tied_scenes(scene):
         # half of the examples give verified states.
         assert nl.status in (Status.NO_EQUILIBRIUM, Status.NOT_CONVERGED) or lp.status == Status.NO_COLLAPSE
         return
-    # Candidates hold α on the search's canonical model (data rounded to 28 bits); the answer is
+    # Candidates hold α on the search's canonical model (data rounded, canonical_bits); the answer is
     # the lowest one made exact on the scene itself.
     assert min(verified) == pytest.approx(nl.alpha, rel=1e-6)
     lower = nl.search["radenkovic_lower_bound"]
