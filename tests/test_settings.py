@@ -138,3 +138,21 @@ def test_start_kinds_are_parsed_in_one_place():
             family, index = parse_kind(kind)
             assert kind == (family if index is None else f"{family}:{index}")
     assert parse_kind("gilbert:3") == ("gilbert", 3) and parse_kind("milp") == ("milp", None)
+
+
+def test_a_verified_rocking_state_ends_the_fast_search_of_a_large_scene():
+    """``rocking_ends_blocks``: above it (here 0 free blocks) the Gilbert and turned-table starts
+    do not run once ``rocking`` has verified a state; "thorough" and ``None`` run every start."""
+    panel = alma.paper_panel(bond="stack", panel_ratio="2:1", block_ratio="4:1", friction=0.6)
+
+    def starts(**search):
+        result = alma.solve(panel, "nonassociative", settings=Settings(search=SearchSettings(**search)))
+        return result, [s["start"].split("(")[0] for s in result.to_dict()["starts"]]
+
+    ended, ran = starts(effort="fast", rocking_ends_blocks=0)
+    assert ran == ["lp", "rocking"] and ended.to_dict()["start"] == "rocking"
+    full, ran_all = starts(effort="fast", rocking_ends_blocks=None)
+    assert ran_all == ["lp", "rocking", "gilbert", "gilbert", "tilt"]
+    assert full.alpha == ended.alpha and full.status == ended.status == Status.FEASIBLE
+    _, thorough = starts(effort="thorough", rocking_ends_blocks=0)
+    assert "gilbert" in thorough and "tilt" in thorough

@@ -7,6 +7,8 @@
   :attr:`~alma.settings.SearchSettings.gilbert_pivots_verified` once a state is verified),
   then ``gilbert-projected`` only when no start verified a state: when the fixed starts verify
   at all they do so early, and the projected iteration settles where their vertex iterates jump.
+  Above :attr:`~alma.settings.SearchSettings.rocking_ends_blocks` free blocks a verified
+  ``rocking`` state ends the search before the Gilbert and turned-table starts.
 - ``"thorough"`` (small scenes): ``lp``, ``rocking``, the thorough Gilbert starts (their
   iterations only), ``gilbert-projected`` when no start other than ``rocking`` verified (it can
   go below a rocking state), ``ipopt`` up to :attr:`~alma.settings.SearchSettings.ipopt_blocks`
@@ -107,6 +109,8 @@ def wanted(kind: str, ctx: Context, polish: bool | None = None) -> bool:
     if kind == "projected":
         others = [c for c in ctx.verified() if not thorough or c.start != "rocking"]
         return not others
+    if parse_kind(kind)[0] in ("gilbert", "tilt") and _rocking_ends(ctx):
+        return False
     if kind == "ipopt":
         return (thorough and ctx.model.n_free <= s.ipopt_blocks) if polish is None else polish
     if kind == "milp":
@@ -119,6 +123,18 @@ def wanted(kind: str, ctx: Context, polish: bool | None = None) -> bool:
             and alpha >= 0
         )
     return True
+
+
+def _rocking_ends(ctx: Context) -> bool:
+    """Whether a verified ``rocking`` state ends a fast search of a large scene
+    (:attr:`~alma.settings.SearchSettings.rocking_ends_blocks`)."""
+    limit = ctx.settings.rocking_ends_blocks
+    return (
+        ctx.effort == "fast"
+        and limit is not None
+        and ctx.model.n_free > limit
+        and any(c.start == "rocking" for c in ctx.verified())
+    )
 
 
 def make_start(kind: str, ctx: Context) -> Start:
