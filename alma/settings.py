@@ -203,7 +203,7 @@ class SearchSettings:
     #: default: its answer moves with round-off of the input (a perturbed panel lost its state).
     fallback_bits: int | None = None
     #: Above this many free blocks a verified ``rocking`` state ends a "fast" search (no Gilbert or
-    #: turned-table start): on 7 runs of the 108 panels none improved on one there (they did at 312
+    #: turned-table start): on 6 runs of the 108 panels none improved on one there (they did at 312
     #: and 408 blocks), and they took a third of the search.  None: every start runs.
     rocking_ends_blocks: int | None = 500
     #: Canonical states (lowest α first) made exact on the drawing's own model before giving up.
