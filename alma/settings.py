@@ -185,8 +185,7 @@ class StateTolerances:
 class SearchSettings:
     """The non-associative search (Eq. 9): which starts run and the work each may spend.
 
-    Work is counted in solver units (LP solves, simplex iterations, interior-point
-    iterations, branch-and-bound nodes, seeds), never in seconds.
+    Work is counted in solver units (LP solves, simplex and interior-point iterations, nodes, seeds), never seconds.
     """
 
     #: "fast", "thorough", or "auto" (thorough up to :attr:`thorough_blocks` free blocks).
@@ -202,9 +201,8 @@ class SearchSettings:
     #: canonical data rounded to this many bits (52: as computed). None (no second run) by
     #: default: its answer moves with round-off of the input (a perturbed panel lost its state).
     fallback_bits: int | None = None
-    #: Above this many free blocks a verified ``rocking`` state ends a "fast" search (no Gilbert or
-    #: turned-table start): on 6 runs of the 108 panels none improved on one there (they did at 312
-    #: and 408 blocks), and they took a third of the search.  None: every start runs.
+    #: Above this many free blocks a verified ``rocking`` state ends a "fast" search: on 6 runs of
+    #: the 108 panels no Gilbert or turned start improved on one there (a third of the search).
     rocking_ends_blocks: int | None = 500
     #: Canonical states (lowest α first) made exact on the drawing's own model before giving up.
     carry_back_tries: int = 4
