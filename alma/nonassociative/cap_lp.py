@@ -6,12 +6,15 @@
 and, with cohesion and ties, their forces G τ in the equilibrium with 0 ≤ τ ≤ capacity: the
 fictitious cohesion c = (f − s) N̄ of Gilbert's iteration adds to the real one.
 
-Between Gilbert iterations only the caps c = (f − s) N̄ change (row bounds; at
-s = 0, where |T| ≤ c is a pair of column bounds, the model has no yield rows) and,
-during the first steps, the slopes s (one coefficient per row).  HiGHS keeps
-its basis, so each re-solve is a short dual-simplex run from the previous
-vertex instead of a cold solve: on a 444-block panel 0.03–0.3 s per iteration
-against 1–2 s cold.  The mechanism u is read from the equilibrium rows' duals.
+Between Gilbert iterations only the caps c = (f − s) N̄ change and, during the first steps, the
+slopes s.  Both models keep the equilibrium rows only, every yield condition a column bound:
+at s = 0 |T| ≤ c bounds T itself; at s > 0 the force is written on the generators of its
+yield domain, (N, T) = λ⁺ (1, s) + λ⁻ (1, −s) + (0, κ) with λ± ≥ 0 and |κ| ≤ c (every
+(N, T) with N ≥ 0 and |T| ≤ s N + c is one: κ = clip(T, ±c)), so a new slope changes the λ±
+columns' coefficients and a new cap κ's bounds.  HiGHS keeps its basis, so each re-solve is a
+dual-simplex run from the previous vertex instead of a cold solve, and the cold first solve is
+a third of the time it takes with the yield conditions as 2 rows per contact point.  The
+mechanism u is read from the equilibrium rows' duals.
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ from alma.backends.highs_backend import INF, WarmLP, lp_model
 from alma.backends.termination import SolverResult, Termination
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
-from alma.nonassociative.static_lps import StaticLP, failed, with_bounded_columns
+from alma.nonassociative.static_lps import StaticLP, failed
 
 #: Feasibility tolerances of the warm-started HiGHS model (absolute, dimensionless units).
 DUAL_TOLERANCE = 1e-10
@@ -33,10 +36,9 @@ DUAL_TOLERANCE = 1e-10
 class CapLP:
     """Persistent HiGHS models of the capped static LP (see module docstring).
 
-    Two models, each built on first use and then re-solved warm: with a slope (the first
-    Gilbert steps) the yield conditions are rows; at slope zero they are the column bounds
-    −c ≤ T ≤ c, and the model keeps only the equilibrium rows (3 per block instead of 3 per
-    block plus 2 per contact point), which the dual simplex re-solves in about half the time.
+    Two models, each built on first use and then re-solved warm: on the yield domain's
+    generators (λ⁺, λ⁻, κ) while the slope is positive (the first Gilbert steps), and on
+    (N, T) with −c ≤ T ≤ c at slope zero, which has a column per point fewer.
     """
 
     def __init__(self, model: Model, points: ContactPoints, *, max_pivots: int = 200_000) -> None:
@@ -45,61 +47,91 @@ class CapLP:
         self._n = model.dead.shape[0]
         self._max_pivots = int(max_pivots)
         self._slope = np.zeros(points.count)
-        self._rows: WarmLP | None = None
+        self._generators: WarmLP | None = None
         self._bounded: WarmLP | None = None
         P = points.count
-        self._cap_rows = np.arange(self._n, self._n + 2 * P, dtype=np.int32)
         self._shear_cols = np.arange(1 + P, 1 + 2 * P, dtype=np.int32)
-        # Slopes enter the yield rows as −s in the N columns (x = (α, N, T)): rows n+p and n+P+p, column 1+p.
-        self._slope_rows = (self._n + np.arange(P), self._n + P + np.arange(P))
+        self._kappa_cols = np.arange(1 + 2 * P, 1 + 3 * P, dtype=np.int32)
+        # The entries of the λ± columns: normal ± s · tangent on the union of both patterns.
+        pattern = (abs(points.normal) + abs(points.tangent)).tocoo()
+        self._entry_rows, self._entry_points = pattern.row, pattern.col
+        self._entry_normal = np.asarray(points.normal.tocsr()[pattern.row, pattern.col]).ravel()
+        self._entry_tangent = np.asarray(points.tangent.tocsr()[pattern.row, pattern.col]).ravel()
 
-    def _new_highs(self, with_yield_rows: bool) -> WarmLP:
-        P, q = self.points.count, self.model.n_bounded
-        A_eq, b_eq, A_ub = self.points.static_constraints(self.model, self._slope)
-        if q:
-            A_eq, A_ub = with_bounded_columns(self.model, A_eq, A_ub)
-        width = 1 + 2 * P + q
-        cost = np.zeros(width)
-        cost[0] = -1.0
-        col_lower = np.concatenate([[-INF], np.zeros(P), np.full(P, -INF), np.zeros(q)])
-        col_upper = np.concatenate([np.full(1 + 2 * P, INF), self.model.capacity])
-        if with_yield_rows:
-            lp = lp_model(
-                cost,
-                col_lower,
-                col_upper,
-                sp.vstack([A_eq, A_ub]),
-                np.concatenate([b_eq, np.full(2 * P, -INF)]),
-                np.concatenate([b_eq, np.zeros(2 * P)]),
-            )
-        else:
-            lp = lp_model(cost, col_lower, col_upper, A_eq, b_eq, b_eq)
+    def _warm(self, cost: np.ndarray, lower: np.ndarray, upper: np.ndarray, A_eq: sp.spmatrix) -> WarmLP:
+        """A persistent HiGHS model of ``max α`` on the equilibrium rows, cold-solved first by
+        interior point with crossover (about twice as fast as simplex here; a basis for the warm
+        re-solves), every later solve dual simplex."""
+        b_eq = -self.model.dead
+        if self.model.n_bounded:
+            A_eq = sp.hstack([A_eq, self.model.bounded])
+            zeros = np.zeros(self.model.n_bounded)
+            cost, lower = np.concatenate([cost, zeros]), np.concatenate([lower, zeros])
+            upper = np.concatenate([upper, self.model.capacity])
         # The mechanism is read from the duals: HiGHS's default dual feasibility (1e-7, absolute)
         # leaves interpenetrations of ~1e-5 of the largest velocity on large panels, more than
         # the verification accepts.
-        h = WarmLP(lp, dual_feasibility_tolerance=DUAL_TOLERANCE, primal_feasibility_tolerance=DUAL_TOLERANCE)
-        # The cold first solve: interior point with crossover (a basis for the warm re-solves) is
-        # about twice as fast as simplex here; every later solve is dual simplex from that basis.
+        h = WarmLP(
+            lp_model(cost, lower, upper, A_eq, b_eq, b_eq),
+            dual_feasibility_tolerance=DUAL_TOLERANCE,
+            primal_feasibility_tolerance=DUAL_TOLERANCE,
+        )
         h.set_option("solver", "ipm")
         return h
 
+    def _new_bounded(self) -> WarmLP:
+        """x = (α, N, T[, τ]): N ≥ 0, T free until the caps are set."""
+        P = self.points.count
+        live = sp.csc_matrix(self.model.live[:, None])
+        cost = np.zeros(1 + 2 * P)
+        cost[0] = -1.0
+        lower = np.concatenate([[-INF], np.zeros(P), np.full(P, -INF)])
+        A_eq = sp.hstack([live, self.points.normal, self.points.tangent])
+        return self._warm(cost, lower, np.full(1 + 2 * P, INF), A_eq)
+
+    def _generator_columns(self, slope: np.ndarray, sign: float) -> sp.csc_matrix:
+        """normal + sign · s · tangent on the fixed pattern (explicit zeros kept)."""
+        values = self._entry_normal + sign * slope[self._entry_points] * self._entry_tangent
+        shape = (self._n, self.points.count)
+        return sp.csc_matrix((values, (self._entry_rows, self._entry_points)), shape=shape)
+
+    def _new_generators(self, slope: np.ndarray) -> WarmLP:
+        """x = (α, λ⁺, λ⁻, κ[, τ]): λ± ≥ 0, κ free until the caps are set."""
+        P = self.points.count
+        live = sp.csc_matrix(self.model.live[:, None])
+        A_eq = sp.hstack(
+            [live, self._generator_columns(slope, 1.0), self._generator_columns(slope, -1.0), self.points.tangent]
+        )
+        cost = np.zeros(1 + 3 * P)
+        cost[0] = -1.0
+        lower = np.concatenate([[-INF], np.zeros(2 * P), np.full(P, -INF)])
+        return self._warm(cost, lower, np.full(1 + 3 * P, INF), A_eq)
+
     def _model_for(self, slope: np.ndarray, cap: np.ndarray) -> WarmLP:
         """The persistent model for this slope (built on first use), with the new caps set."""
-        P = self.points.count
         if not np.any(slope):
             if self._bounded is None:
-                self._bounded = self._new_highs(with_yield_rows=False)
+                self._bounded = self._new_bounded()
             self._bounded.change_col_bounds(self._shear_cols, -cap, cap)
             return self._bounded
-        if self._rows is None:
-            self._rows = self._new_highs(with_yield_rows=True)
-        h = self._rows
-        for p in np.flatnonzero(slope != self._slope):  # only during the first (slope > 0) steps
-            h.change_coeff(self._slope_rows[0][p], 1 + p, -slope[p])
-            h.change_coeff(self._slope_rows[1][p], 1 + p, -slope[p])
+        if self._generators is None:
+            self._generators = self._new_generators(slope)
+        else:
+            self._set_slope(self._generators, slope)
         self._slope = np.array(slope, dtype=float, copy=True)
-        h.change_row_bounds(self._cap_rows, np.full(2 * P, -INF), np.concatenate([cap, cap]))
-        return h
+        self._generators.change_col_bounds(self._kappa_cols, -cap, cap)
+        return self._generators
+
+    def _set_slope(self, h: WarmLP, slope: np.ndarray) -> None:
+        """The λ± columns' coefficients for a new slope (only during the first, slope > 0, steps)."""
+        P = self.points.count
+        changed = np.flatnonzero(slope[self._entry_points] != self._slope[self._entry_points])
+        rows, cols = self._entry_rows[changed], self._entry_points[changed]
+        shift = slope[cols] * self._entry_tangent[changed]
+        plus, minus = self._entry_normal[changed] + shift, self._entry_normal[changed] - shift
+        for row, col, a, b in zip(rows, cols, plus, minus, strict=True):
+            h.change_coeff(row, 1 + col, a)
+            h.change_coeff(row, 1 + P + col, b)
 
     @staticmethod
     def _run(h: WarmLP, max_pivots: int) -> SolverResult:
@@ -127,21 +159,20 @@ class CapLP:
             return failed(Termination.INFEASIBLE, P, pivots)
         if sol.termination is not Termination.OPTIMAL:
             return failed(Termination.ERROR, P, pivots)
-        x = sol.x
         y = sol.duals[: self._n]  # ∂(−α)/∂b of the equilibrium rows: u with f_Lᵀu = 1
         work = float(self.model.live @ y)
         mechanism = y * (self.model.n_free / work) if work > 0 else None
-        if self.model.n_bounded:
-            return StaticLP(
-                Termination.OPTIMAL,
-                float(x[0]),
-                x[1 : 1 + P].copy(),
-                x[1 + P : 1 + 2 * P].copy(),
-                mechanism,
-                pivots,
-                np.clip(x[1 + 2 * P :], 0.0, self.model.capacity),
-            )
-        return StaticLP(Termination.OPTIMAL, float(x[0]), x[1 : 1 + P].copy(), x[1 + P :].copy(), mechanism, pivots)
+        normal, shear, tau = self._forces(sol.x, slope)
+        bounded = np.clip(tau, 0.0, self.model.capacity)  # empty without cohesion and ties
+        return StaticLP(Termination.OPTIMAL, float(sol.x[0]), normal, shear, mechanism, pivots, bounded)
+
+    def _forces(self, x: np.ndarray, slope: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(N, T, τ) of a solution: read off at slope zero, from λ± and κ otherwise."""
+        P = self.points.count
+        if not np.any(slope):
+            return x[1 : 1 + P].copy(), x[1 + P : 1 + 2 * P].copy(), x[1 + 2 * P :]
+        plus, minus, kappa = x[1 : 1 + P], x[1 + P : 1 + 2 * P], x[1 + 2 * P : 1 + 3 * P]
+        return plus + minus, slope * (plus - minus) + kappa, x[1 + 3 * P :]
 
 
 class ClosestField:
