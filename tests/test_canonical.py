@@ -12,7 +12,7 @@ from hypothesis import given, settings, strategies as st
 
 import alma
 from alma.geometry.canonical import canonical_scene
-from alma.mechanics.canonical import mechanism_to_drawing, snapped
+from alma.mechanics.canonical import field_to_drawing, mechanism_to_drawing, snapped
 from alma.mechanics.model import build_model
 
 
@@ -111,3 +111,56 @@ def test_a_mechanism_comes_back_to_the_drawings_frame():
     x, w = drawing.centroid, back[:, 2]
     pivot_x, pivot_y = x[:, 0] - back[:, 1] / w, x[:, 1] + back[:, 0] / w
     assert np.ptp(pivot_x) < 1e-9 and np.ptp(pivot_y) < 1e-9
+
+
+def _plain_panel() -> dict:
+    """A panel without bounded forces: its canonical fields are carried to the drawing whole."""
+    return alma.paper_panel("english", "2:1", "2:1", 0.6).to_dict()
+
+
+@settings(max_examples=8, deadline=None, derandomize=True)
+@given(
+    angle=st.floats(-math.pi, math.pi),
+    mirror=st.booleans(),
+    shift=st.tuples(st.floats(-1e5, 1e5), st.floats(-1e5, 1e5)),
+    length=st.sampled_from([1.0, 1e-3, 25.4]),
+    force=st.sampled_from([1.0, 1e-2, 9.81]),
+    seed=st.integers(0, 2**31 - 1),
+)
+def test_a_static_field_comes_back_to_the_drawings_joints(angle, mirror, shift, length, force, seed):
+    """Any field of contact forces on the canonical joints pushes each block in the drawing as in
+    the canonical frame: the same resultant, turned back, in the drawing's force unit."""
+    data = _rewrite(_plain_panel(), angle, mirror, shift, length, 1.0, seed)
+    data["unit_weight"] *= force / length**3
+    drawing = build_model(alma.Scene.from_dict(data))
+    _scene, frame, canonical = _canonical(data)
+    rng = np.random.default_rng(seed)
+    count = canonical.contact_points.count
+    normal, shear = rng.uniform(0.0, 1.0, count), rng.uniform(-1.0, 1.0, count)
+    carried = field_to_drawing(normal, shear, canonical, frame, drawing)
+    assert carried is not None
+    n_d, t_d = carried
+    cp, dp = canonical.contact_points, drawing.contact_points
+    resultant_c = (cp.normal @ normal + cp.tangent @ shear).reshape(-1, 3)
+    resultant_d = (dp.normal @ n_d + dp.tangent @ t_d).reshape(-1, 3)
+    target = drawing.free_index[frame.order[canonical.free_blocks]]
+    expected = resultant_c[:, :2] @ frame.matrix * (canonical.force_scale / drawing.force_scale)
+    np.testing.assert_allclose(resultant_d[target, :2], expected, rtol=0, atol=1e-9 * np.abs(expected).max())
+
+
+def test_joints_split_differently_carry_no_field():
+    """A support edge split at a block corner makes two drawn joints of one canonical joint: the
+    field is not carried (the mechanism still is)."""
+    data = {
+        "blocks": [
+            {"id": "g", "fixed": True, "vertices": [[0, -1], [10, -1], [10, 0], [5, 0], [0, 0]]},
+            {"id": "b", "vertices": [[2, 0], [8, 0], [8, 1], [2, 1]]},
+        ]
+    }
+    plain = json.loads(json.dumps(data))
+    plain["blocks"][0]["vertices"] = [[0, -1], [10, -1], [10, 0], [0, 0]]
+    drawing = build_model(alma.Scene.from_dict(data))
+    _scene, frame, canonical = _canonical(plain)
+    count = canonical.contact_points.count
+    assert drawing.joints.count == canonical.joints.count + 1
+    assert field_to_drawing(np.ones(count), np.zeros(count), canonical, frame, drawing) is None

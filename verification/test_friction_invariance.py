@@ -234,6 +234,17 @@ def test_friction_answer_is_the_structures(name, how):
     same(base(name, QUICK[name]), nonassociative(apply(QUICK[name](), how)))
 
 
+@settings(max_examples=3, deadline=None, derandomize=True)
+@given(how=rewrite)
+def test_a_canonical_state_comes_back_whole(how):
+    """Without cohesion or ties, and with the same joints in every writing, the answer is the
+    canonical search's state carried to the drawing: the same α to the last bit, verified there."""
+    name = "stack panel"
+    a, b = base(name, QUICK[name]), nonassociative(apply(QUICK[name](), dict(how, extra=False)))
+    assert b.status == a.status == alma.Status.FEASIBLE
+    assert b.alpha == a.alpha
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(SLOW))
 @settings(max_examples=3, deadline=None, derandomize=True)

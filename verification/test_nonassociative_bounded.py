@@ -128,10 +128,9 @@ def test_cohesion_to_zero_recovers_the_cohesionless_search(bond, panel, block, f
 @pytest.mark.slow  # 8–16 s: `make test` keeps to 5 minutes; `make test-slow` (CI) runs it
 @pytest.mark.xfail(
     strict=True,
-    reason="measured: c = 1e-9 kPa gives 0.421531 (start tilt(10°)) against 0.420710 "
-    "without cohesion (gilbert(N̄=0·N_LP, r=1, steps=1)); the extra columns "
-    "change the simplex's path on the degenerate faces and the first Gilbert "
-    "start ends on another state (0.423485)",
+    reason="measured: c = 1e-9 kPa gives 0.422791 against 0.421139 without cohesion "
+    "(both gilbert(N̄=0·N_LP, r=1, steps=1)); the extra columns change the simplex's "
+    "path on the degenerate faces and the first Gilbert start ends on another state",
 )
 def test_cohesion_to_zero_on_the_running_panel_1_1_2_1():
     """Running 1:1 2:1, f = 0.6: the search is not continuous in c on this panel."""
@@ -143,7 +142,7 @@ def test_cohesion_to_zero_on_the_running_panel_1_1_2_1():
 @pytest.mark.slow  # 8–16 s: `make test` keeps to 5 minutes; `make test-slow` (CI) runs it
 @pytest.mark.xfail(
     strict=True,
-    reason="the search on the canonical drawing (issue 30) lands at 0.769934 "
+    reason="the search on the canonical drawing (issue 30) lands at 0.769868 "
     "> 0.765467: a higher local minimum of the non-convex search (docs/decisions.md)",
 )
 def test_cohesive_running_panel_between_radenkovic_and_the_associative_bound():
@@ -152,8 +151,8 @@ def test_cohesive_running_panel_between_radenkovic_and_the_associative_bound():
     non-associative state is the search's (a heuristic on degenerate faces, whose path follows the
     platform's round-off): 0.765467 (start gilbert(N̄=0·N_LP, r=1, steps=1)) on the CI machine of
     2026-11-25, 0.765260 (gilbert(N̄=1·N_LP, r=0.5, steps=0)) on an AVX-512 machine the same
-    day; it must not rise above the first.  Without cohesion the panel gives 0.420710 and
-    0.435172."""
+    day; it must not rise above the first.  Without cohesion the panel gave 0.420710 and
+    0.435172 then (0.421139 here on 2026-11-26)."""
     both = alma.solve(_with_cohesion("running", "1:1", "2:1", 0.6, 5.0), model="both")
     nl, lp = both.nonassociative, both.associative
     assert lp.status == Status.OPTIMAL and nl.status == Status.FEASIBLE

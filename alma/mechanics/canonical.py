@@ -75,3 +75,67 @@ def mechanism_to_drawing(u: np.ndarray, canonical: Model, frame: CanonicalFrame,
     out[target, 1] = velocity[:, 1] + omega * arm[:, 0]
     out[target, 2] = omega
     return out.ravel()
+
+
+#: Canonical and drawn joints are the same joint when their end points agree to this share of
+#: the canonical length unit: the canonical vertices sit on a grid of 2⁻²⁰ of it (≈ 1e-6).
+SAME_POINT = 1e-4
+
+
+def _joint_match(canonical: Model, frame: CanonicalFrame, model: Model) -> tuple[np.ndarray, np.ndarray] | None:
+    """For each drawn joint, its canonical joint and whether its end points come in swapped order;
+    None when the two models' joints are not the same joints (then no field is carried)."""
+    cj, dj = canonical.joints, model.joints
+    if cj.count != dj.count:
+        return None
+
+    def to_drawing(x: np.ndarray) -> np.ndarray:
+        return (x * frame.unit - frame.offset) @ frame.matrix
+
+    c_start, c_end = to_drawing(cj.start), to_drawing(cj.end)
+    c_pair = np.sort(np.column_stack([frame.order[cj.block_a], frame.order[cj.block_b]]), axis=1)
+    d_pair = np.sort(np.column_stack([dj.block_a, dj.block_b]), axis=1)
+    c_mid, d_mid = 0.5 * (c_start + c_end), dj.centre
+    c_rank = np.lexsort((c_mid[:, 1], c_mid[:, 0], c_pair[:, 1], c_pair[:, 0]))
+    d_rank = np.lexsort((d_mid[:, 1], d_mid[:, 0], d_pair[:, 1], d_pair[:, 0]))
+    match = np.empty(dj.count, dtype=int)
+    match[d_rank] = c_rank
+    same = np.hypot(*(c_start[match] - dj.start).T) + np.hypot(*(c_end[match] - dj.end).T)
+    swapped = np.hypot(*(c_end[match] - dj.start).T) + np.hypot(*(c_start[match] - dj.end).T)
+    tolerance = SAME_POINT * frame.unit
+    if np.any(c_pair[match] != d_pair) or np.any(np.minimum(same, swapped) > 2 * tolerance):
+        return None
+    return match, swapped < same
+
+
+def field_to_drawing(
+    normal: np.ndarray, shear: np.ndarray, canonical: Model, frame: CanonicalFrame, model: Model
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """A static field of the canonical model as one of the drawing's ``model`` (same joints).
+
+    ``normal``, ``shear``: N and T at the canonical contact points (two per joint, its start and
+    end; model force units).  Each joint's force on its block b, N n + T t, is turned into the
+    drawing's frame and read on the drawn joint's own n and t: N keeps its value, T changes sign
+    where the drawn tangent points the other way (blocks a and b swapped, or a mirror image).
+    Returns None when the joints do not correspond one to one (:data:`SAME_POINT`); then only
+    the mechanism is carried (:func:`mechanism_to_drawing`).  Forces with cohesion and ties are
+    not carried (their columns are not mapped here).
+    """
+    if canonical.n_bounded or model.n_bounded:
+        return None
+    found = _joint_match(canonical, frame, model)
+    if found is None:
+        return None
+    match, swapped = found
+    cj, dj = canonical.joints, model.joints
+    # Vectors turn as points do (x_drawing = Mᵀ x_canonical); each joint's n and t read in the drawing.
+    n_sign = np.sign(np.einsum("ij,ij->i", cj.normal[match] @ frame.matrix, dj.normal))
+    t_sign = np.sign(np.einsum("ij,ij->i", cj.tangent[match] @ frame.matrix, dj.tangent))
+    # N n + T t on block b: when a and b are swapped the force on the drawn b is the opposite one.
+    if np.any(n_sign != np.where(frame.order[cj.block_b[match]] == dj.block_b, 1.0, -1.0)):
+        return None
+    points = np.column_stack([2 * match, 2 * match + 1])
+    points[swapped] = points[swapped][:, ::-1]
+    points = points.ravel()
+    scale = canonical.force_scale / model.force_scale
+    return normal[points] * scale, shear[points] * np.repeat(n_sign * t_sign, 2) * scale

@@ -37,14 +37,14 @@ from typing import Any
 import numpy as np
 
 from alma.geometry.canonical import CanonicalFrame
-from alma.mechanics.canonical import mechanism_to_drawing
+from alma.mechanics.canonical import field_to_drawing, mechanism_to_drawing
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.exact_states import fast_exact_state
 from alma.nonassociative.limits import Cap
 from alma.nonassociative.policy import make_start, parse_kind, plan, resolve_effort, start_name, wanted
 from alma.nonassociative.starts import Context
-from alma.nonassociative.states import CollapseState, ExactLimits, Tally, lowest
+from alma.nonassociative.states import CollapseState, ExactLimits, Tally, lowest, verify
 from alma.settings import CertifySettings, SearchSettings
 from alma.status import Status
 
@@ -186,6 +186,36 @@ def solve_nonassociative(
     return NonAssociativeSolution(status, f"lowest verified collapse state from start '{best.start}'", best, **common)
 
 
+def _at_its_floor(state: CollapseState, canonical: Model, limits: ExactLimits) -> CollapseState:
+    """``state`` or, when lower, the exact state of its mechanism on the canonical model (its active
+    set fixed, the smallest α with that set): a start's verified iterate need not be that floor."""
+    own = fast_exact_state(canonical, ContactPoints.from_model(canonical), state.mechanism, state.start, limits=limits)
+    if own is None or not own.verified or not own.alpha < state.alpha:
+        return state
+    return own
+
+
+def carried_state(
+    state: CollapseState,
+    canonical: Model,
+    frame: CanonicalFrame,
+    model: Model,
+    settings: SearchSettings = SearchSettings(),
+) -> CollapseState | None:
+    """A canonical state carried whole to the drawing's ``model``: the same α, its field on the
+    drawn joints (:func:`~alma.mechanics.canonical.field_to_drawing`) and its mechanism
+    (:func:`~alma.mechanics.canonical.mechanism_to_drawing`), verified on ``model``; None when
+    the joints do not correspond."""
+    field = field_to_drawing(state.normal, state.shear, canonical, frame, model)
+    if field is None:
+        return None
+    normal, shear = field
+    mechanism = mechanism_to_drawing(state.mechanism, canonical, frame, model)
+    points = ContactPoints.from_model(model)
+    residuals, ok = verify(model, points, state.alpha, normal, shear, mechanism, None, settings.states)
+    return dataclasses.replace(state, normal=normal, shear=shear, mechanism=mechanism, residuals=residuals, verified=ok)
+
+
 def carried_back(
     solution: NonAssociativeSolution,
     canonical: Model,
@@ -214,7 +244,11 @@ def carried_back(
     first = lowest([moved[k] for k in verified], settings.same_alpha)
     order = sorted(verified, key=lambda k: (moved[k] is not first, moved[k].alpha))
     for k in order[: settings.carry_back_tries]:
-        exact = fast_exact_state(model, points, moved[k].mechanism, moved[k].start, limits=limits)
+        exact = carried_state(
+            _at_its_floor(solution.candidates[k], canonical, limits), canonical, frame, model, settings
+        )
+        if exact is None or not exact.verified:
+            exact = fast_exact_state(model, points, moved[k].mechanism, moved[k].start, limits=limits)
         if exact is not None and exact.verified:
             best = exact
             moved = (*moved[:k], exact, *moved[k + 1 :])
