@@ -113,11 +113,6 @@ def test_a_mechanism_comes_back_to_the_drawings_frame():
     assert np.ptp(pivot_x) < 1e-9 and np.ptp(pivot_y) < 1e-9
 
 
-def _plain_panel() -> dict:
-    """A panel without bounded forces: its canonical fields are carried to the drawing whole."""
-    return alma.paper_panel("english", "2:1", "2:1", 0.6).to_dict()
-
-
 @settings(max_examples=8, deadline=None, derandomize=True)
 @given(
     angle=st.floats(-math.pi, math.pi),
@@ -128,21 +123,20 @@ def _plain_panel() -> dict:
     seed=st.integers(0, 2**31 - 1),
 )
 def test_a_static_field_comes_back_to_the_drawings_joints(angle, mirror, shift, length, force, seed):
-    """Any field of contact forces on the canonical joints pushes each block in the drawing as in
-    the canonical frame: the same resultant, turned back, in the drawing's force unit."""
-    data = _rewrite(_plain_panel(), angle, mirror, shift, length, 1.0, seed)
-    data["unit_weight"] *= force / length**3
+    """Any field of contact and cohesive forces on the canonical joints pushes each block in the
+    drawing as in the canonical frame: the same resultant, turned back, in the drawing's force unit."""
+    data = _rewrite(_panel(), angle, mirror, shift, length, force, seed)
     drawing = build_model(alma.Scene.from_dict(data))
     _scene, frame, canonical = _canonical(data)
     rng = np.random.default_rng(seed)
-    count = canonical.contact_points.count
-    normal, shear = rng.uniform(0.0, 1.0, count), rng.uniform(-1.0, 1.0, count)
-    carried = field_to_drawing(normal, shear, canonical, frame, drawing)
-    assert carried is not None
-    n_d, t_d = carried
+    count, q = canonical.contact_points.count, canonical.n_bounded
+    normal, shear, tau = rng.uniform(0.0, 1.0, count), rng.uniform(-1.0, 1.0, count), rng.uniform(0.0, 1.0, q)
+    carried = field_to_drawing(normal, shear, canonical, frame, drawing, tau)
+    assert carried is not None and q > 0
+    n_d, t_d, tau_d = carried
     cp, dp = canonical.contact_points, drawing.contact_points
-    resultant_c = (cp.normal @ normal + cp.tangent @ shear).reshape(-1, 3)
-    resultant_d = (dp.normal @ n_d + dp.tangent @ t_d).reshape(-1, 3)
+    resultant_c = (cp.normal @ normal + cp.tangent @ shear + canonical.bounded @ tau).reshape(-1, 3)
+    resultant_d = (dp.normal @ n_d + dp.tangent @ t_d + drawing.bounded @ tau_d).reshape(-1, 3)
     target = drawing.free_index[frame.order[canonical.free_blocks]]
     expected = resultant_c[:, :2] @ frame.matrix * (canonical.force_scale / drawing.force_scale)
     np.testing.assert_allclose(resultant_d[target, :2], expected, rtol=0, atol=1e-9 * np.abs(expected).max())

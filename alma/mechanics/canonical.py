@@ -108,21 +108,44 @@ def _joint_match(canonical: Model, frame: CanonicalFrame, model: Model) -> tuple
     return match, swapped < same
 
 
+def _bounded_to_drawing(
+    tau: np.ndarray, canonical: Model, model: Model, match: np.ndarray, flip: np.ndarray
+) -> np.ndarray | None:
+    """τ of the canonical bounded columns on the drawing's: a joint's cohesive shear pair
+    (``j<k>+`` / ``j<k>-``) goes to its drawn joint, the pair exchanged where the drawn tangent
+    is the opposite (``flip``); a tie keeps its id.  None when a column has no counterpart."""
+    column = {str(label): i for i, label in enumerate(canonical.bounded_labels)}
+
+    def counterpart(label: str) -> str:
+        if label.startswith("tie:"):
+            return label
+        k, sign = int(label[1:-1]), label[-1]
+        return f"j{match[k]}{sign if not flip[k] else '+-'[sign == '+']}"
+
+    found = [column.get(counterpart(str(label))) for label in model.bounded_labels]
+    if any(i is None for i in found) or len(found) != len(column):
+        return None
+    return tau[np.array(found, dtype=int)]
+
+
 def field_to_drawing(
-    normal: np.ndarray, shear: np.ndarray, canonical: Model, frame: CanonicalFrame, model: Model
-) -> tuple[np.ndarray, np.ndarray] | None:
+    normal: np.ndarray,
+    shear: np.ndarray,
+    canonical: Model,
+    frame: CanonicalFrame,
+    model: Model,
+    bounded: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """A static field of the canonical model as one of the drawing's ``model`` (same joints).
 
     ``normal``, ``shear``: N and T at the canonical contact points (two per joint, its start and
     end; model force units).  Each joint's force on its block b, N n + T t, is turned into the
     drawing's frame and read on the drawn joint's own n and t: N keeps its value, T changes sign
     where the drawn tangent points the other way (blocks a and b swapped, or a mirror image).
-    Returns None when the joints do not correspond one to one (:data:`SAME_POINT`); then only
-    the mechanism is carried (:func:`mechanism_to_drawing`).  Forces with cohesion and ties are
-    not carried (their columns are not mapped here).
+    ``bounded``: τ of the canonical cohesion and tie columns (:func:`_bounded_to_drawing`).
+    Returns (N, T, τ), or None when the joints or bounded columns do not correspond one to one
+    (:data:`SAME_POINT`); then only the mechanism is carried (:func:`mechanism_to_drawing`).
     """
-    if canonical.n_bounded or model.n_bounded:
-        return None
     found = _joint_match(canonical, frame, model)
     if found is None:
         return None
@@ -134,8 +157,12 @@ def field_to_drawing(
     # N n + T t on block b: when a and b are swapped the force on the drawn b is the opposite one.
     if np.any(n_sign != np.where(frame.order[cj.block_b[match]] == dj.block_b, 1.0, -1.0)):
         return None
+    scale = canonical.force_scale / model.force_scale
+    tau = np.zeros(0) if bounded is None else np.asarray(bounded, dtype=float)
+    carried = _bounded_to_drawing(tau, canonical, model, match, n_sign * t_sign < 0)
+    if carried is None:
+        return None
     points = np.column_stack([2 * match, 2 * match + 1])
     points[swapped] = points[swapped][:, ::-1]
     points = points.ravel()
-    scale = canonical.force_scale / model.force_scale
-    return normal[points] * scale, shear[points] * np.repeat(n_sign * t_sign, 2) * scale
+    return normal[points] * scale, shear[points] * np.repeat(n_sign * t_sign, 2) * scale, carried * scale

@@ -202,18 +202,20 @@ def carried_state(
     model: Model,
     settings: SearchSettings = SearchSettings(),
 ) -> CollapseState | None:
-    """A canonical state carried whole to the drawing's ``model``: the same α, its field on the
-    drawn joints (:func:`~alma.mechanics.canonical.field_to_drawing`) and its mechanism
-    (:func:`~alma.mechanics.canonical.mechanism_to_drawing`), verified on ``model``; None when
-    the joints do not correspond."""
-    field = field_to_drawing(state.normal, state.shear, canonical, frame, model)
+    """A canonical state carried whole to the drawing's ``model``: the same α, its forces on the
+    drawn joints and bounded columns (:func:`~alma.mechanics.canonical.field_to_drawing`) and its
+    mechanism (:func:`~alma.mechanics.canonical.mechanism_to_drawing`), verified on ``model``;
+    None when the joints or bounded columns do not correspond."""
+    field = field_to_drawing(state.normal, state.shear, canonical, frame, model, state.bounded)
     if field is None:
         return None
-    normal, shear = field
+    normal, shear, bounded = field
     mechanism = mechanism_to_drawing(state.mechanism, canonical, frame, model)
     points = ContactPoints.from_model(model)
-    residuals, ok = verify(model, points, state.alpha, normal, shear, mechanism, None, settings.states)
-    return dataclasses.replace(state, normal=normal, shear=shear, mechanism=mechanism, residuals=residuals, verified=ok)
+    residuals, ok = verify(model, points, state.alpha, normal, shear, mechanism, bounded, settings.states)
+    return dataclasses.replace(
+        state, normal=normal, shear=shear, mechanism=mechanism, bounded=bounded, residuals=residuals, verified=ok
+    )
 
 
 def carried_back(
