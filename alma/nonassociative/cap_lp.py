@@ -38,16 +38,20 @@ class CapLP:
 
     Two models, each built on first use and then re-solved warm: on the yield domain's
     generators (λ⁺, λ⁻, κ) while the slope is positive (the first Gilbert steps), and on
-    (N, T) with −c ≤ T ≤ c at slope zero, which has a column per point fewer.
+    (N, T) with −c ≤ T ≤ c at slope zero, which has a column per point fewer.  ``yield_rows``:
+    the sloped model keeps the yield conditions as rows instead (the same LP; other vertices).
     """
 
-    def __init__(self, model: Model, points: ContactPoints, *, max_pivots: int = 200_000) -> None:
+    def __init__(
+        self, model: Model, points: ContactPoints, *, max_pivots: int = 200_000, yield_rows: bool = False
+    ) -> None:
         self.model = model
+        self.yield_rows = yield_rows
         self.points = points
         self._n = model.dead.shape[0]
         self._max_pivots = int(max_pivots)
         self._slope = np.zeros(points.count)
-        self._generators: WarmLP | None = None
+        self._sloped: WarmLP | None = None
         self._bounded: WarmLP | None = None
         P = points.count
         self._shear_cols = np.arange(1 + P, 1 + 2 * P, dtype=np.int32)
@@ -114,13 +118,50 @@ class CapLP:
                 self._bounded = self._new_bounded()
             self._bounded.change_col_bounds(self._shear_cols, -cap, cap)
             return self._bounded
-        if self._generators is None:
-            self._generators = self._new_generators(slope)
+        if self.yield_rows:
+            return self._rows_for(slope, cap)
+        if self._sloped is None:
+            self._sloped = self._new_generators(slope)
         else:
-            self._set_slope(self._generators, slope)
+            self._set_slope(self._sloped, slope)
         self._slope = np.array(slope, dtype=float, copy=True)
-        self._generators.change_col_bounds(self._kappa_cols, -cap, cap)
-        return self._generators
+        self._sloped.change_col_bounds(self._kappa_cols, -cap, cap)
+        return self._sloped
+
+    def _rows_for(self, slope: np.ndarray, cap: np.ndarray) -> WarmLP:
+        """The sloped model with the yield conditions as rows, x = (α, N, T[, τ]): T − sN ≤ c and
+        −T − sN ≤ c (``yield_rows``; its vertices differ from the generators' form)."""
+        P, n = self.points.count, self._n
+        if self._sloped is None:
+            A_eq, b_eq, A_ub = self.points.static_constraints(self.model, slope)
+            q = self.model.n_bounded
+            A = sp.vstack([A_eq, A_ub])
+            if q:
+                A = sp.hstack([A, sp.vstack([self.model.bounded, sp.csr_matrix((2 * P, q))])])
+            cost = np.zeros(1 + 2 * P + q)
+            cost[0] = -1.0
+            lower = np.concatenate([[-INF], np.zeros(P), np.full(P, -INF), np.zeros(q)])
+            upper = np.concatenate([np.full(1 + 2 * P, INF), self.model.capacity])
+            lp = lp_model(
+                cost,
+                lower,
+                upper,
+                A,
+                np.concatenate([b_eq, np.full(2 * P, -INF)]),
+                np.concatenate([b_eq, np.zeros(2 * P)]),
+            )
+            self._sloped = WarmLP(
+                lp, dual_feasibility_tolerance=DUAL_TOLERANCE, primal_feasibility_tolerance=DUAL_TOLERANCE
+            )
+            self._sloped.set_option("solver", "ipm")
+        else:
+            for p in np.flatnonzero(slope != self._slope):  # only during the first (slope > 0) steps
+                self._sloped.change_coeff(n + p, 1 + p, -slope[p])
+                self._sloped.change_coeff(n + P + p, 1 + p, -slope[p])
+        self._slope = np.array(slope, dtype=float, copy=True)
+        rows = np.arange(n, n + 2 * P, dtype=np.int32)
+        self._sloped.change_row_bounds(rows, np.full(2 * P, -INF), np.concatenate([cap, cap]))
+        return self._sloped
 
     def _set_slope(self, h: WarmLP, slope: np.ndarray) -> None:
         """The λ± columns' coefficients for a new slope (only during the first, slope > 0, steps)."""
@@ -169,7 +210,7 @@ class CapLP:
     def _forces(self, x: np.ndarray, slope: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(N, T, τ) of a solution: read off at slope zero, from λ± and κ otherwise."""
         P = self.points.count
-        if not np.any(slope):
+        if not np.any(slope) or self.yield_rows:
             return x[1 : 1 + P].copy(), x[1 + P : 1 + 2 * P].copy(), x[1 + 2 * P :]
         plus, minus, kappa = x[1 : 1 + P], x[1 + P : 1 + 2 * P], x[1 + 2 * P : 1 + 3 * P]
         return plus + minus, slope * (plus - minus) + kappa, x[1 + 3 * P :]

@@ -68,6 +68,7 @@ def gilbert(
     slope_steps: int = 4,
     tolerance: float = 1e-7,
     ipm_above: int = 6000,
+    yield_rows: bool = False,
     work: Work = Work(),
     cap: Cap | None = None,
     tally: Tally | None = None,
@@ -79,14 +80,15 @@ def gilbert(
     own forces already satisfy Coulomb's law with its mechanism (:func:`verify`) is an exact
     collapse state; the loop stops when N = N̄, when an active set that came back verifies, or
     when ``work`` is spent.  Scenes up to ``ipm_above`` contact points re-solve one persistent
-    HiGHS model warm (:class:`CapLP`); larger ones use Clarabel.  Returns the best verified
-    state (or the exact state of the last mechanism) and the LP solves used.
+    HiGHS model warm (:class:`CapLP`, its sloped model with the yield conditions as rows when
+    ``yield_rows``); larger ones use Clarabel.  Returns the best verified state (or the exact
+    state of the last mechanism) and the LP solves used.
     """
     cap, tally = cap or no_cap(), tally if tally is not None else Tally()
     f = points.friction
     n_bar = np.maximum(initial_normal, 0.0)
     interior = points.count > ipm_above
-    cap_lp = None if interior else CapLP(model, points, max_pivots=work.lp_pivots)
+    cap_lp = None if interior else CapLP(model, points, max_pivots=work.lp_pivots, yield_rows=yield_rows)
     last, best, used = None, None, 0
     seen: set[tuple[bytes, ...]] = set()
     tried: set[tuple[bytes, ...]] = set()

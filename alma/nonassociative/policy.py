@@ -10,11 +10,15 @@
   Above :attr:`~alma.settings.SearchSettings.rocking_ends_blocks` free blocks a verified
   ``rocking`` state ends the search before the Gilbert and turned-table starts.
 - ``"thorough"`` (small scenes): ``lp``, ``rocking``, the thorough Gilbert starts (their
-  iterations only), ``gilbert-projected`` when no start other than ``rocking`` verified (it can
-  go below a rocking state), ``ipopt`` up to :attr:`~alma.settings.SearchSettings.ipopt_blocks`
-  free blocks (none by default: the polish runs when asked for) and ``milp`` up to
-  :attr:`~alma.settings.SearchSettings.milp_start_blocks` free blocks, within
-  :attr:`~alma.settings.SearchSettings.milp_start_work` nodes × (free blocks + bounded columns).
+  iterations only) and turned tables, then again those with slope steps, their sloped LP
+  written with the yield conditions as rows (``…, rows``): the same LP as the generators' form
+  of :class:`~alma.nonassociative.cap_lp.CapLP`, whose other vertices lead the iteration to
+  other states, at the price of a few small LPs; ``gilbert-projected`` when no start other
+  than ``rocking`` verified (it can go below a rocking state); ``ipopt`` up to
+  :attr:`~alma.settings.SearchSettings.ipopt_blocks` free blocks (none by default: the polish
+  runs when asked for); and ``milp`` up to :attr:`~alma.settings.SearchSettings.milp_start_blocks`
+  free blocks, within :attr:`~alma.settings.SearchSettings.milp_start_work` nodes × (free
+  blocks + bounded columns).
 
 Every start takes cohesion and ties (bounded forces): ``ipopt`` (:mod:`alma.nonassociative.nlp`)
 and ``milp`` (:mod:`alma.certify.rows`) write them as bounded columns with their flow rule.
@@ -83,19 +87,26 @@ def projected_work(settings: SearchSettings, n_free: int, points: int) -> Work:
 
 def plan(settings: SearchSettings, effort: str) -> list[str]:
     """The starts of an effort in the order they run (names of kinds; see :func:`make_start`)."""
-    count = len(settings.gilbert_fast if effort == "fast" else settings.gilbert_thorough)
-    return (
-        ["lp", "rocking"]
-        + [f"gilbert:{k}" for k in range(count)]
-        + [f"tilt:{k}" for k in range(len(_turns(settings, effort)))]
-        + ["projected", "ipopt", "milp"]
-    )
+    starts = settings.gilbert_fast if effort == "fast" else settings.gilbert_thorough
+    turns = [f"tilt:{k}" for k in range(len(_turns(settings, effort)))]
+    gilbert = [f"gilbert:{k}" for k in range(len(starts))]
+    rows: list[str] = []
+    if effort == "thorough":
+        rows = [f"{kind}:rows" for kind in gilbert if starts[parse_kind(kind)[1] or 0][2] > 0]
+        rows += [f"{kind}:rows" for kind in turns]
+    return ["lp", "rocking", *gilbert, *turns, *rows, "projected", "ipopt", "milp"]
 
 
 def parse_kind(kind: str) -> tuple[str, int | None]:
-    """A kind of :func:`plan` as (family, index): "gilbert:3" → ("gilbert", 3), "lp" → ("lp", None)."""
+    """A kind of :func:`plan` as (family, index): "gilbert:3" → ("gilbert", 3), "gilbert:3:rows"
+    → ("gilbert", 3), "lp" → ("lp", None)."""
     family, colon, index = kind.partition(":")
-    return family, (int(index) if colon else None)
+    return family, (int(index.split(":")[0]) if colon else None)
+
+
+def _rows(kind: str) -> bool:
+    """Whether a kind's sloped LP keeps the yield conditions as rows."""
+    return kind.endswith(":rows")
 
 
 def _turns(settings: SearchSettings, effort: str) -> tuple[float, ...]:
@@ -148,14 +159,14 @@ def make_start(kind: str, ctx: Context) -> Start:
     if family == "gilbert" and index is not None:
         starts = s.gilbert_fast if ctx.effort == "fast" else s.gilbert_thorough
         scale, relaxation, steps = starts[index]
-        return GilbertStart(
-            scale, relaxation, steps, gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count)
-        )
+        work = gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count)
+        return GilbertStart(scale, relaxation, steps, work, yield_rows=_rows(kind))
     if family == "tilt" and index is not None:
         return TiltStart(
             _turns(s, ctx.effort)[index],
             gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count),
             ipm_above=s.interior_points,
+            yield_rows=_rows(kind),
         )
     if kind == "projected":
         return ProjectedStart(projected_work(s, ctx.model.n_free, ctx.points.count))
@@ -172,7 +183,7 @@ def start_name(kind: str, settings: SearchSettings, effort: str) -> str:
     if family == "gilbert" and index is not None:
         starts = settings.gilbert_fast if effort == "fast" else settings.gilbert_thorough
         scale, relaxation, steps = starts[index]
-        return GilbertStart(scale, relaxation, steps, Work()).name
+        return GilbertStart(scale, relaxation, steps, Work(), yield_rows=_rows(kind)).name
     if family == "tilt" and index is not None:
-        return TiltStart(_turns(settings, effort)[index], Work()).name
+        return TiltStart(_turns(settings, effort)[index], Work(), yield_rows=_rows(kind)).name
     return {"lp": "lp", "rocking": "rocking", "projected": "gilbert-projected", "ipopt": "ipopt", "milp": "milp"}[kind]

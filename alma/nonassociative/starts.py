@@ -172,10 +172,12 @@ class GilbertStart:
     relaxation: float
     slope_steps: int
     work: Work
+    yield_rows: bool = False  # the sloped LP with its yield conditions as rows (:class:`CapLP`)
 
     @property
     def name(self) -> str:
-        return f"gilbert(N̄={self.scale:g}·N_LP, r={self.relaxation:g}, steps={self.slope_steps})"
+        rows = ", rows" if self.yield_rows else ""
+        return f"gilbert(N̄={self.scale:g}·N_LP, r={self.relaxation:g}, steps={self.slope_steps}{rows})"
 
     def run(self, ctx: Context, tally: Tally) -> tuple[CollapseState | None, int]:
         return gilbert(
@@ -186,6 +188,7 @@ class GilbertStart:
             relaxation=self.relaxation,
             slope_steps=self.slope_steps,
             ipm_above=ctx.settings.interior_points,
+            yield_rows=self.yield_rows,
             work=self.work,
             cap=ctx.cap,
             tally=tally,

@@ -83,10 +83,11 @@ class TiltStart:
     relaxation: float = 0.5
     slope_steps: int = 1
     ipm_above: int = 6000
+    yield_rows: bool = False  # the sloped LP with its yield conditions as rows
 
     @property
     def name(self) -> str:
-        return f"tilt({self.degrees:g}°)"
+        return f"tilt({self.degrees:g}°{', rows' if self.yield_rows else ''})"
 
     def run(self, ctx, tally: Tally) -> tuple[CollapseState | None, int]:
         model = turned(ctx.model, self.degrees)
@@ -103,6 +104,7 @@ class TiltStart:
             relaxation=self.relaxation,
             slope_steps=self.slope_steps,
             ipm_above=self.ipm_above,
+            yield_rows=self.yield_rows,
             work=self.work,
             cap=ctx.cap,
             tally=tally,
