@@ -11,7 +11,7 @@ import pytest
 import alma
 import alma.nonassociative.starts as starts
 from alma.engine import types as engine_types
-from alma.nonassociative.policy import parse_kind, plan, resolve_effort
+from alma.nonassociative.policy import parse_kind, plan, resolve_effort, rows_kind
 from alma.settings import (
     CERTIFY_BACKENDS,
     EFFORTS,
@@ -136,8 +136,10 @@ def test_start_kinds_are_parsed_in_one_place():
     for effort in ("fast", "thorough"):
         for kind in plan(SearchSettings(), effort):
             family, index = parse_kind(kind)
-            assert kind == (family if index is None else f"{family}:{index}")
+            rows = ":rows" if rows_kind(kind) else ""
+            assert kind == (family if index is None else f"{family}:{index}{rows}")
     assert parse_kind("gilbert:3") == ("gilbert", 3) and parse_kind("milp") == ("milp", None)
+    assert parse_kind("tilt:1:rows") == ("tilt", 1) and rows_kind("tilt:1:rows") and not rows_kind("tilt:1")
 
 
 def test_a_verified_rocking_state_ends_the_fast_search_of_a_large_scene():

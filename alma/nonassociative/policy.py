@@ -104,7 +104,7 @@ def parse_kind(kind: str) -> tuple[str, int | None]:
     return family, (int(index.split(":")[0]) if colon else None)
 
 
-def _rows(kind: str) -> bool:
+def rows_kind(kind: str) -> bool:
     """Whether a kind's sloped LP keeps the yield conditions as rows."""
     return kind.endswith(":rows")
 
@@ -160,13 +160,13 @@ def make_start(kind: str, ctx: Context) -> Start:
         starts = s.gilbert_fast if ctx.effort == "fast" else s.gilbert_thorough
         scale, relaxation, steps = starts[index]
         work = gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count)
-        return GilbertStart(scale, relaxation, steps, work, yield_rows=_rows(kind))
+        return GilbertStart(scale, relaxation, steps, work, yield_rows=rows_kind(kind))
     if family == "tilt" and index is not None:
         return TiltStart(
             _turns(s, ctx.effort)[index],
             gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count),
             ipm_above=s.interior_points,
-            yield_rows=_rows(kind),
+            yield_rows=rows_kind(kind),
         )
     if kind == "projected":
         return ProjectedStart(projected_work(s, ctx.model.n_free, ctx.points.count))
@@ -183,7 +183,7 @@ def start_name(kind: str, settings: SearchSettings, effort: str) -> str:
     if family == "gilbert" and index is not None:
         starts = settings.gilbert_fast if effort == "fast" else settings.gilbert_thorough
         scale, relaxation, steps = starts[index]
-        return GilbertStart(scale, relaxation, steps, Work(), yield_rows=_rows(kind)).name
+        return GilbertStart(scale, relaxation, steps, Work(), yield_rows=rows_kind(kind)).name
     if family == "tilt" and index is not None:
-        return TiltStart(_turns(settings, effort)[index], Work(), yield_rows=_rows(kind)).name
+        return TiltStart(_turns(settings, effort)[index], Work(), yield_rows=rows_kind(kind)).name
     return {"lp": "lp", "rocking": "rocking", "projected": "gilbert-projected", "ipopt": "ipopt", "milp": "milp"}[kind]
