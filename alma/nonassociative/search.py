@@ -227,12 +227,14 @@ def carried_back(
 ) -> NonAssociativeSolution:
     """The canonical search's answer as an answer for the drawing's ``model``.
 
-    Each verified canonical state's mechanism is carried to ``model``'s frame and blocks
+    The verified canonical states are tried lowest α first, until one verifies on ``model``
+    itself; that state is the answer and takes its candidate's place.  Each is first taken to its
+    own fixed-set floor on the canonical model (:func:`_at_its_floor`) and carried whole
+    (:func:`carried_state`: the same α on every writing with the same joints); when that does not
+    verify, its mechanism is carried to ``model``'s frame and blocks
     (:func:`~alma.mechanics.canonical.mechanism_to_drawing`) and made exact there, its active set
-    fixed (:func:`~alma.nonassociative.exact_states.fast_exact_state`), lowest α first, until one
-    verifies on ``model`` itself; that state is the answer and takes its candidate's place.  The
-    other candidates keep their canonical α and forces, their mechanisms carried back (what the
-    MILP's start reads).
+    fixed (:func:`~alma.nonassociative.exact_states.fast_exact_state`).  The other candidates
+    keep their canonical α and forces, their mechanisms carried back (what the MILP's start reads).
     """
     t0 = time.perf_counter()
     moved = tuple(
