@@ -204,7 +204,7 @@ class SearchSettings:
     #: Above this many free blocks a verified ``rocking`` state ends a "fast" search: on 6 runs of
     #: the 108 panels no Gilbert or turned start improved on one there (a third of the search).
     rocking_ends_blocks: int | None = 500
-    #: Canonical states (lowest α first) made exact on the drawing's own model before giving up.
+    #: Canonical states (lowest α first) tried on the drawing's own model before giving up.
     carry_back_tries: int = 4
     #: States whose α are this close (relative) are one answer: the earliest start's is kept.
     same_alpha: float = 1e-9

@@ -214,7 +214,8 @@ def _search(built: Model, settings: Settings, patterns: PatternCache | None) -> 
     """Eq. 9 searched on the canonical drawing (one structure, one answer), answered on ``built``.
 
     The canonical model gets its own associative solution (Eq. 10) to start from; the lowest
-    canonical states are then made exact on ``built`` itself (:func:`carried_back`).  When none
+    canonical states are then carried to ``built`` whole or made exact there (:func:`carried_back`),
+    and verified on it.  When none
     of them verifies there, the search runs again with the canonical data rounded to
     ``fallback_bits`` (:class:`~alma.settings.SearchSettings`).
     """

@@ -1,4 +1,4 @@
-"""The canonical model of the friction search, and motions carried back to the drawing's model.
+"""The canonical model of the friction search, and motions and fields carried back to the drawing's model.
 
 :func:`alma.geometry.canonical.canonical_scene` fixes the frame, the vertices and the order of
 the blocks; the model built from it is then snapped to a binary grid (:func:`snapped`), so that
