@@ -4,10 +4,7 @@ associative α, as the code gave them before every solver call went through ``al
 The friction search (Eq. 9) branches on LP vertices, so its answer hangs on the last bits of
 every solve; these values were recorded at commit 7051f4d (before issue 35's solver layer) with
 the solver releases below (those of constraints.txt), and the refactored code reproduced them
-exactly (repr-identical on 21 scenes: docs/decisions.md, "One solver layer").  Since the
-canonical state is carried to the drawing whole (issue 30; docs/decisions.md, "A canonical state
-carried whole") the answer is the canonical model's α, which moved three of them by 2.8e-10 to
-1.9e-9 relative (the 28-bit rounding of the canonical data): those three are re-recorded.  Another solver
+exactly (repr-identical on 21 scenes: docs/decisions.md, "One solver layer").  Another solver
 release may pick other vertices of degenerate LPs (docs/decisions.md, "Still open: the solver's
 release"), so the check runs only with the releases it was recorded with.  These are alma's own
 earlier answers, not published values.
@@ -35,14 +32,12 @@ SCENES = {
         WALL_1, 400.0, 175.0, friction=0.65, thickness=1000.0, unit_weight=10.0
     ),
 }
-#: (α_NL, status, start kept, associative α), recorded at 7051f4d; α_NL of the last three
-#: re-recorded with the state carried whole (was 0.5644765770336546, 0.48141891891891886 and
-#: 0.6389818336852203).
+#: (α_NL, status, start kept, associative α), recorded at 7051f4d.
 RECORDED = {
     "stack panel": (0.33333333333057613, "feasible", "rocking", 0.41912002594745845),
-    "stack 3x4 with cohesion": (0.5644765771897806, "feasible", "gilbert(N̄=0·N_LP, r=1, steps=1)", 0.6143468737571647),
-    "tied portal with a point load": (0.4814189180043451, "feasible", "lp", 0.4814189189193672),
-    "Ferris & Tin-Loi wall 1": (0.6389818346253087, "feasible", "gilbert(N̄=0·N_LP, r=1, steps=1)", 0.6428590033278915),
+    "stack 3x4 with cohesion": (0.5644765770336546, "feasible", "gilbert(N̄=0·N_LP, r=1, steps=1)", 0.6143468737571647),
+    "tied portal with a point load": (0.48141891891891886, "feasible", "lp", 0.4814189189193672),
+    "Ferris & Tin-Loi wall 1": (0.6389818336852203, "feasible", "gilbert(N̄=0·N_LP, r=1, steps=1)", 0.6428590033278915),
 }
 
 

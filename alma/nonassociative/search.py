@@ -228,13 +228,15 @@ def carried_back(
     """The canonical search's answer as an answer for the drawing's ``model``.
 
     The verified canonical states are tried lowest α first, until one verifies on ``model``
-    itself; that state is the answer and takes its candidate's place.  Each is first taken to its
-    own fixed-set floor on the canonical model (:func:`_at_its_floor`) and carried whole
-    (:func:`carried_state`: the same α on every writing with the same joints); when that does not
-    verify, its mechanism is carried to ``model``'s frame and blocks
-    (:func:`~alma.mechanics.canonical.mechanism_to_drawing`) and made exact there, its active set
-    fixed (:func:`~alma.nonassociative.exact_states.fast_exact_state`).  The other candidates
-    keep their canonical α and forces, their mechanisms carried back (what the MILP's start reads).
+    itself; that state is the answer and takes its candidate's place.  Each one's mechanism is
+    carried to ``model``'s frame and blocks (:func:`~alma.mechanics.canonical.mechanism_to_drawing`)
+    and made exact there, its active set fixed
+    (:func:`~alma.nonassociative.exact_states.fast_exact_state`), so that α is exact on the
+    drawing's own data (the bounds and proofs are computed there).  When that does not verify, the
+    state is taken to its own fixed-set floor on the canonical model (:func:`_at_its_floor`) and
+    carried whole (:func:`carried_state`: its α is the canonical model's, within the data's
+    rounding of the drawing's).  The other candidates keep their canonical α and forces, their
+    mechanisms carried back (what the MILP's start reads).
     """
     t0 = time.perf_counter()
     moved = tuple(
@@ -248,11 +250,10 @@ def carried_back(
     first = lowest([moved[k] for k in verified], settings.same_alpha)
     order = sorted(verified, key=lambda k: (moved[k] is not first, moved[k].alpha))
     for k in order[: settings.carry_back_tries]:
-        exact = carried_state(
-            _at_its_floor(solution.candidates[k], canonical, limits), canonical, frame, model, settings
-        )
+        exact = fast_exact_state(model, points, moved[k].mechanism, moved[k].start, limits=limits)
         if exact is None or not exact.verified:
-            exact = fast_exact_state(model, points, moved[k].mechanism, moved[k].start, limits=limits)
+            floor = _at_its_floor(solution.candidates[k], canonical, limits)
+            exact = carried_state(floor, canonical, frame, model, settings)
         if exact is not None and exact.verified:
             best = exact
             moved = (*moved[:k], exact, *moved[k + 1 :])
