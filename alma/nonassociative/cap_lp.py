@@ -62,21 +62,27 @@ class CapLP:
         self._entry_normal = np.asarray(points.normal.tocsr()[pattern.row, pattern.col]).ravel()
         self._entry_tangent = np.asarray(points.tangent.tocsr()[pattern.row, pattern.col]).ravel()
 
-    def _warm(self, cost: np.ndarray, lower: np.ndarray, upper: np.ndarray, A_eq: sp.spmatrix) -> WarmLP:
-        """A persistent HiGHS model of ``max α`` on the equilibrium rows, cold-solved first by
-        interior point with crossover (about twice as fast as simplex here; a basis for the warm
-        re-solves), every later solve dual simplex."""
+    def _warm(
+        self, cost: np.ndarray, lower: np.ndarray, upper: np.ndarray, A_eq: sp.spmatrix, A_ub: sp.spmatrix | None = None
+    ) -> WarmLP:
+        """A persistent HiGHS model of ``max α`` on the equilibrium rows (and ``A_ub x ≤ 0``),
+        the bounded forces' columns appended, cold-solved first by interior point with crossover
+        (about twice as fast as simplex here; a basis for the warm re-solves), every later solve
+        dual simplex."""
         b_eq = -self.model.dead
+        m = 0 if A_ub is None else A_ub.shape[0]
+        A = A_eq if A_ub is None else sp.vstack([A_eq, A_ub])
         if self.model.n_bounded:
-            A_eq = sp.hstack([A_eq, self.model.bounded])
+            A = sp.hstack([A, sp.vstack([self.model.bounded, sp.csr_matrix((m, self.model.n_bounded))])])
             zeros = np.zeros(self.model.n_bounded)
             cost, lower = np.concatenate([cost, zeros]), np.concatenate([lower, zeros])
             upper = np.concatenate([upper, self.model.capacity])
+        row_lower, row_upper = np.concatenate([b_eq, np.full(m, -INF)]), np.concatenate([b_eq, np.zeros(m)])
         # The mechanism is read from the duals: HiGHS's default dual feasibility (1e-7, absolute)
         # leaves interpenetrations of ~1e-5 of the largest velocity on large panels, more than
         # the verification accepts.
         h = WarmLP(
-            lp_model(cost, lower, upper, A_eq, b_eq, b_eq),
+            lp_model(cost, lower, upper, A, row_lower, row_upper),
             dual_feasibility_tolerance=DUAL_TOLERANCE,
             primal_feasibility_tolerance=DUAL_TOLERANCE,
         )
@@ -133,27 +139,11 @@ class CapLP:
         −T − sN ≤ c (``yield_rows``; its vertices differ from the generators' form)."""
         P, n = self.points.count, self._n
         if self._sloped is None:
-            A_eq, b_eq, A_ub = self.points.static_constraints(self.model, slope)
-            q = self.model.n_bounded
-            A = sp.vstack([A_eq, A_ub])
-            if q:
-                A = sp.hstack([A, sp.vstack([self.model.bounded, sp.csr_matrix((2 * P, q))])])
-            cost = np.zeros(1 + 2 * P + q)
+            A_eq, _, A_ub = self.points.static_constraints(self.model, slope)
+            cost = np.zeros(1 + 2 * P)
             cost[0] = -1.0
-            lower = np.concatenate([[-INF], np.zeros(P), np.full(P, -INF), np.zeros(q)])
-            upper = np.concatenate([np.full(1 + 2 * P, INF), self.model.capacity])
-            lp = lp_model(
-                cost,
-                lower,
-                upper,
-                A,
-                np.concatenate([b_eq, np.full(2 * P, -INF)]),
-                np.concatenate([b_eq, np.zeros(2 * P)]),
-            )
-            self._sloped = WarmLP(
-                lp, dual_feasibility_tolerance=DUAL_TOLERANCE, primal_feasibility_tolerance=DUAL_TOLERANCE
-            )
-            self._sloped.set_option("solver", "ipm")
+            lower = np.concatenate([[-INF], np.zeros(P), np.full(P, -INF)])
+            self._sloped = self._warm(cost, lower, np.full(1 + 2 * P, INF), A_eq, A_ub)
         else:
             for p in np.flatnonzero(slope != self._slope):  # only during the first (slope > 0) steps
                 self._sloped.change_coeff(n + p, 1 + p, -slope[p])
