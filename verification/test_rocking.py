@@ -81,8 +81,9 @@ def test_corner_column_of_a_flemish_panel():
 @given(data=assemblies(max_courses=3, max_per_course=4))
 @settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 def test_interior_fixed_set_lp_agrees_with_highs(data):
-    """The smallest α with a fixed active set: Clarabel on the generator form (used by the rocking
-    start) and HiGHS on (N, T) (every other exact state) agree, or both find no field."""
+    """The smallest α with a fixed active set: Clarabel through the kinematic dual (used by the
+    rocking start) and HiGHS's vertex of the static LP (every other exact state) agree, or both
+    find no field."""
     from alma.nonassociative.states import active_set
     from alma.nonassociative.static_lps import LP_METHOD, fixed_set_static_interior, static_lp
 
@@ -93,16 +94,7 @@ def test_interior_fixed_set_lp_agrees_with_highs(data):
     for candidate in candidates[:3]:
         open_points, slip_sign = active_set(model, points, candidate.mechanism)
         interior = fixed_set_static_interior(model, points, open_points, slip_sign)
-        vertex = static_lp(
-            model,
-            points,
-            slope=points.friction,
-            cap=np.zeros(points.count),
-            maximise=False,
-            open_points=open_points,
-            slip_sign=slip_sign,
-            method=LP_METHOD,
-        )
+        vertex = static_lp(model, points, open_points, slip_sign, method=LP_METHOD)
         assert (interior.status == "optimal") == (vertex.status == "optimal"), (interior.status, vertex.status)
         if vertex.status == "optimal":
             assert interior.alpha == pytest.approx(vertex.alpha, rel=1e-7, abs=1e-9)

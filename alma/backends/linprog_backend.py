@@ -44,17 +44,22 @@ def solve_lp(
     bounds,
     method: LPMethod = LPMethod.SIMPLEX,
     max_iterations: int,
+    tolerance: float | None = None,
     form: Form = "static",
 ) -> SolverResult:
     """``min cᵀx s.t. A_ub x ≤ b_ub, A_eq x = b_eq, bounds`` by HiGHS through ``linprog``.
 
-    ``max_iterations``: HiGHS's iteration cap (``maxiter``).  ``duals`` are those of the equality
+    ``max_iterations``: HiGHS's iteration cap (``maxiter``); ``tolerance``: its primal and dual
+    feasibility tolerances (absolute; HiGHS's 1e-7 when None).  ``duals`` are those of the equality
     rows in the conic convention (c + A_eqᵀ duals + … = 0, i.e. −∂ objective/∂ b_eq); empty when
     ``linprog`` gives none.
     """
     if method not in _LINPROG_METHOD:
         raise ValueError(f"linprog solves by {sorted(_LINPROG_METHOD)}, got {method!r}")
     start = time.perf_counter()
+    options: dict[str, float | int] = {"maxiter": int(max_iterations)}
+    if tolerance is not None:
+        options.update(primal_feasibility_tolerance=tolerance, dual_feasibility_tolerance=tolerance)
     res = linprog(
         c,
         A_ub=A_ub,
@@ -63,7 +68,7 @@ def solve_lp(
         b_eq=b_eq,
         bounds=bounds,
         method=_LINPROG_METHOD[LPMethod(method)],
-        options={"maxiter": int(max_iterations)},
+        options=options,
     )
     marginals = getattr(getattr(res, "eqlin", None), "marginals", None)
     duals = -np.asarray(marginals) if marginals is not None else np.zeros(0)

@@ -46,9 +46,7 @@ def _fixed_set_field(
 
     Clarabel's field is written on the cone generators only; with bounded forces (``signs``, the
     bounded columns' set) HiGHS's interior point with crossover takes its place."""
-    coulomb: dict[str, Any] = dict(
-        slope=points.friction, cap=np.zeros(points.count), maximise=False, open_points=open_points, slip_sign=slip_sign
-    )
+    coulomb: dict[str, Any] = dict(open_points=open_points, slip_sign=slip_sign)
     if model.n_bounded:
         coulomb["bounded_signs"] = signs
         method = LPMethod.IPM if method == LPMethod.CLARABEL else method
@@ -80,13 +78,10 @@ def _vertex(
     lp = static_lp(
         model,
         points,
-        slope=points.friction,
-        cap=np.zeros(points.count),
-        maximise=False,
-        open_points=open_points,
-        slip_sign=slip_sign,
+        open_points,
+        slip_sign,
         max_pivots=min(limits.lp_pivots, limits.vertex_pivots),
-        method=LPMethod.SIMPLEX,
+        method=LPMethod.IPM,
         **extra,
     )
     tally.add(lp.pivots)
