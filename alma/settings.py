@@ -244,7 +244,7 @@ class SearchSettings:
     projected_restart_plain_steps: int = 20
     #: Simplex iterations of one static or kinematic LP of an exact state (a stall guard).
     lp_pivots: int = 200_000
-    #: Simplex iterations of the HiGHS vertex of the ``lp`` and ``rocking`` starts on large scenes.
+    #: HiGHS iterations (interior point, crossover) of the vertex for a widest set (a stall guard).
     vertex_pivots: int = 20_000
     #: Simplex iterations of each LP of the exact state a Gilbert start makes of its last iterate.
     last_state_pivots: int = 2_000

@@ -66,7 +66,7 @@ class ExactLimits:
 
     #: Simplex iterations of each HiGHS static or kinematic LP.
     lp_pivots: int = 200_000
-    #: Simplex iterations of the HiGHS vertex asked for after Clarabel's interior field.
+    #: HiGHS iterations (interior point, crossover) of the vertex asked for after Clarabel's field.
     vertex_pivots: int = 200_000
     #: Clarabel iterations of the fixed-active-set LP.
     interior_iterations: int = 200
