@@ -244,7 +244,7 @@ class SearchSettings:
     projected_restart_plain_steps: int = 20
     #: Simplex iterations of one static or kinematic LP of an exact state (a stall guard).
     lp_pivots: int = 200_000
-    #: HiGHS iterations (interior point, crossover) of the vertex for a widest set (a stall guard).
+    #: HiGHS iterations (interior point, crossover) of a widest-set vertex: lp and rocking starts, carry-back.
     vertex_pivots: int = 20_000
     #: Simplex iterations of each LP of the exact state a Gilbert start makes of its last iterate.
     last_state_pivots: int = 2_000
