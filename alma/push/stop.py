@@ -10,10 +10,11 @@ contacts that held it).  This module finds the *falling mode* that proves it, a 
     max  f_0ᵀu      s.t.  f_Lᵀu = 0,   Hᵀu ≥ 0,   −1 ≤ u ≤ 1
 
 (the weights do positive work, the live load none, every contact point opens or slides on its
-cone, Eq. 6), by HiGHS's simplex through :mod:`alma.backends.highs_backend`, and names the blocks
-it moves most and the joints the last step lost between them and their neighbours.  When the
-falling mode moves into a joint the last step dropped (a relative normal velocity < 0 at one of
-its former contact points), the text says so: the end may then depend on the contact tolerance
+cone, Eq. 6), a vertex by HiGHS's interior point with crossover
+(:mod:`alma.backends.highs_backend`), and names the blocks it moves most and the joints the
+last step lost between them and their neighbours.  When the falling mode moves into a joint
+the last step dropped (a relative normal velocity < 0 at one of its former contact points), the
+text says so: the end may then depend on the contact tolerance
 (on the paper's panels, putting those contacts back leaves another falling mode: docs/seismic.md).
 Dimensionless as :mod:`alma.mechanics.model`; the blocks are named by their scene ids.
 """
@@ -35,7 +36,7 @@ from alma.status import Status
 #: Blocks named in the message: the ones the falling mode moves most.
 NAMED = 6
 #: A block moves in the falling mode when its largest velocity component exceeds this share of
-#: the largest one (the simplex vertex moves the rest by round-off).
+#: the largest one (the vertex moves the rest by round-off).
 MOVING = 1e-3
 
 
@@ -55,13 +56,14 @@ class FallingMode:
 
 def falling_mode(model: Model) -> FallingMode | None:
     """The falling mode of ``model`` (a configuration the LP found without equilibrium), or None
-    when the simplex finds none (the LP's verdict then stands unexplained)."""
+    when HiGHS finds none (the LP's verdict then stands unexplained)."""
     H = model.equilibrium
     n = H.shape[0]
     eye = sp.identity(n, format="csr")
     A = sp.vstack([sp.csr_matrix(model.live), -H.T, eye, -eye]).tocsc()
     b = np.concatenate([[0.0], np.zeros(H.shape[1]), np.ones(2 * n)])
-    sol = solve_conic_form(-model.dead, A, b, 1)
+    # HiGHS's interior point with crossover (a vertex): half its dual simplex's time on the panels.
+    sol = solve_conic_form(-model.dead, A, b, 1, solver="ipm")
     if sol.status != Status.OPTIMAL or not -float(model.dead @ sol.x) < 0:
         return None
     u = np.abs(sol.x.reshape(-1, 3)).max(axis=1)
