@@ -74,8 +74,8 @@ def _vertex(
     tally: Tally,
 ) -> StaticLP:
     """A vertex of the fixed-set static LP by HiGHS's interior point with crossover (its widest
-    set is read from it; on the cone generators, five to eight times faster than its simplex on
-    the paper panels' large sets)."""
+    set is read from it): 1.9 s on an 876-block panel's set, where HiGHS's simplex took 15.7 s
+    with the set written as rows and 6.4 s on the cone generators."""
     extra = {"bounded_signs": signs} if model.n_bounded else {}
     lp = static_lp(
         model,

@@ -27,8 +27,8 @@ from alma.settings import AssociativeSettings
 
 #: The static LPs' default method: a vertex by HiGHS's simplex.
 LP_METHOD = LPMethod.SIMPLEX
-#: HiGHS's feasibility tolerances in the fixed-set static LP: its α is a state's α, and HiGHS's
-#: default 1e-7 leaves it ~1e-10 above the LP's minimum (above α_LP where the two coincide).
+#: HiGHS's feasibility tolerances in the fixed-set static LP: its α is a state's α, and at
+#: HiGHS's default 1e-7 a simplex vertex stopped 5e-7 above the LP's minimum on a paper panel.
 FIXED_SET_TOLERANCE = 1e-10
 
 
