@@ -16,7 +16,7 @@ from __future__ import annotations
 import pytest
 
 import alma
-from alma.settings import SearchSettings, Settings, StateTolerances
+from alma.settings import SearchSettings, Settings
 
 RECORDED = 0.26704441069143087  # docs/runs/compare-2026-11-25-tilt.csv, english 1:1 2:1 f = 0.27
 
@@ -25,20 +25,12 @@ def _panel() -> alma.Scene:
     return alma.paper_panel(bond="english", panel_ratio="1:1", block_ratio="2:1", friction=0.27)
 
 
-def _at_most_associative(alpha: float, scene: alma.Scene) -> bool:
-    """α_NL ≤ α_LP to a verified state's accuracy (its equilibrium to 1e-7 of the largest force,
-    as in verification/test_nonassociative_bounded.py): on this panel the lowest state found can
-    be the associative mechanism itself, whose α the two solvers give 3e-11 apart."""
-    return alpha <= alma.solve(scene).alpha + StateTolerances().equilibrium * max(1.0, abs(alpha))
-
-
 @pytest.mark.slow
 def test_the_default_precision_carries_the_state_back():
     scene = _panel()
     result = alma.solve(scene, model="nonassociative")
     assert result.status == "feasible"
     assert result.alpha <= RECORDED * (1 + 1e-9)
-    assert _at_most_associative(result.alpha, scene)
 
 
 @pytest.mark.slow
@@ -59,4 +51,17 @@ def test_the_unrounded_second_run_finds_a_verified_state():
     result = alma.solve(scene, model="nonassociative", settings=Settings(search=fallback))
     assert result.status == "feasible"
     assert result.alpha <= RECORDED * (1 + 1e-9)
-    assert _at_most_associative(result.alpha, scene)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(
+    strict=True,
+    reason="measured 2026-11-26 (fixed-set LP on the cone generators): the lowest state found on this panel is the "
+    "associative mechanism itself, α_NL = 0.26704441085254027 from HiGHS's capped LP, 3.2e-11 above Clarabel's "
+    "certified α_LP = 0.2670444108439167; alma does not yet make α_NL ≤ α_LP by construction (docs/decisions.md)",
+)
+@pytest.mark.parametrize("search", [SearchSettings(), SearchSettings(canonical_bits=16, fallback_bits=52)])
+def test_the_state_is_at_most_the_associative_alpha(search):
+    scene = _panel()
+    result = alma.solve(scene, model="nonassociative", settings=Settings(search=search))
+    assert result.alpha <= alma.solve(scene).alpha
