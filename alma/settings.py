@@ -176,17 +176,17 @@ class StateTolerances:
     #: A relative velocity below this share of the largest counts as zero when an active set is
     #: read from a mechanism: well above the LPs' round-off, below any motion a state keeps.
     active: float = 1e-6
-    #: A force below this share of the largest normal force counts as zero (or at its limit) when
-    #: the widest set a static field allows is read: a vertex's forces are exact to round-off.
+    #: A force below this share of the largest normal force counts as zero (or at its limit) when the
+    #: widest set a static field allows is read: a vertex's forces are exact to round-off.
     force: float = 1e-9
+    #: Equilibrium residual below which a state carried back is exact on the drawing (round-off).
+    exact_balance: float = 1e-12
 
 
 @dataclass(frozen=True)
 class SearchSettings:
-    """The non-associative search (Eq. 9): which starts run and the work each may spend.
-
-    Work is counted in solver units (LP solves, simplex and interior-point iterations, nodes, seeds), never seconds.
-    """
+    """The non-associative search (Eq. 9): which starts run and the work each may spend, counted in
+    solver units (LP solves, simplex and interior-point iterations, nodes, seeds), never seconds."""
 
     #: "fast", "thorough", or "auto" (thorough up to :attr:`thorough_blocks` free blocks).
     effort: Effort = "auto"
@@ -292,8 +292,7 @@ class PushSettings:
     """The incremental large-displacement analysis (``alma.push``): steps, budgets, accuracy.
 
     Lengths are relative to √(total area of the free blocks), so that the same structure drawn
-    in other units or elsewhere takes the same steps.
-    """
+    in other units or elsewhere takes the same steps."""
 
     #: Steps from α_c to α = 0 (after the probe): 40 draws a smooth curve of a rocking panel.
     steps: int = 40

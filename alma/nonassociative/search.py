@@ -232,11 +232,12 @@ def carried_back(
     carried to ``model``'s frame and blocks (:func:`~alma.mechanics.canonical.mechanism_to_drawing`)
     and made exact there, its active set fixed
     (:func:`~alma.nonassociative.exact_states.fast_exact_state`): α exact on the drawing's own
-    data.  The state is also taken to its
-    own fixed-set floor on the canonical model (:func:`_at_its_floor`) and carried whole
-    (:func:`carried_state`: its α is the canonical model's, within the data's rounding of the
-    drawing's); the lower of the two verified forms is the answer.  The other candidates keep their
-    canonical α and forces, their mechanisms carried back (what the MILP's start reads).
+    data when its field balances to round-off (``settings.states.exact_balance``).  Otherwise the
+    state is also taken to its own fixed-set floor on the canonical model (:func:`_at_its_floor`)
+    and carried whole (:func:`carried_state`: its α is the canonical model's, within the data's
+    rounding of the drawing's), and the lower of the two verified forms is the answer.  The other
+    candidates keep their canonical α and forces, their mechanisms carried back (what the MILP's
+    start reads).
     """
     t0 = time.perf_counter()
     moved = tuple(
@@ -250,11 +251,12 @@ def carried_back(
     first = lowest([moved[k] for k in verified], settings.same_alpha)
     order = sorted(verified, key=lambda k: (moved[k] is not first, moved[k].alpha))
     for k in order[: settings.carry_back_tries]:
-        # Both forms, the lower kept: which of them verifies can turn on the drawing's round-off
-        # (a panel perturbed by 1e-12 lost the exact form and moved by 1e-8 to the whole one).
         exact = fast_exact_state(model, points, moved[k].mechanism, moved[k].start, limits=limits)
-        floor = _at_its_floor(solution.candidates[k], canonical, limits)
-        exact = lower(exact, carried_state(floor, canonical, frame, model, settings))
+        if exact is None or not exact.verified or exact.residuals["equilibrium"] > settings.states.exact_balance:
+            # An exact form that balances only to its solver's tolerance is no more exact than the
+            # whole one: the lower of the two (which of them verifies turns on round-off).
+            floor = _at_its_floor(solution.candidates[k], canonical, limits)
+            exact = lower(exact, carried_state(floor, canonical, frame, model, settings))
         if exact is not None and exact.verified:
             best = exact
             moved = (*moved[:k], exact, *moved[k + 1 :])
