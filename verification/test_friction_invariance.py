@@ -272,9 +272,10 @@ def _round_off(data: dict) -> dict:
 
 @pytest.mark.slow
 def test_round_off_does_not_choose_the_carried_form():
-    """english 1:2 2:1, f = 0.27 (888 blocks): its state carried back from the canonical search
-    verified in its exact form on the drawing (α 0.2329458310) and, perturbed by 1e-12, only whole
-    (α 0.2329458287, the canonical model's): 1.0e-8 apart until the carry-back took the lower of
-    the two forms (measured 2026-11-26)."""
+    """english 1:2 2:1, f = 0.27 (888 blocks): the state carried back from the canonical search is
+    made exact on the drawing by a HiGHS vertex (interior point, crossover) that balanced to 3.0e-9
+    of the largest force with α 0.2329458310, and, the panel perturbed by 1e-12, to 3e-16 with α
+    0.2329458287: 1.0e-8 apart until a field balanced only to its solver's tolerance competed with
+    the state carried whole (measured 2026-11-26)."""
     data = alma.paper_panel("english", "1:2", "2:1", 0.27).to_dict()
     same(nonassociative(data), nonassociative(_round_off(data)))
