@@ -257,14 +257,16 @@ class SearchSettings:
     exact_ipm_points: int = 1000
     #: Scenes up to this many contact points take the ``lp`` start's static LP from HiGHS's simplex.
     lp_vertex_points: int = 1000
-    #: Above this many contact points the ``lp`` start takes the associative active set only, not
-    #: the widest set of a simplex vertex: on the 108 panels that vertex took 11 % of the search
-    #: and its state was never the lowest alone.
+    #: Above this many contact points the ``lp`` start takes the associative active set only, not the widest set of a
+    #: simplex vertex: on the 108 panels it took 11 % of the search and its state was never the lowest alone.
     lp_widest_points: int = 1000
     #: Above this many contact points the Gilbert LPs are solved by Clarabel, not warm HiGHS.
     interior_points: int = 6000
     #: LP solves of a fixed Gilbert start on Clarabel's path (above :attr:`interior_points`).
     gilbert_interior_iterations: int = 8
+    #: Above this many contact points a fast search skips the fixed Gilbert and turned-table starts (Clarabel's path):
+    #: in 14 runs of the 108 panels they never gave the answer on the three such panels (130 s of one run).
+    fixed_starts_points: int | None = 6000
     #: Macro-block rotations made exact by the ``rocking`` start, lowest lifting bound first.
     rocking_tries: int = 4
     #: Seeds (block, pivot) the rocking generator grows into macro-blocks, in block order.
@@ -276,9 +278,8 @@ class SearchSettings:
     ipopt_iterations: int = 300
     #: "thorough": scenes up to this many free blocks get the MILP of ``alma.certify`` as a start.
     milp_start_blocks: int = 12
-    #: Branch-and-bound nodes × (free blocks + bounded columns) of that MILP start (a node costs
-    #: more on a larger scene): 200 nodes on 12 dry blocks, 33 on 12 cohesive ones, where 20,000
-    #: nodes found nothing in 18 minutes.
+    #: Branch-and-bound nodes × (free blocks + bounded columns) of that MILP start (a node costs more on a larger
+    #: scene): 200 nodes on 12 dry blocks, 33 on 12 cohesive ones, where 20,000 nodes found nothing in 18 minutes.
     milp_start_work: int = 2_400
     #: When a candidate is a verified collapse state, and how active sets are read.
     states: StateTolerances = field(default_factory=StateTolerances)

@@ -158,3 +158,20 @@ def test_a_verified_rocking_state_ends_the_fast_search_of_a_large_scene():
     assert full.alpha == ended.alpha and full.status == ended.status == Status.FEASIBLE
     _, thorough = starts(effort="thorough", rocking_ends_blocks=0)
     assert "gilbert" in thorough and "tilt" in thorough
+
+
+def test_a_fast_search_of_many_contact_points_skips_the_fixed_starts():
+    """``fixed_starts_points``: above it (here 0 contact points) a fast search runs no fixed
+    Gilbert or turned-table start; "thorough" and ``None`` run them."""
+    panel = alma.paper_panel(bond="running", panel_ratio="2:1", block_ratio="4:1", friction=0.27)
+
+    def starts(**search):
+        result = alma.solve(panel, "nonassociative", settings=Settings(search=SearchSettings(**search)))
+        return result, [s["start"].split("(")[0] for s in result.to_dict()["starts"]]
+
+    skipped, ran = starts(effort="fast", fixed_starts_points=0)
+    assert "gilbert" not in ran and "tilt" not in ran and ran[:2] == ["lp", "rocking"]
+    _, ran_all = starts(effort="fast", fixed_starts_points=None)
+    assert "gilbert" in ran_all and "tilt" in ran_all
+    _, thorough = starts(effort="thorough", fixed_starts_points=0)
+    assert "gilbert" in thorough and "tilt" in thorough

@@ -8,7 +8,9 @@
   then ``gilbert-projected`` only when no start verified a state: when the fixed starts verify
   at all they do so early, and the projected iteration settles where their vertex iterates jump.
   Above :attr:`~alma.settings.SearchSettings.rocking_ends_blocks` free blocks a verified
-  ``rocking`` state ends the search before the Gilbert and turned-table starts.
+  ``rocking`` state ends the search before the Gilbert and turned-table starts, and above
+  :attr:`~alma.settings.SearchSettings.fixed_starts_points` contact points those starts do not
+  run (``gilbert-projected`` follows ``rocking``).
 - ``"thorough"`` (small scenes): ``lp``, ``rocking``, the thorough Gilbert starts (their
   iterations only) and turned tables, then again those with slope steps, their sloped LP
   written with the yield conditions as rows (``…, rows``): the same LP as the generators' form
@@ -120,7 +122,7 @@ def wanted(kind: str, ctx: Context, polish: bool | None = None) -> bool:
     if kind == "projected":
         others = [c for c in ctx.verified() if not thorough or c.start != "rocking"]
         return not others
-    if parse_kind(kind)[0] in ("gilbert", "tilt") and _rocking_ends(ctx):
+    if parse_kind(kind)[0] in ("gilbert", "tilt") and (_rocking_ends(ctx) or _too_many_points(ctx)):
         return False
     if kind == "ipopt":
         return (thorough and ctx.model.n_free <= s.ipopt_blocks) if polish is None else polish
@@ -146,6 +148,13 @@ def _rocking_ends(ctx: Context) -> bool:
         and ctx.model.n_free > limit
         and any(c.start == "rocking" for c in ctx.verified())
     )
+
+
+def _too_many_points(ctx: Context) -> bool:
+    """Whether a fast search skips its fixed Gilbert and turned-table starts, whose LPs are
+    Clarabel's on a scene this large (:attr:`~alma.settings.SearchSettings.fixed_starts_points`)."""
+    limit = ctx.settings.fixed_starts_points
+    return ctx.effort == "fast" and limit is not None and ctx.points.count > limit
 
 
 def make_start(kind: str, ctx: Context) -> Start:
