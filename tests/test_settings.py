@@ -169,7 +169,7 @@ def test_a_fast_search_of_many_contact_points_skips_the_fixed_starts():
         result = alma.solve(panel, "nonassociative", settings=Settings(search=SearchSettings(**search)))
         return result, [s["start"].split("(")[0] for s in result.to_dict()["starts"]]
 
-    skipped, ran = starts(effort="fast", fixed_starts_points=0)
+    _, ran = starts(effort="fast", fixed_starts_points=0)
     assert "gilbert" not in ran and "tilt" not in ran and ran[:2] == ["lp", "rocking"]
     _, ran_all = starts(effort="fast", fixed_starts_points=None)
     assert "gilbert" in ran_all and "tilt" in ran_all
