@@ -179,8 +179,6 @@ class StateTolerances:
     #: A force below this share of the largest normal force counts as zero (or at its limit) when the
     #: widest set a static field allows is read: a vertex's forces are exact to round-off.
     force: float = 1e-9
-    #: Equilibrium residual below which a state carried back is exact on the drawing (round-off).
-    exact_balance: float = 1e-12
 
 
 @dataclass(frozen=True)

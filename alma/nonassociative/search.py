@@ -44,7 +44,7 @@ from alma.nonassociative.exact_states import fast_exact_state
 from alma.nonassociative.limits import Cap
 from alma.nonassociative.policy import make_start, parse_kind, plan, resolve_effort, start_name, wanted
 from alma.nonassociative.starts import Context
-from alma.nonassociative.states import CollapseState, ExactLimits, Tally, lower, lowest, verify
+from alma.nonassociative.states import CollapseState, ExactLimits, Tally, lowest, verify
 from alma.settings import CertifySettings, SearchSettings
 from alma.status import Status
 
@@ -231,13 +231,12 @@ def carried_back(
     itself; that state is the answer and takes its candidate's place.  Each one's mechanism is
     carried to ``model``'s frame and blocks (:func:`~alma.mechanics.canonical.mechanism_to_drawing`)
     and made exact there, its active set fixed
-    (:func:`~alma.nonassociative.exact_states.fast_exact_state`): α exact on the drawing's own
-    data when its field balances to round-off (``settings.states.exact_balance``).  Otherwise the
-    state is also taken to its own fixed-set floor on the canonical model (:func:`_at_its_floor`)
-    and carried whole (:func:`carried_state`: its α is the canonical model's, within the data's
-    rounding of the drawing's), and the lower of the two verified forms is the answer.  The other
-    candidates keep their canonical α and forces, their mechanisms carried back (what the MILP's
-    start reads).
+    (:func:`~alma.nonassociative.exact_states.fast_exact_state`), so that α is exact on the
+    drawing's own data (the bounds and proofs are computed there).  When that does not verify, the
+    state is taken to its own fixed-set floor on the canonical model (:func:`_at_its_floor`) and
+    carried whole (:func:`carried_state`: its α is the canonical model's, within the data's
+    rounding of the drawing's).  The other candidates keep their canonical α and forces, their
+    mechanisms carried back (what the MILP's start reads).
     """
     t0 = time.perf_counter()
     moved = tuple(
@@ -252,11 +251,9 @@ def carried_back(
     order = sorted(verified, key=lambda k: (moved[k] is not first, moved[k].alpha))
     for k in order[: settings.carry_back_tries]:
         exact = fast_exact_state(model, points, moved[k].mechanism, moved[k].start, limits=limits)
-        if exact is None or not exact.verified or exact.residuals["equilibrium"] > settings.states.exact_balance:
-            # An exact form that balances only to its solver's tolerance is no more exact than the
-            # whole one: the lower of the two (which of them verifies turns on round-off).
+        if exact is None or not exact.verified:
             floor = _at_its_floor(solution.candidates[k], canonical, limits)
-            exact = lower(exact, carried_state(floor, canonical, frame, model, settings))
+            exact = carried_state(floor, canonical, frame, model, settings)
         if exact is not None and exact.verified:
             best = exact
             moved = (*moved[:k], exact, *moved[k + 1 :])
