@@ -7,10 +7,11 @@ import highspy
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from hypothesis import given, settings, strategies as st
 
 from alma.backends.clarabel_backend import UpdatableQP, solve_conic_lp
 from alma.backends.highs_backend import INF, WarmLP, lp_model, solve_conic_form
-from alma.backends.linprog_backend import LPMethod, solve_lp
+from alma.backends.linprog_backend import LPMethod, polished, solve_lp
 from alma.backends.termination import (
     CLARABEL,
     HIGHS,
@@ -150,3 +151,39 @@ def test_updatable_qp_follows_its_data():
     for t in (2.0, -1.0, 0.5):
         sol = qp.solve(np.array([-t]), np.zeros(1))
         assert sol.termination.solved and abs(sol.x[0] - max(t, 0.0)) < 1e-7
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(3, 8), st.integers(0, 6))
+def test_a_vertex_polished_balances_and_keeps_its_basis(seed, rows, extra):
+    """A vertex whose basic values are off by 1e-9 (as HiGHS's crossover can leave them) is
+    re-solved on its basis: the rows balance to round-off and the vertex is HiGHS's own."""
+    rng = np.random.default_rng(seed)
+    A = sp.csc_matrix(rng.uniform(-1.0, 1.0, (rows, rows + 1 + extra)))
+    b = A @ rng.uniform(0.5, 2.0, A.shape[1])
+    bounds = np.column_stack([np.zeros(A.shape[1]), np.full(A.shape[1], np.inf)])
+    vertex = solve_lp(
+        rng.uniform(0.1, 1.0, A.shape[1]), A_ub=None, b_ub=None, A_eq=A, b_eq=b, bounds=bounds, max_iterations=1000
+    ).x
+    off = vertex + np.where(vertex > 0, 1e-9 * rng.uniform(-1.0, 1.0, vertex.size), 0.0)
+    fixed = polished(A, b, bounds, off)
+    assert np.abs(A @ fixed - b).max() <= 1e-12 * max(1.0, np.abs(b).max())
+    np.testing.assert_allclose(fixed, vertex, rtol=0, atol=1e-10 * max(1.0, np.abs(vertex).max()))
+    assert np.array_equal(fixed == 0, vertex == 0)
+
+
+def test_a_point_that_is_not_a_vertex_is_kept():
+    """More columns off their bounds than rows (an interior point): no basis to re-solve on."""
+    A = sp.csc_matrix(np.array([[1.0, 1.0, 1.0]]))
+    bounds = np.array([[0.0, np.inf]] * 3)
+    x = np.array([0.3, 0.3, 0.4 + 1e-9])
+    assert polished(A, np.array([1.0]), bounds, x) is x
+
+
+def test_a_basis_whose_values_leave_their_bounds_is_kept():
+    """x₁ + x₂ = 1 with x₂ ∈ [0, 0.5] held at its bound 0.5 by the caller's point: the re-solved
+    basic value x₁ = 0.5 stays, but x₁ ≤ 0.2 is violated, so the point is kept as given."""
+    A = sp.csc_matrix(np.array([[1.0, 1.0]]))
+    bounds = np.array([[0.0, 0.2], [0.0, 0.5]])
+    x = np.array([0.1, 0.5])
+    assert polished(A, np.array([1.0]), bounds, x) is x

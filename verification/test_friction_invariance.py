@@ -262,15 +262,13 @@ def test_redundant_support_vertices_and_reversed_blocks():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    reason="measured 2026-11-27: english 1:2 2:1, f = 0.27 (888 blocks): the state carried back from the "
-    "canonical search is made exact on the drawing by a HiGHS vertex (interior point, crossover) that balances "
-    "to 3.0e-9 of the largest force with α 0.2329458309861346, and, the panel perturbed by 1e-12, to 3e-16 with "
-    "α 0.23294582865466468: 1.0e-8 apart. Letting the state carried whole compete fixed it and broke a "
-    "certificate (docs/decisions.md)",
-)
-def test_round_off_does_not_choose_the_carried_form():
-    """The panel perturbed by 1e-12 (``make bench-friction-perturb``'s perturbation) keeps its α to 1e-9."""
+def test_round_off_does_not_move_the_vertex_of_the_carry_back():
+    """The panel perturbed by 1e-12 (``make bench-friction-perturb``'s perturbation) keeps its α to 1e-9.
+
+    english 1:2 2:1, f = 0.27 (888 blocks): the state carried back from the canonical search is
+    made exact on the drawing by a HiGHS vertex (interior point, crossover) that balanced to 3.0e-9
+    of the largest force (α 0.2329458309861346) on the panel as drawn and to 3e-16 on the perturbed
+    one (α 0.23294582865466468). The vertex is re-solved on its basis
+    (:func:`alma.backends.linprog_backend.polished`)."""
     panel = alma.paper_panel("english", "1:2", "2:1", 0.27)
     same(alma.solve(panel, model="nonassociative"), alma.solve(perturbed(panel), model="nonassociative"))

@@ -114,6 +114,7 @@ def static_lp(
         method=method,
         max_iterations=max_pivots,
         tolerance=FIXED_SET_TOLERANCE,
+        polish=True,
     )
     pivots = sol.iterations
     if sol.termination is Termination.UNBOUNDED:
