@@ -5,7 +5,8 @@ the vertices they return, the vertex of a degenerate LP depends on the HiGHS rel
 (docs/decisions.md), and the releases differ (scipy 1.17.1 bundles HiGHS 1.12.0, highspy is
 1.15.1 here), so they stay here until a switch to highspy is shown to keep α_NL.  Every
 call is bounded by an iteration count, never by the clock; the status is read through
-:data:`alma.backends.termination.LINPROG`.
+:data:`alma.backends.termination.LINPROG`.  :func:`polished` re-solves an optimal vertex on its
+own basis, so that its values do not depend on how far HiGHS left it inside its tolerances.
 """
 
 from __future__ import annotations

@@ -88,7 +88,8 @@ def static_lp(
     |T| ≤ f N elsewhere.  The same LP as with the yield conditions and the slips as rows, with
     only the equilibrium rows: HiGHS's interior point solves it about three times faster, its
     simplex about twice.  Forces in mean block weights.  ``method``: HiGHS's simplex or
-    interior point with crossover (both give a vertex); ``max_pivots``: its iteration cap.
+    interior point with crossover (both give a vertex, re-solved on its basis so that it balances
+    to round-off: :func:`alma.backends.linprog_backend.polished`); ``max_pivots``: its iteration cap.
     Bounded forces τ (if the model has them) lie in 0 ≤ τ ≤ capacity, or in the bounds of the
     active set ``bounded_signs`` (:func:`alma.nonassociative.bounded.force_bounds`).
     """
