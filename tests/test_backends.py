@@ -181,8 +181,8 @@ def test_a_point_that_is_not_a_vertex_is_kept():
 
 
 def test_a_basis_whose_values_leave_their_bounds_is_kept():
-    """x₁ + x₂ = 1 with x₂ ∈ [0, 0.5] held at its bound 0.5 by the caller's point: the re-solved
-    basic value x₁ = 0.5 stays, but x₁ ≤ 0.2 is violated, so the point is kept as given."""
+    """x₁ + x₂ = 1 with x₂ at its upper bound 0.5: re-solved on the basis {x₁}, x₁ = 0.5 would
+    leave its bounds [0, 0.2], so the point is kept as given."""
     A = sp.csc_matrix(np.array([[1.0, 1.0]]))
     bounds = np.array([[0.0, 0.2], [0.0, 0.5]])
     x = np.array([0.1, 0.5])
