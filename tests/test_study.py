@@ -25,7 +25,7 @@ import pytest
 import alma
 from alma.cli import study as study_cli
 from alma.study.doe import COLUMNS, PAPER_DESIGN, Design, load_design, panel_key, read_results, run_doe
-from alma.study.lock import LOCK_FILE
+from alma.study.lock import StudyBusy, study_lock
 
 ROOT = Path(__file__).resolve().parents[1]
 TABLE5 = ROOT / "verification" / "data" / "table5_collapse_multipliers.csv"
@@ -35,20 +35,9 @@ SMALL = Design(panel_ratio=("2:1",), block_ratio=("4:1",), bond=("running", "eng
 # 2 panel ratios x 2 block ratios x 4 bonds x 3 frictions = 48 panels, ~3 s on one core:
 # long enough to be killed midway, and every factor has >= 2 levels (ANOVA-able).
 MEDIUM = Design(panel_ratio=("2:1", "1:1"), block_ratio=("4:1", "2:1"))
-VALUE_COLUMNS = [
-    "panel_ratio",
-    "block_ratio",
-    "bond",
-    "friction",
-    "model",
-    "status",
-    "alpha_c",
-    "alpha_lower",
-    "alpha_upper",
-    "gap",
-    "mechanism_class",
-    "key",
-]
+VALUE_COLUMNS = (
+    "panel_ratio block_ratio bond friction model status alpha_c alpha_lower alpha_upper gap mechanism_class key"
+).split()
 
 
 def cli(argv: list[str]) -> int:
@@ -207,34 +196,20 @@ def _data_rows(path: Path) -> int:
         return 0
 
 
-def _wait_group_gone(pgid: int, seconds: float = 60.0) -> None:
-    """Until no process of the group is alive (procfs; without it, no wait): a dying worker holds
-    a forked copy of the study lock's descriptor, and the resumed run would find the study busy."""
+def _wait_released(pgid: int, out: Path, seconds: float = 60.0) -> bool:
+    """Until no process of the killed group is alive (procfs) and its study lock can be taken: a
+    dying worker holds a forked copy of the lock's descriptor, and once in CI the lock was still
+    held after the group was gone (cause unknown). Whether both happened within ``seconds``."""
     deadline = time.monotonic() + seconds
-    while time.monotonic() < deadline and any(_alive_in(stat, pgid) for stat in Path("/proc").glob("[0-9]*/stat")):
-        time.sleep(0.01)
-
-
-def _lock_freed(path: Path, seconds: float = 60.0) -> bool:
-    """Whether the study lock at ``path`` can be taken within ``seconds``: what the resumed run
-    needs.  Once in a CI run the lock was still held after :func:`_wait_group_gone` saw no live
-    process of the killed group (the cause is not known), and the resumed run was refused."""
-    fcntl = pytest.importorskip("fcntl")
-    deadline = time.monotonic() + seconds
-    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
-    try:
-        while True:
+    while time.monotonic() < deadline:
+        if not any(_alive_in(stat, pgid) for stat in Path("/proc").glob("[0-9]*/stat")):
             try:
-                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except BlockingIOError:
-                if time.monotonic() >= deadline:
-                    return False
-                time.sleep(0.01)
-                continue
-            fcntl.flock(fd, fcntl.LOCK_UN)
-            return True
-    finally:
-        os.close(fd)
+                with study_lock(out):
+                    return True
+            except StudyBusy:
+                pass
+        time.sleep(0.01)
+    return False
 
 
 def _alive_in(stat: Path, pgid: int) -> bool:
@@ -264,12 +239,12 @@ def test_killed_study_resumes_without_loss_or_duplicates(tmp_path):
     finally:
         os.killpg(proc.pid, signal.SIGKILL)  # the study and its worker processes
         proc.wait()
-        _wait_group_gone(proc.pid)
+        released = _wait_released(proc.pid, out)
     done_at_kill = _data_rows(path)
     assert 8 <= done_at_kill < len(MEDIUM)
     partial = read_results(path)
     assert partial["key"].is_unique
-    assert _lock_freed(out / LOCK_FILE), "the killed study's lock is still held 60 s after its processes ended"
+    assert released, "the killed study's processes or its lock outlived it by 60 s"
 
     resumed = run_doe(out, workers=2, design=MEDIUM, progress=False)
     raw = pd.read_csv(path, dtype=str, keep_default_na=False)
