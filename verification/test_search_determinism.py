@@ -18,7 +18,9 @@ import alma
 from alma.associative.lp import solve_lp
 from alma.cli.main import main
 from alma.mechanics.model import build_model
+from alma.nonassociative.fixed_set_lps import FixedSetLPs
 from alma.nonassociative.search import solve_nonassociative
+from benchmarks.bench_friction import stack_with_cohesion
 
 #: Small-to-medium paper panels (78 to 228 blocks) whose searches run Gilbert starts to their
 #: budgets: english 1:1 4:1 f = 1 verifies only with its second fixed start.
@@ -126,3 +128,34 @@ def test_no_limit_means_not_stopped(effort):
     solution = solve_nonassociative(model, lp.mechanism, lp.multipliers, effort=effort, associative_alpha=lp.alpha)
     assert not solution.stopped_by_limit and solution.skipped == ()
     assert solution.status == "feasible"
+
+
+def _wall_fingerprint(scene: alma.Scene) -> tuple:
+    """α, candidates and per-start work of a thorough search, exactly as floats."""
+    model = build_model(scene)
+    lp = solve_lp(model)
+    solution = solve_nonassociative(model, lp.mechanism, lp.multipliers, effort="thorough", associative_alpha=lp.alpha)
+    candidates = tuple((c.start, c.alpha.hex(), c.verified) for c in solution.candidates)
+    work = tuple((r.start, r.iterations, r.pivots, r.lp_solves) for r in solution.starts)
+    return solution.best.alpha.hex() if solution.best is not None else None, candidates, work
+
+
+@pytest.mark.parametrize("name", ["stack panel", "cohesive stack"])
+def test_the_store_of_fixed_set_lps_changes_no_answer(monkeypatch, name):
+    """The search's store of fixed-set LPs (:class:`FixedSetLPs`) serves repeats, and the search
+    without it (every LP solved anew) gives the same α, candidates and work bit for bit: a paper
+    panel (144 blocks) and the 12-block stack with cohesion and weaker joints (bounded forces)."""
+    scene = alma.paper_panel("stack", "2:1", "2:1", 0.6) if name == "stack panel" else stack_with_cohesion()
+    served = []
+    stored = FixedSetLPs._stored
+
+    def counting(self, key, cap):
+        hit = stored(self, key, cap)
+        served.append(hit is not None)
+        return hit
+
+    monkeypatch.setattr(FixedSetLPs, "_stored", counting)
+    with_store = _wall_fingerprint(scene)
+    assert any(served), "no fixed-set LP repeated: the test no longer exercises the store"
+    monkeypatch.setattr(FixedSetLPs, "_stored", lambda self, key, cap: None)
+    assert _wall_fingerprint(scene) == with_store

@@ -18,6 +18,7 @@ from alma.backends.termination import Termination
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative import bounded as bf
+from alma.nonassociative.fixed_set_lps import FixedSetLPs
 from alma.nonassociative.states import (
     CollapseState,
     ExactLimits,
@@ -28,13 +29,21 @@ from alma.nonassociative.states import (
     force_active_set,
     verify,
 )
-from alma.nonassociative.static_lps import LP_METHOD, StaticLP, fixed_set_static_interior, kinematic_lp, static_lp
+from alma.nonassociative.static_lps import LP_METHOD, StaticLP
 from alma.settings import StateTolerances
 
 
+def _store(lps: FixedSetLPs | None, model: Model, points: ContactPoints) -> FixedSetLPs:
+    """``lps`` when it is ``model``'s and ``points``'s store, a new one when None."""
+    if lps is None:
+        return FixedSetLPs(model, points)
+    if not lps.serves(model, points):
+        raise ValueError("the store of fixed-set LPs belongs to another model")
+    return lps
+
+
 def _fixed_set_field(
-    model: Model,
-    points: ContactPoints,
+    lps: FixedSetLPs,
     open_points: np.ndarray,
     slip_sign: np.ndarray,
     signs: np.ndarray,
@@ -47,26 +56,23 @@ def _fixed_set_field(
     Clarabel's field is written on the cone generators only; with bounded forces (``signs``, the
     bounded columns' set) HiGHS's interior point with crossover takes its place."""
     coulomb: dict[str, Any] = dict(open_points=open_points, slip_sign=slip_sign)
-    if model.n_bounded:
+    if lps.model.n_bounded:
         coulomb["bounded_signs"] = signs
         method = LPMethod.IPM if method == LPMethod.CLARABEL else method
     if method != LPMethod.CLARABEL:
-        lp = static_lp(model, points, **coulomb, max_pivots=limits.lp_pivots, method=method)
+        lp = lps.static(**coulomb, max_pivots=limits.lp_pivots, method=method)
         tally.add(lp.pivots)
         return lp
-    lp = fixed_set_static_interior(model, points, open_points, slip_sign, max_iter=limits.interior_iterations)
+    lp = lps.interior(open_points, slip_sign, max_iter=limits.interior_iterations)
     tally.add(lp.pivots)
     if lp.status == Termination.ERROR:  # Clarabel did not converge: HiGHS decides, within the vertex's iterations
-        lp = static_lp(
-            model, points, **coulomb, max_pivots=min(limits.lp_pivots, limits.vertex_pivots), method=LPMethod.IPM
-        )
+        lp = lps.static(**coulomb, max_pivots=min(limits.lp_pivots, limits.vertex_pivots), method=LPMethod.IPM)
         tally.add(lp.pivots)
     return lp
 
 
 def _vertex(
-    model: Model,
-    points: ContactPoints,
+    lps: FixedSetLPs,
     open_points: np.ndarray,
     slip_sign: np.ndarray,
     signs: np.ndarray,
@@ -76,15 +82,9 @@ def _vertex(
     """A vertex of the fixed-set static LP by HiGHS's interior point with crossover (its widest
     set is read from it): 1.9 s on an 876-block panel's set, where HiGHS's simplex took 15.7 s
     with the set written as rows and 6.4 s on the cone generators."""
-    extra = {"bounded_signs": signs} if model.n_bounded else {}
-    lp = static_lp(
-        model,
-        points,
-        open_points,
-        slip_sign,
-        max_pivots=min(limits.lp_pivots, limits.vertex_pivots),
-        method=LPMethod.IPM,
-        **extra,
+    extra = {"bounded_signs": signs} if lps.model.n_bounded else {}
+    lp = lps.static(
+        open_points, slip_sign, max_pivots=min(limits.lp_pivots, limits.vertex_pivots), method=LPMethod.IPM, **extra
     )
     tally.add(lp.pivots)
     return lp
@@ -101,6 +101,7 @@ def exact_state(
     limits: ExactLimits = ExactLimits(),
     tally: Tally | None = None,
     widest: bool = True,
+    lps: FixedSetLPs | None = None,
 ) -> CollapseState | None:
     """Turn a candidate mechanism into an exact collapse state and verify it.
 
@@ -114,9 +115,12 @@ def exact_state(
     vertex), or Clarabel (:func:`fixed_set_static_interior`; then, when no
     mechanism has exactly the set, a HiGHS vertex (:func:`_vertex`) gives the widest set).  With bounded
     forces their columns' signs (:func:`bounded_active_set`) are part of the set, in both LPs.
-    ``widest=False``: the candidate's own set only (no vertex, no widest set).
+    ``widest=False``: the candidate's own set only (no vertex, no widest set).  ``lps``: the
+    search's store of fixed-set LPs of ``model`` (:class:`~alma.nonassociative.fixed_set_lps.FixedSetLPs`;
+    None: a store of this call's own).
     """
     tally = Tally() if tally is None else tally
+    lps = _store(lps, model, points)
     work = float(model.live @ mechanism)
     if not work > 0:
         return None
@@ -124,19 +128,17 @@ def exact_state(
     tol = limits.tolerances
     open_points, slip_sign = active_set(model, points, mechanism, dilatant=dilatant, tolerance=tol.active)
     signs = bounded_active_set(model, points, mechanism, tol.active)
-    lp = _fixed_set_field(model, points, open_points, slip_sign, signs, method, limits, tally)
+    lp = _fixed_set_field(lps, open_points, slip_sign, signs, method, limits, tally)
     if lp.status != Termination.OPTIMAL:
         return None
-    clean, pivots = kinematic_lp(
-        model, points, open_points, slip_sign, max_pivots=limits.lp_pivots, bounded_allowed=_allowed(signs)
-    )
+    clean, pivots = lps.kinematic(open_points, slip_sign, max_pivots=limits.lp_pivots, bounded_allowed=_allowed(signs))
     tally.add(pivots)
     if clean is None and not widest:
         return _verified_pair(model, points, lp, clean, mechanism, start, dilatant, tol)
     if clean is None and method == LPMethod.CLARABEL and not model.n_bounded:
         # Clarabel's field lies inside the optimal face, where fewest points are unloaded or at
         # the friction limit; the widest set is read from a vertex instead.
-        vertex = _vertex(model, points, open_points, slip_sign, signs, limits, tally)
+        vertex = _vertex(lps, open_points, slip_sign, signs, limits, tally)
         if vertex.status == Termination.OPTIMAL:
             lp = vertex
     if clean is None:
@@ -145,8 +147,8 @@ def exact_state(
         # rates of either sign where their force is at a bound).
         may_open, may_slip, free = force_active_set(points, lp.normal, lp.shear, tol.force)
         allowed = bf.force_signs(model, lp.bounded, tol.force * max(1.0, float(np.abs(lp.normal).max(initial=0.0))))
-        clean, pivots = kinematic_lp(
-            model, points, may_open, may_slip, free_slip=free, max_pivots=limits.lp_pivots, bounded_allowed=allowed
+        clean, pivots = lps.kinematic(
+            may_open, may_slip, free_slip=free, max_pivots=limits.lp_pivots, bounded_allowed=allowed
         )
         tally.add(pivots)
     return _verified_pair(model, points, lp, clean, mechanism, start, dilatant, tol)
@@ -194,6 +196,7 @@ def fast_exact_state(
     dilatant: bool = False,
     limits: ExactLimits = ExactLimits(),
     tally: Tally | None = None,
+    lps: FixedSetLPs | None = None,
 ) -> CollapseState | None:
     """:func:`exact_state` with Clarabel's static LP; HiGHS's vertex within ``limits.vertex_pivots``.
 
@@ -202,19 +205,16 @@ def fast_exact_state(
     cheaper on large panels.  A vertex is needed when the widest set of the field has to be read
     (see :func:`exact_state`) or when the interior field's round-off fails the verification.
     With bounded forces the static LP is HiGHS's interior point with crossover (a vertex) at once.
+    ``lps``: as in :func:`exact_state`.
     """
+    lps = _store(lps, model, points)
+    common: dict[str, Any] = dict(dilatant=dilatant, tally=tally, lps=lps)
     if model.n_bounded:
-        return exact_state(
-            model, points, mechanism, start, dilatant=dilatant, method=LPMethod.IPM, limits=limits, tally=tally
-        )
-    state = exact_state(
-        model, points, mechanism, start, dilatant=dilatant, method=LPMethod.CLARABEL, limits=limits, tally=tally
-    )
+        return exact_state(model, points, mechanism, start, method=LPMethod.IPM, limits=limits, **common)
+    state = exact_state(model, points, mechanism, start, method=LPMethod.CLARABEL, limits=limits, **common)
     if state is not None and not state.verified:
         vertex_limits = dataclasses.replace(limits, lp_pivots=min(limits.lp_pivots, limits.vertex_pivots))
-        state = exact_state(
-            model, points, mechanism, start, dilatant=dilatant, method=LPMethod.IPM, limits=vertex_limits, tally=tally
-        )
+        state = exact_state(model, points, mechanism, start, method=LPMethod.IPM, limits=vertex_limits, **common)
     return state
 
 
@@ -227,9 +227,10 @@ def exact_state_by(
     *,
     limits: ExactLimits = ExactLimits(),
     tally: Tally | None = None,
+    lps: FixedSetLPs | None = None,
 ) -> CollapseState | None:
     """:func:`fast_exact_state` when ``method`` is Clarabel (its field, a vertex where that does not
-    verify), else :func:`exact_state` with ``method``'s vertex."""
+    verify), else :func:`exact_state` with ``method``'s vertex.  ``lps``: as in :func:`exact_state`."""
     if method == LPMethod.CLARABEL:
-        return fast_exact_state(model, points, mechanism, start, limits=limits, tally=tally)
-    return exact_state(model, points, mechanism, start, method=method, limits=limits, tally=tally)
+        return fast_exact_state(model, points, mechanism, start, limits=limits, tally=tally, lps=lps)
+    return exact_state(model, points, mechanism, start, method=method, limits=limits, tally=tally, lps=lps)

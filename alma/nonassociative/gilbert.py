@@ -19,6 +19,7 @@ from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.cap_lp import CapLP, ClosestField
 from alma.nonassociative.exact_states import exact_state_by
+from alma.nonassociative.fixed_set_lps import FixedSetLPs
 from alma.nonassociative.limits import Cap, Work, no_cap
 from alma.nonassociative.states import CollapseState, Tally, active_set, bounded_active_set, lower, verify
 from alma.nonassociative.static_lps import StaticLP, static_lp_clarabel
@@ -72,6 +73,7 @@ def gilbert(
     work: Work = Work(),
     cap: Cap | None = None,
     tally: Tally | None = None,
+    lps: FixedSetLPs | None = None,
 ) -> tuple[CollapseState | None, int]:
     """Iterative LP of Gilbert, Casapulla & Ahmed (2006) on Eqs. 3 and 5.
 
@@ -82,7 +84,8 @@ def gilbert(
     when ``work`` is spent.  Scenes up to ``ipm_above`` contact points re-solve one persistent
     HiGHS model warm (:class:`CapLP`, its sloped model with the yield conditions as rows when
     ``yield_rows``); larger ones use Clarabel.  Returns the best verified state (or the exact
-    state of the last mechanism) and the LP solves used.
+    state of the last mechanism) and the LP solves used.  ``lps``: the search's store of
+    ``model``'s fixed-set LPs, for the exact states (None: their own).
     """
     cap, tally = cap or no_cap(), tally if tally is not None else Tally()
     f = points.friction
@@ -128,7 +131,14 @@ def gilbert(
             if current in seen and current not in tried:
                 tried.add(current)
                 state = exact_state_by(
-                    work.exact_method, model, points, lp.mechanism, start, limits=work.exact_limits(tally), tally=tally
+                    work.exact_method,
+                    model,
+                    points,
+                    lp.mechanism,
+                    start,
+                    limits=work.exact_limits(tally),
+                    tally=tally,
+                    lps=lps,
                 )
                 if state is not None and state.verified:
                     return lower(state, best), used
@@ -144,6 +154,7 @@ def gilbert(
         start,
         limits=work.exact_limits(tally),
         tally=tally,
+        lps=lps,
     )
     return lower(final, best), used
 
@@ -186,6 +197,7 @@ def projected_gilbert(
     work: Work = Work(iterations=400),
     cap: Cap | None = None,
     tally: Tally | None = None,
+    lps: FixedSetLPs | None = None,
 ) -> tuple[CollapseState | None, int]:
     """Gilbert's iteration at slope zero with the normal forces chosen by projection.
 
@@ -199,7 +211,8 @@ def projected_gilbert(
     projected iterations have not settled, the iteration starts again (once) from the initial
     field with ``restart_plain_steps`` plain iterations first, whose vertex jumps get it off a
     face it drifts along.  A verified iterate ends the loop; its mechanism's exact state is also
-    taken, whichever is lower.  Returns the state and the LP solves used.
+    taken, whichever is lower.  Returns the state and the LP solves used.  ``lps``: as in
+    :func:`gilbert`.
     """
     cap, tally = cap or no_cap(), tally if tally is not None else Tally()
     f = points.friction
@@ -243,6 +256,6 @@ def projected_gilbert(
     if lp is None or lp.mechanism is None:
         return best, used
     final = exact_state_by(
-        work.exact_method, model, points, lp.mechanism, start, limits=work.exact_limits(tally), tally=tally
+        work.exact_method, model, points, lp.mechanism, start, limits=work.exact_limits(tally), tally=tally, lps=lps
     )
     return lower(final, best), used

@@ -17,6 +17,7 @@ from alma.certify.milp import certify
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.exact_states import exact_state, fast_exact_state
+from alma.nonassociative.fixed_set_lps import FixedSetLPs
 from alma.nonassociative.gilbert import gilbert, projected_gilbert
 from alma.nonassociative.limits import Cap, Work, no_cap
 from alma.nonassociative.nlp import ipopt_polish
@@ -40,6 +41,11 @@ class Context:
     candidates: list[CollapseState] = field(default_factory=list)
     #: The user's certification settings, for the ``milp`` start (its nodes are the search's work).
     certify: CertifySettings = field(default_factory=CertifySettings)
+    #: The fixed-set LPs of ``model`` solved so far, shared by the starts.
+    lps: FixedSetLPs = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.lps = FixedSetLPs(self.model, self.points)
 
     def verified(self) -> list[CollapseState]:
         """The verified candidates so far."""
@@ -87,6 +93,7 @@ class LpStart:
                 dilatant=True,
                 limits=ctx.exact_limits(),
                 tally=tally,
+                lps=ctx.lps,
             ), 0
         if ctx.points.count > ctx.settings.lp_widest_points:  # the associative set itself, by Clarabel
             return exact_state(
@@ -99,6 +106,7 @@ class LpStart:
                 limits=ctx.exact_limits(vertex=True),
                 tally=tally,
                 widest=False,
+                lps=ctx.lps,
             ), 0
         return fast_exact_state(
             ctx.model,
@@ -108,6 +116,7 @@ class LpStart:
             dilatant=True,
             limits=ctx.exact_limits(vertex=True),
             tally=tally,
+            lps=ctx.lps,
         ), 0
 
 
@@ -122,6 +131,7 @@ def rocking_start(
     limits: ExactLimits = ExactLimits(),
     cap: Cap | None = None,
     tally: Tally | None = None,
+    lps: FixedSetLPs | None = None,
 ) -> tuple[CollapseState | None, int]:
     """The lowest verified exact state among macro-block rotations (:mod:`alma.nonassociative.rocking`).
 
@@ -129,6 +139,7 @@ def rocking_start(
     state with that mechanism) while the bound is below the best verified α so far and below
     ``upper`` (the associative α: Radenkovic's theorem puts the minimum below it).  At most
     ``tries`` candidates; returns the state (None if none verified) and the candidates tried.
+    ``lps``: the search's store of ``model``'s fixed-set LPs (None: each candidate its own).
     """
     cap = cap or no_cap()
     ceilings = [c.alpha for c in verified] + ([upper] if upper is not None and np.isfinite(upper) else [])
@@ -137,7 +148,7 @@ def rocking_start(
         if tried >= tries or candidate.lifting_bound >= best_alpha - 1e-12 or cap.expired():
             break
         tried += 1
-        state = fast_exact_state(model, points, candidate.mechanism, "rocking", limits=limits, tally=tally)
+        state = fast_exact_state(model, points, candidate.mechanism, "rocking", limits=limits, tally=tally, lps=lps)
         if state is not None and state.verified and state.alpha < best_alpha:
             best, best_alpha = state, state.alpha
     return best, tried
@@ -161,6 +172,7 @@ class RockingStart:
             limits=ctx.exact_limits(vertex=True),
             cap=ctx.cap,
             tally=tally,
+            lps=ctx.lps,
         )
 
 
@@ -192,6 +204,7 @@ class GilbertStart:
             work=self.work,
             cap=ctx.cap,
             tally=tally,
+            lps=ctx.lps,
         )
 
 
@@ -214,6 +227,7 @@ class ProjectedStart:
             work=self.work,
             cap=ctx.cap,
             tally=tally,
+            lps=ctx.lps,
         )
 
 
@@ -268,5 +282,5 @@ class MilpStart:
         if certificate.mechanism is None:
             return None, certificate.nodes
         return exact_state(
-            ctx.model, ctx.points, certificate.mechanism, self.name, limits=ctx.exact_limits(), tally=tally
+            ctx.model, ctx.points, certificate.mechanism, self.name, limits=ctx.exact_limits(), tally=tally, lps=ctx.lps
         ), certificate.nodes

@@ -120,5 +120,6 @@ class TiltStart:
                 self.name,
                 limits=self.work.exact_limits(tally),
                 tally=tally,
+                lps=ctx.lps,
             ), solves + 1
         return mapped_back(ctx.model, ctx.points, state, self.degrees, self.name, self.work.tolerances), solves + 1
