@@ -6,12 +6,14 @@ import dataclasses
 import time
 from typing import Literal, cast, overload
 
+import numpy as np
+
 from alma.associative.crisp import crisp_mechanism
 from alma.associative.lp import solve_lp
 from alma.associative.radenkovic import radenkovic_lower_bound
 from alma.certify.milp import certify as certify_milp
 from alma.engine.pattern_cache import PatternCache
-from alma.geometry.canonical import CanonicalFrame, canonical_scene
+from alma.geometry.canonical import CanonicalFrame, canonical_joints, canonical_scene
 from alma.geometry.contacts import Joints, find_joints
 from alma.geometry.scene import Scene, SceneError
 from alma.geometry.validation import validated
@@ -220,7 +222,7 @@ def _search(built: Model, settings: Settings, patterns: PatternCache | None) -> 
     ``fallback_bits`` (:class:`~alma.settings.SearchSettings`).
     """
     scene, frame = canonical_scene(built.scene)
-    unrounded = build_model(scene)
+    unrounded = build_model(scene, _own_joints(built, frame))
     answer, solution = _search_at(unrounded, frame, built, settings, settings.search.canonical_bits, patterns)
     fallback = settings.search.fallback_bits
     # Again at the fallback's precision only when canonical states verified there and none here.
@@ -232,6 +234,20 @@ def _search(built: Model, settings: Settings, patterns: PatternCache | None) -> 
     ):
         answer, _ = _search_at(unrounded, frame, built, settings, fallback, patterns)
     return answer
+
+
+def _same_joints(one: Joints, other: Joints) -> bool:
+    """Whether two joint tables are the same, row for row and bit for bit."""
+    fields = ("block_a", "block_b", "start", "end", "normal")
+    return one.count == other.count and all(np.array_equal(getattr(one, f), getattr(other, f)) for f in fields)
+
+
+def _own_joints(built: Model, frame: CanonicalFrame) -> Joints | None:
+    """The joints of the canonical model: None (found on the canonical drawing) when ``built``'s
+    are the ones its scene's drawing gives, else ``built``'s own carried into the canonical frame
+    (:func:`~alma.geometry.canonical.canonical_joints`): a model built with given joints, such as a
+    displaced configuration of ``alma.push`` with its point contacts, keeps them."""
+    return None if _same_joints(built.joints, find_joints(built.scene)) else canonical_joints(built.joints, frame)
 
 
 def _search_at(

@@ -12,6 +12,7 @@ from hypothesis import given, settings, strategies as st
 
 import alma
 from alma.geometry.canonical import canonical_scene
+from alma.geometry.contacts import Joints, find_joints
 from alma.mechanics.canonical import field_to_drawing, mechanism_to_drawing, snapped
 from alma.mechanics.model import build_model
 
@@ -158,3 +159,44 @@ def test_joints_split_differently_carry_no_field():
     count = canonical.contact_points.count
     assert drawing.joints.count == canonical.joints.count + 1
     assert field_to_drawing(np.ones(count), np.zeros(count), canonical, frame, drawing) is None
+
+
+def _pair() -> dict:
+    """A slender block (100 × 600) beside a stout one (400 × 600) on a fixed base, f = 5 (no sliding)."""
+    return {
+        "friction": 5.0,
+        "thickness": 100.0,
+        "unit_weight": 20.0,
+        "cohesion": 0.0,
+        "blocks": [
+            {"id": "base", "vertices": [[-100, -100], [500, -100], [500, 0], [-100, 0]], "fixed": True},
+            {"id": "a", "vertices": [[0, 0], [100, 0], [100, 600], [0, 600]]},
+            {"id": "b", "vertices": [[100, 0], [500, 0], [500, 600], [100, 600]]},
+        ],
+    }
+
+
+@settings(max_examples=6, deadline=None, derandomize=True)
+@given(
+    angle=st.floats(-math.pi, math.pi),
+    mirror=st.booleans(),
+    shift=st.tuples(st.floats(-1e4, 1e4), st.floats(-1e4, 1e4)),
+    seed=st.integers(0, 2**31 - 1),
+)
+def test_the_friction_search_keeps_a_models_own_joints(angle, mirror, shift, seed):
+    """A model built with given joints (the two blocks' shared joint left out, as a displaced
+    configuration of ``alma.push`` keeps its own contacts) is searched on those joints, in any
+    frame and block order: the slender block rocks alone (α = b/h = 1/6), where with the
+    drawing's own joints it leans on its neighbour.  The search used to find the joints again on the
+    drawing and answer for the pair."""
+    scene = alma.Scene.from_dict(_rewrite(_pair(), angle, mirror, shift, 1.0, 1.0, seed)).validate()
+    joints = find_joints(scene)
+    ids = np.array([b.id for b in scene.blocks])
+    shared = np.isin(ids[joints.block_a], ["a", "b"]) & np.isin(ids[joints.block_b], ["a", "b"])
+    keep = ~shared
+    assert shared.sum() == 1
+    own = Joints(joints.block_a[keep], joints.block_b[keep], joints.start[keep], joints.end[keep], joints.normal[keep])
+    alone = alma.solve(build_model(scene, own), "nonassociative")
+    pair = alma.solve(build_model(scene), "nonassociative")
+    assert alone.status == "feasible" and abs(alone.alpha - 1 / 6) <= 1e-9
+    assert pair.alpha > 1 / 6 + 1e-3

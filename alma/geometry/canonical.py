@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from alma.geometry.contacts import Joints
 from alma.geometry.loads import PointLoad, Settlement, Tie
 from alma.geometry.scene import Scene, polygon_area, polygon_centroid
 
@@ -174,3 +175,30 @@ def _settlement(settlement: Settlement | None, frame: CanonicalFrame) -> Settlem
         rotation=frame.handedness * settlement.rotation,
         about=about,
     )
+
+
+def canonical_joints(
+    joints: Joints, frame: CanonicalFrame, settings: CanonicalSettings = CanonicalSettings()
+) -> Joints:
+    """A model's own joints (a displaced configuration's, with its point contacts) in the
+    canonical drawing of ``frame``: blocks renumbered, points and normals moved with the frame.
+
+    Each joint is written with block_a < block_b (its normal from a to b) and its start before
+    its end along the tangent; the joints are ordered by (block_a, block_b, start), positions
+    compared on the grid of :attr:`CanonicalSettings.grid_bits`, so that neither the drawing's
+    block order nor its joint order decides the canonical one.
+    """
+    rank = np.empty_like(frame.order)
+    rank[frame.order] = np.arange(frame.order.size)
+    a, b = rank[joints.block_a], rank[joints.block_b]
+    start = (joints.start @ frame.matrix.T + frame.offset) / frame.unit
+    end = (joints.end @ frame.matrix.T + frame.offset) / frame.unit
+    flip = a > b
+    normal = np.where(flip[:, None], -1.0, 1.0) * (joints.normal @ frame.matrix.T)
+    a, b = np.where(flip, b, a), np.where(flip, a, b)
+    tangent = np.column_stack([-normal[:, 1], normal[:, 0]])
+    back = ((end - start) * tangent).sum(axis=1) < 0
+    start, end = np.where(back[:, None], end, start), np.where(back[:, None], start, end)
+    grid = np.round(start / 2.0**-settings.grid_bits)
+    order = np.lexsort((grid[:, 1], grid[:, 0], b, a))
+    return Joints(a[order], b[order], start[order], end[order], normal[order], joints.warnings)
