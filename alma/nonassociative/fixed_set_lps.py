@@ -10,6 +10,7 @@ does not depend on whether an LP came from the store.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -72,6 +73,24 @@ class FixedSetLPs:
             return solved
         return None
 
+    def _once(self, key: tuple[Any, ...], cap: int, solve: Callable[[], Any]) -> Any:
+        """The stored result of ``key`` that stands for a call with ``cap``, else ``solve()``'s (a
+        :class:`StaticLP`, or a kinematic LP's (mechanism, iterations)), stored with its arrays
+        read-only."""
+        solved = self._stored(key, cap)
+        if solved is None:
+            result = solve()
+            arrays: tuple[np.ndarray | None, ...]
+            if isinstance(result, StaticLP):
+                arrays, iterations = (result.normal, result.shear, result.bounded), result.pivots
+            else:
+                arrays, iterations = (result[0],), result[1]
+            for array in arrays:
+                _frozen(array)
+            solved = _Solved(result, iterations, cap)
+            self._store[key] = solved
+        return solved.result
+
     def static(
         self,
         open_points: np.ndarray,
@@ -82,30 +101,22 @@ class FixedSetLPs:
         bounded_signs: np.ndarray | None = None,
     ) -> StaticLP:
         """:func:`~alma.nonassociative.static_lps.static_lp` of this model, solved once per set and method."""
-        key = _key("static", method.value, open_points, slip_sign, bounded_signs)
-        solved = self._stored(key, max_pivots)
-        if solved is None:
-            extra = {} if bounded_signs is None else {"bounded_signs": bounded_signs}
-            lp = static_lp(
+        extra = {} if bounded_signs is None else {"bounded_signs": bounded_signs}
+        return self._once(
+            _key("static", method.value, open_points, slip_sign, bounded_signs),
+            max_pivots,
+            lambda: static_lp(
                 self.model, self.points, open_points, slip_sign, max_pivots=max_pivots, method=method, **extra
-            )
-            for array in (lp.normal, lp.shear, lp.bounded):
-                _frozen(array)
-            solved = _Solved(lp, lp.pivots, max_pivots)
-            self._store[key] = solved
-        return solved.result
+            ),
+        )
 
     def interior(self, open_points: np.ndarray, slip_sign: np.ndarray, *, max_iter: int) -> StaticLP:
         """:func:`~alma.nonassociative.static_lps.fixed_set_static_interior` of this model, solved once per set."""
-        key = _key("interior", open_points, slip_sign)
-        solved = self._stored(key, max_iter)
-        if solved is None:
-            lp = fixed_set_static_interior(self.model, self.points, open_points, slip_sign, max_iter=max_iter)
-            for array in (lp.normal, lp.shear, lp.bounded):
-                _frozen(array)
-            solved = _Solved(lp, lp.pivots, max_iter)
-            self._store[key] = solved
-        return solved.result
+        return self._once(
+            _key("interior", open_points, slip_sign),
+            max_iter,
+            lambda: fixed_set_static_interior(self.model, self.points, open_points, slip_sign, max_iter=max_iter),
+        )
 
     def kinematic(
         self,
@@ -118,10 +129,10 @@ class FixedSetLPs:
     ) -> tuple[np.ndarray | None, int]:
         """:func:`~alma.nonassociative.static_lps.kinematic_lp` of this model, solved once per set."""
         allowed = (None, None) if bounded_allowed is None else bounded_allowed
-        key = _key("kinematic", open_points, slip_sign, free_slip, *allowed)
-        solved = self._stored(key, max_pivots)
-        if solved is None:
-            mechanism, pivots = kinematic_lp(
+        return self._once(
+            _key("kinematic", open_points, slip_sign, free_slip, *allowed),
+            max_pivots,
+            lambda: kinematic_lp(
                 self.model,
                 self.points,
                 open_points,
@@ -129,7 +140,5 @@ class FixedSetLPs:
                 max_pivots=max_pivots,
                 free_slip=free_slip,
                 bounded_allowed=bounded_allowed,
-            )
-            solved = _Solved(_frozen(mechanism), pivots, max_pivots)
-            self._store[key] = solved
-        return solved.result, solved.iterations
+            ),
+        )
