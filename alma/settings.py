@@ -87,12 +87,10 @@ class AssociativeSettings:
     #: point from :attr:`auto_min_blocks` free blocks, :attr:`auto_min_blocks_bounded` with
     #: cohesion or ties, when a fast factorisation is installed).
     engine: Engine = "auto"
-    #: "auto" takes the interior point from this many free blocks: measured end to end on this
-    #: project's 2-core machine, Clarabel is faster on the paper panels (≤ 1,752 blocks: 0.59 s
-    #: against 0.80 s) and the interior point from the 5,005-block wall on (5.6 s against 12.3 s);
-    #: the panels' crossover is near 700 blocks, and the threshold stays above it because the
-    #: crisp mechanism needs Clarabel's sharper final partition on two of those panels
-    #: (docs/engine.md, docs/decisions.md).
+    #: "auto" takes the interior point from this many free blocks: on this project's 2-core machine Clarabel is faster
+    #: on the paper panels (≤ 1,752 blocks: 0.59 s against 0.80 s), the interior point from the 5,005-block wall on
+    #: (5.6 s against 12.3 s); the panels' crossover is near 700 blocks, and the threshold stays above it because the
+    #: crisp mechanism needs Clarabel's sharper final partition on two of those panels (docs/engine.md, decisions.md).
     auto_min_blocks: int = 3000
     #: ... and from this many with bounded forces (cohesion, ties), which take no crisp mechanism:
     #: with 5 kPa on every joint of the 108 panels Clarabel/ipm is 0.95 below 700 free blocks and
@@ -100,18 +98,16 @@ class AssociativeSettings:
     auto_min_blocks_bounded: int = 700
     #: The interior point's own numbers (used when the engine is "ipm", or "auto" on large scenes).
     ipm: IPMSettings = field(default_factory=IPMSettings)
-    #: The certificate's Gram matrices of at least this order go to feral when it is installed:
-    #: 3 rows per free block, i.e. walls of 5,000 blocks and more, where feral's certificate is
-    #: 1.1× faster (0.76× at 1,000 blocks, 2.4× at 20,000; studies/bench_certificate.py); every
-    #: paper panel (≤ 5,256 rows) stays on QDLDL.
+    #: The certificate's Gram matrices of at least this order go to feral when it is installed: 3 rows per free block,
+    #: i.e. walls of 5,000 blocks and more, where feral's certificate is 1.1× faster (0.76× at 1,000 blocks, 2.4× at
+    #: 20,000; studies/bench_certificate.py); every paper panel (≤ 5,256 rows) stays on QDLDL.
     feral_min_rows: int = 15_000
     #: Re-solve by HiGHS's dual simplex when the interior point's pair does not certify: a vertex
     #: is exact on the degenerate faces (noisy drawings of walls sliding at α = f) where it is not.
     simplex_fallback: bool = True
-    #: Show one crisp mechanism of the optimal face (a vertex, alma.associative.crisp) instead of
-    #: the interior point's blend of all of them; off by default: it costs 4.6x the solve over the
-    #: 108 paper panels (HiGHS's interior point with crossover), and the blend is the same
-    #: mechanism wherever the optimal face is a single one.
+    #: Show one crisp mechanism of the optimal face (a vertex, alma.associative.crisp) instead of the interior point's
+    #: blend of all of them; off by default: it costs 4.6x the solve over the 108 paper panels (HiGHS's interior point
+    #: with crossover), and the blend is the same mechanism wherever the optimal face is a single one.
     crisp_mechanism: bool = False
     #: Free blocks up to which the crisp LP may fall back to its capped form (tens of solves on
     #: the largest panels; the complementary form costs about one).
@@ -179,6 +175,9 @@ class StateTolerances:
     #: A force below this share of the largest normal force counts as zero (or at its limit) when the
     #: widest set a static field allows is read: a vertex's forces are exact to round-off.
     force: float = 1e-9
+    #: A mechanism whose relative velocities are all below this share of its largest centroid velocity is a linkage
+    #: of point hinges: they are round-off (1e-16 to 1e-8 of the blocks'), and velocities are scaled by the centroids'.
+    linkage: float = 1e-6
 
 
 @dataclass(frozen=True)

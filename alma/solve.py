@@ -215,14 +215,20 @@ def _build(scene: Scene | Model, joints: Joints | None) -> tuple[Model, dict[str
 def _search(built: Model, settings: Settings, patterns: PatternCache | None) -> NonAssociativeSolution:
     """Eq. 9 searched on the canonical drawing (one structure, one answer), answered on ``built``.
 
+    The canonical model's joints are found on the canonical drawing when ``built``'s are the ones
+    its drawing gives; otherwise ``built``'s own are carried into the canonical frame
+    (:func:`~alma.geometry.canonical.canonical_joints`) and the canonical drawing is not validated
+    again: a model built with given joints, such as a displaced configuration of ``alma.push``
+    with its point contacts, keeps them.
     The canonical model gets its own associative solution (Eq. 10) to start from; the lowest
     canonical states are then carried to ``built`` whole or made exact there (:func:`carried_back`),
     and verified on it.  When none
     of them verifies there, the search runs again with the canonical data rounded to
     ``fallback_bits`` (:class:`~alma.settings.SearchSettings`).
     """
-    scene, frame = canonical_scene(built.scene)
-    unrounded = build_model(scene, _own_joints(built, frame))
+    found = _same_joints(built.joints, find_joints(built.scene))
+    scene, frame = canonical_scene(built.scene, check=found)
+    unrounded = build_model(scene, None if found else canonical_joints(built.joints, frame))
     answer, solution = _search_at(unrounded, frame, built, settings, settings.search.canonical_bits, patterns)
     fallback = settings.search.fallback_bits
     # Again at the fallback's precision only when canonical states verified there and none here.
@@ -240,14 +246,6 @@ def _same_joints(one: Joints, other: Joints) -> bool:
     """Whether two joint tables are the same, row for row and bit for bit."""
     fields = ("block_a", "block_b", "start", "end", "normal")
     return one.count == other.count and all(np.array_equal(getattr(one, f), getattr(other, f)) for f in fields)
-
-
-def _own_joints(built: Model, frame: CanonicalFrame) -> Joints | None:
-    """The joints of the canonical model: None (found on the canonical drawing) when ``built``'s
-    are the ones its scene's drawing gives, else ``built``'s own carried into the canonical frame
-    (:func:`~alma.geometry.canonical.canonical_joints`): a model built with given joints, such as a
-    displaced configuration of ``alma.push`` with its point contacts, keeps them."""
-    return None if _same_joints(built.joints, find_joints(built.scene)) else canonical_joints(built.joints, frame)
 
 
 def _search_at(

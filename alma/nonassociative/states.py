@@ -74,6 +74,17 @@ class ExactLimits:
     tolerances: StateTolerances = field(default_factory=StateTolerances)
 
 
+def velocity_scale(mechanism: np.ndarray, *relative: np.ndarray, linkage: float = TOLERANCES.linkage) -> float:
+    """The scale of a mechanism's velocities: its largest relative velocity (openings, slips,
+    bounded rates) or, when that is below ``linkage`` times the largest velocity of a block's
+    centroid, that centroid velocity (same units).  The second case is a linkage: the four-hinge
+    arch displaced onto its point hinges turns every block and moves no contact (each hinge turns
+    about its point), so its relative velocities are round-off, by which no share can be read."""
+    contacts = max((float(np.abs(v).max(initial=0.0)) for v in relative), default=0.0)
+    centroids = float(np.abs(mechanism.reshape(-1, 3)[:, :2]).max(initial=0.0))
+    return max(contacts if contacts > linkage * centroids else centroids, 1e-300)
+
+
 def active_set(
     model: Model,
     points: ContactPoints,
@@ -87,12 +98,12 @@ def active_set(
     ``dilatant``: the mechanism obeys the associative flow rule (Eq. 6), where a
     sliding point opens by f |γ|; such a point is read as closed and slipping, and
     only an opening beyond f |γ| as a separation.  ``tolerance``: the share of the largest
-    relative velocity below which one counts as zero (:attr:`alma.settings.StateTolerances.active`).
+    relative velocity below which one counts as zero (:attr:`alma.settings.StateTolerances.active`),
+    or the centroids' largest velocity for a linkage (:func:`velocity_scale`).
     """
     opening = points.normal.T @ mechanism
     slip = points.tangent.T @ mechanism
-    scale = max(float(np.abs(opening).max(initial=0.0)), float(np.abs(slip).max(initial=0.0)), 1e-300)
-    tol = tolerance * scale
+    tol = tolerance * velocity_scale(mechanism, opening, slip)
     if dilatant:
         opening = opening - points.friction * np.abs(slip)
     open_points = opening > tol
@@ -108,12 +119,7 @@ def bounded_active_set(
     if not model.n_bounded:
         return np.zeros(0)
     d = bf.rates(model, mechanism)
-    scale = max(
-        float(np.abs(points.normal.T @ mechanism).max(initial=0.0)),
-        float(np.abs(points.tangent.T @ mechanism).max(initial=0.0)),
-        float(np.abs(d).max(initial=0.0)),
-        1e-300,
-    )
+    scale = velocity_scale(mechanism, points.normal.T @ mechanism, points.tangent.T @ mechanism, d)
     return bf.rate_signs(d, tolerance * scale)
 
 
@@ -156,7 +162,9 @@ def verify(
     ``bounded``: τ of the model's bounded forces (required when it has them); their equilibrium,
     bounds, flow rule and dissipation are checked with the rest (module docstring), and the
     residuals gain ``bounded_not_mobilised``.  ``tolerances``: what passes
-    (:class:`alma.settings.StateTolerances`).
+    (:class:`alma.settings.StateTolerances`).  The kinematic residuals are relative to the largest
+    relative velocity, or for a linkage of point hinges, which moves no contact, to the largest
+    centroid velocity (:func:`velocity_scale`).
     """
     q = model.n_bounded
     tau = np.zeros(0) if bounded is None else np.asarray(bounded, dtype=float)
@@ -178,12 +186,7 @@ def verify(
     opening = points.normal.T @ u
     slip = points.tangent.T @ u
     rates = bf.rates(model, u)
-    vel_scale = max(
-        float(np.abs(opening).max(initial=0.0)),
-        float(np.abs(slip).max(initial=0.0)),
-        float(np.abs(rates).max(initial=0.0)),
-        1e-300,
-    )
+    vel_scale = velocity_scale(u, opening, slip, rates, linkage=tolerances.linkage)
     penetration = float(np.maximum(-opening, 0).max(initial=0.0)) / vel_scale
     open_force = float((np.maximum(normal, 0) * np.maximum(opening, 0)).max(initial=0.0)) / (force_scale * vel_scale)
     # friction fully mobilised against the slip: f N |γ| + T γ = 0

@@ -18,7 +18,7 @@ import numpy as np
 from alma.geometry.scene import Scene
 from alma.mechanics.model import Model
 from alma.push.motion import Bodies, Contacts, Pose
-from alma.results.types import Result, finite
+from alma.results.types import NonAssociativeResult, Result, finite
 from alma.settings import PushSettings, Settings
 from alma.status import Status
 
@@ -103,7 +103,17 @@ class _State:
 
     @property
     def alpha(self) -> float:
-        return float(self.result.alpha)
+        """α here; for a friction search that proved no equilibrium by Radenkovic's bound
+        (α_nonassociative ≤ α_associative < 0, no state to show), the associative α, its upper bound."""
+        result = self.result
+        if (
+            isinstance(result, NonAssociativeResult)
+            and result.status == Status.NO_EQUILIBRIUM
+            and math.isnan(result.alpha)
+            and result.associative is not None
+        ):
+            return float(result.associative.alpha)
+        return float(result.alpha)
 
 
 @dataclass(frozen=True)
