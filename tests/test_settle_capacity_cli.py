@@ -61,6 +61,16 @@ def test_capacity_json_is_one_object_with_s_u_the_curve_and_the_cracks(tmp_path)
     assert (tmp_path / "cap.png").stat().st_size > 0
 
 
+def test_capacity_with_the_friction_model_says_which_model(tmp_path):
+    # with friction the lintel rests wholly on the frictionless pier and slides at α = 0: no capacity
+    out = _alma(
+        "settle", "scene.json", "--capacity", "--model", "nonassociative", "--json", cwd=_scene(tmp_path, LINTEL)
+    )
+    data = json.loads(out.stdout)
+    assert data["model"] == "nonassociative" and data["status"] == "no_equilibrium", out.stderr
+    assert "before any settlement" in data["message"] and "Traceback" not in out.stderr
+
+
 def test_capacity_html_has_one_frame_per_step_under_a_slider(tmp_path):
     out = _alma("settle", "scene.json", "--capacity", "--html", "cap.html", cwd=_scene(tmp_path, LINTEL))
     assert out.returncode == 0, out.stderr
@@ -121,3 +131,9 @@ def test_bad_scene_is_refused_with_exit_2(tmp_path, scene, words):
 def test_bad_options_are_refused_with_exit_2(tmp_path, extra):
     out = _alma("settle", "scene.json", "--capacity", *extra, cwd=_scene(tmp_path, LINTEL))
     assert out.returncode == 2 and "Traceback" not in out.stderr and "invalid input" in out.stderr
+
+
+@pytest.mark.parametrize("extra", [["--model", "nonassociative"], ["--steps", "5"]])
+def test_capacity_options_without_capacity_are_refused(tmp_path, extra):
+    out = _alma("settle", "scene.json", *extra, cwd=_scene(tmp_path, LINTEL))
+    assert out.returncode == 2 and "Traceback" not in out.stderr and "--capacity" in out.stderr

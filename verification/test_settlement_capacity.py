@@ -169,3 +169,25 @@ def test_spreading_arch_s_u_does_not_depend_on_block_order() -> None:
     behind = alma.settlement_capacity(alma.Scene.from_dict({**data, "blocks": data["blocks"][::-1]}))
     assert ahead.status == behind.status == Status.OPTIMAL
     assert behind.s_u == pytest.approx(ahead.s_u, rel=REL)
+
+
+@pytest.mark.parametrize(("b", "h", "f"), [(200.0, 600.0, 1.0), (200.0, 600.0, 0.2)])
+def test_the_friction_model_meets_the_tilting_block_closed_form(b: float, h: float, f: float) -> None:
+    # rocking about the downhill toe and sliding of one flat joint give the same α with and without
+    # dilatancy, so case 1 holds for Eq. 9's search as well: α(θ) = tan(min(atan(b/h), φ) − θ)
+    result = alma.settlement_capacity(tilting(b, h, f), model="nonassociative", steps=10)
+    limit = min(math.atan(b / h), math.atan(f))
+    assert result.status == Status.FEASIBLE, result.message
+    assert result.curve.model == "nonassociative" and result.to_dict()["model"] == "nonassociative"
+    assert result.s_u == pytest.approx(limit, rel=REL)
+    for point in result.curve.curve:
+        assert point.alpha == pytest.approx(math.tan(limit - point.d), abs=REL)
+
+
+def test_the_friction_model_finds_the_lintel_already_at_its_limit() -> None:
+    # case 3 has no friction capacity: the lintel's centroid is over the frictionless pier, so a
+    # field carries it wholly on the pier (nothing on the support) and a horizontal slide costs
+    # nothing: Eq. 9's lowest state is α = 0 (its certificate closes), before any settlement
+    result = alma.settlement_capacity(lintel(0.5), model="nonassociative", steps=10)
+    assert result.status == Status.NO_EQUILIBRIUM and "before any settlement" in result.message
+    assert abs(result.curve.first.alpha) <= 1e-12 and math.isnan(result.s_u)

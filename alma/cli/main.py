@@ -164,9 +164,11 @@ def _cmd_settle(args: argparse.Namespace) -> int:
     if args.capacity:
         return push_cli.run_capacity(args, _invalid)
     try:
+        if args.model is not None or args.steps is not None:
+            raise ValueError("--model and --steps apply to --capacity only (the settlement capacity)")
         scene = scene_from_args(args)
         result = settle(scene)
-    except (SceneError, SettleError) as exc:
+    except (SceneError, SettleError, ValueError) as exc:
         return _invalid(exc, args)
     if args.plot:
         plot_mechanism(

@@ -60,6 +60,12 @@ def add_capacity_options(p: argparse.ArgumentParser) -> None:
         "longer carry its dead load (settlement capacity s_u, the curve α(s), large displacements)",
     )
     p.add_argument("--steps", type=int, default=None, help="with --capacity: steps from s = 0 to s_u (default 40)")
+    p.add_argument(
+        "--model",
+        choices=PUSH_MODELS,
+        default=None,
+        help="with --capacity: α(s) by the associative LP (default) or the friction search (nonassociative)",
+    )
 
 
 def run_capacity(args: argparse.Namespace, invalid: Callable) -> int:
@@ -71,7 +77,7 @@ def run_capacity(args: argparse.Namespace, invalid: Callable) -> int:
         if args.steps is not None and args.steps < 1:
             raise ValueError(f"--steps must be a positive integer, got {args.steps}")
         scene = scene_from_args(args)
-        result = settlement_capacity(scene, steps=args.steps)
+        result = settlement_capacity(scene, steps=args.steps, model=args.model or "associative")
     except (SceneError, SettleError, ValueError) as exc:
         return invalid(exc, args)
     name = "s: rotation" if result.unit == "rad" else "s: settlement"

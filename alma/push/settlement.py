@@ -12,8 +12,9 @@ increment of s.  Each increment is a finite rigid step of push's machinery
 their prescribed increment, the free blocks turn about their instantaneous centres, and the
 corrector keeps every contact the settlement mechanism keeps (hinges, sliding points) closed;
 the joints are then found again on the displaced geometry (contacts open and close, new ones
-appear).  At each s the associative limit analysis (Eq. 10) of the displaced structure gives
-its load multiplier α(s) under the scene's live load; the structure stands under its dead
+appear).  At each s the associative limit analysis (Eq. 10) of the displaced structure, or with
+``model="nonassociative"`` the friction search (Eq. 9's lowest verified state), gives its load
+multiplier α(s) under the scene's live load; the structure stands under its dead
 load while α(s) > 0 (Eq. 10's static problem is feasible at α = 0).  The settlement capacity
 s_u is where α reaches 0, or where no stress field carries the dead load at any α (a loss of
 equilibrium): push's adaptive steps and bracket refinement (:func:`alma.push.curve._curve`) find
@@ -31,7 +32,7 @@ import dataclasses
 import functools
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -39,7 +40,7 @@ from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joint
 from alma.geometry.scene import Scene
 from alma.mechanics.model import build_model
 from alma.push.corrector import corrected
-from alma.push.curve import _curve
+from alma.push.curve import PUSH_MODELS, _curve
 from alma.push.motion import (
     MotionError,
     Pose,
@@ -59,6 +60,9 @@ from alma.settle import settle
 from alma.solve import solve
 from alma.status import Status
 
+#: A configuration's analysis that found its α: certified (Eq. 10), or a verified friction state.
+_STANDS = (Status.OPTIMAL, Status.FEASIBLE)
+
 
 @dataclass(frozen=True)
 class _Context:
@@ -68,6 +72,7 @@ class _Context:
     supports: _Supports
     length: float  # L, mm
     settings: Settings | None
+    model: str  # "associative" (Eq. 10) or "nonassociative" (Eq. 9's search)
     cracks: dict[float, tuple[tuple[str, str], ...]] = field(default_factory=dict)
 
 
@@ -114,6 +119,7 @@ class SettlementCapacity:
         return {
             "status": str(self.status),
             "message": self.message,
+            "model": self.curve.model,
             "support": self.support,
             "unit": self.unit,
             "s_u": finite(self.s_u),
@@ -133,6 +139,7 @@ def settlement_capacity(
     steps: int | None = None,
     settings: Settings | None = None,
     push_settings: PushSettings | None = None,
+    model: str = "associative",
 ) -> SettlementCapacity:
     """The settlement at which ``scene`` can no longer carry its dead load (module docstring).
 
@@ -142,12 +149,18 @@ def settlement_capacity(
         A scene (mm, kN) with a ``settlement`` on at least one fixed block.
     steps
         Steps from s = 0 to the capacity (``PushSettings.steps`` when None).
+    model
+        α(s) by the associative limit analysis (Eq. 10, the default) or by the friction search
+        (``"nonassociative"``, Eq. 9: the lowest verified collapse state, α_NL ≤ α_LP, so its
+        s_u comes no later on the same crack path; a lower state could bring it sooner).  The
+        crack path itself is the settlement problem's (:func:`alma.settle`), for both.
 
     Returns
     -------
     SettlementCapacity
         ``status`` ``optimal`` when every α of the curve is certified and s_u is bracketed to
-        the stated accuracy; ``no_equilibrium`` when the structure cannot carry its dead load
+        the stated accuracy (``feasible`` with the friction search: its α are verified states,
+        not proven minima); ``no_equilibrium`` when the structure cannot carry its dead load
         before it settles; ``limit_reached`` when the step budget ran out with α still > 0.
 
     Raises
@@ -156,6 +169,8 @@ def settlement_capacity(
         When no support of the scene has a settlement, or the settlement is zero.
     """
     p = push_settings or PushSettings()
+    if model not in PUSH_MODELS:
+        raise ValueError(f"model must be one of {PUSH_MODELS}, got {model!r}")
     if steps is not None:
         if not (isinstance(steps, int) and steps >= 1):
             raise ValueError(f"steps must be a positive integer, got {steps!r}")
@@ -165,22 +180,23 @@ def settlement_capacity(
     supports = _supports(scene)
     areas, _ = block_areas_and_centroids(scene)
     free = np.array([not b.fixed for b in scene.blocks])
-    ctx = _Context(supports, float(np.sqrt(np.abs(areas[free]).sum())), settings)
+    ctx = _Context(supports, float(np.sqrt(np.abs(areas[free]).sum())), settings, model)
     scale = ctx.length if supports.unit == "mm" else 1.0
-    run = _Run(scene, "associative", settings, p, scale, supports.control, 1.0, mover=functools.partial(_move, ctx))
+    run = _Run(scene, model, settings, p, scale, supports.control, 1.0, mover=functools.partial(_move, ctx))
     support = scene.blocks[supports.control].id
     try:
         start = _configuration(ctx, run, 0.0, Pose.rest(len(scene.blocks)), find_joints(scene))
     except MotionError as exc:  # the settlement mechanism of the scene as drawn is not certified
-        drawn = solve(build_model(scene), model="associative", settings=settings)
-        return _failed(drawn, Status.NOT_CONVERGED, supports, support, f"before any settlement: {exc}")
-    if not (start.result.status == Status.OPTIMAL and start.alpha > 0):
-        status = Status.NO_EQUILIBRIUM if start.result.status == Status.OPTIMAL else start.result.status
+        drawn = cast(Result, solve(build_model(scene), model=model, settings=settings))
+        return _failed(drawn, Status.NOT_CONVERGED, supports, support, model, f"before any settlement: {exc}")
+    if not (start.result.status in _STANDS and start.alpha > 0):
+        status = Status.NO_EQUILIBRIUM if start.result.status in _STANDS else start.result.status
         return _failed(
             start.result,
             status,
             supports,
             support,
+            model,
             f"before any settlement: {start.result.message} (α = {start.alpha:.6g})",
         )
     # Any settlement cracks the intact structure (a spreading arch takes its hinges at once): α
@@ -189,8 +205,10 @@ def settlement_capacity(
     try:
         first = _move(ctx, run, start, p.probe * scale)
     except MotionError as exc:
-        return _failed(start.result, Status.NOT_CONVERGED, supports, support, f"the first settlement step: {exc}")
-    if not (math.isfinite(first.alpha) and first.alpha > 0 and first.result.status == Status.OPTIMAL):
+        return _failed(
+            start.result, Status.NOT_CONVERGED, supports, support, model, f"the first settlement step: {exc}"
+        )
+    if not (math.isfinite(first.alpha) and first.alpha > 0 and first.result.status in _STANDS):
         curve = _curve(run, start)  # α ≤ 0 already at the probe: push's refinement inside it
     else:
         curve = _curve(run, first)
@@ -201,12 +219,12 @@ def settlement_capacity(
     return _capacity(ctx, curve, support)
 
 
-def _failed(result: Result, status: Status, supports: _Supports, support: str, message: str) -> SettlementCapacity:
+def _failed(
+    result: Result, status: Status, supports: _Supports, support: str, model: str, message: str
+) -> SettlementCapacity:
     """No curve: the structure does not stand at s = 0, or its first step failed (``result``: the
     analysis of the scene as drawn)."""
-    empty = PushResult(
-        result.status, result.message, "associative", support, (), math.nan, (math.nan, math.nan), 1, result
-    )
+    empty = PushResult(result.status, result.message, model, support, (), math.nan, (math.nan, math.nan), 1, result)
     return SettlementCapacity(
         status, message, support, supports.unit, math.nan, (math.nan, math.nan), math.nan, empty, (), supports.measure
     )
@@ -249,11 +267,12 @@ def _configuration(ctx: _Context, run: _Run, s: float, pose: Pose, joints: Joint
     sup = ctx.supports
     here = _touching(_placed(run.scene, pose, sup, s), joints)
     built = build_model(here, joints)
-    result = solve(built, model="associative", settings=ctx.settings)
+    # PUSH_MODELS: one model, never "both", so no Comparison comes back.
+    result = cast(Result, solve(built, model=ctx.model, settings=ctx.settings))
     associative = ctx.settings.associative if ctx.settings is not None else None
     crack = settle(here, associative, joints, crisp=run.push.settlement_vertex_slack)
     d = s * sup.measure
-    if crack.status == Status.NO_EQUILIBRIUM and result.status == Status.OPTIMAL and result.alpha > 0:
+    if crack.status == Status.NO_EQUILIBRIUM and result.status in _STANDS and result.alpha > 0:
         # The settlement LP's dual is the dead load's own equilibrium (α = 0): it has none here,
         # although a field carries α_c > 0 of live load (the structure leans on the live load):
         # the dead load is lost, which is the capacity's question.
