@@ -56,6 +56,17 @@ def test_seismic_json(files):
     assert page.count("<svg") == 3 and "a0_star" in page and "http://" not in page.replace("http://www.w3.org", "")
 
 
+def test_seismic_with_the_friction_model_gives_the_same_check_on_a_rocking_block(files):
+    # the block rocks (f = 0.8 > b/h): Eq. 9's states are Eq. 10's, so the check is the same
+    args = ("seismic", "scene.json", "--site", "site.toml", "--steps", "6", "--json")
+    friction = json.loads(_alma(*args, "--model", "nonassociative", cwd=files).stdout)
+    associative = json.loads(_alma(*args, cwd=files).stdout)
+    assert friction["status"] == "feasible" and friction["push"]["model"] == "nonassociative"
+    assert associative["status"] == "optimal" and associative["push"]["model"] == "associative"
+    for key in ("alpha0", "e_star", "a0_star", "d0_star", "safety_index"):
+        assert friction[key] == pytest.approx(associative[key], rel=1e-6), key
+
+
 def test_push_html_has_one_frame_per_step_under_a_slider(files):
     out = _alma("push", "scene.json", "--steps", "8", "--json", "--html", "curve.html", cwd=files)
     assert out.returncode == 0, out.stderr

@@ -44,6 +44,12 @@ def register(sub, invalid: Callable) -> None:
         default=None,
         help="the Circolare whose form of the checks applies (default: the site file's 'edition', else 2019)",
     )
+    p.add_argument(
+        "--model",
+        default="associative",
+        choices=PUSH_MODELS,
+        help="the capacity curve by the associative LP (default) or the friction search (nonassociative)",
+    )
     p.add_argument("--control", metavar="BLOCK", help="the control block of the capacity curve")
     p.add_argument("--steps", type=int, default=None, help="steps of the capacity curve (default 40)")
     _outputs(p)
@@ -134,9 +140,9 @@ def _run(args: argparse.Namespace, invalid: Callable, site_path: str | None) -> 
         site = load_site(site_path) if site_path else None
         if args.steps is not None and args.steps < 1:
             raise ValueError(f"--steps must be a positive integer, got {args.steps}")
-        options = {"control": args.control, "steps": args.steps}
+        options = {"control": args.control, "steps": args.steps, "model": args.model}
         if site is None:
-            result: PushResult | SeismicResult = push(scene, model=args.model, **options)
+            result: PushResult | SeismicResult = push(scene, **options)
         else:
             result = seismic(scene, site, edition=args.edition, **options)
     except (SceneError, ValueError) as exc:
