@@ -19,37 +19,20 @@ from pathlib import Path
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
+from push_references import (  # the folder is on sys.path (conftest.py)
+    PORTAL,
+    portal_alpha as _portal_alpha,
+    portal_theta as _portal_theta,
+    rect as _rect,
+    rocking_alpha as _rocking_alpha,
+    scene as _scene,
+    theta_of_d as _theta_of_d,
+)
 
 import alma
 from alma.push import push
 from alma.push.motion import displaced
 from alma.settings import PushSettings
-
-
-def _rect(x0, y0, w, h):
-    return [[x0, y0], [x0 + w, y0], [x0 + w, y0 + h], [x0, y0 + h]]
-
-
-def _scene(blocks, friction=0.8):
-    return alma.Scene.from_dict(
-        {
-            "thickness": 120,
-            "unit_weight": 18,
-            "friction": friction,
-            "blocks": [{"id": "ground", "vertices": _rect(-2000, -100, 5000, 100), "fixed": True}, *blocks],
-        }
-    )
-
-
-def _rocking_alpha(b, h, theta):
-    return (b * math.cos(theta) - h * math.sin(theta)) / (h * math.cos(theta) + b * math.sin(theta))
-
-
-def _theta_of_d(d, b, h):
-    """The block's rotation that moves its centroid horizontally by d (toe at the right)."""
-    r, beta = 0.5 * math.hypot(b, h), math.atan2(h, b)
-    return math.acos((r * math.cos(beta) - d) / r) - beta
-
 
 B, H = 240.0, 600.0
 SINGLE = _scene([{"id": "b1", "vertices": _rect(0, 0, B, H)}])
@@ -112,52 +95,6 @@ def test_slender_top_block_rocks_alone_on_the_lower_one():
     errors = [abs(p.alpha - _rocking_alpha(150, 600, _theta_of_d(p.d, 150, 600))) for p in result.curve]
     assert max(errors) <= 1e-6
     assert result.d0 == pytest.approx(75.0, abs=1e-4)
-
-
-# ------------------------------------------------------------------ portal frame (4 hinges)
-PB, PH, SPAN, LT = 200.0, 1000.0, 1000.0, 200.0
-PORTAL = _scene(
-    [
-        {"id": "pier_l", "vertices": _rect(0, 0, PB, PH)},
-        {"id": "pier_r", "vertices": _rect(SPAN - PB, 0, PB, PH)},
-        {"id": "lintel", "vertices": _rect(-100, PH, SPAN + 200, LT)},
-    ]
-)
-
-
-def _portal_alpha(theta):
-    """Sway of the portal: each pier turns clockwise by θ about its right toe, hinged to the lintel
-    at its top-left corner; the lintel translates with those corners (a parallelogram)."""
-    weights, vx, vy = [], [], []
-    for x0 in (0.0, SPAN - PB):
-        toe = np.array([x0 + PB, 0.0])
-        c, s = math.cos(theta), math.sin(theta)
-        rot = np.array([[c, s], [-s, c]])  # clockwise by θ
-        centroid = toe + rot @ np.array([-PB / 2, PH / 2])
-        corner = toe + rot @ np.array([-PB, PH])
-        for point, w in ((centroid, PB * PH), (corner, None)):
-            r = point - toe
-            v = np.array([r[1], -r[0]])  # clockwise unit rate
-            if w is None:
-                lintel_v = v
-            else:
-                weights.append(w)
-                vx.append(v[0])
-                vy.append(v[1])
-    weights.append((SPAN + 200) * LT)
-    vx.append(lintel_v[0])
-    vy.append(lintel_v[1])
-    weight = np.array(weights)
-    return float(weight @ np.array(vy) / (weight @ np.array(vx)))
-
-
-def _portal_theta(d):
-    """θ that moves the lintel (its control centroid) by d: d = b(1 − cos θ) + h sin θ."""
-    lo, hi = 0.0, 1.5
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if PB * (1 - math.cos(mid)) + PH * math.sin(mid) < d else (lo, mid)
-    return 0.5 * (lo + hi)
 
 
 def test_portal_frame_follows_its_four_hinge_mechanism_at_finite_rotation():

@@ -7,7 +7,7 @@ against the blocks' own velocities (:attr:`alma.settings.StateTolerances.linkage
 carries its states back at the push's fallback precision
 (:attr:`alma.settings.PushSettings.friction_fallback_bits`).
 
-References: the closed forms of ``verification/test_push.py`` (virtual work at finite rotation),
+References: the closed forms of ``verification/push_references.py`` (virtual work at finite rotation),
 which hold for the friction model where no joint slides (friction high enough that every
 mechanism rocks), and the associative curve of the same structure, which the friction curve must
 follow where the same mechanism is the lowest.
@@ -15,11 +15,10 @@ follow where the same mechanism is the lowest.
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
-import numpy as np
 import pytest
+from push_references import PORTAL, portal_alpha, portal_theta, rect, rocking_alpha, scene, theta_of_d
 
 import alma
 from alma.push import push
@@ -27,68 +26,11 @@ from alma.push import push
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
-def _rect(x0, y0, w, h):
-    return [[x0, y0], [x0 + w, y0], [x0 + w, y0 + h], [x0, y0 + h]]
-
-
-def _scene(blocks, friction=0.8):
-    return alma.Scene.from_dict(
-        {
-            "thickness": 120,
-            "unit_weight": 18,
-            "friction": friction,
-            "blocks": [{"id": "ground", "vertices": _rect(-2000, -100, 5000, 100), "fixed": True}, *blocks],
-        }
-    )
-
-
-def _rocking_alpha(b, h, theta):
-    return (b * math.cos(theta) - h * math.sin(theta)) / (h * math.cos(theta) + b * math.sin(theta))
-
-
-def _theta_of_d(d, b, h):
-    r, beta = 0.5 * math.hypot(b, h), math.atan2(h, b)
-    return math.acos((r * math.cos(beta) - d) / r) - beta
-
-
-# portal frame: two piers 200 × 1000 and a lintel, sway about four point hinges
-PB, PH, SPAN, LT = 200.0, 1000.0, 1000.0, 200.0
-PORTAL = _scene(
-    [
-        {"id": "pier_l", "vertices": _rect(0, 0, PB, PH)},
-        {"id": "pier_r", "vertices": _rect(SPAN - PB, 0, PB, PH)},
-        {"id": "lintel", "vertices": _rect(-100, PH, SPAN + 200, LT)},
-    ]
-)
-
-
-def _portal_alpha(theta):
-    """α = Σ W v_y / Σ W v_x of the sway at finite θ: each pier turns clockwise about its right
-    toe, the lintel translates with the piers' top-left corners (arms from the toe)."""
-    c, s = math.cos(theta), math.sin(theta)
-    rot = np.array([[c, s], [-s, c]])
-    centroid, corner = rot @ [-PB / 2, PH / 2], rot @ [-PB, PH]
-    pier = np.array([centroid[1], -centroid[0]])  # clockwise unit rate about the toe
-    lintel = np.array([corner[1], -corner[0]])
-    weights = np.array([PB * PH, PB * PH, (SPAN + 200) * LT])
-    v = np.array([pier, pier, lintel])
-    return float(weights @ v[:, 1] / (weights @ v[:, 0]))
-
-
-def _portal_theta(d):
-    """θ that moves the lintel by d: d = b(1 − cos θ) + h sin θ (bisection)."""
-    lo, hi = 0.0, 1.5
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if PB * (1 - math.cos(mid)) + PH * math.sin(mid) < d else (lo, mid)
-    return 0.5 * (lo + hi)
-
-
 def test_the_friction_curve_of_a_single_block_is_the_closed_form_to_its_zero():
     b, h = 240.0, 600.0
-    result = push(_scene([{"id": "b1", "vertices": _rect(0, 0, b, h)}]), model="nonassociative", steps=8)
+    result = push(scene([{"id": "b1", "vertices": rect(0, 0, b, h)}]), model="nonassociative", steps=8)
     assert result.status == alma.Status.FEASIBLE and result.end["reason"] == "alpha_zero"
-    errors = [abs(p.alpha - _rocking_alpha(b, h, _theta_of_d(p.d, b, h))) for p in result.curve]
+    errors = [abs(p.alpha - rocking_alpha(b, h, theta_of_d(p.d, b, h))) for p in result.curve]
     assert max(errors) <= 1e-6
     assert result.d0 == pytest.approx(b / 2, abs=1e-4)
 
@@ -101,7 +43,7 @@ def test_the_friction_curve_of_the_portal_follows_its_four_point_hinges():
     for p in result.curve:
         if p.mechanism_changed:
             break
-        assert p.alpha == pytest.approx(_portal_alpha(_portal_theta(p.d)), abs=1e-6)
+        assert p.alpha == pytest.approx(portal_alpha(portal_theta(p.d)), abs=1e-6)
         checked += 1
     assert checked >= 5 and result.curve[checked - 1].d > 20.0
 
