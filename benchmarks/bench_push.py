@@ -3,6 +3,7 @@
 The target: a 40-step curve of a 444-block panel (english 1:1 2:1, f = 0.6) in at most 40 times
 one associative solve.  Both are timed in the same run (ratios, not absolute times, are what a
 shared machine can measure); the curve's LP solves and its status are printed beside them.
+With ``--model nonassociative`` each step and each single solve is the friction search.
 
     python benchmarks/bench_push.py [--bond english --panel-ratio 1:1 --block-ratio 2:1 --steps 40]
 """
@@ -15,6 +16,7 @@ import sys
 import time
 
 import alma
+from alma.push import PUSH_MODELS
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -25,6 +27,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--friction", type=float, default=0.6)
     parser.add_argument("--steps", type=int, default=40)
     parser.add_argument("--repeat", type=int, default=3, help="single solves timed (the median is used)")
+    parser.add_argument("--model", default="associative", choices=PUSH_MODELS)
     args = parser.parse_args(argv)
     panel = alma.paper_panel(
         bond=args.bond, panel_ratio=args.panel_ratio, block_ratio=args.block_ratio, friction=args.friction
@@ -33,14 +36,15 @@ def main(argv: list[str] | None = None) -> int:
     singles = []
     for _ in range(args.repeat):
         t0 = time.perf_counter()
-        alma.solve(panel)
+        alma.solve(panel, model=args.model)
         singles.append(time.perf_counter() - t0)
     single = sorted(singles)[len(singles) // 2]
     t0 = time.perf_counter()
-    curve = alma.push(panel, steps=args.steps)
+    curve = alma.push(panel, steps=args.steps, model=args.model)
     total = time.perf_counter() - t0
     out = {
         "panel": f"{args.bond} {args.panel_ratio} {args.block_ratio} f={args.friction}",
+        "model": args.model,
         "free_blocks": n,
         "single_solve_s": round(single, 3),
         "curve_s": round(total, 3),

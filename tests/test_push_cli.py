@@ -56,6 +56,7 @@ def test_seismic_json(files):
     assert page.count("<svg") == 3 and "a0_star" in page and "http://" not in page.replace("http://www.w3.org", "")
 
 
+@pytest.mark.slow
 def test_seismic_with_the_friction_model_gives_the_same_check_on_a_rocking_block(files):
     # the block rocks (f = 0.8 > b/h): Eq. 9's states are Eq. 10's, so the check is the same
     args = ("seismic", "scene.json", "--site", "site.toml", "--steps", "6", "--json")

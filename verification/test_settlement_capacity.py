@@ -171,6 +171,7 @@ def test_spreading_arch_s_u_does_not_depend_on_block_order() -> None:
     assert behind.s_u == pytest.approx(ahead.s_u, rel=REL)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("b", "h", "f"), [(200.0, 600.0, 1.0), (200.0, 600.0, 0.2)])
 def test_the_friction_model_meets_the_tilting_block_closed_form(b: float, h: float, f: float) -> None:
     # rocking about the downhill toe and sliding of one flat joint give the same α with and without
