@@ -126,8 +126,10 @@ def exact_state(
         return None
     mechanism = mechanism * (model.n_free / work)
     tol = limits.tolerances
-    open_points, slip_sign = active_set(model, points, mechanism, dilatant=dilatant, tolerance=tol.active)
-    signs = bounded_active_set(model, points, mechanism, tol.active)
+    open_points, slip_sign = active_set(
+        model, points, mechanism, dilatant=dilatant, tolerance=tol.active, linkage=tol.linkage
+    )
+    signs = bounded_active_set(model, points, mechanism, tol.active, tol.linkage)
     lp = _fixed_set_field(lps, open_points, slip_sign, signs, method, limits, tally)
     if lp.status != Termination.OPTIMAL:
         return None

@@ -122,10 +122,10 @@ def gilbert(
         if ratio == 0.0 and not interior:
             # Once an active set comes back (the iterates settle or cycle), its exact state usually
             # verifies: try each such set once, and stop at the first verified state.
-            active = work.tolerances.active
+            active, linkage = work.tolerances.active, work.tolerances.linkage
             sets = (
-                *active_set(model, points, lp.mechanism, tolerance=active),
-                bounded_active_set(model, points, lp.mechanism, active),
+                *active_set(model, points, lp.mechanism, tolerance=active, linkage=linkage),
+                bounded_active_set(model, points, lp.mechanism, active, linkage),
             )
             current = tuple(part.tobytes() for part in sets)
             if current in seen and current not in tried:

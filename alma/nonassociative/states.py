@@ -92,6 +92,7 @@ def active_set(
     *,
     dilatant: bool = False,
     tolerance: float = TOLERANCES.active,
+    linkage: float = TOLERANCES.linkage,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Open points and slip signs of a mechanism (relative velocities below a threshold are zero).
 
@@ -99,11 +100,11 @@ def active_set(
     sliding point opens by f |γ|; such a point is read as closed and slipping, and
     only an opening beyond f |γ| as a separation.  ``tolerance``: the share of the largest
     relative velocity below which one counts as zero (:attr:`alma.settings.StateTolerances.active`),
-    or the centroids' largest velocity for a linkage (:func:`velocity_scale`).
+    or the centroids' largest velocity for a linkage (``linkage``, :func:`velocity_scale`).
     """
     opening = points.normal.T @ mechanism
     slip = points.tangent.T @ mechanism
-    tol = tolerance * velocity_scale(mechanism, opening, slip)
+    tol = tolerance * velocity_scale(mechanism, opening, slip, linkage=linkage)
     if dilatant:
         opening = opening - points.friction * np.abs(slip)
     open_points = opening > tol
@@ -112,14 +113,18 @@ def active_set(
 
 
 def bounded_active_set(
-    model: Model, points: ContactPoints, mechanism: np.ndarray, tolerance: float = TOLERANCES.active
+    model: Model,
+    points: ContactPoints,
+    mechanism: np.ndarray,
+    tolerance: float = TOLERANCES.active,
+    linkage: float = TOLERANCES.linkage,
 ) -> np.ndarray:
     """Signs of the bounded columns' rates d = −Gᵀu (:mod:`alma.nonassociative.bounded`), read
     to the threshold of :func:`active_set` (relative to the largest opening, slip or rate)."""
     if not model.n_bounded:
         return np.zeros(0)
     d = bf.rates(model, mechanism)
-    scale = velocity_scale(mechanism, points.normal.T @ mechanism, points.tangent.T @ mechanism, d)
+    scale = velocity_scale(mechanism, points.normal.T @ mechanism, points.tangent.T @ mechanism, d, linkage=linkage)
     return bf.rate_signs(d, tolerance * scale)
 
 
