@@ -3,9 +3,8 @@
 At every displaced configuration the friction search (Eq. 9) runs on the displaced geometry,
 whose opened joints are point contacts.  A mechanism of point hinges is a linkage: it moves
 every block and no contact, so its state's relative velocities are round-off and are measured
-against the blocks' own velocities (:attr:`alma.settings.StateTolerances.linkage`); the search
-carries its states back at the push's fallback precision
-(:attr:`alma.settings.PushSettings.friction_fallback_bits`).
+against the blocks' own velocities (:attr:`alma.settings.StateTolerances.linkage`), on the
+canonical drawing and on the displaced drawing its states are carried back to alike.
 
 References: the closed forms of ``verification/push_references.py`` (virtual work at finite rotation),
 which hold for the friction model where no joint slides (friction high enough that every
