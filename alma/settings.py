@@ -198,9 +198,11 @@ class SearchSettings:
     #: canonical data rounded to this many bits (52: as computed). None (no second run) by
     #: default: its answer moves with round-off of the input (a perturbed panel lost its state).
     fallback_bits: int | None = None
-    #: Above this many free blocks a verified ``rocking`` state ends a "fast" search: on 6 runs of
-    #: the 108 panels no Gilbert or turned start improved on one there (a third of the search).
+    #: Above this many free blocks a verified ``rocking`` state ends a "fast" search: on 6 runs of the 108 panels no
+    #: Gilbert or turned start improved on one there (a third of the search).
     rocking_ends_blocks: int | None = 500
+    #: A capped (Gilbert) LP stops once its α is proven below −this × max(1, |α_LP|): far below any state.
+    capped_alpha_floor: float = 100.0
     #: Canonical states (lowest α first) tried on the drawing's own model before giving up.
     carry_back_tries: int = 4
     #: States whose α are this close (relative) are one answer: the earliest start's is kept.
@@ -217,8 +219,8 @@ class SearchSettings:
         (2.0, 1.0, 1),
         (1.0, 1.0, 0),
     )
-    #: Turned-table starts (alma.nonassociative.tilted): the table's turn in degrees, each running
-    #: Gilbert's (0.5, 0.5, 1) on the turned problem; LACT³'s Portal reaches its lowest state at 10°.
+    #: Turned-table starts (alma.nonassociative.tilted): the table's turn in degrees, each running Gilbert's
+    #: (0.5, 0.5, 1) on the turned problem; LACT³'s Portal reaches its lowest state at 10°.
     tilt_degrees: tuple[float, ...] = (10.0, 20.0)
     #: The turns of "fast" (large scenes, where each start costs most): 10° gave 3 of the 4 lower
     #: states that the turned starts found on the 108 panels.

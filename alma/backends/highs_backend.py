@@ -17,6 +17,7 @@ import threading
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass
+from typing import Any
 
 import highspy
 import numpy as np
@@ -194,17 +195,43 @@ def solve_conic_form(
     )
 
 
+class _Checks:
+    """The simplex's bailout checks of one run, stopped past a limit.
+
+    HiGHS's dual simplex checks for a bailout at every rebuild and every rejected pivot.  On
+    numerically singular bases it can loop there without counting an iteration (a displaced
+    paper panel: 56,000 checks and seconds a pivot for 6,300 iterations), so the iteration
+    limit bounds these checks too: a few dozen a thousand iterations in a normal run.
+    """
+
+    def __init__(self) -> None:
+        self.calls, self.limit, self.spent = 0, 0, False
+
+    def reset(self, limit: int) -> None:
+        """A new run with this many checks allowed."""
+        self.calls, self.limit, self.spent = 0, int(limit), False
+
+    def count(self, event: Any) -> None:
+        """HiGHS's simplex interrupt callback: one check; interrupt past the limit (set every time:
+        HiGHS keeps the flag from one run to the next)."""
+        self.calls += 1
+        self.spent = self.calls > self.limit
+        event.interrupt(self.spent)
+
+
 class WarmLP:
     """A HiGHS model kept between solves, whose bounds and coefficients change and whose basis
     carries over: each re-solve is a short dual-simplex run from the last vertex.
 
     Built silent (:func:`quiet_highs`) with ``options`` (HiGHS option names); every run is
-    bounded by iteration counts, never by the clock.
+    bounded by iteration counts, and by the clock only where a user's hard cap asks for it.
     """
 
     def __init__(self, lp: highspy.HighsLp, **options: bool | int | float | str) -> None:
         self._h = quiet_highs(**options)
         self._h.passModel(lp)
+        self._checks = _Checks()
+        self._h.cbSimplexInterrupt.subscribe(self._checks.count)
 
     def set_option(self, name: str, value: bool | int | float | str) -> None:
         """Set one HiGHS option (kept for the later runs)."""
@@ -226,9 +253,10 @@ class WarmLP:
         """Forget the basis and factorisation (the next run starts cold)."""
         self._h.clearSolver()
 
-    def run(self, iteration_limit: int, *, then: str | None = None) -> SolverResult:
+    def run(self, iteration_limit: int, *, then: str | None = None, seconds: float = INF) -> SolverResult:
         """One solve within ``iteration_limit`` simplex (and interior-point) iterations, by the
-        solver option in force; ``then``: the solver option for the runs after this one.
+        solver option in force; ``then``: the solver option for the runs after this one;
+        ``seconds``: what is left of a user's hard cap (inf: none).
 
         ``iterations`` counts simplex, interior-point and crossover iterations; ``duals`` are the
         rows' (q + Aᵀz = 0).  On any termination but an optimal one, x and duals are empty.
@@ -236,11 +264,15 @@ class WarmLP:
         start = time.perf_counter()
         self._h.setOptionValue("simplex_iteration_limit", int(iteration_limit))
         self._h.setOptionValue("ipm_iteration_limit", int(iteration_limit))
+        # HiGHS's run clock adds up over the runs of one model: the cap is what is left of it now.
+        limit = self._h.getRunTime() + max(float(seconds), 0.0) if np.isfinite(seconds) else INF
+        self._h.setOptionValue("time_limit", limit)
+        self._checks.reset(iteration_limit)
         self._h.run()
         if then is not None:
             self._h.setOptionValue("solver", then)
         name = _status_name(self._h)
-        term = termination("highs", name)
+        term = Termination.ITERATION_LIMIT if self._checks.spent else termination("highs", name)
         x = duals = np.zeros(0)
         if term is Termination.OPTIMAL:
             sol = self._h.getSolution()

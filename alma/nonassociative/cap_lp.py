@@ -43,9 +43,16 @@ class CapLP:
     """
 
     def __init__(
-        self, model: Model, points: ContactPoints, *, max_pivots: int = 200_000, yield_rows: bool = False
+        self,
+        model: Model,
+        points: ContactPoints,
+        *,
+        max_pivots: int = 200_000,
+        yield_rows: bool = False,
+        alpha_floor: float = -INF,
     ) -> None:
         self.model = model
+        self.alpha_floor = float(alpha_floor)
         self.yield_rows = yield_rows
         self.points = points
         self._n = model.dead.shape[0]
@@ -81,10 +88,14 @@ class CapLP:
         # The mechanism is read from the duals: HiGHS's default dual feasibility (1e-7, absolute)
         # leaves interpenetrations of ~1e-5 of the largest velocity on large panels, more than
         # the verification accepts.
+        # The dual simplex stops once its objective (−α of a dual feasible point) proves α below
+        # ``alpha_floor``: such an LP carries no state the search can use, and on a displaced
+        # linkage its runs there went on for seconds a pivot (numerically singular bases).
         h = WarmLP(
             lp_model(cost, lower, upper, A, row_lower, row_upper),
             dual_feasibility_tolerance=DUAL_TOLERANCE,
             primal_feasibility_tolerance=DUAL_TOLERANCE,
+            objective_bound=-self.alpha_floor if np.isfinite(self.alpha_floor) else INF,
         )
         h.set_option("solver", "ipm")
         return h
@@ -165,24 +176,28 @@ class CapLP:
             h.change_coeff(row, 1 + P + col, b)
 
     @staticmethod
-    def _run(h: WarmLP, max_pivots: int) -> SolverResult:
-        """One solve within ``max_pivots`` simplex (and interior-point) iterations; every later
-        solve is dual simplex, warm."""
-        return h.run(max_pivots, then="simplex")
+    def _run(h: WarmLP, max_pivots: int, seconds: float) -> SolverResult:
+        """One solve within ``max_pivots`` simplex (and interior-point) iterations and a user's
+        ``seconds``; every later solve is dual simplex, warm."""
+        return h.run(max_pivots, then="simplex", seconds=seconds)
 
-    def solve(self, slope: np.ndarray, cap: np.ndarray, max_pivots: int | None = None) -> StaticLP:
-        """Re-solve with new slopes and caps within ``max_pivots`` iterations (default: the model's)."""
+    def solve(
+        self, slope: np.ndarray, cap: np.ndarray, max_pivots: int | None = None, seconds: float = INF
+    ) -> StaticLP:
+        """Re-solve with new slopes and caps within ``max_pivots`` iterations (default: the model's)
+        and what is left of a user's hard cap (``seconds``).  An α proven below ``alpha_floor`` is
+        a failed solve."""
         P = self.points.count
         limit = self._max_pivots if max_pivots is None else max(1, int(max_pivots))
         h = self._model_for(slope, np.asarray(cap, dtype=float))
-        sol = self._run(h, limit)
+        sol = self._run(h, limit, seconds)
         pivots = sol.iterations
         if sol.termination is Termination.NUMERICAL:
             # The warm simplex can stop without a verdict (numerical trouble at the 1e-10
             # tolerances); a cold interior-point solve with crossover usually settles it.
             h.clear_solver()
             h.set_option("solver", "ipm")
-            sol = self._run(h, limit)
+            sol = self._run(h, limit, seconds)
             pivots += sol.iterations
         if sol.termination is Termination.UNBOUNDED:
             return failed(Termination.UNBOUNDED, P, pivots, np.inf)

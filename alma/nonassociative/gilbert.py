@@ -91,7 +91,11 @@ def gilbert(
     f = points.friction
     n_bar = np.maximum(initial_normal, 0.0)
     interior = points.count > ipm_above
-    cap_lp = None if interior else CapLP(model, points, max_pivots=work.lp_pivots, yield_rows=yield_rows)
+    cap_lp = (
+        None
+        if interior
+        else CapLP(model, points, max_pivots=work.lp_pivots, yield_rows=yield_rows, alpha_floor=work.alpha_floor)
+    )
     last, best, used = None, None, 0
     seen: set[tuple[bytes, ...]] = set()
     tried: set[tuple[bytes, ...]] = set()
@@ -105,7 +109,9 @@ def gilbert(
                 model, points, slope=slope, cap=(f - slope) * n_bar, max_iter=work.interior_iterations
             )
         else:
-            lp = cast(CapLP, cap_lp).solve(slope, (f - slope) * n_bar, max_pivots=work.lp_limit(tally))
+            lp = cast(CapLP, cap_lp).solve(
+                slope, (f - slope) * n_bar, max_pivots=work.lp_limit(tally), seconds=cap.remaining()
+            )
         tally.add(lp.pivots)
         used += 1
         if lp.status != "optimal" or lp.mechanism is None:
@@ -217,13 +223,14 @@ def projected_gilbert(
     cap, tally = cap or no_cap(), tally if tally is not None else Tally()
     f = points.friction
     n_bar = np.maximum(initial_normal, 0.0)
-    cap_lp, closest, anderson = CapLP(model, points, max_pivots=work.lp_pivots), None, _Anderson(memory)
+    cap_lp = CapLP(model, points, max_pivots=work.lp_pivots, alpha_floor=work.alpha_floor)
+    closest, anderson = None, _Anderson(memory)
     best, lp, used = None, None, 0
     plain_left, projected_run, restarted = plain_steps, 0, False
     for _ in range(work.iterations):
         if cap.expired() or work.spent(tally):
             break
-        lp = cap_lp.solve(np.zeros(points.count), f * n_bar, max_pivots=work.lp_limit(tally))
+        lp = cap_lp.solve(np.zeros(points.count), f * n_bar, max_pivots=work.lp_limit(tally), seconds=cap.remaining())
         tally.add(lp.pivots)
         used += 1
         if lp.status != "optimal" or lp.mechanism is None:

@@ -34,6 +34,8 @@ class Work:
     exact_method: LPMethod = LPMethod.SIMPLEX
     #: When a state is verified, and how active sets are read (:attr:`alma.settings.SearchSettings.states`).
     tolerances: StateTolerances = field(default_factory=StateTolerances)
+    #: A capped LP whose α is proven below this stops there, failed (−inf: none).
+    alpha_floor: float = -float("inf")
 
     def spent(self, tally: Tally) -> bool:
         """Whether the total is used up."""

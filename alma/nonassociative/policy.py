@@ -28,6 +28,8 @@ and ``milp`` (:mod:`alma.certify.rows`) write them as bounded columns with their
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from alma.backends.linprog_backend import LPMethod
@@ -157,6 +159,15 @@ def _too_many_points(ctx: Context) -> bool:
     return ctx.effort == "fast" and limit is not None and ctx.points.count > limit
 
 
+def _floored(work: Work, ctx: Context) -> Work:
+    """``work`` whose capped LPs stop once their α is proven below −:attr:`~alma.settings.SearchSettings.
+    capped_alpha_floor` × max(1, |α_LP|): no state lies there, and such LPs can run for minutes."""
+    alpha = ctx.associative_alpha
+    if alpha is None or not np.isfinite(alpha):
+        return work
+    return replace(work, alpha_floor=-ctx.settings.capped_alpha_floor * max(1.0, abs(float(alpha))))
+
+
 def make_start(kind: str, ctx: Context) -> Start:
     """The start of this kind, with the work the policy gives it now."""
     s = ctx.settings
@@ -168,17 +179,17 @@ def make_start(kind: str, ctx: Context) -> Start:
     if family == "gilbert" and index is not None:
         starts = s.gilbert_fast if ctx.effort == "fast" else s.gilbert_thorough
         scale, relaxation, steps = starts[index]
-        work = gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count)
+        work = _floored(gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count), ctx)
         return GilbertStart(scale, relaxation, steps, work, yield_rows=rows_kind(kind))
     if family == "tilt" and index is not None:
         return TiltStart(
             _turns(s, ctx.effort)[index],
-            gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count),
+            _floored(gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count), ctx),
             ipm_above=s.interior_points,
             yield_rows=rows_kind(kind),
         )
     if kind == "projected":
-        return ProjectedStart(projected_work(s, ctx.model.n_free, ctx.points.count))
+        return ProjectedStart(_floored(projected_work(s, ctx.model.n_free, ctx.points.count), ctx))
     if kind == "ipopt":
         return IpoptStart()
     if kind == "milp":

@@ -1,0 +1,115 @@
+"""What bounds one run of the capped (Gilbert) LP: a floor on α, the simplex's bailout checks,
+and the user's hard cap.
+
+A displaced paper panel (english 1:1 2:1, f = 0.6, the first configuration of its friction push)
+had warm dual simplex runs go on for seconds a pivot on numerically singular bases, one after
+proving α below −2,000, another looping through 56,000 bailout checks in 6,300 iterations: 24
+minutes without an answer.  The floor stops a run whose dual objective proves α below it; the
+checks count against the iteration limit; the user's cap reaches into the run as HiGHS's time
+limit.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import alma
+from alma.associative.lp import solve_lp
+from alma.mechanics.contact_points import ContactPoints
+from alma.mechanics.model import build_model
+from alma.nonassociative.cap_lp import CapLP
+from alma.nonassociative.tilted import turned
+
+
+def _turned_panel() -> tuple:
+    """A small panel on a table turned by 20°, its LP normal forces, and the caps' scales."""
+    model = turned(build_model(alma.paper_panel("running", "2:1", "4:1", 0.6)), 20.0)
+    points = ContactPoints.from_model(model)
+    n_lp = solve_lp(model).multipliers.reshape(-1, 2).sum(axis=1)
+    return model, points, points.friction * n_lp
+
+
+def _two_solves(model, points, cap, **kwargs) -> tuple:
+    """The first (cold) solve at the LP's caps, then a warm one at a hundredth of them."""
+    lp = CapLP(model, points, **kwargs)
+    first = lp.solve(np.zeros(points.count), cap)
+    return first, lp.solve(np.zeros(points.count), 0.01 * cap)
+
+
+def test_a_capped_lp_proven_below_its_floor_stops_failed():
+    model, points, cap = _turned_panel()
+    first, low = _two_solves(model, points, cap)
+    assert first.status == low.status == "optimal"
+    assert low.alpha < 0 < first.alpha  # a hundredth of the shear capacity: the turned weight must be pulled back
+    margin = 0.01 * abs(low.alpha)
+    above_floor = _two_solves(model, points, cap, alpha_floor=low.alpha - margin)
+    assert [s.status for s in above_floor] == ["optimal", "optimal"]
+    assert above_floor[1].alpha == pytest.approx(low.alpha, rel=1e-9)
+    below_floor = _two_solves(model, points, cap, alpha_floor=low.alpha + margin)
+    assert below_floor[0].alpha == pytest.approx(first.alpha, rel=1e-9)
+    assert below_floor[1].status == "error" and below_floor[1].mechanism is None
+
+
+def test_a_spent_user_cap_stops_the_run_and_a_free_one_does_not():
+    model, points, cap = _turned_panel()
+    lp = CapLP(model, points)
+    assert lp.solve(np.zeros(points.count), cap, seconds=0.0).status == "error"
+    again = lp.solve(np.zeros(points.count), cap, seconds=float("inf"))
+    assert again.status == "optimal" and np.isfinite(again.alpha)
+
+
+@pytest.mark.parametrize("alpha, floor", [(0.4, -100.0), (-3.0, -300.0), (250.0, -25_000.0), (None, -np.inf)])
+def test_the_starts_floor_scales_with_the_associative_alpha(alpha, floor):
+    """−capped_alpha_floor × max(1, |α_LP|); no floor without a finite α_LP."""
+    from types import SimpleNamespace
+
+    from alma.nonassociative.limits import Work
+    from alma.nonassociative.policy import _floored
+
+    ctx = SimpleNamespace(associative_alpha=alpha, settings=alma.Settings().search)
+    assert _floored(Work(), ctx).alpha_floor == floor  # type: ignore[arg-type]
+
+
+def test_the_bailout_checks_count_against_the_iteration_limit(monkeypatch):
+    """With no check allowed, HiGHS's first bailout check interrupts the warm run: the callback is
+    wired and its interrupt stops the simplex, reported as an iteration limit."""
+    from alma.backends import highs_backend
+    from alma.backends.termination import Termination
+
+    model, points, cap = _turned_panel()
+    lp = CapLP(model, points)
+    assert lp.solve(np.zeros(points.count), cap).status == "optimal"  # cold: interior point, no checks
+    original = highs_backend._Checks.reset
+    monkeypatch.setattr(highs_backend._Checks, "reset", lambda self, limit: original(self, 0))
+    stopped = lp.solve(np.zeros(points.count), 0.5 * cap)
+    assert stopped.status == "error" and stopped.mechanism is None
+    assert lp._bounded is not None and lp._bounded.run(100_000).termination is Termination.ITERATION_LIMIT
+    monkeypatch.undo()
+    assert lp.solve(np.zeros(points.count), 0.5 * cap).status == "optimal"
+
+
+def test_checks_interrupt_only_past_their_limit():
+    checks = highs_backend_checks()
+    checks.reset(2)
+    event = _Event()
+    checks.count(event)
+    checks.count(event)
+    assert not checks.spent and not event.interrupted
+    checks.count(event)
+    assert checks.spent and event.interrupted
+
+
+class _Event:
+    """A stand-in for highspy's callback event."""
+
+    interrupted = False
+
+    def interrupt(self, value: bool = True) -> None:
+        self.interrupted = value
+
+
+def highs_backend_checks():
+    from alma.backends.highs_backend import _Checks
+
+    return _Checks()
