@@ -80,6 +80,7 @@ def test_the_bailout_checks_count_against_the_iteration_limit(monkeypatch):
     model, points, cap = _turned_panel()
     lp = CapLP(model, points)
     assert lp.solve(np.zeros(points.count), cap).status == "optimal"  # cold: interior point, no checks
+    monkeypatch.setattr(highs_backend._Checks, "floor", 0)
     original = highs_backend._Checks.reset
     monkeypatch.setattr(highs_backend._Checks, "reset", lambda self, limit: original(self, 0))
     stopped = lp.solve(np.zeros(points.count), 0.5 * cap)
@@ -91,10 +92,12 @@ def test_the_bailout_checks_count_against_the_iteration_limit(monkeypatch):
 
 def test_checks_interrupt_only_past_their_limit():
     checks = highs_backend_checks()
-    checks.reset(2)
+    checks.reset(2)  # below the floor: the floor
+    assert checks.limit == checks.floor
+    checks.reset(checks.floor + 2)
     event = _Event()
-    checks.count(event)
-    checks.count(event)
+    for _ in range(checks.floor + 2):
+        checks.count(event)
     assert not checks.spent and not event.interrupted
     checks.count(event)
     assert checks.spent and event.interrupted
