@@ -35,9 +35,17 @@ CROSS_ROWS = [r for r in table5() if r[1] == "2:1"] + [
 ]
 
 
-@pytest.mark.parametrize(
-    "bond,panel_ratio,block_ratio,friction,published", CROSS_ROWS, ids=[panel_id(*r[:4]) for r in CROSS_ROWS]
-)
+#: Every ``make test`` checks the 2:1 panels at f = 0.6 and the three larger cases; the 2:1 panels
+#: at f = 0.27 and 1.0 (half of this file's time) are in the slow part, which CI also runs.
+CROSS_PARAMS = [
+    pytest.param(*r, id=panel_id(*r[:4]), marks=pytest.mark.slow)
+    if r[1] == "2:1" and r[3] != 0.6
+    else pytest.param(*r, id=panel_id(*r[:4]))
+    for r in CROSS_ROWS
+]
+
+
+@pytest.mark.parametrize("bond,panel_ratio,block_ratio,friction,published", CROSS_PARAMS)
 def test_panel_matches_highs_and_cvxpy(bond, panel_ratio, block_ratio, friction, published):
     model = panel_geometry(bond, panel_ratio, block_ratio).with_friction(friction)
     result = solve_panel(bond, panel_ratio, block_ratio, friction)
