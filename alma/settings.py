@@ -201,7 +201,7 @@ class SearchSettings:
     #: Above this many free blocks a verified ``rocking`` state ends a "fast" search: on 6 runs of the 108 panels no
     #: Gilbert or turned start improved on one there (a third of the search).
     rocking_ends_blocks: int | None = 500
-    #: A capped (Gilbert) LP stops once its α is proven below −this × max(1, |α_LP|): far below any state.
+    #: A capped (Gilbert) LP stops once its α is proven below −this × max(1, |α_LP|): far below any state met.
     capped_alpha_floor: float = 100.0
     #: Canonical states (lowest α first) tried on the drawing's own model before giving up.
     carry_back_tries: int = 4

@@ -89,8 +89,8 @@ class CapLP:
         # leaves interpenetrations of ~1e-5 of the largest velocity on large panels, more than
         # the verification accepts.
         # The dual simplex stops once its objective (−α of a dual feasible point) proves α below
-        # ``alpha_floor``: such an LP carries no state the search can use, and on a displaced
-        # linkage its runs there went on for seconds a pivot (numerically singular bases).
+        # ``alpha_floor``, where the search gives its iterate up: on a displaced linkage such
+        # runs went on for seconds a pivot (numerically singular bases).
         h = WarmLP(
             lp_model(cost, lower, upper, A, row_lower, row_upper),
             dual_feasibility_tolerance=DUAL_TOLERANCE,

@@ -161,7 +161,8 @@ def _too_many_points(ctx: Context) -> bool:
 
 def _floored(work: Work, ctx: Context) -> Work:
     """``work`` whose capped LPs stop once their α is proven below −:attr:`~alma.settings.SearchSettings.
-    capped_alpha_floor` × max(1, |α_LP|): no state lies there, and such LPs can run for minutes."""
+    capped_alpha_floor` × max(1, |α_LP|): a cut, not a proof (an iterate there is given up), far
+    below every state met, where such LPs ran for minutes."""
     alpha = ctx.associative_alpha
     if alpha is None or not np.isfinite(alpha):
         return work
