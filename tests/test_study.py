@@ -319,6 +319,7 @@ def test_dask_local_cluster_equals_local_run(tmp_path, small_local, monkeypatch)
 # ------------------------------------------------------------------------------ command line
 
 
+@pytest.mark.slow  # 10–15 s: CI runs it with the slow part
 def test_doe_command(tmp_path, capsys):
     design = tmp_path / "small.toml"
     design.write_text(

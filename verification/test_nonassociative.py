@@ -25,6 +25,7 @@ def side_by_side(k: int, f: float, b: float = 1.0, h: float = 2.0) -> alma.Scene
     return alma.Scene.from_dict({"friction": f, "blocks": blocks})
 
 
+@pytest.mark.slow  # 10–15 s: CI runs it with the slow part
 @given(b=st.floats(20, 1000), h=st.floats(20, 1000), f=st.floats(0.05, 2.0))
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 def test_single_block_both_models(b, h, f):

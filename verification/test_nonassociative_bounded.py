@@ -35,6 +35,7 @@ def _nonassociative(scene: alma.Scene, **kwargs) -> alma.NonAssociativeResult:
     return result
 
 
+@pytest.mark.slow  # 10–15 s: CI runs it with the slow part
 @settings(max_examples=15, deadline=None)
 @given(b=st.floats(60, 400), h=st.floats(40, 600), f=st.floats(0.1, 1.5), c=st.floats(0.5, 20.0))
 def test_single_block_with_base_cohesion(b, h, f, c):

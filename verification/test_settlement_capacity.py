@@ -100,6 +100,7 @@ def _reference() -> alma.SettlementCapacity:
     return alma.settlement_capacity(lintel(0.5))
 
 
+@pytest.mark.slow  # 10–15 s: CI runs it with the slow part
 @settings(max_examples=4, deadline=None)
 @given(
     unit=st.sampled_from([0.1, 1.0, 25.4, 1000.0]),
