@@ -11,14 +11,20 @@ limit.
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
 import alma
 from alma.associative.lp import solve_lp
+from alma.backends import highs_backend
+from alma.backends.termination import Termination
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
 from alma.nonassociative.cap_lp import CapLP
+from alma.nonassociative.limits import Work
+from alma.nonassociative.policy import _floored
 from alma.nonassociative.tilted import turned
 
 
@@ -62,11 +68,6 @@ def test_a_spent_user_cap_stops_the_run_and_a_free_one_does_not():
 @pytest.mark.parametrize("alpha, floor", [(0.4, -100.0), (-3.0, -300.0), (250.0, -25_000.0), (None, -np.inf)])
 def test_the_starts_floor_scales_with_the_associative_alpha(alpha, floor):
     """−capped_alpha_floor × max(1, |α_LP|); no floor without a finite α_LP."""
-    from types import SimpleNamespace
-
-    from alma.nonassociative.limits import Work
-    from alma.nonassociative.policy import _floored
-
     ctx = SimpleNamespace(associative_alpha=alpha, settings=alma.Settings().search)
     assert _floored(Work(), ctx).alpha_floor == floor  # type: ignore[arg-type]
 
@@ -74,9 +75,6 @@ def test_the_starts_floor_scales_with_the_associative_alpha(alpha, floor):
 def test_the_bailout_checks_count_against_the_iteration_limit(monkeypatch):
     """With no check allowed, HiGHS's first bailout check interrupts the warm run: the callback is
     wired and its interrupt stops the simplex, reported as an iteration limit."""
-    from alma.backends import highs_backend
-    from alma.backends.termination import Termination
-
     model, points, cap = _turned_panel()
     lp = CapLP(model, points)
     assert lp.solve(np.zeros(points.count), cap).status == "optimal"  # cold: interior point, no checks
@@ -91,7 +89,7 @@ def test_the_bailout_checks_count_against_the_iteration_limit(monkeypatch):
 
 
 def test_checks_interrupt_only_past_their_limit():
-    checks = highs_backend_checks()
+    checks = highs_backend._Checks()
     checks.reset(2)  # below the floor: the floor
     assert checks.limit == checks.floor
     checks.reset(checks.floor + 2)
@@ -110,9 +108,3 @@ class _Event:
 
     def interrupt(self, value: bool = True) -> None:
         self.interrupted = value
-
-
-def highs_backend_checks():
-    from alma.backends.highs_backend import _Checks
-
-    return _Checks()
