@@ -14,16 +14,20 @@ with two refinement sweeps; J has a handful of entries per contact, so the facto
 milliseconds where an iterative solver (LSMR) took seconds and stalled at 1e-8 mm.  A Newton
 step that does not reduce the residual by ``PushSettings.corrector_contraction`` has stalled (the
 contacts kept over-constrain the motion: a dilatant mechanism's sliding points) and ends the
-iteration at once.  Lengths in mm, angles in rad.
+iteration at once.  Hinges that close a mechanism only to first order (three collinear hinges
+among three bodies lock at finite motion) make one of them open: :func:`one_hinge_opened` keeps
+the step that opens a hinge least without interpenetration.  Lengths in mm, angles in rad.
 """
 
 from __future__ import annotations
+
+import dataclasses
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from alma.push.motion import Bodies, Contacts, MotionError, _perp, _rotate
+from alma.push.motion import Bodies, Contacts, MotionError, _moved, _perp, _rotate
 from alma.settings import PushSettings
 
 
@@ -73,6 +77,56 @@ def corrected(
         f"the mechanism's contacts cannot stay closed over this step (residual {size:.3g} mm "
         "where Newton's method stalled)"
     )
+
+
+def one_hinge_opened(
+    bodies: Bodies,
+    contacts: Contacts,
+    start: np.ndarray,
+    control: tuple[int, np.ndarray] | None,
+    target: float,
+    length: float,
+    settings: PushSettings,
+) -> np.ndarray:
+    """Increments as :func:`corrected`'s, with one hinge of ``contacts`` released and no sliding
+    point kept: the hinges of a mechanism that moves only infinitesimally with all of them closed
+    (three collinear hinges among three bodies) cannot all stay closed over a finite step.
+
+    Each hinge is released in turn; a release counts when the others then close and the released
+    point's two corners do not overlap (normal gap ≥ −``corrector_tolerance`` × 10³ × ``length``).
+    Of those, the one whose corners end closest together is kept: the motion nearest to the
+    mechanism's own, an opening of second order in the step where the lock is (a tie, as in a
+    symmetric linkage, goes to the point first along the push, then the lower one).
+
+    Raises
+    ------
+    MotionError
+        When no single released hinge lets the others close.
+    """
+    hinges = np.flatnonzero(contacts.hinge)
+    free = np.zeros_like(contacts.sliding)
+    floor = -settings.corrector_tolerance * 1e3 * length
+    sense = 1.0 if target >= 0 else -1.0
+    best: tuple[tuple[float, float, float], np.ndarray] | None = None
+    for k in hinges:
+        kept = dataclasses.replace(contacts, hinge=contacts.hinge & (np.arange(contacts.hinge.size) != k), sliding=free)
+        try:
+            z = corrected(bodies, kept, start, control, target, length, settings)
+        except MotionError:
+            continue
+        gap = _moved(bodies, z, contacts.b[k : k + 1], contacts.point[k : k + 1])[0]
+        gap = gap - _moved(bodies, z, contacts.a[k : k + 1], contacts.point[k : k + 1])[0]
+        if float(gap @ contacts.normal[k]) < floor:
+            continue
+        key = (float(np.hypot(*gap)), -sense * float(contacts.point[k, 0]), float(contacts.point[k, 1]))
+        if best is None or key < best[0]:
+            best = (key, z)
+    if best is None:
+        raise MotionError(
+            f"the mechanism's contacts cannot stay closed over this step, nor with any one of its {hinges.size} "
+            "hinges opened"
+        )
+    return best[1]
 
 
 def _least_squares(jacobian: sp.spmatrix, residual: np.ndarray, dense_columns: int) -> np.ndarray:

@@ -34,7 +34,7 @@ from alma.geometry.scene import Scene
 from alma.geometry.validation import validated
 from alma.mechanics.model import Model, build_model
 from alma.push.carried import tie_lengths, without_slack
-from alma.push.corrector import corrected
+from alma.push.corrector import corrected, one_hinge_opened
 from alma.push.motion import (
     MotionError,
     Pose,
@@ -294,7 +294,11 @@ def _move(run: _Run, state: _State, d: float) -> _State:
     except MotionError:
         # sliding points kept closed over-constrain a dilatant mechanism of many bodies: let them
         # open as the associative flow rule does, and keep the hinges
-        z = corrected(bodies, dataclasses.replace(state.contacts, sliding=np.zeros_like(state.contacts.sliding)), *args)
+        free = dataclasses.replace(state.contacts, sliding=np.zeros_like(state.contacts.sliding))
+        try:
+            z = corrected(bodies, free, *args)
+        except MotionError:  # hinges that close only to first order lock: one of them opens
+            z = one_hinge_opened(bodies, state.contacts, *args)
     pose = advance(state.pose, scene0, bodies, z)
     joints = joints_after(displaced(scene0, pose), state.contacts, bodies, z)
     return _state(
