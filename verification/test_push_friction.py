@@ -64,9 +64,8 @@ def test_the_friction_curve_of_the_arch_ends_where_the_associative_one_does():
 
 @pytest.mark.slow
 def test_the_friction_curve_of_ferris_and_tin_lois_wall_3_runs_to_its_zero():
-    # the wall's friction mechanism keeps its contacts closed over finite steps (walls 1, 2 and 5 do
-    # not yet: their hinges over-constrain a finite step, docs/seismic.md); every point is a verified
-    # state, the first the search's own α_NL
+    # the wall's friction mechanism keeps its contacts closed over finite steps; every point is a
+    # verified state, the first the search's own α_NL
     wall = alma.coursed_wall(WALLS[3], 400.0, 175.0, friction=FRICTION, thickness=1000.0, unit_weight=10.0)
     curve = push(wall, model="nonassociative", steps=20)
     assert curve.status == alma.Status.FEASIBLE and curve.end["reason"] == "alpha_zero", curve.message
@@ -74,3 +73,15 @@ def test_the_friction_curve_of_ferris_and_tin_lois_wall_3_runs_to_its_zero():
     assert curve.curve[0].alpha == alma.solve(wall, model="nonassociative").alpha
     assert len(curve.curve) >= 10 and abs(curve.curve[-1].alpha) <= 1e-6 < curve.curve[0].alpha
     assert curve.d0_bracket is not None and curve.d0_bracket[0] <= curve.d0 <= curve.d0_bracket[1]
+
+
+@pytest.mark.slow
+def test_ferris_and_tin_lois_wall_1_opens_a_locked_hinge_and_moves_on():
+    # its friction mechanism's hinges close only to first order (three collinear among three
+    # bodies): with every hinge kept closed the curve stopped at d = 0; one hinge opens now
+    # (docs/seismic.md), and every point after it is a verified state of the displaced wall
+    wall = alma.coursed_wall(WALLS[1], 400.0, 175.0, friction=FRICTION, thickness=1000.0, unit_weight=10.0)
+    curve = push(wall, model="nonassociative", steps=20)
+    assert len(curve.curve) >= 3 and curve.curve[-1].d > 10.0, curve.message
+    assert all(p.status == alma.Status.FEASIBLE for p in curve.curve)
+    assert "cannot stay closed" not in curve.message
