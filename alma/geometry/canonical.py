@@ -29,7 +29,7 @@ import numpy as np
 
 from alma.geometry.contacts import Joints
 from alma.geometry.loads import PointLoad, Settlement, Tie
-from alma.geometry.scene import Scene, polygon_area, polygon_centroid
+from alma.geometry.scene import Scene, cyclic, polygon_area, polygon_centroid
 
 
 @dataclass(frozen=True)
@@ -131,16 +131,16 @@ def _clean(vertices: np.ndarray, step: float, settings: CanonicalSettings) -> np
     (compared on the grid ``step``)."""
     if polygon_area(vertices) < 0:
         vertices = vertices[::-1]
-    distinct = ~np.all(vertices == np.roll(vertices, 1, axis=0), axis=1)
+    distinct = ~np.all(vertices == cyclic(vertices, 1), axis=1)
     keep = vertices[distinct] if distinct.sum() >= 3 else vertices
-    a, b = keep - np.roll(keep, 1, axis=0), np.roll(keep, -1, axis=0) - keep
+    a, b = keep - cyclic(keep, 1), cyclic(keep, -1) - keep
     cross = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
     corner = cross > settings.collinear * np.maximum((a**2).sum(axis=1), (b**2).sum(axis=1))
     if corner.sum() >= 3:
         keep = keep[corner]
     grid = np.round(keep / step)
     first = np.lexsort((grid[:, 0], grid[:, 1]))[0]
-    return np.roll(keep, -first, axis=0)
+    return cyclic(keep, -int(first))
 
 
 def _block_order(blocks: list, step: float) -> np.ndarray:

@@ -281,10 +281,17 @@ def load_scene(path: str | Path, **dxf_options: Any) -> Scene:
 
 
 # ---------------------------------------------------------------- geometry
+def cyclic(values: np.ndarray, shift: int) -> np.ndarray:
+    """``np.roll(values, shift, axis=0)``, the same array, without np.roll's general-axis
+    overhead (it dominated the canonical drawing of a 1,752-block panel)."""
+    k = -shift % len(values) if len(values) else 0
+    return np.concatenate((values[k:], values[:k]))
+
+
 def polygon_area(vertices: np.ndarray) -> float:
     """Signed area (positive when counter-clockwise), shoelace formula."""
     x, y = vertices[:, 0], vertices[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    return 0.5 * float(np.dot(x, cyclic(y, -1)) - np.dot(cyclic(x, -1), y))
 
 
 def polygon_centroid(vertices: np.ndarray) -> np.ndarray:
@@ -292,7 +299,7 @@ def polygon_centroid(vertices: np.ndarray) -> np.ndarray:
     origin = vertices[0]
     local = vertices - origin
     x, y = local[:, 0], local[:, 1]
-    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    xn, yn = cyclic(x, -1), cyclic(y, -1)
     cross = x * yn - xn * y
     area = 0.5 * cross.sum()
     cx = ((x + xn) * cross).sum() / (6 * area)
