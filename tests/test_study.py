@@ -163,6 +163,7 @@ def test_partial_last_line_and_header_only_are_tolerated(tmp_path, small_local):
         run_doe(tmp_path / "other", workers=1, design=SMALL, progress=False)
 
 
+@pytest.mark.slow  # 6-13 s: make test stays near 5 minutes; CI runs the slow part too
 def test_both_models_writes_associative_rows_and_reports_failures(tmp_path, small_local):
     df = run_doe(tmp_path, model="both", workers=2, design=SMALL, progress=False)
     assert len(df) == 8 and df["key"].is_unique
@@ -305,6 +306,7 @@ def test_forked_workers_never_collect_the_parents_objects(tmp_path, monkeypatch)
     assert marker.read_text().split() == [str(os.getpid())]
 
 
+@pytest.mark.slow  # 6-13 s: make test stays near 5 minutes; CI runs the slow part too
 def test_dask_local_cluster_equals_local_run(tmp_path, small_local, monkeypatch):
     distributed = pytest.importorskip("distributed")
     monkeypatch.setenv("PYTHONPATH", str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))

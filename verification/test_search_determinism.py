@@ -140,7 +140,7 @@ def _wall_fingerprint(scene: alma.Scene) -> tuple:
     return solution.best.alpha.hex() if solution.best is not None else None, candidates, work
 
 
-@pytest.mark.parametrize("name", ["stack panel", "cohesive stack"])
+@pytest.mark.parametrize("name", [pytest.param("stack panel", marks=pytest.mark.slow), "cohesive stack"])
 def test_the_store_of_fixed_set_lps_changes_no_answer(monkeypatch, name):
     """The search's store of fixed-set LPs (:class:`FixedSetLPs`) serves repeats, and the search
     without it (every LP solved anew) gives the same α, candidates and work bit for bit: a paper
