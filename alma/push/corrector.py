@@ -88,9 +88,9 @@ def one_hinge_opened(
     length: float,
     settings: PushSettings,
 ) -> np.ndarray:
-    """Increments as :func:`corrected`'s, with one hinge of ``contacts`` released and no sliding
-    point kept: the hinges of a mechanism that moves only infinitesimally with all of them closed
-    (three collinear hinges among three bodies) cannot all stay closed over a finite step.
+    """Increments as :func:`corrected`'s, with one hinge of ``contacts`` released (its sliding
+    points kept as given): the hinges of a mechanism that moves only infinitesimally with all of
+    them closed (three collinear hinges among three bodies) cannot all stay closed over a finite step.
 
     Each hinge is released in turn; a release counts when the others then close and the released
     point's two corners do not overlap (normal gap ≥ −``corrector_tolerance`` × 10³ × ``length``).
@@ -104,12 +104,11 @@ def one_hinge_opened(
         When no single released hinge lets the others close.
     """
     hinges = np.flatnonzero(contacts.hinge)
-    free = np.zeros_like(contacts.sliding)
     floor = -settings.corrector_tolerance * 1e3 * length
     sense = 1.0 if target >= 0 else -1.0
     best: tuple[tuple[float, float, float], np.ndarray] | None = None
     for k in hinges:
-        kept = dataclasses.replace(contacts, hinge=contacts.hinge & (np.arange(contacts.hinge.size) != k), sliding=free)
+        kept = dataclasses.replace(contacts, hinge=contacts.hinge & (np.arange(contacts.hinge.size) != k))
         try:
             z = corrected(bodies, kept, start, control, target, length, settings)
         except MotionError:

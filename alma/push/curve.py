@@ -298,7 +298,7 @@ def _move(run: _Run, state: _State, d: float) -> _State:
         try:
             z = corrected(bodies, free, *args)
         except MotionError:  # hinges that close only to first order lock: one of them opens
-            z = one_hinge_opened(bodies, state.contacts, *args)
+            z = one_hinge_opened(bodies, free, *args)
     pose = advance(state.pose, scene0, bodies, z)
     joints = joints_after(displaced(scene0, pose), state.contacts, bodies, z)
     return _state(
