@@ -12,10 +12,11 @@
   :attr:`~alma.settings.SearchSettings.fixed_starts_points` contact points those starts do not
   run (``gilbert-projected`` follows ``rocking``).
 - ``"thorough"`` (small scenes): ``lp``, ``rocking``, the thorough Gilbert starts (their
-  iterations only) and turned tables, then again those with slope steps, their sloped LP
-  written with the yield conditions as rows (``…, rows``): the same LP as the generators' form
-  of :class:`~alma.nonassociative.cap_lp.CapLP`, whose other vertices lead the iteration to
-  other states, at the price of a few small LPs; ``gilbert-projected`` when no start other
+  iterations only) and turned tables, then the Gilbert starts of
+  :attr:`~alma.settings.SearchSettings.gilbert_thorough_rows`, their sloped LP written with the
+  yield conditions as rows (``…, rows``): the same LP as the generators' form of
+  :class:`~alma.nonassociative.cap_lp.CapLP`, whose other vertices lead the iteration to other
+  states, at the price of a few small LPs; ``gilbert-projected`` when no start other
   than ``rocking`` verified (it can go below a rocking state); ``ipopt`` up to
   :attr:`~alma.settings.SearchSettings.ipopt_blocks` free blocks (none by default: the polish
   runs when asked for); and ``milp`` up to :attr:`~alma.settings.SearchSettings.milp_start_blocks`
@@ -91,13 +92,9 @@ def projected_work(settings: SearchSettings, n_free: int, points: int) -> Work:
 
 def plan(settings: SearchSettings, effort: str) -> list[str]:
     """The starts of an effort in the order they run (names of kinds; see :func:`make_start`)."""
-    starts = settings.gilbert_fast if effort == "fast" else settings.gilbert_thorough
     turns = [f"tilt:{k}" for k in range(len(_turns(settings, effort)))]
-    gilbert = [f"gilbert:{k}" for k in range(len(starts))]
-    rows: list[str] = []
-    if effort == "thorough":
-        rows = [f"{kind}:rows" for kind in gilbert if starts[parse_kind(kind)[1] or 0][2] > 0]
-        rows += [f"{kind}:rows" for kind in turns]
+    gilbert = [f"gilbert:{k}" for k in range(len(_gilbert(settings, effort, rows=False)))]
+    rows = [f"gilbert:{k}:rows" for k in range(len(_gilbert(settings, effort, rows=True)))]
     return ["lp", "rocking", *gilbert, *turns, *rows, "projected", "ipopt", "milp"]
 
 
@@ -111,6 +108,14 @@ def parse_kind(kind: str) -> tuple[str, int | None]:
 def rows_kind(kind: str) -> bool:
     """Whether a kind's sloped LP keeps the yield conditions as rows."""
     return kind.endswith(":rows")
+
+
+def _gilbert(settings: SearchSettings, effort: str, rows: bool) -> tuple[tuple[float, float, int], ...]:
+    """The fixed Gilbert starts of an effort, those written with the yield rows when ``rows``
+    (none for "fast")."""
+    if effort == "fast":
+        return () if rows else settings.gilbert_fast
+    return settings.gilbert_thorough_rows if rows else settings.gilbert_thorough
 
 
 def _turns(settings: SearchSettings, effort: str) -> tuple[float, ...]:
@@ -178,8 +183,7 @@ def make_start(kind: str, ctx: Context) -> Start:
     if kind == "rocking":
         return RockingStart()
     if family == "gilbert" and index is not None:
-        starts = s.gilbert_fast if ctx.effort == "fast" else s.gilbert_thorough
-        scale, relaxation, steps = starts[index]
+        scale, relaxation, steps = _gilbert(s, ctx.effort, rows_kind(kind))[index]
         work = _floored(gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count), ctx)
         return GilbertStart(scale, relaxation, steps, work, yield_rows=rows_kind(kind))
     if family == "tilt" and index is not None:
@@ -202,8 +206,7 @@ def start_name(kind: str, settings: SearchSettings, effort: str) -> str:
     """The name a start of this kind reports (for the list of skipped starts)."""
     family, index = parse_kind(kind)
     if family == "gilbert" and index is not None:
-        starts = settings.gilbert_fast if effort == "fast" else settings.gilbert_thorough
-        scale, relaxation, steps = starts[index]
+        scale, relaxation, steps = _gilbert(settings, effort, rows_kind(kind))[index]
         return GilbertStart(scale, relaxation, steps, Work(), yield_rows=rows_kind(kind)).name
     if family == "tilt" and index is not None:
         return TiltStart(_turns(settings, effort)[index], Work(), yield_rows=rows_kind(kind)).name
