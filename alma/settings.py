@@ -217,6 +217,8 @@ class SearchSettings:
     #: Turned-table starts (alma.nonassociative.tilted): the table's turn in degrees, each running Gilbert's
     #: (0.5, 0.5, 1) on the turned problem; Ferris & Tin-Loi's wall 6 reaches its lowest state only at 10°.
     tilt_degrees: tuple[float, ...] = (10.0,)
+    #: "thorough": turned tables run with the yield conditions as rows (none reached a lowest state alone).
+    tilt_degrees_rows: tuple[float, ...] = ()
     #: The turns of "fast" (large scenes, where each start costs most): 10° gave 3 of the 4 lower
     #: states that the turned starts found on the 108 panels.
     tilt_degrees_fast: tuple[float, ...] = (10.0,)

@@ -6,7 +6,8 @@ solved once, then each method alone:
 - ``lp``                     the exact state of the associative mechanism (its dilatant openings
                              read as slips), :func:`alma.nonassociative.exact_states.exact_state`;
 - ``gilbert(s, r, k)``       one Gilbert iterative-LP run from N̄ = s·N_LP, relaxation r, k
-                             slope-halving steps (every entry of ``SearchSettings.gilbert_fast``/``gilbert_thorough``);
+                             slope-halving steps (every entry of ``SearchSettings.gilbert_fast``/``gilbert_thorough``/
+                             ``gilbert_thorough_rows``, the last without the yield rows);
 - ``effort=fast``, ``effort=thorough``  alma's default searches (all their starts, lowest
                              verified state), as :func:`alma.solve` runs them.
 
@@ -66,7 +67,7 @@ def methods(model, points, lp) -> dict[str, Callable[[], CollapseState | None]]:
         "lp": lambda: exact_state(model, points, lp.mechanism, "lp", dilatant=True)
     }
     settings = SearchSettings()
-    starts = dict.fromkeys(settings.gilbert_fast + settings.gilbert_thorough)
+    starts = dict.fromkeys(settings.gilbert_fast + settings.gilbert_thorough + settings.gilbert_thorough_rows)
     for scale, relaxation, steps in starts:
         out[f"gilbert({scale:g}, {relaxation:g}, {steps})"] = partial(
             _gilbert, model, points, scale * n_lp, relaxation, steps

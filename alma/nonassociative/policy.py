@@ -92,9 +92,10 @@ def projected_work(settings: SearchSettings, n_free: int, points: int) -> Work:
 
 def plan(settings: SearchSettings, effort: str) -> list[str]:
     """The starts of an effort in the order they run (names of kinds; see :func:`make_start`)."""
-    turns = [f"tilt:{k}" for k in range(len(_turns(settings, effort)))]
+    turns = [f"tilt:{k}" for k in range(len(_turns(settings, effort, rows=False)))]
     gilbert = [f"gilbert:{k}" for k in range(len(_gilbert(settings, effort, rows=False)))]
     rows = [f"gilbert:{k}:rows" for k in range(len(_gilbert(settings, effort, rows=True)))]
+    rows += [f"tilt:{k}:rows" for k in range(len(_turns(settings, effort, rows=True)))]
     return ["lp", "rocking", *gilbert, *turns, *rows, "projected", "ipopt", "milp"]
 
 
@@ -118,9 +119,12 @@ def _gilbert(settings: SearchSettings, effort: str, rows: bool) -> tuple[tuple[f
     return settings.gilbert_thorough_rows if rows else settings.gilbert_thorough
 
 
-def _turns(settings: SearchSettings, effort: str) -> tuple[float, ...]:
-    """The turned-table starts' angles (degrees) of an effort."""
-    return settings.tilt_degrees_fast if effort == "fast" else settings.tilt_degrees
+def _turns(settings: SearchSettings, effort: str, rows: bool) -> tuple[float, ...]:
+    """The turned-table starts' angles (degrees) of an effort, those written with the yield rows
+    when ``rows`` (none for "fast")."""
+    if effort == "fast":
+        return () if rows else settings.tilt_degrees_fast
+    return settings.tilt_degrees_rows if rows else settings.tilt_degrees
 
 
 def wanted(kind: str, ctx: Context, polish: bool | None = None) -> bool:
@@ -188,7 +192,7 @@ def make_start(kind: str, ctx: Context) -> Start:
         return GilbertStart(scale, relaxation, steps, work, yield_rows=rows_kind(kind))
     if family == "tilt" and index is not None:
         return TiltStart(
-            _turns(s, ctx.effort)[index],
+            _turns(s, ctx.effort, rows_kind(kind))[index],
             _floored(gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count), ctx),
             ipm_above=s.interior_points,
             yield_rows=rows_kind(kind),
@@ -209,5 +213,5 @@ def start_name(kind: str, settings: SearchSettings, effort: str) -> str:
         scale, relaxation, steps = _gilbert(settings, effort, rows_kind(kind))[index]
         return GilbertStart(scale, relaxation, steps, Work(), yield_rows=rows_kind(kind)).name
     if family == "tilt" and index is not None:
-        return TiltStart(_turns(settings, effort)[index], Work(), yield_rows=rows_kind(kind)).name
+        return TiltStart(_turns(settings, effort, rows_kind(kind))[index], Work(), yield_rows=rows_kind(kind)).name
     return {"lp": "lp", "rocking": "rocking", "projected": "gilbert-projected", "ipopt": "ipopt", "milp": "milp"}[kind]
