@@ -209,11 +209,11 @@ class SearchSettings:
     same_alpha: float = 1e-9
     #: Gilbert starts of "fast": (N̄ as a multiple of N_LP, relaxation of N̄, slope-halving steps).
     gilbert_fast: tuple[tuple[float, float, int], ...] = ((0.0, 1.0, 1), (1.0, 0.5, 0))
-    #: Gilbert starts of "thorough": with those below, the fewest starts that reach the lowest state of each
-    #: of the 27 thorough panels and 18 small scenes (docs/decisions.md); the other 11 only repeated them.
+    #: Gilbert starts of "thorough": with those below, the starts that reach the lowest state of each of 271
+    #: searches (panels, walls, drawings, the walls' pushes: docs/decisions.md); the other 10 only repeated them.
     gilbert_thorough: tuple[tuple[float, float, int], ...] = ((0.0, 1.0, 1), (1.0, 0.5, 0), (2.0, 1.0, 1))
     #: Gilbert starts of "thorough" whose sloped LP keeps the yield conditions as rows (``…, rows``).
-    gilbert_thorough_rows: tuple[tuple[float, float, int], ...] = ((1.0, 0.5, 4), (0.5, 0.5, 1))
+    gilbert_thorough_rows: tuple[tuple[float, float, int], ...] = ((1.0, 0.5, 4), (0.5, 0.5, 1), (2.0, 1.0, 1))
     #: Turned-table starts (alma.nonassociative.tilted): the table's turn in degrees, each running Gilbert's
     #: (0.5, 0.5, 1) on the turned problem; Ferris & Tin-Loi's wall 6 reaches its lowest state only at 10°.
     tilt_degrees: tuple[float, ...] = (10.0,)
