@@ -1,4 +1,4 @@
-"""The "thorough" search's seven fixed starts lose nothing the seventeen of before found.
+"""The "thorough" search's seven fixed starts lose nothing the sixteen of before found.
 
 ``SearchSettings.gilbert_thorough``, ``gilbert_thorough_rows`` and ``tilt_degrees`` keep the
 fixed starts that reached the lowest state of 271 measured searches (docs/decisions.md). Here the
