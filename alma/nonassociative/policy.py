@@ -13,8 +13,9 @@
   run (``gilbert-projected`` follows ``rocking``).
 - ``"thorough"`` (small scenes): ``lp``, ``rocking``, the thorough Gilbert starts (their
   iterations only) and turned tables, then the Gilbert starts of
-  :attr:`~alma.settings.SearchSettings.gilbert_thorough_rows`, their sloped LP written with the
-  yield conditions as rows (``…, rows``): the same LP as the generators' form of
+  :attr:`~alma.settings.SearchSettings.gilbert_thorough_rows` and the turned tables of
+  :attr:`~alma.settings.SearchSettings.tilt_degrees_rows` (none by default), their sloped LP
+  written with the yield conditions as rows (``…, rows``): the same LP as the generators' form of
   :class:`~alma.nonassociative.cap_lp.CapLP`, whose other vertices lead the iteration to other
   states, at the price of a few small LPs; ``gilbert-projected`` when no start other
   than ``rocking`` verified (it can go below a rocking state); ``ipopt`` up to
