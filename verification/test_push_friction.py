@@ -14,6 +14,8 @@ follow where the same mechanism is the lowest.
 
 from __future__ import annotations
 
+import math
+import tomllib
 from pathlib import Path
 
 import pytest
@@ -85,3 +87,10 @@ def test_ferris_and_tin_lois_wall_1_opens_a_locked_hinge_and_moves_on():
     assert len(curve.curve) >= 3 and curve.curve[-1].d > 10.0, curve.message
     assert all(p.status == alma.Status.FEASIBLE for p in curve.curve)
     assert "cannot stay closed" not in curve.message
+    # it ends where the lowest verified state's mechanism (a sliding one) leaves the control block
+    # still: a finding, stated as such, which bounds the ultimate displacement of the check
+    assert curve.status == alma.Status.FEASIBLE and curve.end["reason"] == "control_still", curve.message
+    assert curve.end["d"] == curve.curve[-1].d
+    site = tomllib.loads((EXAMPLES / "site.toml").read_text())
+    checked = alma.seismic(wall, site, curve=curve)
+    assert checked.nonlinear["d0_extrapolated"] and math.isfinite(checked.nonlinear["safety_index"])

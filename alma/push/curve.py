@@ -56,6 +56,17 @@ from alma.status import Status
 PUSH_MODELS = ("associative", "nonassociative")
 
 
+class ControlLeft(MotionError):
+    """The mechanism at a point leaves the control block still (``reason`` "control_still") or
+    moves it backwards ("control_reverses"): the structure there collapses, at that point's α, by
+    a mechanism the control point does not follow, so the curve of d ends.  A finding of the
+    analysis, not a failure of the step."""
+
+    def __init__(self, reason: str, text: str) -> None:
+        super().__init__(text)
+        self.reason = reason
+
+
 def push(
     scene: Scene,
     *,
@@ -176,6 +187,7 @@ def _curve(run: _Run, start: _State) -> PushResult:
     state, step = start, p.probe * run.length
     budget = p.steps * p.max_steps_factor + 1
     solves, bracket, failure, reason = 1, None, None, "step_budget"
+    left: ControlLeft | None = None
     while bracket is None:
         if len(states) > budget:
             failure = (
@@ -186,6 +198,9 @@ def _curve(run: _Run, start: _State) -> PushResult:
             break
         try:
             nxt = (run.mover or _move)(run, state, state.d + step)
+        except ControlLeft as exc:
+            left = exc
+            break
         except MotionError as exc:
             failure, reason = (Status.NOT_CONVERGED, f"at d = {state.d:.6g} mm: {exc}"), "motion"
             break
@@ -202,16 +217,13 @@ def _curve(run: _Run, start: _State) -> PushResult:
             step = p.flat_step * run.length if flat else nxt.d * start.alpha / drop / p.steps
             step = min(max(step, p.probe * run.length), p.max_step * run.length)
         state = nxt
-    if bracket is None:  # the loop leaves without a bracket only by a break that sets failure
-        return _result(
-            run,
-            states,
-            failure,
-            (math.nan, math.nan),
-            math.nan,
-            solves,
-            {"reason": reason, "text": cast("tuple[Status, str]", failure)[1]},
+    if bracket is None:  # the loop leaves without a bracket only by a break: a failure or a control end
+        end = (
+            _control_end(state, left)
+            if left is not None
+            else {"reason": reason, "text": cast("tuple[Status, str]", failure)[1]}
         )
+        return _result(run, states, failure, (math.nan, math.nan), math.nan, solves, end)
     lo, hi, extra, failure = _refine(run, *bracket)
     states += extra
     if not math.isfinite(hi.alpha):
@@ -267,6 +279,15 @@ def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_St
     return lo, hi, extra, None
 
 
+def _control_end(state: _State, left: ControlLeft) -> dict:
+    """The ``end`` of a curve whose last point's mechanism leaves the control block (``left``)."""
+    text = (
+        f"the curve ends at d = {state.d:.6g} mm with α = {state.alpha:.4g} > 0: {left}, so the "
+        "structure collapses there by a mechanism the control point does not follow (d₀ is not defined)"
+    )
+    return {"reason": left.reason, "d": state.d, "alpha": state.alpha, "text": text}
+
+
 def _secant(lo: _State, hi: _State) -> float:
     """The zero of the line through (lo.d, α) and (hi.d, α); NaN when α at hi is not a number (an
     LP that finds no admissible field for any multiplier: the structure cannot stand there)."""
@@ -279,13 +300,13 @@ def _move(run: _Run, state: _State, d: float) -> _State:
     """The configuration at control displacement ``d`` along ``state``'s mechanism, solved."""
     bodies = state.bodies
     if bodies.count == 0 or bodies.of_block[run.control] < 0:
-        raise MotionError(f"the control block no longer moves in the mechanism at d = {state.d:.6g} mm")
+        raise ControlLeft("control_still", "its mechanism leaves the control block still")
     scene0 = run.scene
     here = displaced(scene0, state.pose)
     where = block_areas_and_centroids(here)[1][run.control]
     rate = bodies.velocity_at(np.array([run.control]), where[None, :])[0, 0] * run.sense
     if not rate > 0:
-        raise MotionError(f"the mechanism at d = {state.d:.6g} mm moves the control block backwards")
+        raise ControlLeft("control_reverses", "its mechanism moves the control block backwards")
     target = (d - state.d) * run.sense
     z0 = predictor(bodies, (d - state.d) / rate)
     args = (z0, (run.control, where), target, run.length, run.push)

@@ -22,6 +22,12 @@ from alma.results.types import NonAssociativeResult, Result, finite
 from alma.settings import PushSettings, Settings
 from alma.status import Status
 
+#: The ends of a curve that stops with α > 0 on a mechanical finding, not a failure: a loss of
+#: equilibrium beyond the last point, or a mechanism at the last point that the control block
+#: does not follow (still or backwards).  d₀ is not defined; the seismic check reads the stop as
+#: the ultimate displacement's bound.
+STOPPED_ENDS = ("no_equilibrium", "control_still", "control_reverses")
+
 
 @dataclass(frozen=True)
 class PushPoint:
@@ -64,7 +70,9 @@ class PushResult:
     sense: float = 1.0
     #: Why the curve ends: ``reason`` ("alpha_zero": α reached 0 at d₀; "no_equilibrium": a
     #: configuration beyond the last point carries the dead load at no α, with the ``bracket`` of
-    #: that loss, α there and the blocks of the falling mode; "step_budget", "motion", "solver").
+    #: that loss, α there and the blocks of the falling mode; "control_still" or "control_reverses":
+    #: the mechanism at the last point, ``d``, leaves the control block still or moves it backwards;
+    #: "step_budget", "motion", "solver").
     end: dict[str, Any] = field(default_factory=dict)
 
     @property
@@ -154,8 +162,8 @@ def _result(
     )
     changes = sum(pt.mechanism_changed for pt in points)
     control = run.scene.blocks[run.control].id
-    if end["reason"] == "no_equilibrium":
-        status, message = _status_lost(run, ordered, failure, end, changes)
+    if end["reason"] in STOPPED_ENDS:
+        status, message = _status_stopped(run, ordered, failure, end, changes)
     elif failure is not None:
         status, message = failure
     else:
@@ -167,10 +175,10 @@ def _result(
     )
 
 
-def _status_lost(
+def _status_stopped(
     run: _Run, states: list[_State], failure: tuple | None, end: dict[str, Any], changes: int
 ) -> tuple[Status, str]:
-    """A curve that ends in a loss of equilibrium: d₀ is not defined, the stop is stated."""
+    """A curve that stops with α > 0 (:data:`STOPPED_ENDS`): d₀ is not defined, the stop is stated."""
     text = f"{end['text']}; {len(states)} configurations, the mechanism changed {changes} time(s)"
     if failure is not None:
         return failure[0], f"{text}; the bracket of the loss is not closed ({failure[1]})"

@@ -57,6 +57,7 @@ from typing import Any
 import numpy as np
 
 from alma.push import PushResult
+from alma.push.result import STOPPED_ENDS
 from alma.seismic.spectrum import Spectrum
 
 #: A check's named terms (numbers, verdicts, names) as the JSON gives them.
@@ -82,18 +83,21 @@ HEIGHT_REFUSED = (
 
 
 def d0_star_of(pushed: PushResult, factor: float) -> tuple[float, float]:
-    """d₀* (m) of the curve and the spectral displacement where it loses equilibrium (m, NaN if not).
+    """d₀* (m) of the curve and the spectral displacement where it stops with α > 0 (m, NaN if not).
 
-    When the curve stops at a loss of equilibrium with α > 0, d₀ is extrapolated on the secant of
-    its last two points, and the stop itself bounds the ultimate displacement (the Circolare's
-    "displacement incompatible with the stability of the elements").  d₀* is NaN when the curve
-    gives neither.
+    When the curve stops with α > 0 (:data:`~alma.push.result.STOPPED_ENDS`: a loss of equilibrium
+    beyond its last point, or a mechanism at its last point that the control block does not
+    follow), d₀ is extrapolated on the secant of its last two points, and the stop itself bounds
+    the ultimate displacement (the Circolare's "displacement incompatible with the stability of
+    the elements").  d₀* is NaN when the curve gives neither.
     """
     d0, lost = pushed.d0, math.nan
-    if not math.isfinite(d0) and pushed.end.get("reason") == "no_equilibrium" and len(pushed.curve) >= 2:
+    reason = pushed.end.get("reason")
+    if not math.isfinite(d0) and reason in STOPPED_ENDS and len(pushed.curve) >= 2:
         (d1, a1), (d2, a2) = [(p.d, p.alpha) for p in pushed.curve[-2:]]
         d0 = d2 + (d2 - d1) * a2 / (a1 - a2) if a1 > a2 > 0 else math.nan
-        lost = pushed.end["bracket"][0] * factor * 1e-3
+        stop = pushed.end["bracket"][0] if reason == "no_equilibrium" else pushed.end["d"]
+        lost = stop * factor * 1e-3
     return d0 * factor * 1e-3, lost
 
 

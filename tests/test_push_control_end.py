@@ -1,0 +1,98 @@
+"""A capacity curve whose mechanism leaves the control block ends as a finding, not a failure.
+
+When the mechanism at a point of the curve leaves the control block still (or moves it
+backwards), the structure collapses there, at that point's α, by a mechanism the control point
+does not follow: the curve of d ends with α > 0 (``end.reason`` "control_still" or
+"control_reverses"), its status is that of its points, and the seismic check reads the stop
+as the bound of the ultimate displacement, as it reads a loss of equilibrium.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+import tomllib
+from pathlib import Path
+
+import pytest
+
+import alma
+from alma.push.result import STOPPED_ENDS
+from alma.seismic.check_2019 import d0_star_of
+
+curve_module = importlib.import_module("alma.push.curve")  # alma.push is also the function's name
+
+ROOT = Path(__file__).resolve().parents[1]
+B, H = 240.0, 600.0
+
+
+def _block() -> alma.Scene:
+    return alma.Scene.from_dict(
+        {
+            "thickness": 120,
+            "unit_weight": 18,
+            "friction": 0.8,
+            "blocks": [
+                {"id": "ground", "vertices": [[-2000, -100], [3000, -100], [3000, 0], [-2000, 0]], "fixed": True},
+                {"id": "b1", "vertices": [[0, 0], [B, 0], [B, H], [0, H]]},
+            ],
+        }
+    )
+
+
+@pytest.fixture
+def leaves_after(monkeypatch):
+    """``_move`` that takes ``n`` real steps and then finds the control block left by ``reason``."""
+
+    def install(n: int, reason: str) -> None:
+        real, calls = curve_module._move, []
+
+        def move(run, state, d):
+            calls.append(d)
+            if len(calls) > n:
+                raise curve_module.ControlLeft(reason, f"its mechanism ({reason})")
+            return real(run, state, d)
+
+        monkeypatch.setattr(curve_module, "_move", move)
+
+    return install
+
+
+@pytest.mark.parametrize("reason", ["control_still", "control_reverses"])
+def test_the_curve_ends_at_the_last_point_with_its_own_status(leaves_after, reason):
+    leaves_after(3, reason)
+    curve = alma.push(_block(), steps=10)
+    last = curve.curve[-1]
+    assert len(curve.curve) == 4 and last.alpha > 0
+    assert curve.end["reason"] == reason and curve.end["d"] == last.d and curve.end["alpha"] == last.alpha
+    # a finding of the analysis: every α certified, so the curve is optimal, not not_converged
+    assert curve.status == alma.Status.OPTIMAL, curve.message
+    assert math.isnan(curve.d0) and "d₀ is not defined" in curve.message and "certified" in curve.message
+    assert curve.to_dict()["end"]["reason"] == reason
+
+
+def test_the_seismic_check_reads_the_stop_as_the_ultimate_displacement_bound(leaves_after):
+    leaves_after(3, "control_still")
+    curve = alma.push(_block(), steps=10)
+    (d1, a1), (d2, a2) = [(p.d, p.alpha) for p in curve.curve[-2:]]
+    d0_star, lost = d0_star_of(curve, 1.0)
+    assert lost == pytest.approx(d2 * 1e-3, rel=1e-15)
+    assert d0_star == pytest.approx((d2 + (d2 - d1) * a2 / (a1 - a2)) * 1e-3, rel=1e-12)
+    site = tomllib.loads((ROOT / "examples" / "site.toml").read_text())
+    checked = alma.seismic(_block(), site, curve=curve)
+    assert checked.nonlinear["d0_extrapolated"] is True and math.isfinite(checked.nonlinear["safety_index"])
+
+
+def test_a_failed_step_is_still_a_failure(monkeypatch):
+    real, calls = curve_module._move, []
+
+    def move(run, state, d):
+        calls.append(d)
+        if len(calls) > 2:
+            raise curve_module.MotionError("the corrector stalled")
+        return real(run, state, d)
+
+    monkeypatch.setattr(curve_module, "_move", move)
+    curve = alma.push(_block(), steps=10)
+    assert curve.status == alma.Status.NOT_CONVERGED and curve.end["reason"] == "motion"
+    assert "motion" not in STOPPED_ENDS
