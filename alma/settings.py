@@ -105,6 +105,9 @@ class AssociativeSettings:
     #: Re-solve by HiGHS's dual simplex when the interior point's pair does not certify: a vertex
     #: is exact on the degenerate faces (noisy drawings of walls sliding at α = f) where it is not.
     simplex_fallback: bool = True
+    #: A falling mode proves "no equilibrium" after a failed interior point when its weights' work exceeds its
+    #: round-off breach by this × n_free: no field with forces below a million block weights (alma.associative.falling).
+    falling_margin: float = 1e6
     #: Show one crisp mechanism of the optimal face (a vertex, alma.associative.crisp) instead of the interior point's
     #: blend of all of them; off by default: it costs 4.6x the solve over the 108 paper panels (HiGHS's interior point
     #: with crossover), and the blend is the same mechanism wherever the optimal face is a single one.

@@ -25,6 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from alma.associative.certificate import certify_pair, cone_residual
+from alma.associative.falling import falling_ray
 from alma.associative.lp_crushing import _solve_crushing
 from alma.associative.lp_forms import (
     LPSolution,
@@ -98,9 +99,11 @@ def solve_lp(
     if result.status == Status.NOT_CONVERGED and s.simplex_fallback:
         # An interior point ends ill-conditioned on a degenerate optimal face (a noisy drawing
         # of a wall that slides at α = f); a simplex vertex of the same LP certifies exactly.
+        unbounded = False
         for normalisation in SIMPLEX_NORMALISATIONS:
             q, A, b = _kinematic_form(model, H, normalisation)
             vertex = solve_conic_form(q, A, b, 1, time_limit=time_limit)
+            unbounded |= vertex.status == Status.NO_EQUILIBRIUM
             if vertex.status != Status.OPTIMAL:
                 continue
             again = _certified(
@@ -116,7 +119,26 @@ def solve_lp(
                 return dataclasses.replace(
                     again, solve_time=sol.solve_time + vertex.solve_time, iterations=sol.iterations + vertex.iterations
                 )
+        if unbounded:
+            return _falling_or(result, model, s, f" (after {label}: {sol.raw_status}, not certified)" + note)
     return result
+
+
+def _falling_or(result: LPSolution, model: Model, s: AssociativeSettings, note: str) -> LPSolution:
+    """``no_equilibrium`` when a falling mode proves it (:mod:`alma.associative.falling`: next to a
+    linkage's loss of equilibrium the interior point ends ill-conditioned and the simplex finds
+    Eq. 10's kinematic form unbounded), else ``result`` as it is."""
+    ray = falling_ray(model)
+    if ray is None or not ray.proves(model.n_free, s.falling_margin):
+        return result
+    return _trivial(
+        model,
+        Status.NO_EQUILIBRIUM,
+        "no statically admissible stress field for any load multiplier: a falling mode proves it "
+        f"(work of the weights {ray.dead_work:.3g}, round-off {ray.breach:.1g}){note}",
+        iterations=result.iterations,
+        solve_time=result.solve_time,
+    )
 
 
 def _certified(

@@ -10,8 +10,8 @@ contacts that held it).  This module finds the *falling mode* that proves it, a 
     max  f_0ᵀu      s.t.  f_Lᵀu = 0,   Hᵀu ≥ 0,   −1 ≤ u ≤ 1
 
 (the weights do positive work, the live load none, every contact point opens or slides on its
-cone, Eq. 6), a vertex by HiGHS's interior point with crossover
-(:mod:`alma.backends.highs_backend`), and names the blocks it moves most and the joints the
+cone, Eq. 6; :mod:`alma.associative.falling`, a vertex by HiGHS's interior point with
+crossover), and names the blocks it moves most and the joints the
 last step lost between them and their neighbours.  When the falling mode moves into a joint
 the last step dropped (a relative normal velocity < 0 at one of its former contact points), the
 text says so: the end may then depend on the contact tolerance
@@ -26,12 +26,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
 
-from alma.backends.highs_backend import solve_conic_form
+from alma.associative.falling import falling_ray
 from alma.mechanics.model import Model
 from alma.results.types import JointResult
-from alma.status import Status
 
 #: Blocks named in the message: the ones the falling mode moves most.
 NAMED = 6
@@ -57,21 +55,15 @@ class FallingMode:
 def falling_mode(model: Model) -> FallingMode | None:
     """The falling mode of ``model`` (a configuration the LP found without equilibrium), or None
     when HiGHS finds none (the LP's verdict then stands unexplained)."""
-    H = model.equilibrium
-    n = H.shape[0]
-    eye = sp.identity(n, format="csr")
-    A = sp.vstack([sp.csr_matrix(model.live), -H.T, eye, -eye]).tocsc()
-    b = np.concatenate([[0.0], np.zeros(H.shape[1]), np.ones(2 * n)])
-    # HiGHS's interior point with crossover (a vertex): half its dual simplex's time on the panels.
-    sol = solve_conic_form(-model.dead, A, b, 1, solver="ipm")
-    if sol.status != Status.OPTIMAL or not -float(model.dead @ sol.x) < 0:
+    ray = falling_ray(model)
+    if ray is None:
         return None
-    u = np.abs(sol.x.reshape(-1, 3)).max(axis=1)
+    u = np.abs(ray.u.reshape(-1, 3)).max(axis=1)
     top = float(u.max(initial=0.0))
     ids = np.asarray(model.scene.block_ids, dtype=object)[model.free_blocks]
     moving = np.flatnonzero(u > MOVING * top)
     order = moving[np.lexsort((ids[moving].astype(str), -u[moving]))]
-    return FallingMode(tuple(str(i) for i in ids[order]), float(model.dead @ sol.x), sol.x)
+    return FallingMode(tuple(str(i) for i in ids[order]), ray.dead_work, ray.u)
 
 
 def lost_joints(before: Model, after: Model, blocks: tuple[str, ...]) -> list[tuple[str, str]]:
