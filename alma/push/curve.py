@@ -96,8 +96,11 @@ def push(
     PushResult
         ``status`` ``optimal`` when every α of the curve is certified (Eq. 10's bounds) and the
         bracket of d₀ is closed to ``PushSettings.d0_tolerance`` × L with α proven > 0 at its start
-        and ≤ 0 at its end; ``feasible`` for the non-associative model; ``limit_reached`` when the
-        step budget ran out before α reached 0 (a sliding mechanism never does).
+        and ≤ 0 at its end, or when it stops with α > 0 at a proven loss of equilibrium or where
+        the mechanism leaves the control block (``end``; :data:`~alma.push.result.STOPPED_ENDS`);
+        ``feasible`` for the non-associative model; ``limit_reached`` when the step budget ran out
+        before α reached 0 (a sliding mechanism never does); ``not_converged`` when a step or an LP
+        failed.
     """
     if model not in PUSH_MODELS:
         raise ValueError(f"model must be one of {PUSH_MODELS}, got {model!r}")
