@@ -41,16 +41,16 @@ def _block() -> alma.Scene:
 
 
 @pytest.fixture
-def leaves_after(monkeypatch):
-    """``_move`` that takes ``n`` real steps and then finds the control block left by ``reason``."""
+def fails_after(monkeypatch):
+    """``_move`` that takes ``n`` real steps and then raises ``error``."""
 
-    def install(n: int, reason: str) -> None:
+    def install(n: int, error: Exception) -> None:
         real, calls = curve_module._move, []
 
         def move(run, state, d):
             calls.append(d)
             if len(calls) > n:
-                raise curve_module.ControlLeft(reason, f"its mechanism ({reason})")
+                raise error
             return real(run, state, d)
 
         monkeypatch.setattr(curve_module, "_move", move)
@@ -58,9 +58,13 @@ def leaves_after(monkeypatch):
     return install
 
 
+def _left(reason: str) -> Exception:
+    return curve_module.ControlLeft(reason, f"its mechanism ({reason})")
+
+
 @pytest.mark.parametrize("reason", ["control_still", "control_reverses"])
-def test_the_curve_ends_at_the_last_point_with_its_own_status(leaves_after, reason):
-    leaves_after(3, reason)
+def test_the_curve_ends_at_the_last_point_with_its_own_status(fails_after, reason):
+    fails_after(3, _left(reason))
     curve = alma.push(_block(), steps=10)
     last = curve.curve[-1]
     assert len(curve.curve) == 4 and last.alpha > 0
@@ -71,8 +75,8 @@ def test_the_curve_ends_at_the_last_point_with_its_own_status(leaves_after, reas
     assert curve.to_dict()["end"]["reason"] == reason
 
 
-def test_the_seismic_check_reads_the_stop_as_the_ultimate_displacement_bound(leaves_after):
-    leaves_after(3, "control_still")
+def test_the_seismic_check_reads_the_stop_as_the_ultimate_displacement_bound(fails_after):
+    fails_after(3, _left("control_still"))
     curve = alma.push(_block(), steps=10)
     (d1, a1), (d2, a2) = [(p.d, p.alpha) for p in curve.curve[-2:]]
     d0_star, lost = d0_star_of(curve, 1.0)
@@ -83,16 +87,8 @@ def test_the_seismic_check_reads_the_stop_as_the_ultimate_displacement_bound(lea
     assert checked.nonlinear["d0_extrapolated"] is True and math.isfinite(checked.nonlinear["safety_index"])
 
 
-def test_a_failed_step_is_still_a_failure(monkeypatch):
-    real, calls = curve_module._move, []
-
-    def move(run, state, d):
-        calls.append(d)
-        if len(calls) > 2:
-            raise curve_module.MotionError("the corrector stalled")
-        return real(run, state, d)
-
-    monkeypatch.setattr(curve_module, "_move", move)
+def test_a_failed_step_is_still_a_failure(fails_after):
+    fails_after(2, curve_module.MotionError("the corrector stalled"))
     curve = alma.push(_block(), steps=10)
     assert curve.status == alma.Status.NOT_CONVERGED and curve.end["reason"] == "motion"
     assert "motion" not in STOPPED_ENDS

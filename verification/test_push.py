@@ -191,7 +191,7 @@ def test_the_arch_curve_ends_in_a_loss_of_equilibrium_said_in_words():
     assert all(b < a for a, b in itertools.pairwise(alphas))
     # one mechanism to the end; at the last point, within the bracket's width of the loss, the
     # optimal face takes in the fifth hinge v11–v12 of the falling mode (v12 turns alone)
-    assert not any(p.mechanism_changed for p in result.curve[:-1])
+    assert not any(p.mechanism_changed for p in result.curve[:-1]) and result.curve[-1].d == lo
 
 
 def test_the_portal_curve_ends_in_a_proven_loss_of_equilibrium():

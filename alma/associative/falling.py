@@ -56,5 +56,5 @@ def falling_ray(model: Model) -> FallingRay | None:
     work = float(model.dead @ u)
     if not work > 0:
         return None
-    breach = max(-float((H.T @ u).min(initial=0.0)), abs(float(model.live @ u)), 0.0)
+    breach = max(-float((H.T @ u).min(initial=0.0)), abs(float(model.live @ u)))
     return FallingRay(u, work, breach)
