@@ -5,8 +5,8 @@ A displaced paper panel (english 1:1 2:1, f = 0.6, the first configuration of it
 had warm dual simplex runs go on for seconds a pivot on numerically singular bases, one after
 proving α below −2,000, another looping through 56,000 bailout checks in 6,300 iterations: 24
 minutes without an answer.  The floor stops a run whose dual objective proves α below it; the
-checks count against the iteration limit; the user's cap reaches into the run as HiGHS's time
-limit.
+checks count against the iteration limit and stop a run where they outrun its iterations; the
+user's cap reaches into the run as HiGHS's time limit.
 """
 
 from __future__ import annotations
@@ -88,6 +88,26 @@ def test_the_bailout_checks_count_against_the_iteration_limit(monkeypatch):
     assert lp.solve(np.zeros(points.count), 0.5 * cap).status == "optimal"
 
 
+def test_the_checks_read_the_runs_own_pivot_count(monkeypatch):
+    """The stall rule compares the checks with HiGHS's pivots of the same run: in a real warm run
+    the count the callback reads ends at the pivots the solve reports."""
+    seen: list[int] = []
+    original = highs_backend._Checks.count
+
+    def count(self, event):
+        seen.append(int(event.data_out.simplex_iteration_count))
+        original(self, event)
+
+    monkeypatch.setattr(highs_backend._Checks, "count", count)  # before the model subscribes it
+    model, points, cap = _turned_panel()
+    lp = CapLP(model, points)
+    lp.solve(np.zeros(points.count), cap)
+    seen.clear()
+    warm = lp.solve(np.zeros(points.count), 0.5 * cap)
+    assert warm.status == "optimal" and warm.pivots > 10
+    assert seen and seen == sorted(seen) and warm.pivots - 2 <= seen[-1] <= warm.pivots
+
+
 def test_checks_interrupt_only_past_their_limit():
     checks = highs_backend._Checks()
     checks.reset(2)  # below the floor: the floor
@@ -95,16 +115,39 @@ def test_checks_interrupt_only_past_their_limit():
     checks.reset(checks.floor + 2)
     event = _Event()
     for _ in range(checks.floor + 2):
+        event.data_out.simplex_iteration_count += 1  # one check per pivot: a healthy run
         checks.count(event)
     assert not checks.spent and not event.interrupted
     checks.count(event)
     assert checks.spent and event.interrupted
 
 
-class _Event:
-    """A stand-in for highspy's callback event."""
+def test_checks_that_stall_interrupt_before_the_limit():
+    """Checks beyond the iterations, past the floor and a tenth of the iterations, stop the run."""
+    checks = highs_backend._Checks()
+    checks.reset(100_000)
+    event = _Event()
+    for _ in range(5_000):
+        event.data_out.simplex_iteration_count += 1
+        checks.count(event)
+    allowed = checks.floor + checks.stall_share * 5_000
+    for _ in range(int(allowed)):
+        checks.count(event)  # rebuilds without a pivot
+    assert not checks.spent and not event.interrupted
+    checks.count(event)
+    assert checks.spent and event.interrupted
+    checks.reset(100_000)  # a new run starts its own count
+    event.data_out.simplex_iteration_count = 0
+    checks.count(event)
+    assert not checks.spent and not event.interrupted
 
-    interrupted = False
+
+class _Event:
+    """A stand-in for highspy's callback event: its interrupt flag and the run's iteration count."""
+
+    def __init__(self) -> None:
+        self.interrupted = False
+        self.data_out = SimpleNamespace(simplex_iteration_count=0)
 
     def interrupt(self, value: bool = True) -> None:
         self.interrupted = value
