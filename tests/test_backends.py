@@ -10,7 +10,8 @@ import scipy.sparse as sp
 from hypothesis import given, settings, strategies as st
 
 from alma.backends.clarabel_backend import UpdatableQP, solve_conic_lp
-from alma.backends.highs_backend import INF, WarmLP, lp_model, solve_conic_form
+from alma.backends.highs_backend import INF, lp_model, solve_conic_form
+from alma.backends.highs_warm import WarmLP
 from alma.backends.linprog_backend import LPMethod, polished, solve_lp
 from alma.backends.termination import (
     CLARABEL,

@@ -18,7 +18,7 @@ import pytest
 
 import alma
 from alma.associative.lp import solve_lp
-from alma.backends import highs_backend
+from alma.backends import highs_warm
 from alma.backends.termination import Termination
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
@@ -78,9 +78,9 @@ def test_the_bailout_checks_count_against_the_iteration_limit(monkeypatch):
     model, points, cap = _turned_panel()
     lp = CapLP(model, points)
     assert lp.solve(np.zeros(points.count), cap).status == "optimal"  # cold: interior point, no checks
-    monkeypatch.setattr(highs_backend._Checks, "floor", 0)
-    original = highs_backend._Checks.reset
-    monkeypatch.setattr(highs_backend._Checks, "reset", lambda self, limit: original(self, 0))
+    monkeypatch.setattr(highs_warm._Checks, "floor", 0)
+    original = highs_warm._Checks.reset
+    monkeypatch.setattr(highs_warm._Checks, "reset", lambda self, limit: original(self, 0))
     stopped = lp.solve(np.zeros(points.count), 0.5 * cap)
     assert stopped.status == "error" and stopped.mechanism is None
     assert lp._bounded is not None and lp._bounded.run(100_000).termination is Termination.ITERATION_LIMIT
@@ -92,13 +92,13 @@ def test_the_checks_read_the_runs_own_pivot_count(monkeypatch):
     """The stall rule compares the checks with HiGHS's pivots of the same run: in a real warm run
     the count the callback reads ends at the pivots the solve reports."""
     seen: list[int] = []
-    original = highs_backend._Checks.count
+    original = highs_warm._Checks.count
 
     def count(self, event):
         seen.append(int(event.data_out.simplex_iteration_count))
         original(self, event)
 
-    monkeypatch.setattr(highs_backend._Checks, "count", count)  # before the model subscribes it
+    monkeypatch.setattr(highs_warm._Checks, "count", count)  # before the model subscribes it
     model, points, cap = _turned_panel()
     lp = CapLP(model, points)
     lp.solve(np.zeros(points.count), cap)
@@ -109,7 +109,7 @@ def test_the_checks_read_the_runs_own_pivot_count(monkeypatch):
 
 
 def test_checks_interrupt_only_past_their_limit():
-    checks = highs_backend._Checks()
+    checks = highs_warm._Checks()
     checks.reset(2)  # below the floor: the floor
     assert checks.limit == checks.floor
     checks.reset(checks.floor + 2)
@@ -124,7 +124,7 @@ def test_checks_interrupt_only_past_their_limit():
 
 def test_checks_that_stall_interrupt_before_the_limit():
     """Checks beyond the iterations, past the floor and a tenth of the iterations, stop the run."""
-    checks = highs_backend._Checks()
+    checks = highs_warm._Checks()
     checks.reset(100_000)
     event = _Event()
     for _ in range(5_000):

@@ -239,42 +239,6 @@ def test_time_limit_stops_the_search_and_says_what_was_skipped():
     assert not plain.stopped_by_limit and plain.skipped == () and plain.status == "feasible"
 
 
-def test_closest_field_returns_a_field_that_is_already_admissible():
-    """The projection of an admissible field onto the fields carrying the same α is the field itself."""
-    import numpy as np
-
-    from alma.associative.lp import solve_lp
-    from alma.mechanics.contact_points import ContactPoints
-    from alma.mechanics.model import build_model
-    from alma.nonassociative.cap_lp import CapLP, ClosestField
-
-    model = build_model(alma.paper_panel("running", "2:1", "2:1", 0.6))
-    points = ContactPoints.from_model(model)
-    lp = solve_lp(model)
-    cap = points.friction * lp.multipliers.reshape(-1, 2).sum(axis=1)
-    vertex = CapLP(model, points).solve(np.zeros(points.count), cap)
-    # The QP stops when ½‖N − N̄‖² is within its gap tolerance of the optimum 0, so N is resolved
-    # only to about the square root of it: at the search's 1e-10, 4.7e-5 (1.1e-6 of the largest N)
-    # from the vertex the caps-as-bounds model returns since 2026-11-23.  The projection itself is
-    # checked here at 1e-12.
-    closest = ClosestField(model, points, tolerance=1e-12)
-    solved = closest.solve(vertex.alpha, cap, vertex.normal)
-    assert solved is not None
-    normal, shear, tau = solved
-    assert tau.size == 0  # no cohesion, no ties
-    scale = float(np.abs(vertex.normal).max())
-    assert np.abs(normal - vertex.normal).max() <= 1e-6 * scale
-    equilibrium = points.normal @ normal + points.tangent @ shear + model.dead + vertex.alpha * model.live
-    assert np.abs(equilibrium).max() <= 1e-7 * scale
-    assert normal.min() >= 0 and (np.abs(shear) - cap).max() <= 1e-7 * scale
-    # Another target: the result is at least as close to it as the vertex is.
-    target = 0.5 * vertex.normal
-    solved = closest.solve(vertex.alpha, cap, target)
-    assert solved is not None
-    normal2, _, _ = solved
-    assert np.linalg.norm(normal2 - target) <= np.linalg.norm(vertex.normal - target) + 1e-7 * scale
-
-
 @pytest.mark.parametrize(
     "bond, panel, block, friction, whole_search",
     [

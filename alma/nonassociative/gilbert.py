@@ -208,7 +208,8 @@ def projected_gilbert(
     """Gilbert's iteration at slope zero with the normal forces chosen by projection.
 
     Each iteration takes α* and the mechanism u from the capped LP (cap f N̄, warm HiGHS),
-    then, among the static fields that carry α*, the one closest to N̄ (:class:`ClosestField`).
+    then, among the static fields that carry α* on the face complementary to u (N = 0 where u
+    opens, T at its cap where u slips), the one closest to N̄ (:class:`ClosestField`).
     On large panels the plain iteration jumps between distant vertices of a large optimal face
     and never settles; the projected one moves N̄ only as far as the face forces it to, and its
     fixed point (N = N̄) is a collapse state: |T| ≤ f N̄ = f N, and u slips only where |T| = f N.
@@ -239,7 +240,10 @@ def projected_gilbert(
         if plain_left == 0:
             closest = closest or ClosestField(model, points, max_iter=work.interior_iterations)
             # α* less a hair: the face at α* exactly is only feasible to the LP's tolerance.
-            nearest = closest.solve(lp.alpha - 1e-9 * max(1.0, abs(lp.alpha)), f * n_bar, n_bar)
+            face = active_set(
+                model, points, lp.mechanism, tolerance=work.tolerances.active, linkage=work.tolerances.linkage
+            )
+            nearest = closest.solve(lp.alpha - 1e-9 * max(1.0, abs(lp.alpha)), f * n_bar, n_bar, face)
             if nearest is None:
                 break
             normal, shear, tau = nearest
