@@ -234,8 +234,8 @@ class ClosestField:
     slip signs), the QP is written on that face alone: every optimal field is complementary to
     the LP's mechanism, so N = 0 where it opens and T = −sign(γ) cap where it slips (T = 0 where
     the cap is 0) are fixed and only the other forces are unknowns; without these fixings the
-    face at α is a sliver of the LP's tolerance, where Clarabel took 50–170 iterations instead of
-    30–45.  When that QP does not solve, or without a face, one Clarabel QP over every force,
+    fields at α (the LP's optimum less a hair) form a sliver around the face, with slabs of no
+    width where caps are 0, where Clarabel took 50–170 iterations instead of 30–45.  When that QP does not solve, or without a face, one Clarabel QP over every force,
     kept between calls (only q (N̄) and b (α, caps) change), decides.
     """
 
@@ -250,38 +250,52 @@ class ClosestField:
     def _full_qp(self) -> UpdatableQP:
         """The QP over every force, built on first use (Clarabel's default iterative refinement;
         presolve off: the data are updated)."""
-        if self._full is not None:
-            return self._full
-        P, k, model = self._P, self.model.n_bounded, self.model
-        equilibrium = sp.hstack([self.points.normal, self.points.tangent]).tocsc()
-        eye, zero = sp.identity(P, format="csc"), sp.csc_matrix((P, P))
-        rows = [equilibrium, sp.hstack([-eye, zero]), sp.hstack([zero, eye]), sp.hstack([zero, -eye])]
-        if k:  # τ beside (N, T): G in the equilibrium, then −τ ≤ 0 and τ ≤ capacity
-            rows = [
-                sp.hstack([row, model.bounded if i == 0 else sp.csc_matrix((row.shape[0], k))])
-                for i, row in enumerate(rows)
-            ]
-            eye_k = sp.identity(k, format="csc")
-            rows += [sp.hstack([sp.csc_matrix((k, 2 * P)), -eye_k]), sp.hstack([sp.csc_matrix((k, 2 * P)), eye_k])]
-        A = sp.vstack(rows).tocsc()
-        quadratic = sp.block_diag([sp.identity(P), sp.csc_matrix((P + k, P + k))], format="csc")
-        self._full = UpdatableQP(
-            quadratic,
-            np.zeros(2 * P + k),
-            A,
-            self._rhs(0.0, np.zeros(P)),
-            self._n_eq,
-            3 * P + 2 * k,
-            tolerance=self._tolerance,
-            max_iter=self._max_iter,
-            refine=True,
-        )
+        if self._full is None:
+            every = np.ones(self._P, dtype=bool)
+            quadratic, A = self._matrices(every, every)
+            self._full = UpdatableQP(
+                quadratic,
+                np.zeros(A.shape[1]),
+                A,
+                self._rhs(0.0, np.zeros(self._P), every, every, np.zeros(self._P)),
+                self._n_eq,
+                A.shape[0] - self._n_eq,
+                tolerance=self._tolerance,
+                max_iter=self._max_iter,
+                refine=True,
+            )
         return self._full
 
-    def _rhs(self, alpha: float, cap: np.ndarray) -> np.ndarray:
-        k = self.model.n_bounded
+    def _matrices(self, keep: np.ndarray, free: np.ndarray) -> tuple[sp.csc_matrix, sp.csc_matrix]:
+        """(quadratic, A) of the QP over x = (N[keep], T[free], τ): A's rows are the equilibrium,
+        −N ≤ 0, T ≤ cap, −T ≤ cap, and for τ −τ ≤ 0 and τ ≤ capacity."""
+        points, k = self.points, self.model.n_bounded
+        n, t = int(keep.sum()), int(free.sum())
+        columns = [
+            points.normal.tocsc()[:, keep],
+            points.tangent.tocsc()[:, free],
+            *([self.model.bounded] if k else []),
+        ]
+        eye_n, eye_t, eye_k = (sp.identity(m, format="csc") for m in (n, t, k))
+        rows = [
+            sp.hstack(columns),
+            sp.hstack([-eye_n, sp.csc_matrix((n, t + k))]),
+            sp.hstack([sp.csc_matrix((t, n)), eye_t, sp.csc_matrix((t, k))]),
+            sp.hstack([sp.csc_matrix((t, n)), -eye_t, sp.csc_matrix((t, k))]),
+        ]
+        if k:
+            rows += [sp.hstack([sp.csc_matrix((k, n + t)), -eye_k]), sp.hstack([sp.csc_matrix((k, n + t)), eye_k])]
+        quadratic = sp.block_diag([eye_n, sp.csc_matrix((t + k, t + k))], format="csc")
+        return quadratic, sp.vstack(rows).tocsc()
+
+    def _rhs(self, alpha: float, cap: np.ndarray, keep: np.ndarray, free: np.ndarray, shear: np.ndarray) -> np.ndarray:
+        """b of :meth:`_matrices`' rows, the shear fixed at ``shear`` where not ``free``."""
+        k, fixed = self.model.n_bounded, ~free
+        equilibrium = -self.model.dead - alpha * self.model.live
+        if fixed.any():
+            equilibrium = equilibrium - self.points.tangent.tocsc()[:, fixed] @ shear[fixed]
         bounds = [np.zeros(k), self.model.capacity] if k else []
-        return np.concatenate([-self.model.dead - alpha * self.model.live, np.zeros(self._P), cap, cap, *bounds])
+        return np.concatenate([equilibrium, np.zeros(int(keep.sum())), cap[free], cap[free], *bounds])
 
     def solve(
         self, alpha: float, cap: np.ndarray, target: np.ndarray, face: tuple[np.ndarray, np.ndarray] | None = None
@@ -292,10 +306,10 @@ class ClosestField:
             nearest = self._on_face(alpha, cap, target, *face)
             if nearest is not None:
                 return nearest
-        return self._unpacked(self._full_qp().solve(self._q(target), self._rhs(alpha, cap)), self._P)
-
-    def _q(self, target: np.ndarray) -> np.ndarray:
-        return np.concatenate([-target, np.zeros(self._P + self.model.n_bounded)])
+        every = np.ones(self._P, dtype=bool)
+        b = self._rhs(alpha, cap, every, every, np.zeros(self._P))
+        q = np.concatenate([-target, np.zeros(self._P + self.model.n_bounded)])
+        return self._unpacked(self._full_qp().solve(q, b), self._P)
 
     def _unpacked(self, solution: SolverResult, n_normal: int) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         """(N, T, τ) of a solved QP whose x is (N, T, τ) with ``n_normal`` normal forces."""
@@ -311,40 +325,16 @@ class ClosestField:
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         """The closest field with N = 0 where the face opens and T = −sign(γ) cap where it slips
         (0 where cap = 0): a QP over the other N and T (and τ), built anew (the unknowns change)."""
-        points, model, k = self.points, self.model, self.model.n_bounded
-        keep = ~open_points
-        fixed = (slip_sign != 0) | (cap <= 0)
+        keep, free = ~open_points, (slip_sign == 0) & (cap > 0)
         shear = np.where(cap > 0, -slip_sign * cap, 0.0)
-        free = ~fixed
-        n, t = int(keep.sum()), int(free.sum())
-        tangent = points.tangent.tocsc()
-        columns = [points.normal.tocsc()[:, keep], tangent[:, free], *([model.bounded] if k else [])]
-        eye_n, eye_t, eye_k = (sp.identity(m, format="csc") for m in (n, t, k))
-        A = sp.vstack(
-            [
-                sp.hstack(columns),
-                sp.hstack([-eye_n, sp.csc_matrix((n, t + k))]),
-                sp.hstack([sp.csc_matrix((t, n)), eye_t, sp.csc_matrix((t, k))]),
-                sp.hstack([sp.csc_matrix((t, n)), -eye_t, sp.csc_matrix((t, k))]),
-                *(
-                    [sp.hstack([sp.csc_matrix((k, n + t)), -eye_k]), sp.hstack([sp.csc_matrix((k, n + t)), eye_k])]
-                    if k
-                    else []
-                ),
-            ]
-        ).tocsc()
-        equilibrium = -model.dead - alpha * model.live - tangent[:, fixed] @ shear[fixed]
-        b = np.concatenate(
-            [equilibrium, np.zeros(n), cap[free], cap[free], *([np.zeros(k), model.capacity] if k else [])]
-        )
-        quadratic = sp.block_diag([eye_n, sp.csc_matrix((t + k, t + k))], format="csc")
-        q = np.concatenate([-target[keep], np.zeros(t + k)])
+        quadratic, A = self._matrices(keep, free)
+        n = int(keep.sum())
         solution = solve_conic_lp(
-            q,
+            np.concatenate([-target[keep], np.zeros(A.shape[1] - n)]),
             A,
-            b,
+            self._rhs(alpha, cap, keep, free, shear),
             self._n_eq,
-            n + 2 * t + 2 * k,
+            A.shape[0] - self._n_eq,
             tolerance=self._tolerance,
             max_iter=self._max_iter,
             refine=True,
