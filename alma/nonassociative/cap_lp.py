@@ -235,8 +235,9 @@ class ClosestField:
     the LP's mechanism, so N = 0 where it opens and T = −sign(γ) cap where it slips (T = 0 where
     the cap is 0) are fixed and only the other forces are unknowns; without these fixings the
     fields at α (the LP's optimum less a hair) form a sliver around the face, with slabs of no
-    width where caps are 0, where Clarabel took 50–170 iterations instead of 30–45.  When that QP does not solve, or without a face, one Clarabel QP over every force,
-    kept between calls (only q (N̄) and b (α, caps) change), decides.
+    width where caps are 0, where Clarabel took 50–170 iterations instead of 30–45.  When that
+    QP does not solve, or without a face, one Clarabel QP over every force, kept between calls
+    (only q (N̄) and b (α, caps) change), decides.
     """
 
     def __init__(self, model: Model, points: ContactPoints, *, tolerance: float = 1e-10, max_iter: int = 200) -> None:
