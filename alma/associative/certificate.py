@@ -15,6 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from alma.backends.gram_backend import regularised_solver
+from alma.floats import dot
 from alma.mechanics.model import Model
 from alma.settings import AssociativeSettings
 
@@ -58,12 +59,12 @@ def certify_pair(
     """
     norm = float(model.n_free)
     u, kinematic_residual = _repair_mechanism(
-        H, model.live, u * (norm / (model.live @ u)), norm, residual_tolerance, feral_min_rows
+        H, model.live, u * (norm / dot(model.live, u)), norm, residual_tolerance, feral_min_rows
     )
     A = H if static is None else static
     bound = np.full(A.shape[1], np.inf) if upper is None else np.asarray(upper, dtype=float)
     u_final = u / norm
-    upper_estimate = float(-model.dead @ u_final / (model.live @ u_final))
+    upper_estimate = -dot(model.dead, u_final) / dot(model.live, u_final)
     mu, alpha, static_residual = _repair_field(
         A,
         model,
@@ -89,7 +90,7 @@ def repair_mechanism(
     (u with f_Lᵀu = 1, its relative flow-rule violation)."""
     norm = float(model.n_free)
     u, residual = _repair_mechanism(
-        H, model.live, u * (norm / (model.live @ u)), norm, residual_tolerance, feral_min_rows
+        H, model.live, u * (norm / dot(model.live, u)), norm, residual_tolerance, feral_min_rows
     )
     return u / norm, residual
 
@@ -129,7 +130,7 @@ def _repair_mechanism(
         candidate = u.copy()
         for _ in range(3):
             candidate = candidate + solve_u(HV.T @ np.maximum(-(HV @ candidate), 0.0))
-        candidate = candidate * (norm / (live @ candidate))
+        candidate = candidate * (norm / dot(live, candidate))
         value = violation(candidate)
         if value >= best:
             # Rejected: u and hence the next round's row set and step would be the same again.
@@ -219,17 +220,17 @@ def static_correction(
     # α takes part with a small weight first: the correction goes to the stresses, and α only
     # absorbs what they cannot (the "matching reduction" of the multiplier) when the weight grows.
     for alpha_weight in (1e-6, 1e-3, 1.0):
-        denom = 1.0 / alpha_weight**2 + live @ g_live
+        denom = 1.0 / alpha_weight**2 + dot(live, g_live)
         for _ in range(4):  # iterative refinement of the regularised solve
             residual = H @ mu + model.dead + alpha * live
             if np.abs(residual).max(initial=0.0) <= 1e-15:
                 break
             x = solve_g(-residual)
-            y = x - g_live * (live @ x) / denom  # (G + w² f_L f_Lᵀ)⁻¹(−r), Sherman–Morrison
+            y = x - g_live * dot(live, x) / denom  # (G + w² f_L f_Lᵀ)⁻¹(−r), Sherman–Morrison
             candidate = mu.copy()
             candidate[support] += weight * (HS.T @ y)
             np.clip(candidate, 0.0, bound, out=candidate)
-            new_alpha = alpha + float(live @ y) * alpha_weight**2
+            new_alpha = alpha + dot(live, y) * alpha_weight**2
             if np.abs(H @ candidate + model.dead + new_alpha * live).max() >= np.abs(residual).max():
                 break
             mu, alpha = candidate, new_alpha

@@ -42,6 +42,7 @@ from alma.backends.termination import SolverResult, Termination, termination
 from alma.engine.pattern_cache import PatternCache, structure_key
 from alma.engine.select import choose, solve_with_engine
 from alma.engine.types import IPMSettings
+from alma.floats import dot
 from alma.mechanics.model import Model
 from alma.settings import AssociativeSettings, Engine
 from alma.status import Status
@@ -173,14 +174,14 @@ def _certified(
     # A mechanism that breaks the flow rule by v_j only proves α ≤ (−f_0ᵀu + D(u) + Σ v_j μ*_j) / f_Lᵀu:
     # the violation work is charged with the certified stress field's multipliers; D(u) is the
     # dissipation of the bounded forces, Σ capacity · max(0, −Gᵀu).
-    violation_work = float(np.maximum(-(H.T @ u), 0.0) @ mu)
-    upper = float((-model.dead @ u + dissipation(model, u) + violation_work) / (model.live @ u))
+    violation_work = dot(np.maximum(-(H.T @ u), 0.0), mu)
+    upper = (-dot(model.dead, u) + dissipation(model, u) + violation_work) / dot(model.live, u)
     forces = _force_terms(model, H, static, fields)
     status, message, lower, upper = _judge(
         s, sol.status, f"{label}: {sol.raw_status}", lower, upper, static_residual, kinematic_residual, forces
     )
     message += note
-    alpha = upper if np.isfinite(upper) else float((-model.dead @ u + dissipation(model, u)) / (model.live @ u))
+    alpha = upper if np.isfinite(upper) else (-dot(model.dead, u) + dissipation(model, u)) / dot(model.live, u)
     return LPSolution(
         status=status,
         message=message,

@@ -14,6 +14,7 @@ from typing import cast
 import numpy as np
 import scipy.sparse as sp
 
+from alma.floats import dot
 from alma.mechanics.model import Model
 from alma.settings import AssociativeSettings
 from alma.status import Status
@@ -52,7 +53,7 @@ def dissipation(model: Model, u: np.ndarray) -> float:
     (cohesion c l t |γ|, ties strength · elongation rate), dimensionless."""
     if not model.n_bounded:
         return 0.0
-    return float(model.capacity @ np.maximum(-(cast(sp.csc_matrix, model.bounded).T @ u), 0.0))
+    return dot(model.capacity, np.maximum(-(cast(sp.csc_matrix, model.bounded).T @ u), 0.0))
 
 
 def _kinematic_form(

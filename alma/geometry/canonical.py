@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from alma.floats import times
 from alma.geometry.contacts import Joints
 from alma.geometry.loads import PointLoad, Settlement, Tie
 from alma.geometry.scene import Scene, cyclic, polygon_area, polygon_centroid
@@ -75,7 +76,7 @@ def canonical_scene(
     at points only, which the drawing's joint search does not see); it is then marked validated.
     """
     matrix = _frame_matrix(scene, settings)
-    turned = [b.vertices @ matrix.T for b in scene.blocks]
+    turned = [times(b.vertices, matrix.T) for b in scene.blocks]
     corner = np.concatenate(turned).min(axis=0)
     # Areas about each polygon's own first vertex: far from the origin the shoelace sum cancels.
     free = [polygon_area(v - v[0]) for v, b in zip(turned, scene.blocks, strict=True) if not b.fixed] or [
@@ -95,7 +96,7 @@ def canonical_scene(
         scene,
         blocks=tuple(blocks[i] for i in frame.order),
         gravity=(0.0, -1.0),
-        live_load_direction=_unit(matrix @ np.asarray(scene.live_load_direction, dtype=float)),
+        live_load_direction=_unit(times(np.asarray(scene.live_load_direction, dtype=float), matrix.T)),
         unit_weight=scene.unit_weight * unit**2,
         cohesion=scene.cohesion * unit,
         joint_overrides=tuple(
@@ -120,7 +121,7 @@ def _frame_matrix(scene: Scene, settings: CanonicalSettings) -> np.ndarray:
     rotation = np.array([[up[1], -up[0]], [up[0], up[1]]])
     live = np.asarray(scene.live_load_direction, dtype=float) if scene.live_self_weight else np.zeros(2)
     live = live + sum((np.asarray(load.live, dtype=float) for load in scene.loads), np.zeros(2))
-    turned = rotation @ live
+    turned = times(live, rotation.T)
     if turned[0] < -settings.vertical * max(float(np.hypot(*turned)), 1e-300):
         rotation = np.diag([-1.0, 1.0]) @ rotation
     return rotation
@@ -152,12 +153,12 @@ def _block_order(blocks: list, step: float) -> np.ndarray:
 
 
 def _point(point: tuple[float, float], frame: CanonicalFrame) -> tuple[float, float]:
-    x = (frame.matrix @ np.asarray(point, dtype=float) + frame.offset) / frame.unit
+    x = (times(np.asarray(point, dtype=float), frame.matrix.T) + frame.offset) / frame.unit
     return float(x[0]), float(x[1])
 
 
 def _vector(vector: tuple[float, float], frame: CanonicalFrame) -> tuple[float, float]:
-    x = frame.matrix @ np.asarray(vector, dtype=float)
+    x = times(np.asarray(vector, dtype=float), frame.matrix.T)
     return float(x[0]), float(x[1])
 
 
@@ -196,10 +197,10 @@ def canonical_joints(
     rank = np.empty_like(frame.order)
     rank[frame.order] = np.arange(frame.order.size)
     a, b = rank[joints.block_a], rank[joints.block_b]
-    start = (joints.start @ frame.matrix.T + frame.offset) / frame.unit
-    end = (joints.end @ frame.matrix.T + frame.offset) / frame.unit
+    start = (times(joints.start, frame.matrix.T) + frame.offset) / frame.unit
+    end = (times(joints.end, frame.matrix.T) + frame.offset) / frame.unit
     flip = a > b
-    normal = np.where(flip[:, None], -1.0, 1.0) * (joints.normal @ frame.matrix.T)
+    normal = np.where(flip[:, None], -1.0, 1.0) * times(joints.normal, frame.matrix.T)
     a, b = np.where(flip, b, a), np.where(flip, a, b)
     tangent = np.column_stack([-normal[:, 1], normal[:, 0]])
     back = ((end - start) * tangent).sum(axis=1) < 0

@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from alma.floats import dot
 from alma.geometry.dxf_entities import Outline, mm_per_unit, read_outlines
 from alma.geometry.parsing import SceneError
 
@@ -208,4 +209,4 @@ def _mark_supports(blocks: list[dict[str, Any]], supports: str, tol: float, path
 
 def _area(v: np.ndarray) -> float:
     x, y = v[:, 0], v[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    return 0.5 * (dot(x, np.roll(y, -1)) - dot(np.roll(x, -1), y))

@@ -21,6 +21,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from alma.floats import dot
 from alma.geometry import panels
 from alma.geometry.loads import PointLoad
 from alma.geometry.panels import BLOCK_HEIGHT, course_lengths
@@ -318,7 +319,7 @@ def _box(x0: float, x1: float, y0: float, y1: float) -> np.ndarray:
 
 def _ccw(v: np.ndarray) -> np.ndarray:
     x, y = v[:, 0], v[:, 1]
-    return v if np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y) >= 0 else v[::-1].copy()
+    return v if dot(x, np.roll(y, -1)) - dot(np.roll(x, -1), y) >= 0 else v[::-1].copy()
 
 
 def _dedupe(v: np.ndarray) -> np.ndarray:

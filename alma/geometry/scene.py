@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from alma.floats import dot, times
 from alma.geometry import validation
 from alma.geometry.dxf import read_dxf
 from alma.geometry.loads import (
@@ -229,11 +230,11 @@ class Scene:
         """Apply x -> matrix @ x + offset to every block (and to gravity/live load directions)."""
         matrix = np.asarray(matrix, dtype=float)
         shift = np.asarray(offset, dtype=float)
-        blocks = tuple(dataclasses.replace(b, vertices=_ccw(b.vertices @ matrix.T + shift)) for b in self.blocks)
+        blocks = tuple(dataclasses.replace(b, vertices=_ccw(times(b.vertices, matrix.T) + shift)) for b in self.blocks)
         gravity, live = self.gravity, self.live_load_direction
         if rotate_loads:
-            gravity = _direction(matrix @ np.asarray(gravity), "transformed gravity")
-            live = _direction(matrix @ np.asarray(live), "transformed live load direction")
+            gravity = _direction(times(np.asarray(gravity, dtype=float), matrix.T), "transformed gravity")
+            live = _direction(times(np.asarray(live, dtype=float), matrix.T), "transformed live load direction")
         return dataclasses.replace(self, blocks=blocks, gravity=gravity, live_load_direction=live, validated=False)
 
 
@@ -291,7 +292,7 @@ def cyclic(values: np.ndarray, shift: int) -> np.ndarray:
 def polygon_area(vertices: np.ndarray) -> float:
     """Signed area (positive when counter-clockwise), shoelace formula."""
     x, y = vertices[:, 0], vertices[:, 1]
-    return 0.5 * float(np.dot(x, cyclic(y, -1)) - np.dot(cyclic(x, -1), y))
+    return 0.5 * (dot(x, cyclic(y, -1)) - dot(cyclic(x, -1), y))
 
 
 def polygon_centroid(vertices: np.ndarray) -> np.ndarray:

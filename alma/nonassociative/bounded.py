@@ -29,6 +29,7 @@ from typing import cast
 import numpy as np
 import scipy.sparse as sp
 
+from alma.floats import dot
 from alma.mechanics.model import Model
 
 
@@ -90,4 +91,4 @@ def residuals(
     cap = model.capacity
     violation = float(np.maximum(np.maximum(-tau, tau - cap), 0.0).max(initial=0.0))
     gap = float(np.abs(cap * np.maximum(d, 0.0) - tau * d).max(initial=0.0)) / (force_scale * vel_scale)
-    return violation, gap, float(cap @ np.maximum(d, 0.0))
+    return violation, gap, dot(cap, np.maximum(d, 0.0))

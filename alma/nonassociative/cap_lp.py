@@ -26,6 +26,7 @@ from alma.backends.clarabel_backend import UpdatableQP, solve_conic_lp
 from alma.backends.highs_backend import INF, lp_model
 from alma.backends.highs_warm import WarmLP
 from alma.backends.termination import SolverResult, Termination
+from alma.floats import dot
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.static_lps import StaticLP, failed
@@ -207,7 +208,7 @@ class CapLP:
         if sol.termination is not Termination.OPTIMAL:
             return failed(Termination.ERROR, P, pivots)
         y = sol.duals[: self._n]  # ∂(−α)/∂b of the equilibrium rows: u with f_Lᵀu = 1
-        work = float(self.model.live @ y)
+        work = dot(self.model.live, y)
         mechanism = y * (self.model.n_free / work) if work > 0 else None
         normal, shear, tau = self._forces(sol.x, slope)
         bounded = np.clip(tau, 0.0, self.model.capacity)  # empty without cohesion and ties

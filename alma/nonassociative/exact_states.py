@@ -15,6 +15,7 @@ import numpy as np
 
 from alma.backends.linprog_backend import LPMethod
 from alma.backends.termination import Termination
+from alma.floats import dot
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative import bounded as bf
@@ -121,7 +122,7 @@ def exact_state(
     """
     tally = Tally() if tally is None else tally
     lps = _store(lps, model, points)
-    work = float(model.live @ mechanism)
+    work = dot(model.live, mechanism)
     if not work > 0:
         return None
     mechanism = mechanism * (model.n_free / work)

@@ -15,6 +15,7 @@ from typing import cast
 
 import numpy as np
 
+from alma.floats import least_squares, times
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.cap_lp import CapLP, ClosestField
@@ -185,8 +186,8 @@ class _Anderson:
             return n_bar + step
         d_g = np.diff(np.array(self.g), axis=0).T
         d_x = np.diff(np.array(self.x), axis=0).T
-        gamma = np.linalg.lstsq(d_g, step, rcond=None)[0]
-        return np.maximum(n_bar + step - (d_x + d_g) @ gamma, 0.0)
+        gamma = least_squares(d_g, step)
+        return np.maximum(n_bar + step - times(gamma, (d_x + d_g).T), 0.0)
 
 
 def projected_gilbert(

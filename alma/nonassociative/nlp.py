@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from alma.backends.ipopt_backend import ComplementarityData, solve_relaxations
+from alma.floats import dot
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.exact_states import exact_state
@@ -80,7 +81,7 @@ def _initial(model: Model, points: ContactPoints, mechanism: np.ndarray, seed: C
     """IPOPT's start: the mechanism scaled to f_Lᵀu = n_free, its slips and bounded-force
     elongations split by sign, and the seed's forces (zero forces without a seed)."""
     P, q = points.count, model.n_bounded
-    work = float(model.live @ mechanism)
+    work = dot(model.live, mechanism)
     u0 = mechanism * (model.n_free / work) if work > 0 else mechanism
     slip = points.tangent.T @ u0
     d = -(model.bounded.T @ u0) if q else np.zeros(0)  # type: ignore[union-attr]  # q > 0: it has columns

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from alma.floats import rows_dot
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.limits import Cap, no_cap
@@ -141,14 +142,14 @@ def _seeds(model: Model, table: _Incidences) -> tuple[list[int], list[np.ndarray
     gravity = np.asarray(model.scene.gravity, dtype=float)
     up = -gravity / max(float(np.hypot(*gravity)), 1e-300)
     across = np.array([up[1], -up[0]])
-    resting = (table.sign * (table.normal[table.point] @ up)) > 0.5
+    resting = (table.sign * rows_dot(table.normal[table.point], up)) > 0.5
     seed_block, seed_pivot, seed_omega = [], [], []
     for block in range(model.n_free):
         ids = np.arange(table.indptr[block], table.indptr[block + 1])
         ids = ids[resting[ids]]
         if ids.size == 0:
             continue
-        along = table.xy[table.point[ids]] @ across
+        along = rows_dot(table.xy[table.point[ids]], across)
         for pivot_id, omega in ((int(ids[np.argmax(along)]), -1.0), (int(ids[np.argmin(along)]), 1.0)):
             seed_block.append(block)
             seed_pivot.append(table.xy[table.point[pivot_id]])

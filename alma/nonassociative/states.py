@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from alma.floats import dot
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative import bounded as bf
@@ -186,7 +187,7 @@ def verify(
             np.maximum(np.abs(shear) - points.friction * normal, 0).max(initial=0.0),
         )
     )
-    work = float(model.live @ mechanism)
+    work = dot(model.live, mechanism)
     u = mechanism * (model.n_free / work) if work > 0 else mechanism
     opening = points.normal.T @ u
     slip = points.tangent.T @ u
@@ -203,7 +204,9 @@ def verify(
     if q:
         bounded_yield, bounded_gap, bounded_work = bf.residuals(model, tau, rates, force_scale, vel_scale)
         yield_violation, dissipation = max(yield_violation, bounded_yield), dissipation + bounded_work
-    energy = abs(alpha * (model.live @ u) + model.dead @ u - dissipation) / max(1.0, abs(model.dead @ u), dissipation)
+    energy = abs(alpha * dot(model.live, u) + dot(model.dead, u) - dissipation) / max(
+        1.0, abs(dot(model.dead, u)), dissipation
+    )
     residuals = {
         "equilibrium": equilibrium / force_scale,
         "yield": yield_violation / force_scale,

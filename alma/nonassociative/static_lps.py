@@ -20,6 +20,7 @@ import scipy.sparse as sp
 from alma.backends.clarabel_backend import solve_conic_lp
 from alma.backends.linprog_backend import LPMethod, solve_lp
 from alma.backends.termination import Termination
+from alma.floats import dot
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative import bounded as bf
@@ -222,7 +223,7 @@ def static_lp_clarabel(
         return failed(Termination.ERROR, P, used)
     x = sol.x
     y = sol.duals[:n]  # equality duals: the mechanism, up to sign and scale
-    work = model.live @ y
+    work = dot(model.live, y)
     mechanism = y * (model.n_free / work) if work > 0 else None
     if k:
         return StaticLP(

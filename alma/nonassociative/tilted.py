@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from alma.associative.lp import solve_lp
+from alma.floats import dot
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
 from alma.nonassociative.exact_states import exact_state_by
@@ -56,7 +57,7 @@ def mapped_back(
         return None
     alpha = (s + c * state.alpha) / scale
     normal, shear = state.normal / scale, state.shear / scale
-    mechanism = state.mechanism * (model.n_free / max(float(model.live @ state.mechanism), 1e-300))
+    mechanism = state.mechanism * (model.n_free / max(dot(model.live, state.mechanism), 1e-300))
     residuals, ok = verify(
         model,
         points,
