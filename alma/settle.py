@@ -33,6 +33,7 @@ import scipy.sparse as sp
 from alma.associative.certificate import _repair_field
 from alma.backends.clarabel_backend import solve_conic_lp
 from alma.backends.highs_backend import solve_conic_form
+from alma.floats import dot
 from alma.geometry.contacts import Joints
 from alma.geometry.scene import JointOverride, Scene, SceneError
 from alma.geometry.validation import validated
@@ -221,9 +222,9 @@ def _work_bounds(
     size = float((abs(H.T) @ np.abs(u)).max(initial=0.0)) + float(np.abs(h).max(initial=0.0))
     kinematic_residual = max(0.0, -float(power.min(initial=0.0))) / max(size, 1e-300)
     scale = model.force_scale * model.length_scale  # kN·mm per model work unit
-    dissipation = float(capacity @ np.maximum(-(G.T @ u + g), 0.0))
-    lower = float(model.dead @ u - dissipation) * scale if kinematic_residual <= s.residual_tolerance else -math.inf
-    upper = float(h @ mu + g @ tau) * scale if static_residual <= s.residual_tolerance else math.inf
+    dissipation = dot(capacity, np.maximum(-(G.T @ u + g), 0.0))
+    lower = (dot(model.dead, u) - dissipation) * scale if kinematic_residual <= s.residual_tolerance else -math.inf
+    upper = (dot(h, mu) + dot(g, tau)) * scale if static_residual <= s.residual_tolerance else math.inf
     return Bounds(lower, upper), kinematic_residual
 
 
@@ -251,7 +252,7 @@ def _vertex(
     of the interior point's ``x``.  A symmetric arch that spreads has two crown hinges of equal
     work; the interior point returns their blend, a four-hinge motion that is a mechanism of its
     own at the next configuration, the vertex one of them.  ``x`` itself when HiGHS finds none."""
-    value = float(cost @ x)
+    value = dot(cost, x)
     sparse = -np.asarray(A[:k, :].sum(axis=0)).ravel()
     sparse[n:] += 1.0
     cap = value + slack * abs(value)

@@ -23,6 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from alma.backends.highs_backend import solve_conic_form
+from alma.floats import dot
 from alma.mechanics.model import Model
 from alma.status import Status
 
@@ -82,7 +83,7 @@ def _solve(
     size = float((abs(H.T) @ np.abs(u)).max(initial=0.0))
     if -float((H.T @ u).min(initial=0.0)) > 1e-9 * max(size, 1e-300):
         return None, f"crisp mechanism ({form}): breaks the flow rule beyond 1e-9"
-    own = float(-model.dead @ u / (model.live @ u))
+    own = -dot(model.dead, u) / dot(model.live, u)
     if abs(own - alpha) > 2 * slack * max(1.0, abs(alpha)):
         return None, f"crisp mechanism ({form}): α {own:.12g} off the certified {alpha:.12g}"
-    return u / (model.live @ u), f"crisp mechanism: a vertex of the optimal face ({form} form)"
+    return u / dot(model.live, u), f"crisp mechanism: a vertex of the optimal face ({form} form)"

@@ -31,6 +31,7 @@ import scipy.sparse as sp
 
 from alma.backends.clarabel_backend import solve_static_cone
 from alma.backends.termination import SolverResult
+from alma.floats import dot
 from alma.mechanics.model import Model
 from alma.settings import CrushingSettings
 
@@ -227,13 +228,13 @@ def crushing_work(
     power = H.T @ u
     moving = np.ones(model.n_joints, dtype=bool)
     moving[held[::4] // 4] = False
-    charged = float(np.maximum(-power[held], 0.0) @ mu[held])
-    work = float(-model.dead @ u) + crushing_dissipation(model, power, moving) + bounded_work + charged
+    charged = dot(np.maximum(-power[held], 0.0), mu[held])
+    work = -dot(model.dead, u) + crushing_dissipation(model, power, moving) + bounded_work + charged
     if held_residual <= tolerance:
         return work, held_residual
     strong = np.flatnonzero(np.repeat(~np.isfinite(model.crushing), 4))
     residual = flow_violation(H[:, strong], u)
     if residual > tolerance:
         return work, held_residual
-    charged = float(np.maximum(-power[strong], 0.0) @ mu[strong])
-    return float(-model.dead @ u) + crushing_dissipation(model, power) + bounded_work + charged, residual
+    charged = dot(np.maximum(-power[strong], 0.0), mu[strong])
+    return -dot(model.dead, u) + crushing_dissipation(model, power) + bounded_work + charged, residual

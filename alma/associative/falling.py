@@ -22,6 +22,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from alma.backends.highs_backend import solve_conic_form
+from alma.floats import dot
 from alma.mechanics.model import Model
 from alma.status import Status
 
@@ -53,8 +54,8 @@ def falling_ray(model: Model) -> FallingRay | None:
     if sol.status != Status.OPTIMAL:
         return None
     u = sol.x
-    work = float(model.dead @ u)
+    work = dot(model.dead, u)
     if not work > 0:
         return None
-    breach = max(-float((H.T @ u).min(initial=0.0)), abs(float(model.live @ u)))
+    breach = max(-float((H.T @ u).min(initial=0.0)), abs(dot(model.live, u)))
     return FallingRay(u, work, breach)

@@ -17,6 +17,7 @@ from alma.associative.cone_field import ConeField, admissible_field
 from alma.associative.crushing import crushing_work, rigid_columns, solve_static_crushing, uniform_margins
 from alma.associative.lp_forms import LPSolution, _judge, _trivial, dissipation
 from alma.backends.termination import SolverResult
+from alma.floats import dot
 from alma.mechanics.model import Model
 from alma.settings import AssociativeSettings
 from alma.status import Status
@@ -186,7 +187,7 @@ def _crushing_solution(
         if np.isfinite(upper)
         else float(
             crushing_work(model, H, u, mu, rigid, dissipation(model, u), np.inf, s.residual_tolerance)[0]
-            / (model.live @ u)
+            / dot(model.live, u)
         )
     )
     return LPSolution(
@@ -215,6 +216,6 @@ def _crushing_mechanism(
     bounds = []
     for u, held, residual in mechanisms:
         work, proof = crushing_work(model, H, u, mu, held, dissipation(model, u), residual, s.residual_tolerance)
-        bounds.append((u, float(work / (model.live @ u)), proof))
+        bounds.append((u, float(work / dot(model.live, u)), proof))
     proven = [b for b in bounds if b[2] <= s.residual_tolerance]
     return min(proven, key=lambda b: b[1]) if proven else bounds[0]

@@ -13,6 +13,7 @@ import dataclasses
 import numpy as np
 import scipy.sparse as sp
 
+from alma.floats import rows_dot, times
 from alma.geometry.canonical import CanonicalFrame
 from alma.mechanics.model import Model
 
@@ -63,12 +64,12 @@ def mechanism_to_drawing(u: np.ndarray, canonical: Model, frame: CanonicalFrame,
     moves = np.asarray(u, dtype=float).reshape(-1, 3)
     target = model.free_index[frame.order[canonical.free_blocks]]  # drawing's free index of each canonical one
     to_mm = canonical.length_scale * frame.unit
-    centre_mm = (
-        (canonical.centroid * canonical.length_scale + canonical.origin) * frame.unit - frame.offset
-    ) @ frame.matrix
+    centre_mm = times(
+        (canonical.centroid * canonical.length_scale + canonical.origin) * frame.unit - frame.offset, frame.matrix
+    )
     centre = (centre_mm - model.origin) / model.length_scale  # canonical centroids, drawing model units
     omega = frame.handedness * moves[:, 2]
-    velocity = (moves[:, :2] @ frame.matrix) * (to_mm / model.length_scale)
+    velocity = times(moves[:, :2], frame.matrix) * (to_mm / model.length_scale)
     arm = model.centroid[target] - centre
     out = np.zeros((model.n_free, 3))
     out[target, 0] = velocity[:, 0] - omega * arm[:, 1]
@@ -90,7 +91,7 @@ def _joint_match(canonical: Model, frame: CanonicalFrame, model: Model) -> tuple
         return None
 
     def to_drawing(x: np.ndarray) -> np.ndarray:
-        return (x * frame.unit - frame.offset) @ frame.matrix
+        return times(x * frame.unit - frame.offset, frame.matrix)
 
     c_start, c_end = to_drawing(cj.start), to_drawing(cj.end)
     c_pair = np.sort(np.column_stack([frame.order[cj.block_a], frame.order[cj.block_b]]), axis=1)
@@ -152,8 +153,8 @@ def field_to_drawing(
     match, swapped = found
     cj, dj = canonical.joints, model.joints
     # Vectors turn as points do (x_drawing = Mᵀ x_canonical); each joint's n and t read in the drawing.
-    n_sign = np.sign(np.einsum("ij,ij->i", cj.normal[match] @ frame.matrix, dj.normal))
-    t_sign = np.sign(np.einsum("ij,ij->i", cj.tangent[match] @ frame.matrix, dj.tangent))
+    n_sign = np.sign(rows_dot(times(cj.normal[match], frame.matrix), dj.normal))
+    t_sign = np.sign(rows_dot(times(cj.tangent[match], frame.matrix), dj.tangent))
     # N n + T t on block b: when a and b are swapped the force on the drawn b is the opposite one.
     if np.any(n_sign != np.where(frame.order[cj.block_b[match]] == dj.block_b, 1.0, -1.0)):
         return None
