@@ -16,9 +16,9 @@ from enum import StrEnum
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as sla
 from scipy.optimize import linprog
 
+from alma.backends.qdldl_backend import least_squares_solver
 from alma.backends.termination import Form, SolverResult, termination
 
 
@@ -97,9 +97,10 @@ def polished(A_eq: sp.spmatrix, b_eq: np.ndarray, bounds: np.ndarray, x: np.ndar
     HiGHS's interior point with crossover can end at a vertex that it calls optimal while its
     rows balance only to its feasibility tolerance (2.98e-9 of the largest force on a paper
     panel, against 3e-16 for the same vertex after a round-off perturbation of the data).  The
-    columns off their bounds are the basis B; ``B x_B = b_eq − A_N x_N`` is solved by a sparse LU
-    (a square B) or the normal equations with two refinement steps (a degenerate vertex), so
-    the vertex's values depend on its basis only.  ``x`` is kept when B is singular or wider
+    columns off their bounds are the basis B; ``B x_B = b_eq − A_N x_N`` is solved in the least-squares
+    sense by QDLDL on the augmented system with three refinement steps (exact for a square B, and
+    for a degenerate vertex whose B is tall), so the vertex's values depend on its basis only, and
+    on no CPU's BLAS.  ``x`` is kept when B is singular or wider
     than the rows, when the re-solved values leave their bounds, or when they balance worse.
     """
     A = sp.csc_matrix(A_eq)
@@ -112,14 +113,13 @@ def polished(A_eq: sp.spmatrix, b_eq: np.ndarray, bounds: np.ndarray, x: np.ndar
     rhs = b_eq - A @ fixed
     B = A[:, basic]
     try:
-        if basic.size == A.shape[0]:
-            xb = sla.splu(B).solve(rhs)
-        else:
-            lu = sla.splu((B.T @ B).tocsc())
-            xb = lu.solve(B.T @ rhs)
-            for _ in range(2):
-                xb = xb + lu.solve(B.T @ (rhs - B @ xb))
-    except RuntimeError:  # B singular: not a basis
+        solve = least_squares_solver(B)
+    except (ValueError, RuntimeError):  # no factorisation: not a basis
+        return x
+    xb = solve(rhs)
+    for _ in range(3):
+        xb = xb + solve(rhs - B @ xb)
+    if not np.isfinite(xb).all():
         return x
     y = x.copy()
     y[basic] = xb
