@@ -15,8 +15,9 @@ import numpy as np
 
 
 def dot(x: np.ndarray, y: np.ndarray) -> float:
-    """xᵀy of two dense vectors, without BLAS."""
-    return float(np.multiply(x, y).sum())
+    """xᵀy of two dense vectors, without BLAS: a NumPy float, so that dividing by a zero one gives
+    inf or NaN, as ``x @ y`` did, not an exception."""
+    return np.float64(np.multiply(x, y).sum())
 
 
 def rows_dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
