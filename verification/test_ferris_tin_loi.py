@@ -94,6 +94,13 @@ def test_associative_against_independent_solvers(k):
 #: since the generators' form of the sloped capped LP (wall 2 had 0.558310 before it).
 CANONICAL_HIGHER: dict[int, float] = {}
 
+#: Walls whose lowest state came from a path that only the round-off of a CPU's BLAS kernel opened
+#: (measured 2026-11-28, docs/decisions.md, "The same answer on another CPU"): wall 6 gave 0.295769
+#: (recorded), 0.295763 (OpenBLAS SkylakeX kernel) and 0.292706 (Haswell, Sandybridge) at 2028f3f;
+#: with the dense sums out of BLAS every CPU gets 0.298900, and the sixteen fixed starts of before
+#: find nothing lower either.
+ARITHMETIC_HIGHER: dict[int, float] = {6: 0.298900}
+
 
 @pytest.mark.slow  # the six walls' searches take about 40 s of one core
 @pytest.mark.parametrize(
@@ -108,6 +115,15 @@ CANONICAL_HIGHER: dict[int, float] = {}
             ),
         )
         if k in CANONICAL_HIGHER
+        else pytest.param(
+            k,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason=f"the search gives {ARITHMETIC_HIGHER[k]} > {MEASURED_NL[k]} on every CPU; the lower states "
+                "were reached only by paths that a BLAS kernel's round-off opened (issue 30, docs/decisions.md)",
+            ),
+        )
+        if k in ARITHMETIC_HIGHER
         else k
         for k in sorted(WALLS)
     ],
