@@ -72,7 +72,7 @@ def _numpy_features(older: tuple[str, ...]) -> str:
 def _variants() -> list[dict[str, str]]:
     """This machine as it is, and as older CPUs: OpenBLAS kernels this CPU can run."""
     flags = _cpu_flags()
-    variants = [{}]
+    variants: list[dict[str, str]] = [{}]
     if {"avx2", "fma"} <= flags:
         variants.append(
             {
