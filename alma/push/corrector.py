@@ -9,9 +9,10 @@ block's centroid moves horizontally by the step's target, to round-off.
 
 Each Newton step is the least-squares step of smallest norm (a mechanism with spare freedoms
 moves least): a dense SVD solve up to ``PushSettings.dense_columns`` unknowns, above it the
-regularised normal equations JᵀJ + λI by one sparse LU factorisation (scipy.sparse.linalg.splu)
-with two refinement sweeps; J has a handful of entries per contact, so the factorisation costs
-milliseconds where an iterative solver (LSMR) took seconds and stalled at 1e-8 mm.  A Newton
+regularised normal equations JᵀJ + λI by one sparse LDLᵀ factorisation (QDLDL, which calls no
+BLAS: the same bits on every CPU) with two refinement sweeps; J has a handful of entries per
+contact, so the factorisation costs milliseconds where an iterative solver (LSMR) took seconds
+and stalled at 1e-8 mm.  A Newton
 step that does not reduce the residual by ``PushSettings.corrector_contraction`` has stalled (the
 contacts kept over-constrain the motion: a dilatant mechanism's sliding points) and ends the
 iteration at once.  Hinges that close a mechanism only to first order (three collinear hinges
@@ -25,8 +26,8 @@ import dataclasses
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import splu
 
+from alma.backends.qdldl_backend import regularised_solver
 from alma.push.motion import Bodies, Contacts, MotionError, _moved, _perp, _rotate
 from alma.settings import PushSettings
 
@@ -130,7 +131,7 @@ def one_hinge_opened(
 
 def _least_squares(jacobian: sp.spmatrix, residual: np.ndarray, dense_columns: int) -> np.ndarray:
     """The least-squares step of (nearly) least norm: dense SVD for few unknowns, else the
-    regularised normal equations by sparse LU with two refinement sweeps."""
+    regularised normal equations by QDLDL's LDLᵀ with two refinement sweeps."""
     n = jacobian.shape[1]
     if n <= dense_columns:
         return np.linalg.lstsq(jacobian.toarray(), residual, rcond=None)[0]
@@ -139,10 +140,10 @@ def _least_squares(jacobian: sp.spmatrix, residual: np.ndarray, dense_columns: i
     # λ far below every curvature of the scaled system, enough to make a mechanism's spare
     # freedoms (zero columns of JᵀJ's range) invertible with a zero step along them
     lam = 1e-12 * max(float(gram.diagonal().max(initial=0.0)), 1.0)
-    lu = splu((gram + lam * sp.identity(n, format="csc")).tocsc())
-    x = lu.solve(J.T @ residual)
+    solve = regularised_solver(gram, lam)  # QDLDL: no BLAS, the same bits on every CPU
+    x = solve(J.T @ residual)
     for _ in range(2):
-        x = x + lu.solve(J.T @ (residual - J @ x) - lam * x)
+        x = x + solve(J.T @ (residual - J @ x) - lam * x)
     return x
 
 
