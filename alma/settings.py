@@ -316,9 +316,9 @@ class PushSettings:
     #: contacts kept over-constrain the motion): Newton's own rate is quadratic, far below it.
     corrector_contraction: float = 0.5
     #: Unknowns (3 per moving body) up to which a corrector step is a dense SVD least squares
-    #: (a multithreaded LAPACK call slows 30x on a loaded machine: 2 s at 291 unknowns, the sparse
-    #: normal equations 0.02-0.06 s); above, the sparse normal equations.
-    dense_columns: int = 60
+    #: instead of the sparse normal equations: none, since LAPACK rounds by the CPU's BLAS kernel and
+    #: QDLDL does not (the same curve on every CPU; docs/decisions.md, "The same answer on another CPU").
+    dense_columns: int = 0
     #: A tie shorter than its rest length by more than this (relative to the length scale) is
     #: slack: far above the round-off of rigid motions (1e-16 of the coordinates), far below a step.
     tie_slack: float = 1e-9

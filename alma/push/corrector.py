@@ -8,9 +8,9 @@ the angle and the shift of its reference point) so that every hinge of the mecha
 block's centroid moves horizontally by the step's target, to round-off.
 
 Each Newton step is the least-squares step of smallest norm (a mechanism with spare freedoms
-moves least): a dense SVD solve up to ``PushSettings.dense_columns`` unknowns, above it the
-regularised normal equations JᵀJ + λI by one sparse LDLᵀ factorisation (QDLDL, which calls no
-BLAS: the same bits on every CPU) with two refinement sweeps; J has a handful of entries per
+moves least): the regularised normal equations JᵀJ + λI by one sparse LDLᵀ factorisation (QDLDL,
+which calls no BLAS: the same bits on every CPU) with two refinement sweeps (a dense SVD instead
+up to ``PushSettings.dense_columns`` unknowns, none by default); J has a handful of entries per
 contact, so the factorisation costs milliseconds where an iterative solver (LSMR) took seconds
 and stalled at 1e-8 mm.  A Newton
 step that does not reduce the residual by ``PushSettings.corrector_contraction`` has stalled (the
