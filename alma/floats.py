@@ -6,7 +6,8 @@ each sum.  A search that branches on the last bits of its data (a degenerate LP'
 active set read at a threshold) then gives another answer on another CPU (docs/decisions.md,
 "The same answer on another CPU").  These helpers write the same sums as elementwise products
 and NumPy's own reductions, whose order does not depend on the CPU.  Sparse products
-(scipy.sparse) do not use BLAS and need no helper.
+(scipy.sparse) do not use BLAS and need no helper.  ``alma.engine`` keeps its own ``dot`` (the
+same sum): it imports nothing of alma.
 """
 
 from __future__ import annotations
