@@ -97,11 +97,12 @@ def polished(A_eq: sp.spmatrix, b_eq: np.ndarray, bounds: np.ndarray, x: np.ndar
     HiGHS's interior point with crossover can end at a vertex that it calls optimal while its
     rows balance only to its feasibility tolerance (2.98e-9 of the largest force on a paper
     panel, against 3e-16 for the same vertex after a round-off perturbation of the data).  The
-    columns off their bounds are the basis B; ``B x_B = b_eq − A_N x_N`` is solved in the least-squares
-    sense by QDLDL on the augmented system with three refinement steps (exact for a square B, and
-    for a degenerate vertex whose B is tall), so the vertex's values depend on its basis only, and
-    on no CPU's BLAS.  ``x`` is kept when B is singular or wider
-    than the rows, when the re-solved values leave their bounds, or when they balance worse.
+    columns off their bounds are the basis B (independent at a vertex, so x_B is unique);
+    ``B x_B = b_eq − A_N x_N`` is solved in the least-squares sense by QDLDL on the augmented
+    system with three refinement steps (exact for a square B and for a degenerate vertex's tall
+    one), so the vertex's values depend on its basis only, and on no CPU's BLAS.  ``x`` is kept
+    when B is wider than the rows, when QDLDL fails, when the re-solved values leave their bounds
+    or are not finite, or when they balance worse (as where B is numerically singular).
     """
     A = sp.csc_matrix(A_eq)
     lower, upper = bounds[:, 0], bounds[:, 1]

@@ -12,12 +12,12 @@ moves least): the regularised normal equations JᵀJ + λI by one sparse LDLᵀ 
 which calls no BLAS: the same bits on every CPU) with two refinement sweeps (a dense SVD instead
 up to ``PushSettings.dense_columns`` unknowns, none by default); J has a handful of entries per
 contact, so the factorisation costs milliseconds where an iterative solver (LSMR) took seconds
-and stalled at 1e-8 mm.  A Newton
-step that does not reduce the residual by ``PushSettings.corrector_contraction`` has stalled (the
-contacts kept over-constrain the motion: a dilatant mechanism's sliding points) and ends the
-iteration at once.  Hinges that close a mechanism only to first order (three collinear hinges
-among three bodies lock at finite motion) make one of them open: :func:`one_hinge_opened` keeps
-the step that opens a hinge least without interpenetration.  Lengths in mm, angles in rad.
+and stalled at 1e-8 mm.  A Newton step that does not reduce the residual by
+``PushSettings.corrector_contraction`` has stalled (the contacts kept over-constrain the motion: a
+dilatant mechanism's sliding points) and ends the iteration at once.  Hinges that close a
+mechanism only to first order (three collinear hinges among three bodies lock at finite motion)
+make one of them open: :func:`one_hinge_opened` keeps the step that opens a hinge least without
+interpenetration.  Lengths in mm, angles in rad.
 """
 
 from __future__ import annotations
@@ -130,8 +130,8 @@ def one_hinge_opened(
 
 
 def _least_squares(jacobian: sp.spmatrix, residual: np.ndarray, dense_columns: int) -> np.ndarray:
-    """The least-squares step of (nearly) least norm: dense SVD for few unknowns, else the
-    regularised normal equations by QDLDL's LDLᵀ with two refinement sweeps."""
+    """The least-squares step of (nearly) least norm: the regularised normal equations by QDLDL's
+    LDLᵀ with two refinement sweeps (a dense SVD up to ``dense_columns`` unknowns)."""
     n = jacobian.shape[1]
     if n <= dense_columns:
         return np.linalg.lstsq(jacobian.toarray(), residual, rcond=None)[0]
