@@ -70,6 +70,11 @@ def test_the_probe_is_not_asked_below_its_pivots(panel, monkeypatch):
     model, points, mechanism = panel
     used: list[LPMethod] = []
     solve = static_lps.solve_lp
-    monkeypatch.setattr(static_lps, "solve_lp", lambda *a, **k: used.append(k["method"]) or solve(*a, **k))
+
+    def counted(*args, **kwargs):
+        used.append(kwargs["method"])
+        return solve(*args, **kwargs)
+
+    monkeypatch.setattr(static_lps, "solve_lp", counted)
     static_lps.kinematic_lp(model, points, *active_set(model, points, mechanism))
     assert used == [LPMethod.SIMPLEX]
