@@ -1,6 +1,6 @@
 """The kinematic LP's probe: a dual-simplex run past
-:data:`~alma.nonassociative.static_lps.KINEMATIC_PROBE_PIVOTS` asks HiGHS's interior point whether
-the LP is feasible; an infeasible one ends there, a feasible one gets the simplex's own vertex."""
+:data:`~alma.nonassociative.static_lps.KINEMATIC_PROBE_PIVOTS` goes to HiGHS's interior point with
+crossover, whose vertex (a mechanism with the set) or proof of infeasibility is the answer."""
 
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ import pytest
 
 from alma.backends.linprog_backend import LPMethod
 from alma.backends.termination import Termination
+from alma.floats import dot
 from alma.geometry.panels import paper_panel
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
@@ -45,15 +46,21 @@ def _probed(monkeypatch: pytest.MonkeyPatch) -> list[LPMethod]:
     return used
 
 
-def test_a_feasible_lp_past_the_probe_gives_the_simplex_vertex(panel, monkeypatch):
+def test_a_feasible_lp_past_the_probe_gives_the_interior_point_vertex(panel, monkeypatch):
     model, points, mechanism = panel
     open_points, slip_sign = active_set(model, points, mechanism)
-    plain, _ = static_lps.kinematic_lp(model, points, open_points, slip_sign)
-    assert plain is not None
     used = _probed(monkeypatch)
-    probed, _ = static_lps.kinematic_lp(model, points, open_points, slip_sign)
-    assert used == [LPMethod.SIMPLEX, LPMethod.IPM, LPMethod.SIMPLEX]
-    assert probed is not None and np.array_equal(probed, plain)
+    u, _ = static_lps.kinematic_lp(model, points, open_points, slip_sign)
+    assert used == [LPMethod.SIMPLEX, LPMethod.IPM]
+    assert u is not None
+    # A mechanism with exactly the prescribed set: closed points stay closed, sticking ones do
+    # not slip, slipping ones slip their way, and the live load does n_free of work.
+    assert dot(model.live, u) == pytest.approx(model.n_free, rel=1e-9)
+    scale = float(np.abs(u).max())
+    assert np.abs(points.normal.T @ u).max() <= 1e-9 * scale
+    slip = points.tangent.T @ u
+    assert np.abs(slip[slip_sign == 0]).max(initial=0.0) <= 1e-9 * scale
+    assert np.all(slip_sign[slip_sign != 0] * slip[slip_sign != 0] > 0)
 
 
 def test_an_infeasible_lp_past_the_probe_ends_at_the_interior_point(panel, monkeypatch):
