@@ -17,6 +17,7 @@ from pathlib import Path
 import pytest
 
 import alma
+from alma.geometry.panels import paper_panel
 from alma.push.result import STOPPED_ENDS
 from alma.seismic.check_2019 import d0_star_of
 
@@ -92,3 +93,24 @@ def test_a_failed_step_is_still_a_failure(fails_after):
     curve = alma.push(_block(), steps=10)
     assert curve.status == alma.Status.NOT_CONVERGED and curve.end["reason"] == "motion"
     assert "motion" not in STOPPED_ENDS
+
+
+@pytest.mark.parametrize(
+    ("panel", "control", "reason"),
+    [
+        (("stack", "2:1", "4:1", 1.0), "b19", "control_reverses"),
+        (("english", "2:1", "4:1", 0.6), "b7", "control_still"),
+    ],
+)
+def test_a_paper_panel_pushed_by_a_low_block_ends_where_its_mechanism_leaves_it(panel, control, reason):
+    """Real structures, no stand-in: a paper panel whose control is a block low in its collapse
+    mechanism. The mechanism changes along the curve until, at the last point, it moves that block
+    backwards (the stack bond's upper courses slide on) or leaves it still."""
+    curve = alma.push(paper_panel(*panel), control=control, steps=20)
+    first = {b.id: b.u[0] for b in curve.first.blocks}
+    assert curve.sense == 1.0 and first[control] > 0  # it moved forwards at d = 0
+    last = curve.curve[-1]
+    assert curve.end["reason"] == reason and curve.end["d"] == last.d > 0
+    assert last.alpha > 0 and last.mechanism_changed
+    assert curve.status == alma.Status.OPTIMAL, curve.message
+    assert math.isnan(curve.d0)
