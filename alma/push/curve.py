@@ -200,7 +200,7 @@ def _curve(run: _Run, start: _State) -> PushResult:
             )
             break
         try:
-            nxt = (run.mover or _move)(run, state, state.d + step)
+            nxt = _advanced(run, state, step)
         except ControlLeft as exc:
             left = exc
             break
@@ -244,6 +244,23 @@ def _curve(run: _Run, start: _State) -> PushResult:
         solves + len(extra),
         {"reason": "alpha_zero", "d": root},
     )
+
+
+def _advanced(run: _Run, state: _State, step: float) -> _State:
+    """The configuration ``step`` mm past ``state``, the step halved while the corrector finds no
+    motion over it (a mechanism that turns from sliding to rocking can lock over a long step),
+    down to the probe step; below that the corrector's :class:`MotionError` stands.  The next step
+    is the curve's own again."""
+    floor = run.push.probe * run.length
+    while True:
+        try:
+            return (run.mover or _move)(run, state, state.d + step)
+        except ControlLeft:
+            raise  # the state's own mechanism leaves the control block: no step helps
+        except MotionError:
+            if not step / 2 >= floor:
+                raise
+            step /= 2
 
 
 def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_State], tuple | None]:
