@@ -28,28 +28,29 @@ def panel() -> tuple:
     return model, ContactPoints.from_model(model), sliding
 
 
-def _probed(monkeypatch: pytest.MonkeyPatch) -> list[LPMethod]:
-    """The methods of the kinematic LP's solves from now on, its first simplex run stopped at the
-    probe's iteration limit (these small LPs are solved by HiGHS's presolve, in no iteration)."""
+def _methods(monkeypatch: pytest.MonkeyPatch, *, stop_first: bool = True) -> list[LPMethod]:
+    """The methods of the kinematic LP's solves from now on; ``stop_first``: its first simplex run
+    stopped at the probe's iteration limit (these small LPs are solved by HiGHS's presolve, in no
+    iteration)."""
     used: list[LPMethod] = []
     solve = static_lps.solve_lp
 
-    def probed(*args, **kwargs):
+    def logged(*args, **kwargs):
         used.append(kwargs["method"])
         result = solve(*args, **kwargs)
-        if len(used) == 1:
+        if stop_first and len(used) == 1:
             assert kwargs["max_iterations"] == static_lps.KINEMATIC_PROBE_PIVOTS
             return dataclasses.replace(result, termination=Termination.ITERATION_LIMIT, x=np.zeros(0))
         return result
 
-    monkeypatch.setattr(static_lps, "solve_lp", probed)
+    monkeypatch.setattr(static_lps, "solve_lp", logged)
     return used
 
 
 def test_a_feasible_lp_past_the_probe_gives_the_interior_point_vertex(panel, monkeypatch):
     model, points, mechanism = panel
     open_points, slip_sign = active_set(model, points, mechanism)
-    used = _probed(monkeypatch)
+    used = _methods(monkeypatch)
     u, _ = static_lps.kinematic_lp(model, points, open_points, slip_sign)
     assert used == [LPMethod.SIMPLEX, LPMethod.IPM]
     assert u is not None
@@ -68,20 +69,13 @@ def test_an_infeasible_lp_past_the_probe_ends_at_the_interior_point(panel, monke
     # Every point closed and sticking: the panel is locked, no mechanism does work.
     locked = np.zeros(points.count, dtype=bool), np.zeros(points.count)
     assert static_lps.kinematic_lp(model, points, *locked)[0] is None
-    used = _probed(monkeypatch)
+    used = _methods(monkeypatch)
     assert static_lps.kinematic_lp(model, points, *locked)[0] is None
     assert used == [LPMethod.SIMPLEX, LPMethod.IPM]
 
 
 def test_the_probe_is_not_asked_below_its_pivots(panel, monkeypatch):
     model, points, mechanism = panel
-    used: list[LPMethod] = []
-    solve = static_lps.solve_lp
-
-    def counted(*args, **kwargs):
-        used.append(kwargs["method"])
-        return solve(*args, **kwargs)
-
-    monkeypatch.setattr(static_lps, "solve_lp", counted)
+    used = _methods(monkeypatch, stop_first=False)
     static_lps.kinematic_lp(model, points, *active_set(model, points, mechanism))
     assert used == [LPMethod.SIMPLEX]

@@ -1,4 +1,5 @@
-"""A capacity curve whose mechanism leaves the control block ends as a finding, not a failure.
+"""A capacity curve whose mechanism leaves the control block ends as a finding, not a failure;
+a step the corrector cannot take is halved before the curve fails.
 
 When the mechanism at a point of the curve leaves the control block still (or moves it
 backwards), the structure collapses there, at that point's α, by a mechanism the control point
@@ -14,6 +15,7 @@ import math
 import tomllib
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import alma
@@ -43,18 +45,20 @@ def _block() -> alma.Scene:
 
 @pytest.fixture
 def fails_after(monkeypatch):
-    """``_move`` that takes ``n`` real steps and then raises ``error``."""
+    """``_move`` that takes ``n`` real steps and then raises ``error`` ``times`` times (None: on every
+    call after); returns the steps asked (mm)."""
 
-    def install(n: int, error: Exception) -> None:
-        real, calls = curve_module._move, []
+    def install(n: int, error: Exception, times: int | None = None) -> list[float]:
+        real, asked = curve_module._move, []
 
         def move(run, state, d):
-            calls.append(d)
-            if len(calls) > n:
+            asked.append(d - state.d)
+            if n < len(asked) and (times is None or len(asked) <= n + times):
                 raise error
             return real(run, state, d)
 
         monkeypatch.setattr(curve_module, "_move", move)
+        return asked
 
     return install
 
@@ -114,3 +118,32 @@ def test_a_paper_panel_pushed_by_a_low_block_ends_where_its_mechanism_leaves_it(
     assert last.alpha > 0 and last.mechanism_changed
     assert curve.status == alma.Status.OPTIMAL, curve.message
     assert math.isnan(curve.d0)
+
+
+def test_a_locked_step_is_halved_and_the_next_is_whole_again(fails_after):
+    """A mechanism that turns from sliding to rocking can lock over a long step (the running-bond
+    paper panels after 144–449 mm of sliding): the step is halved until the corrector moves."""
+    plain = np.diff([p.d for p in alma.push(_block(), steps=10).curve])
+    asked = fails_after(3, curve_module.MotionError("locked over this step"), times=2)
+    curve = alma.push(_block(), steps=10)
+    steps = np.diff([p.d for p in curve.curve])
+    assert asked[3:6] == pytest.approx([plain[3], plain[3] / 2, plain[3] / 4], rel=1e-12)
+    assert steps[3] == pytest.approx(plain[3] / 4, rel=1e-9) and steps[4] == pytest.approx(plain[3], rel=1e-9)
+    assert curve.status == alma.Status.OPTIMAL and curve.end["reason"] == "alpha_zero"
+
+
+def test_a_step_locked_down_to_the_probe_is_still_a_failure(fails_after):
+    asked = fails_after(3, curve_module.MotionError("locked over this step"))
+    curve = alma.push(_block(), steps=10)
+    assert curve.status == alma.Status.NOT_CONVERGED and curve.end["reason"] == "motion"
+    probe = alma.settings.PushSettings().probe * np.sqrt(B * H)
+    assert min(asked[3:]) >= probe > min(asked[3:]) / 2
+
+
+def test_a_sliding_panel_that_turns_to_rocking_ends_at_a_proven_loss_of_equilibrium():
+    curve = alma.push(paper_panel("running", "2:1", "2:1", 0.27), steps=20)
+    classes = [p.mechanism_class for p in curve.curve]
+    assert classes[0] == "sliding" and classes[-1] != "sliding"
+    assert curve.curve[-1].d > 143.6  # where the corrector stopped over a whole step
+    assert curve.status == alma.Status.OPTIMAL, curve.message
+    assert curve.end["reason"] == "no_equilibrium"
