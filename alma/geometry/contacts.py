@@ -12,13 +12,13 @@ blocks or joints.
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from alma.geometry.corners import corner_contacts
 from alma.geometry.edges import CONTACT, Edges, areas_and_centroids, contact_lengths, local_origin, scene_edges
 from alma.geometry.snap import SnappedEdges, snap_edges
 
@@ -77,7 +77,8 @@ def block_areas_and_centroids(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
 
 
 def find_joints(scene: Scene) -> Joints:
-    """All joints of the scene (contacts of positive length between two blocks).
+    """All joints of the scene: contacts of positive length between two blocks, and corners
+    resting on faces (joints of zero length, :mod:`alma.geometry.corners`).
 
     The vertices are snapped first (:mod:`alma.geometry.snap`: vertices of different blocks
     within the contact tolerance are one point, a point that close to another block's edge lies
@@ -91,17 +92,16 @@ def find_joints(scene: Scene) -> Joints:
     snapped, snap, band = snapped_edges(scene, origin)
     edges = snapped.edges
     i, j = snapped.pairs
-    if i.size == 0:
-        return dataclasses.replace(_empty_joints(), warnings=snapped.warnings)
-    joints, near = _contact_segments(scene, edges, i, j, *_frames(edges, snap), snap, band)
-    return Joints(
-        block_a=joints.block_a,
-        block_b=joints.block_b,
-        start=joints.start + origin,
-        end=joints.end + origin,
-        normal=joints.normal,
-        warnings=snapped.warnings + near,
-    )
+    frames = _frames(edges, snap)
+    joints, near = _contact_segments(scene, edges, i, j, *frames, snap, band) if i.size else (_empty_joints(), ())
+    fixed = np.array([b.fixed for b in scene.blocks])
+    a, b, point, normal = corner_contacts(edges, fixed, joints, snap, frames[3])
+    block_a, block_b = np.concatenate([joints.block_a, a]), np.concatenate([joints.block_b, b])
+    start, end = np.concatenate([joints.start, point]), np.concatenate([joints.end, point])
+    order = np.lexsort((start[:, 1], start[:, 0], block_b, block_a))
+    normals = np.concatenate([joints.normal, normal])[order]
+    warnings = snapped.warnings + near
+    return Joints(block_a[order], block_b[order], start[order] + origin, end[order] + origin, normals, warnings)
 
 
 def snapped_edges(scene: Scene, origin: np.ndarray) -> tuple[SnappedEdges, float, float]:

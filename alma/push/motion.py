@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
+from alma.geometry.corners import covered
 from alma.geometry.edges import contact_lengths, scene_edges
 from alma.geometry.scene import Scene
 from alma.push.carried import carry, moved_loads, moved_ties
@@ -224,7 +225,8 @@ def joints_after(scene: Scene, contacts: Contacts, bodies: Bodies, z: np.ndarray
     slip = np.abs(gap[:, 0] * normal[:, 1] - gap[:, 1] * normal[:, 0])
     closed |= contacts.sliding & (opening <= contacts.friction * slip + snap)
     closed &= (bodies.of_block[contacts.a] >= 0) | (bodies.of_block[contacts.b] >= 0)
-    closed &= ~_covered(found, contacts.a, contacts.b, 0.5 * (pa + pb), snap)
+    found = _without_carried_corners(found, contacts.a[closed], contacts.b[closed], 0.5 * (pa + pb)[closed], snap)
+    closed &= ~covered(found, contacts.a, contacts.b, 0.5 * (pa + pb), snap)
     if not closed.any():
         return found
     keep = np.flatnonzero(closed)
@@ -320,28 +322,20 @@ def _moved(bodies: Bodies, z: np.ndarray, blocks: np.ndarray, points: np.ndarray
     return np.where(moving[:, None], out, points)
 
 
-def _covered(found: Joints, a: np.ndarray, b: np.ndarray, points: np.ndarray, snap: float) -> np.ndarray:
-    """Per point: it lies within ``snap`` of a found joint between the same two blocks."""
-    if found.count == 0 or a.size == 0:
-        return np.zeros(a.size, dtype=bool)
-    n = int(max(found.block_a.max(), found.block_b.max(), a.max(), b.max())) + 1
-    key = found.block_a.astype(np.int64) * n + found.block_b
-    order = np.argsort(key, kind="stable")
-    sorted_key = key[order]
-    mine = np.minimum(a, b).astype(np.int64) * n + np.maximum(a, b)
-    lo = np.searchsorted(sorted_key, mine, "left")
-    hi = np.searchsorted(sorted_key, mine, "right")
-    count = hi - lo
-    owner = np.repeat(np.arange(a.size), count)
-    k = order[np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count - lo, count)]
-    p = points[owner]
-    s0, s1 = found.start[k], found.end[k]
-    seg = s1 - s0
-    t = np.clip(((p - s0) * seg).sum(axis=1) / np.maximum((seg * seg).sum(axis=1), 1e-300), 0.0, 1.0)
-    near = np.hypot(*(p - s0 - t[:, None] * seg).T) <= snap
-    out = np.zeros(a.size, dtype=bool)
-    np.logical_or.at(out, owner, near)
-    return out
+def _without_carried_corners(found: Joints, a: np.ndarray, b: np.ndarray, points: np.ndarray, snap: float) -> Joints:
+    """``found`` without its corner contacts (joints of zero length) at a carried contact point:
+    the carried point keeps its history (a hinge's normal, a crushing joint's bearing length)."""
+    corner = found.length == 0
+    if not corner.any() or a.size == 0:
+        return found
+    carried = Joints(np.minimum(a, b), np.maximum(a, b), points, points, np.zeros_like(points))
+    drop = np.zeros(found.count, dtype=bool)
+    at = np.flatnonzero(corner)
+    drop[at] = covered(carried, found.block_a[at], found.block_b[at], found.start[at], snap)
+    keep = ~drop
+    return Joints(
+        found.block_a[keep], found.block_b[keep], found.start[keep], found.end[keep], found.normal[keep], found.warnings
+    )
 
 
 def _hinge_normal(
