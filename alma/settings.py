@@ -304,6 +304,10 @@ class PushSettings:
     max_step: float = 0.05
     #: Main steps the analysis may take, as a multiple of ``steps`` (a work budget).
     max_steps_factor: int = 4
+    #: Bisections landing a step where blocks first touch (alma.push.landing): 1e-12 of the step.
+    landing_iterations: int = 40
+    #: Re-solves of a step holding the points it drove into a neighbour (each round holds all).
+    unilateral_rounds: int = 5
     #: Width of the bracket of d₀ that ends its refinement: d₀ is stated to this accuracy.
     d0_tolerance: float = 1e-7
     #: LP solves the refinement of d₀ may spend (each halves the bracket at worst).
@@ -312,19 +316,16 @@ class PushSettings:
     corrector_iterations: int = 30
     #: Residual of the corrector (relative to the length scale): the hinges meet to round-off.
     corrector_tolerance: float = 1e-12
-    #: A Newton step must shrink the corrector's residual by this factor, else it has stalled (the
-    #: contacts kept over-constrain the motion): Newton's own rate is quadratic, far below it.
+    #: A Newton step shrinks the corrector's residual by this, else it has stalled (quadratic is far below).
     corrector_contraction: float = 0.5
-    #: Unknowns (3 per moving body) up to which a corrector step is a dense SVD least squares
-    #: instead of the sparse normal equations: none, since LAPACK rounds by the CPU's BLAS kernel and
-    #: QDLDL does not (the same curve on every CPU; docs/decisions.md, "The same answer on another CPU").
+    #: Unknowns (3 per body) up to which a corrector step is a dense SVD least squares: none, since
+    #: LAPACK rounds by the CPU's BLAS kernel and QDLDL does not (the same curve on every CPU).
     dense_columns: int = 0
-    #: A tie shorter than its rest length by more than this (relative to the length scale) is
-    #: slack: far above the round-off of rigid motions (1e-16 of the coordinates), far below a step.
+    #: A tie shorter than its rest length by more than this (relative to the length scale) is slack:
+    #: far above the round-off of rigid motions (1e-16 of the coordinates), far below a step.
     tie_slack: float = 1e-9
-    #: The settlement capacity's crack pattern is a vertex of the settlement LP's optimal face
-    #: whose dead-load work is within this of the optimum (relative): far above the interior
-    #: point's 1e-10 and far below any difference between two distinct crack patterns.
+    #: The settlement crack pattern: an optimal-face vertex whose dead-load work is within this of
+    #: the optimum (above the interior point's 1e-10, below any two distinct patterns' difference).
     settlement_vertex_slack: float = 1e-8
 
 

@@ -138,12 +138,3 @@ def test_a_step_locked_down_to_the_probe_is_still_a_failure(fails_after):
     assert curve.status == alma.Status.NOT_CONVERGED and curve.end["reason"] == "motion"
     probe = alma.settings.PushSettings().probe * np.sqrt(B * H)
     assert min(asked[3:]) >= probe > min(asked[3:]) / 2
-
-
-def test_a_sliding_panel_that_turns_to_rocking_ends_at_a_proven_loss_of_equilibrium():
-    curve = alma.push(paper_panel("running", "2:1", "2:1", 0.27), steps=20)
-    classes = [p.mechanism_class for p in curve.curve]
-    assert classes[0] == "sliding" and classes[-1] != "sliding"
-    assert curve.curve[-1].d > 143.6  # where the corrector stopped over a whole step
-    assert curve.status == alma.Status.OPTIMAL, curve.message
-    assert curve.end["reason"] == "no_equilibrium"

@@ -30,23 +30,14 @@ from typing import cast
 import numpy as np
 
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
+from alma.geometry.edges import contact_lengths, scene_edges
 from alma.geometry.scene import Scene
 from alma.geometry.validation import validated
 from alma.mechanics.model import Model, build_model
 from alma.push.carried import tie_lengths, without_slack
-from alma.push.corrector import corrected, one_hinge_opened
-from alma.push.motion import (
-    MotionError,
-    Pose,
-    advance,
-    bodies_of,
-    classify,
-    displaced,
-    joints_after,
-    predictor,
-    signature,
-)
+from alma.push.motion import MotionError, Pose, advance, bodies_of, classify, displaced, joints_after, signature
 from alma.push.result import PushResult, _result, _Run, _State
+from alma.push.step import increment, landed
 from alma.push.stop import lost_equilibrium
 from alma.results.types import Result
 from alma.settings import PushSettings, Settings
@@ -327,19 +318,8 @@ def _move(run: _Run, state: _State, d: float) -> _State:
     rate = bodies.velocity_at(np.array([run.control]), where[None, :])[0, 0] * run.sense
     if not rate > 0:
         raise ControlLeft("control_reverses", "its mechanism moves the control block backwards")
-    target = (d - state.d) * run.sense
-    z0 = predictor(bodies, (d - state.d) / rate)
-    args = (z0, (run.control, where), target, run.length, run.push)
-    try:
-        z = corrected(bodies, state.contacts, *args)
-    except MotionError:
-        # sliding points kept closed over-constrain a dilatant mechanism of many bodies: let them
-        # open as the associative flow rule does, and keep the hinges
-        free = dataclasses.replace(state.contacts, sliding=np.zeros_like(state.contacts.sliding))
-        try:
-            z = corrected(bodies, free, *args)
-        except MotionError:  # hinges that close only to first order lock: one of them opens
-            z = one_hinge_opened(bodies, free, *args)
+    snap = contact_lengths(scene0, scene_edges(scene0))[0]
+    d, z = landed(run, state, d, increment(run, state, d, rate, where, snap), rate, where, snap)
     pose = advance(state.pose, scene0, bodies, z)
     joints = joints_after(displaced(scene0, pose), state.contacts, bodies, z)
     return _state(

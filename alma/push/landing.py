@@ -1,0 +1,66 @@
+"""A step that drives one block into another stops where they first touch.
+
+The blocks move along the mechanism of the last configuration; only its contacts are held
+(:mod:`alma.push.corrector`).  A corner that the mechanism moves towards a block it does not
+touch yet (a face that opened at first order, a course turning into the one above) would pass
+through it over a finite step.  After each step the overlaps of the blocks' outlines are
+measured (depth = 2 area / perimeter of the intersection, the width of a sliver, as
+:func:`alma.geometry.polygons.find_overlaps` measures them), each against its depth before the
+step (a drawing's own overlaps within the contact tolerance stay as they are).  When one has
+grown by more than half the contact tolerance, the step is bisected to where it has grown by
+between an eighth and a half of it: the corner then lies within the tolerance of the face, so
+:func:`alma.geometry.contacts.find_joints` finds it as a contact (a corner on a face, a joint of
+zero length) and the next analysis carries it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+import shapely
+
+from alma.geometry.scene import Scene
+
+
+def overlap_depths(scene: Scene) -> dict[tuple[int, int], float]:
+    """Each pair of blocks (i < j) whose outlines overlap, with the overlap's depth (mm)."""
+    counts = [len(b.vertices) for b in scene.blocks]
+    owner = np.repeat(np.arange(len(counts)), counts)
+    rings = shapely.linearrings(np.concatenate([b.vertices for b in scene.blocks]), indices=owner)
+    polygons = shapely.polygons(rings)
+    a, b = shapely.STRtree(polygons).query(polygons, predicate="intersects")
+    keep = a < b
+    a, b = a[keep], b[keep]
+    common = shapely.intersection(polygons[a], polygons[b])
+    area, perimeter = shapely.area(common), shapely.length(common)
+    depth = np.where(perimeter > 0, 2.0 * area / np.where(perimeter > 0, perimeter, 1.0), 0.0)
+    return {(int(x), int(y)): float(z) for x, y, z in zip(a, b, depth, strict=True) if z > 0}
+
+
+def grown(before: dict[tuple[int, int], float], after: dict[tuple[int, int], float]) -> float:
+    """The largest growth of an overlap from ``before`` to ``after`` (mm; 0 when none grew)."""
+    return max((depth - before.get(pair, 0.0) for pair, depth in after.items()), default=0.0)
+
+
+def landing(
+    growth_at: Callable[[float], float | None], lo: float, hi: float, snap: float, iterations: int
+) -> float | None:
+    """The control displacement in (lo, hi) where the first new contact touches, by bisection.
+
+    ``growth_at(d)``: the overlaps' largest growth at d (mm), None where no motion reaches d;
+    at ``lo`` none has grown, at ``hi`` one has grown by more than ``snap`` / 2.  Returns a d
+    where the growth lies in (``snap`` / 8, ``snap`` / 2], else the largest d reached with
+    less growth, or None when no d past ``lo`` was reached within ``iterations`` bisections.
+    """
+    best = None
+    for _ in range(iterations):
+        mid = 0.5 * (lo + hi)
+        growth = growth_at(mid)
+        if growth is None or growth > 0.5 * snap:
+            hi = mid
+        elif growth > 0.125 * snap:
+            return mid
+        else:
+            lo = best = mid
+    return best

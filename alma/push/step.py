@@ -1,0 +1,110 @@
+"""One finite step of the capacity curve: the bodies' motion to a control displacement, with
+the contacts unilateral.
+
+:func:`increment` moves the bodies along the last configuration's mechanism (the predictor of
+:func:`alma.push.motion.predictor`, then the closure corrector of :mod:`alma.push.corrector`,
+which holds the mechanism's hinges and sliding points).  The corrector's equations hold only
+those points; a contact point the mechanism opens at first order can still close past its
+neighbour over a finite step (a joint opening by rotation while a held sliding point pulls the
+block back).  Such a point is held as well (zero normal gap, free slip) and the step solved
+again, up to ``PushSettings.unilateral_rounds`` times.  :func:`landed` handles the contacts the
+configuration does not have yet: where the step drives a corner into a block it does not touch,
+the step is shortened to where they first touch (:mod:`alma.push.landing`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+
+import numpy as np
+
+from alma.push.corrector import corrected, one_hinge_opened
+from alma.push.landing import grown, landing, overlap_depths
+from alma.push.motion import Bodies, Contacts, MotionError, _moved, _rotate, advance, displaced, predictor
+from alma.push.result import _Run, _State
+
+
+def entering(bodies: Bodies, contacts: Contacts, z: np.ndarray, tolerance: float) -> np.ndarray:
+    """Per contact point: neither a hinge nor sliding nor on a crushing joint, and the increments
+    ``z`` carry its two blocks into each other by more than ``tolerance`` mm along its normal
+    (turned with block a)."""
+    pa = _moved(bodies, z, contacts.a, contacts.point)
+    pb = _moved(bodies, z, contacts.b, contacts.point)
+    g = bodies.of_block[contacts.a]
+    angle = np.where(g >= 0, z[np.maximum(g, 0), 0], 0.0) if bodies.count else np.zeros(g.size)
+    gap = ((pb - pa) * _rotate(contacts.normal, angle)).sum(axis=1)
+    # a crushing joint's points enter the other block by design (the crushed zone)
+    return ~(contacts.hinge | contacts.sliding | contacts.crushing) & (gap < -tolerance)
+
+
+def _held_apart(
+    solve: Callable[[Contacts], np.ndarray], bodies: Bodies, contacts: Contacts, tolerance: float, rounds: int
+) -> np.ndarray:
+    """``solve(contacts)``'s increments, each contact point they drive into its neighbour held as
+    a sliding point and the step solved again (at most ``rounds`` times)."""
+    held = contacts
+    z = solve(held)
+    for _ in range(rounds):
+        more = entering(bodies, held, z, tolerance)
+        if not more.any():
+            break
+        held = dataclasses.replace(held, sliding=held.sliding | more)
+        z = solve(held)
+    return z
+
+
+def increment(run: _Run, state: _State, d: float, rate: float, where: np.ndarray, snap: float) -> np.ndarray:
+    """The bodies' increments (g, 3) from ``state`` to control displacement ``d`` (mm) along its
+    mechanism (``rate``: the control point's speed per unit of the mechanism; ``where``: its
+    position), no contact point closing past ``snap`` / 10 (mm)."""
+    bodies, push = state.bodies, run.push
+    z0 = predictor(bodies, (d - state.d) / rate)
+    args = (z0, (run.control, where), (d - state.d) * run.sense, run.length, push)
+
+    def solve(contacts: Contacts) -> np.ndarray:
+        return corrected(bodies, contacts, *args)
+
+    tolerance = 0.1 * snap
+    try:
+        return _held_apart(solve, bodies, state.contacts, tolerance, push.unilateral_rounds)
+    except MotionError:
+        # sliding points kept closed over-constrain a dilatant mechanism of many bodies: let them
+        # open as the associative flow rule does, and keep the hinges
+        free = dataclasses.replace(state.contacts, sliding=np.zeros_like(state.contacts.sliding))
+        try:
+            return _held_apart(solve, bodies, free, tolerance, push.unilateral_rounds)
+        except MotionError:  # hinges that close only to first order lock: one of them opens
+            return one_hinge_opened(bodies, free, *args)
+
+
+def landed(
+    run: _Run, state: _State, d: float, z: np.ndarray, rate: float, where: np.ndarray, snap: float
+) -> tuple[float, np.ndarray]:
+    """``(d, z)``, or where the step first drives a block into one it does not touch (an overlap
+    of the drawing's outlines grown by more than ``snap`` / 2) the shorter step to where they
+    touch (:func:`alma.push.landing.landing`) and its increments."""
+    scene0 = run.scene
+    before = overlap_depths(scene0)  # the drawing's own overlaps, within its tolerance
+    crushing = state.contacts.crushing
+    # a crushing joint's blocks overlap by design (the crushed zone)
+    a, b = state.contacts.a[crushing], state.contacts.b[crushing]
+    ignored = set(zip(np.minimum(a, b).tolist(), np.maximum(a, b).tolist(), strict=True))
+
+    def growth(z: np.ndarray) -> float:
+        after = overlap_depths(displaced(scene0, advance(state.pose, scene0, state.bodies, z)))
+        return grown(before, {pair: depth for pair, depth in after.items() if pair not in ignored})
+
+    if growth(z) <= 0.5 * snap:
+        return d, z
+
+    def growth_at(x: float) -> float | None:
+        try:
+            return growth(increment(run, state, x, rate, where, snap))
+        except MotionError:
+            return None
+
+    touch = landing(growth_at, state.d, d, snap, run.push.landing_iterations)
+    if touch is None:
+        raise MotionError(f"the step to d = {d:.6g} mm drives a block into another from its start")
+    return touch, increment(run, state, touch, rate, where, snap)

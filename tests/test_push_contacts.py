@@ -1,0 +1,67 @@
+"""The blocks of a capacity curve do not pass through each other (alma.push.step, alma.push.landing).
+
+Measured on the code before: Ferris & Tin-Loi's wall 3 pushed in 20 steps overlapped its blocks
+by up to 1,130 contact tolerances (c4b1 and c5b1, a sliver 30 mm deep at d = 37.9 mm), and the
+sliding running-bond panel at f = 0.27 pushed two bottom-course blocks 0.6 mm into each other at
+its first main step.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+import pytest
+
+import alma
+from alma.geometry.edges import contact_lengths, scene_edges
+from alma.geometry.panels import paper_panel
+from alma.push.motion import displaced
+from alma.settings import PushSettings
+from benchmarks.bench_friction import FRICTION, WALLS
+
+landing = importlib.import_module("alma.push.landing")
+
+
+def _growth(scene: alma.Scene, curve) -> float:
+    """The largest growth of an overlap of the drawing over the curve's points, in contact tolerances."""
+    snap = contact_lengths(scene, scene_edges(scene))[0]
+    base = landing.overlap_depths(scene)
+    return max(landing.grown(base, landing.overlap_depths(displaced(scene, p.pose))) for p in curve.curve) / snap
+
+
+def test_ferris_and_tin_lois_wall_3_keeps_its_blocks_apart():
+    wall = alma.coursed_wall(WALLS[3], 400.0, 175.0, friction=FRICTION, thickness=1000.0, unit_weight=10.0)
+    curve = alma.push(wall, steps=20)
+    assert _growth(wall, curve) <= 0.5
+    assert curve.status == alma.Status.OPTIMAL and curve.end["reason"] == "no_equilibrium", curve.message
+    assert len(curve.curve) >= 10 and curve.curve[-1].d > 10.0
+
+
+def test_a_sliding_panel_lands_the_head_joints_it_closes_again():
+    # its sliding courses open head joints past the contact tolerance, and the next mechanism
+    # closes them: each step stops where they touch, so the curve takes short steps at α = f
+    panel = paper_panel("running", "2:1", "2:1", 0.27)
+    curve = alma.push(panel, steps=20, push_settings=PushSettings(max_steps_factor=1))
+    assert _growth(panel, curve) <= 0.5
+    assert all(p.alpha == pytest.approx(0.27, abs=1e-9) for p in curve.curve)
+    assert curve.status == alma.Status.LIMIT_REACHED and curve.end["reason"] == "step_budget"
+    regular = PushSettings().flat_step * float(sum(b.area for b in panel.blocks if not b.fixed)) ** 0.5
+    steps = [b.d - a.d for a, b in zip(curve.curve[1:], curve.curve[2:], strict=False)]
+    assert min(steps) < regular / 2  # a landed step
+
+
+@pytest.mark.parametrize("stalls", [False, True])
+def test_the_landing_bisects_to_where_the_overlap_first_grows(stalls):
+    # a corner meets a face at d = 3 and enters it at unit rate; a stand-in corrector that fails
+    # past d = 3.8 counts as an overlap (the step is shortened)
+    def growth_at(d: float) -> float | None:
+        if stalls and d > 3.8:
+            return None
+        return max(0.0, d - 3.0)
+
+    touch = landing.landing(growth_at, 0.0, 10.0, 1.0, 40)
+    assert touch is not None and 3.125 < touch <= 3.5
+
+
+def test_a_landing_that_never_moves_past_its_start_is_none():
+    assert landing.landing(lambda d: 1.0, 0.0, 10.0, 1.0, 40) is None
