@@ -42,7 +42,9 @@ def _held_apart(
     solve: Callable[[Contacts], np.ndarray], bodies: Bodies, contacts: Contacts, tolerance: float, rounds: int
 ) -> np.ndarray:
     """``solve(contacts)``'s increments, each contact point they drive into its neighbour held as
-    a sliding point and the step solved again (at most ``rounds`` times)."""
+    a sliding point and the step solved again (at most ``rounds`` times).  When the points held
+    over-constrain the motion, the last increments stand: the landing (:func:`landed`) then
+    shortens the step to where the point touches."""
     held = contacts
     z = solve(held)
     for _ in range(rounds):
@@ -50,7 +52,10 @@ def _held_apart(
         if not more.any():
             break
         held = dataclasses.replace(held, sliding=held.sliding | more)
-        z = solve(held)
+        try:
+            z = solve(held)
+        except MotionError:
+            break
     return z
 
 
