@@ -39,30 +39,34 @@ def entering(bodies: Bodies, contacts: Contacts, z: np.ndarray, tolerance: float
 
 
 def _held_apart(
-    solve: Callable[[Contacts], np.ndarray], bodies: Bodies, contacts: Contacts, tolerance: float, rounds: int
+    solve: Callable[[Contacts], np.ndarray],
+    bodies: Bodies,
+    contacts: Contacts,
+    tolerance: float,
+    rounds: int,
+    unheld: list[np.ndarray],
 ) -> np.ndarray:
     """``solve(contacts)``'s increments, each contact point they drive into its neighbour held as
-    a sliding point and the step solved again (at most ``rounds`` times).  When the points held
-    over-constrain the motion, the last increments stand: the landing (:func:`landed`) then
-    shortens the step to where the point touches."""
+    a sliding point and the step solved again (at most ``rounds`` times); the increments before
+    any point was held are appended to ``unheld``."""
     held = contacts
     z = solve(held)
+    unheld.append(z)
     for _ in range(rounds):
         more = entering(bodies, held, z, tolerance)
         if not more.any():
             break
         held = dataclasses.replace(held, sliding=held.sliding | more)
-        try:
-            z = solve(held)
-        except MotionError:
-            break
+        z = solve(held)
     return z
 
 
 def increment(run: _Run, state: _State, d: float, rate: float, where: np.ndarray, snap: float) -> np.ndarray:
     """The bodies' increments (g, 3) from ``state`` to control displacement ``d`` (mm) along its
     mechanism (``rate``: the control point's speed per unit of the mechanism; ``where``: its
-    position), no contact point closing past ``snap`` / 10 (mm)."""
+    position), no contact point closing past ``snap`` / 10 (mm).  When no way of holding them
+    moves the bodies, the first motion found without them stands: the landing (:func:`landed`)
+    then shortens the step to where the point touches."""
     bodies, push = state.bodies, run.push
     z0 = predictor(bodies, (d - state.d) / rate)
     args = (z0, (run.control, where), (d - state.d) * run.sense, run.length, push)
@@ -70,17 +74,24 @@ def increment(run: _Run, state: _State, d: float, rate: float, where: np.ndarray
     def solve(contacts: Contacts) -> np.ndarray:
         return corrected(bodies, contacts, *args)
 
-    tolerance = 0.1 * snap
+    tolerance, unheld = 0.1 * snap, list[np.ndarray]()
     try:
-        return _held_apart(solve, bodies, state.contacts, tolerance, push.unilateral_rounds)
+        return _held_apart(solve, bodies, state.contacts, tolerance, push.unilateral_rounds, unheld)
     except MotionError:
-        # sliding points kept closed over-constrain a dilatant mechanism of many bodies: let them
-        # open as the associative flow rule does, and keep the hinges
-        free = dataclasses.replace(state.contacts, sliding=np.zeros_like(state.contacts.sliding))
-        try:
-            return _held_apart(solve, bodies, free, tolerance, push.unilateral_rounds)
-        except MotionError:  # hinges that close only to first order lock: one of them opens
-            return one_hinge_opened(bodies, free, *args)
+        pass
+    # sliding points kept closed over-constrain a dilatant mechanism of many bodies: let them
+    # open as the associative flow rule does, and keep the hinges
+    free = dataclasses.replace(state.contacts, sliding=np.zeros_like(state.contacts.sliding))
+    try:
+        return _held_apart(solve, bodies, free, tolerance, push.unilateral_rounds, unheld)
+    except MotionError:
+        pass
+    try:  # hinges that close only to first order lock: one of them opens
+        return one_hinge_opened(bodies, free, *args)
+    except MotionError:
+        if unheld:
+            return unheld[0]
+        raise
 
 
 def landed(
