@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy.spatial import cKDTree
 
-from alma.geometry.edges import Edges
+from alma.geometry.edges import Edges, previous_edge
 
 if TYPE_CHECKING:  # pragma: no cover
     from alma.geometry.contacts import Joints
@@ -61,7 +61,7 @@ def corner_contacts(
     along = (rel * direction[face]).sum(axis=1)
     gap = (rel * outward[face]).sum(axis=1)  # > 0: the corner stands off the face
     inside = (np.abs(gap) <= snap) & (along > snap) & (along < length[face] - snap)
-    previous = _previous_edge(edges)
+    previous = previous_edge(edges)
     leaving_next = (direction[vertex] * outward[face]).sum(axis=1)
     leaving_prev = -(direction[previous[vertex]] * outward[face]).sum(axis=1)
     incoming, outgoing = direction[previous[vertex]], direction[vertex]
@@ -99,15 +99,6 @@ def _near_pairs(edges: Edges, snap: float) -> tuple[np.ndarray, np.ndarray]:
     other = edges.block[vertex] != edges.block[edge]
     key = np.unique(vertex[other] * length.size + edge[other])
     return key // length.size, key % length.size
-
-
-def _previous_edge(edges: Edges) -> np.ndarray:
-    """Index of the edge that ends at each vertex (the previous one of its polygon)."""
-    index = np.arange(len(edges.block))
-    counts = np.bincount(edges.block)
-    first = np.repeat(np.cumsum(counts) - counts, counts)
-    last = first + np.repeat(counts, counts) - 1
-    return np.where(index == first, last, index - 1)
 
 
 def covered(found: Joints, a: np.ndarray, b: np.ndarray, points: np.ndarray, snap: float) -> np.ndarray:

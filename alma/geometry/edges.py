@@ -58,6 +58,14 @@ def scene_edges(scene: Scene, origin: np.ndarray | None = None) -> Edges:
     return Edges(block=np.repeat(np.arange(len(counts)), counts), start=start, end=start[nxt])
 
 
+def previous_edge(edges: Edges) -> np.ndarray:
+    """Index of the edge before each edge in its own polygon (the one ending at its start vertex)."""
+    index = np.arange(len(edges.block))
+    counts = np.bincount(edges.block)
+    first = np.repeat(np.cumsum(counts) - counts, counts)
+    return np.where(index == first, first + np.repeat(counts, counts) - 1, index - 1)
+
+
 def local_origin(scene: Scene) -> np.ndarray:
     """Centre of the scene's bounding box: coordinates about it keep the detection translation invariant."""
     lo = np.min([b.vertices.min(axis=0) for b in scene.blocks], axis=0)

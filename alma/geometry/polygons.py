@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from alma.geometry.contacts import snapped_edges
-from alma.geometry.edges import Edges, contact_lengths, local_origin, scene_edges, signed_areas
+from alma.geometry.edges import Edges, contact_lengths, local_origin, previous_edge, scene_edges, signed_areas
 from alma.geometry.parsing import SceneError
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -27,7 +27,7 @@ def check_polygons(scene: Scene) -> None:
     fixed = np.array([b.fixed for b in scene.blocks])
     vec = edges.end - edges.start
     length = np.hypot(vec[:, 0], vec[:, 1])
-    before = _previous(edges)  # the edge ending at each edge's start vertex
+    before = previous_edge(edges)  # the edge ending at each edge's start vertex
     e1, e2 = vec[before], vec
     cross = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
     dot = (e1 * e2).sum(axis=1)
@@ -95,14 +95,6 @@ def find_overlaps(scene: Scene) -> tuple[list[tuple[int, int, float]], float]:
     depth = np.where(perimeter > 0, 2.0 * area / np.where(perimeter > 0, perimeter, 1.0), 0.0)
     bad = depth > max(snap, 1e-12)
     return [(int(x), int(y), float(z)) for x, y, z in zip(a[bad], b[bad], depth[bad], strict=True)], snap
-
-
-def _previous(edges: Edges) -> np.ndarray:
-    """Index of the edge before each edge in its own polygon."""
-    index = np.arange(len(edges.block))
-    counts = np.bincount(edges.block)
-    first = np.repeat(np.cumsum(counts) - counts, counts)
-    return np.where(index == first, first + np.repeat(counts, counts) - 1, index - 1)
 
 
 def _extent(edges: Edges) -> tuple[np.ndarray, np.ndarray]:
