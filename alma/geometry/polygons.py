@@ -79,22 +79,26 @@ def find_overlaps(scene: Scene) -> tuple[list[tuple[int, int, float]], float]:
     not an error and a real one is.  The outlines are those after snapping
     (:mod:`alma.geometry.snap`), as joint detection sees them.
     """
-    import shapely
 
     snapped, snap, _ = snapped_edges(scene, local_origin(scene))
-    edges = snapped.edges
-    polygons = shapely.polygons(shapely.linearrings(edges.start, indices=edges.block))
-    tree = shapely.STRtree(polygons)
-    a, b = tree.query(polygons, predicate="intersects")
-    keep = a < b
-    a, b = a[keep], b[keep]
-    if a.size == 0:
-        return [], snap
-    common = shapely.intersection(polygons[a], polygons[b])
-    area, perimeter = shapely.area(common), shapely.length(common)
-    depth = np.where(perimeter > 0, 2.0 * area / np.where(perimeter > 0, perimeter, 1.0), 0.0)
+    a, b, depth = overlap_depths(snapped.edges.start, snapped.edges.block)
     bad = depth > max(snap, 1e-12)
     return [(int(x), int(y), float(z)) for x, y, z in zip(a[bad], b[bad], depth[bad], strict=True)], snap
+
+
+def overlap_depths(vertices: np.ndarray, block: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Pairs of outlines (i < j) that intersect and the depth of each intersection (mm): 2 area /
+    perimeter, the width of a thin sliver (0 where they only touch).  ``vertices`` (V, 2) are the
+    blocks' outlines one after the other, ``block`` (V,) the block of each."""
+    import shapely
+
+    polygons = shapely.polygons(shapely.linearrings(vertices, indices=block))
+    a, b = shapely.STRtree(polygons).query(polygons, predicate="intersects")
+    keep = a < b
+    a, b = a[keep], b[keep]
+    common = shapely.intersection(polygons[a], polygons[b])
+    area, perimeter = shapely.area(common), shapely.length(common)
+    return a, b, np.where(perimeter > 0, 2.0 * area / np.where(perimeter > 0, perimeter, 1.0), 0.0)
 
 
 def _extent(edges: Edges) -> tuple[np.ndarray, np.ndarray]:

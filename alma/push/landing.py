@@ -18,8 +18,8 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
-import shapely
 
+from alma.geometry.polygons import overlap_depths as outline_overlaps
 from alma.geometry.scene import Scene
 
 
@@ -27,14 +27,7 @@ def overlap_depths(scene: Scene) -> dict[tuple[int, int], float]:
     """Each pair of blocks (i < j) whose outlines overlap, with the overlap's depth (mm)."""
     counts = [len(b.vertices) for b in scene.blocks]
     owner = np.repeat(np.arange(len(counts)), counts)
-    rings = shapely.linearrings(np.concatenate([b.vertices for b in scene.blocks]), indices=owner)
-    polygons = shapely.polygons(rings)
-    a, b = shapely.STRtree(polygons).query(polygons, predicate="intersects")
-    keep = a < b
-    a, b = a[keep], b[keep]
-    common = shapely.intersection(polygons[a], polygons[b])
-    area, perimeter = shapely.area(common), shapely.length(common)
-    depth = np.where(perimeter > 0, 2.0 * area / np.where(perimeter > 0, perimeter, 1.0), 0.0)
+    a, b, depth = outline_overlaps(np.concatenate([b.vertices for b in scene.blocks]), owner)
     return {(int(x), int(y)): float(z) for x, y, z in zip(a, b, depth, strict=True) if z > 0}
 
 
