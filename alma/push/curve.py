@@ -2,7 +2,9 @@
 
 From the collapse mechanism at d = 0 (α = α_c), the blocks move rigidly along the current
 mechanism (:mod:`alma.push.motion`: finite rotations about the instantaneous centres, the
-hinges kept closed) in steps of the control point's horizontal displacement d; on each
+hinges kept closed; :mod:`alma.push.step`: no contact point closing past its neighbour, a step
+shortened to where a block first touches another) in steps of the control point's horizontal
+displacement d; on each
 displaced geometry the joints are found again and the limit analysis is solved again
 (Eq. 10, or Eq. 9 with ``model="nonassociative"``), which gives α(d) and the mechanism for the
 next step, until α ≤ 0, or until a configuration carries the dead load at no α (a loss of
