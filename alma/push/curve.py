@@ -37,6 +37,7 @@ from alma.geometry.scene import Scene
 from alma.geometry.validation import validated
 from alma.mechanics.model import Model, build_model
 from alma.push.carried import tie_lengths, without_slack
+from alma.push.landing import overlap_depths
 from alma.push.motion import MotionError, Pose, advance, bodies_of, classify, displaced, joints_after, signature
 from alma.push.result import PushResult, _result, _Run, _State
 from alma.push.step import increment, landed
@@ -132,7 +133,8 @@ def push(
             first,
         )
     index, sense = _control(scene, first, control)
-    run = _Run(scene, model, settings, p, length, index, sense)
+    snap = contact_lengths(scene, scene_edges(scene))[0]
+    run = _Run(scene, model, settings, p, length, index, sense, snap=snap, overlaps=overlap_depths(scene))
     return _curve(run, _state(run, 0.0, pose, solved))
 
 
@@ -320,8 +322,7 @@ def _move(run: _Run, state: _State, d: float) -> _State:
     rate = bodies.velocity_at(np.array([run.control]), where[None, :])[0, 0] * run.sense
     if not rate > 0:
         raise ControlLeft("control_reverses", "its mechanism moves the control block backwards")
-    snap = contact_lengths(scene0, scene_edges(scene0))[0]
-    d, z = landed(run, state, d, increment(run, state, d, rate, where, snap), rate, where, snap)
+    d, z = landed(run, state, d, increment(run, state, d, rate, where), rate, where)
     pose = advance(state.pose, scene0, bodies, z)
     joints = joints_after(displaced(scene0, pose), state.contacts, bodies, z)
     return _state(

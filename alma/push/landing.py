@@ -5,8 +5,8 @@ The blocks move along the mechanism of the last configuration; only its contacts
 touch yet (a face that opened at first order, a course turning into the one above) would pass
 through it over a finite step.  After each step the overlaps of the blocks' outlines are
 measured (depth = 2 area / perimeter of the intersection, the width of a sliver, as
-:func:`alma.geometry.polygons.find_overlaps` measures them), each against its depth before the
-step (a drawing's own overlaps within the contact tolerance stay as they are).  When one has
+:func:`alma.geometry.polygons.find_overlaps` measures them), each against its depth in the
+drawing (a drawing's own overlaps within the contact tolerance stay as they are).  When one has
 grown by more than half the contact tolerance, the step is bisected to where it has grown by
 between an eighth and a half of it: the corner then lies within the tolerance of the face, so
 :func:`alma.geometry.contacts.find_joints` finds it as a contact (a corner on a face, a joint of

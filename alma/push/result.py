@@ -137,6 +137,10 @@ class _Run:
     sense: float
     #: The step to a configuration (default :func:`alma.push.curve._move`; the settlement capacity's its own).
     mover: Callable[[_Run, _State, float], _State] | None = None
+    #: The drawing's contact tolerance (mm) and its own overlaps (block pair → depth, mm), against
+    #: which a step's overlaps are measured (:mod:`alma.push.landing`).
+    snap: float = math.nan
+    overlaps: dict[tuple[int, int], float] = field(default_factory=dict)
 
 
 def _result(

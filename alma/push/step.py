@@ -61,12 +61,12 @@ def _held_apart(
     return z
 
 
-def increment(run: _Run, state: _State, d: float, rate: float, where: np.ndarray, snap: float) -> np.ndarray:
+def increment(run: _Run, state: _State, d: float, rate: float, where: np.ndarray) -> np.ndarray:
     """The bodies' increments (g, 3) from ``state`` to control displacement ``d`` (mm) along its
     mechanism (``rate``: the control point's speed per unit of the mechanism; ``where``: its
-    position), no contact point closing past ``snap`` / 10 (mm).  When no way of holding them
-    moves the bodies, the first motion found without them stands: the landing (:func:`landed`)
-    then shortens the step to where the point touches."""
+    position), no contact point closing past a tenth of the contact tolerance (``run.snap``, mm).
+    When no way of holding them moves the bodies, the first motion found without them stands:
+    the landing (:func:`landed`) then shortens the step to where the point touches."""
     bodies, push = state.bodies, run.push
     z0 = predictor(bodies, (d - state.d) / rate)
     args = (z0, (run.control, where), (d - state.d) * run.sense, run.length, push)
@@ -74,7 +74,7 @@ def increment(run: _Run, state: _State, d: float, rate: float, where: np.ndarray
     def solve(contacts: Contacts) -> np.ndarray:
         return corrected(bodies, contacts, *args)
 
-    tolerance, unheld = 0.1 * snap, list[np.ndarray]()
+    tolerance, unheld = 0.1 * run.snap, list[np.ndarray]()
     try:
         return _held_apart(solve, bodies, state.contacts, tolerance, push.unilateral_rounds, unheld)
     except MotionError:
@@ -95,13 +95,12 @@ def increment(run: _Run, state: _State, d: float, rate: float, where: np.ndarray
 
 
 def landed(
-    run: _Run, state: _State, d: float, z: np.ndarray, rate: float, where: np.ndarray, snap: float
+    run: _Run, state: _State, d: float, z: np.ndarray, rate: float, where: np.ndarray
 ) -> tuple[float, np.ndarray]:
     """``(d, z)``, or where the step first drives a block into one it does not touch (an overlap
-    of the drawing's outlines grown by more than ``snap`` / 2) the shorter step to where they
-    touch (:func:`alma.push.landing.landing`) and its increments."""
-    scene0 = run.scene
-    before = overlap_depths(scene0)  # the drawing's own overlaps, within its tolerance
+    of the drawing's outlines, ``run.overlaps``, grown by more than half ``run.snap``) the
+    shorter step to where they touch (:func:`alma.push.landing.landing`) and its increments."""
+    scene0, before, snap = run.scene, run.overlaps, run.snap
     crushing = state.contacts.crushing
     # a crushing joint's blocks overlap by design (the crushed zone)
     a, b = state.contacts.a[crushing], state.contacts.b[crushing]
@@ -116,11 +115,11 @@ def landed(
 
     def growth_at(x: float) -> float | None:
         try:
-            return growth(increment(run, state, x, rate, where, snap))
+            return growth(increment(run, state, x, rate, where))
         except MotionError:
             return None
 
     touch = landing(growth_at, state.d, d, snap, run.push.landing_iterations)
     if touch is None:
         raise MotionError(f"the step to d = {d:.6g} mm drives a block into another from its start")
-    return touch, increment(run, state, touch, rate, where, snap)
+    return touch, increment(run, state, touch, rate, where)
