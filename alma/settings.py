@@ -102,8 +102,8 @@ class AssociativeSettings:
     #: i.e. walls of 5,000 blocks and more, where feral's certificate is 1.1× faster (0.76× at 1,000 blocks, 2.4× at
     #: 20,000; studies/bench_certificate.py); every paper panel (≤ 5,256 rows) stays on QDLDL.
     feral_min_rows: int = 15_000
-    #: Re-solve by HiGHS's dual simplex when the interior point's pair does not certify: a vertex
-    #: is exact on the degenerate faces (noisy drawings of walls sliding at α = f) where it is not.
+    #: Re-solve for a HiGHS vertex (crossover, else dual simplex) when the interior point's pair does not certify: a
+    #: vertex is exact on the degenerate faces (noisy drawings of walls sliding at α = f) where it is not.
     simplex_fallback: bool = True
     #: A falling mode proves "no equilibrium" after a failed interior point when its weights' work exceeds its
     #: round-off breach by this × n_free: no field with forces below a million block weights (alma.associative.falling).

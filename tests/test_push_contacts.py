@@ -10,7 +10,9 @@ from __future__ import annotations
 
 import importlib
 
+import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 
 import alma
 from alma.geometry.edges import contact_lengths, scene_edges
@@ -65,3 +67,21 @@ def test_the_landing_bisects_to_where_the_overlap_first_grows(stalls):
 
 def test_a_landing_that_never_moves_past_its_start_is_none():
     assert landing.landing(lambda d: 1.0, 0.0, 10.0, 1.0, 40) is None
+
+
+@given(
+    st.lists(st.tuples(st.integers(0, 6), st.integers(0, 6), st.sampled_from([0.0, 0.5, 1.0])), min_size=2, max_size=8),
+    st.data(),
+)
+@settings(max_examples=40, deadline=None)
+def test_overlaps_among_some_blocks_are_all_overlaps_with_one_of_them(squares, data):
+    """A step's overlaps are measured only for the blocks it moves: every pair with one of them,
+    at the depth the full search gives; pairs that only touch (a joint) have none."""
+    corners = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    vertices = np.concatenate([corners * 2.0 + np.array([x, y]) + shift for x, y, shift in squares])
+    owner = np.repeat(np.arange(len(squares)), 4)
+    among = np.array(data.draw(st.lists(st.booleans(), min_size=len(squares), max_size=len(squares))))
+    full = landing.depths(vertices, owner)
+    some = landing.depths(vertices, owner, among)
+    assert some == {pair: depth for pair, depth in full.items() if among[pair[0]] or among[pair[1]]}
+    assert all(depth > 0 for depth in full.values())

@@ -99,22 +99,16 @@ def solve_lp(
     result = _certified(model, H, s, sol, label, note, record)
     if result.status == Status.NOT_CONVERGED and s.simplex_fallback:
         # An interior point ends ill-conditioned on a degenerate optimal face (a noisy drawing
-        # of a wall that slides at α = f); a simplex vertex of the same LP certifies exactly.
+        # of a wall that slides at α = f); a vertex of the same LP certifies exactly.
         unbounded = False
         for normalisation in SIMPLEX_NORMALISATIONS:
             q, A, b = _kinematic_form(model, H, normalisation)
-            vertex = solve_conic_form(q, A, b, 1, time_limit=time_limit)
+            vertex = _vertex(q, A, b, time_limit)
             unbounded |= vertex.status == Status.NO_EQUILIBRIUM
             if vertex.status != Status.OPTIMAL:
                 continue
             again = _certified(
-                model,
-                H,
-                s,
-                vertex,
-                "HiGHS simplex",
-                f" (after {label}: {sol.raw_status}, not certified)" + note,
-                record,
+                model, H, s, vertex, vertex.solver, f" (after {label}: {sol.raw_status}, not certified)" + note, record
             )
             if again.status == Status.OPTIMAL:
                 return dataclasses.replace(
@@ -123,6 +117,16 @@ def solve_lp(
         if unbounded:
             return _falling_or(result, model, s, f" (after {label}: {sol.raw_status}, not certified)" + note)
     return result
+
+
+def _vertex(q: np.ndarray, A: sp.csc_matrix, b: np.ndarray, time_limit: float | None) -> SolverResult:
+    """A vertex of Eq. 10's kinematic form: HiGHS's interior point with crossover (half its dual
+    simplex's time on a 444-block panel next to a loss of equilibrium), and its dual simplex where
+    that does not end optimal (the simplex tells an unbounded form from an infeasible one)."""
+    vertex = solve_conic_form(q, A, b, 1, time_limit=time_limit, solver="ipm")
+    if vertex.status == Status.OPTIMAL:
+        return vertex
+    return solve_conic_form(q, A, b, 1, time_limit=time_limit)
 
 
 def _falling_or(result: LPSolution, model: Model, s: AssociativeSettings, note: str) -> LPSolution:

@@ -86,16 +86,31 @@ def find_overlaps(scene: Scene) -> tuple[list[tuple[int, int, float]], float]:
     return [(int(x), int(y), float(z)) for x, y, z in zip(a[bad], b[bad], depth[bad], strict=True)], snap
 
 
-def overlap_depths(vertices: np.ndarray, block: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Pairs of outlines (i < j) that intersect and the depth of each intersection (mm): 2 area /
-    perimeter, the width of a thin sliver (0 where they only touch).  ``vertices`` (V, 2) are the
-    blocks' outlines one after the other, ``block`` (V,) the block of each."""
+def overlap_depths(
+    vertices: np.ndarray, block: np.ndarray, among: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Pairs of outlines (i < j) whose interiors intersect and the depth of each intersection
+    (mm): 2 area / perimeter, the width of a thin sliver.  ``vertices`` (V, 2) are the blocks'
+    outlines one after the other, ``block`` (V,) the block of each; ``among`` (bool per block):
+    only the pairs with at least one such block (None: all pairs).  Outlines that only touch (a
+    joint) are not intersected, their depth being 0."""
     import shapely
 
     polygons = shapely.polygons(shapely.linearrings(vertices, indices=block))
-    a, b = shapely.STRtree(polygons).query(polygons, predicate="intersects")
+    tree = shapely.STRtree(polygons)
+    if among is None:
+        a, b = tree.query(polygons, predicate="intersects")
+    else:
+        rows = np.flatnonzero(among)
+        q, b = tree.query(polygons[rows], predicate="intersects")
+        a = rows[q]
+        # a pair of two such blocks is found from both ends: keep it once, as (i < j)
+        a, b = np.minimum(a, b), np.maximum(a, b)
+        a, b = np.unique(np.column_stack([a, b]), axis=0).T if a.size else (a, b)
     keep = a < b
     a, b = a[keep], b[keep]
+    inside = ~shapely.touches(polygons[a], polygons[b])
+    a, b = a[inside], b[inside]
     common = shapely.intersection(polygons[a], polygons[b])
     area, perimeter = shapely.area(common), shapely.length(common)
     return a, b, np.where(perimeter > 0, 2.0 * area / np.where(perimeter > 0, perimeter, 1.0), 0.0)

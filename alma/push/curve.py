@@ -259,7 +259,8 @@ def _advanced(run: _Run, state: _State, step: float) -> _State:
 
 
 def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_State], tuple | None]:
-    """Secant steps with a guard beyond each, inside [lo, hi], until hi.d − lo.d ≤ the tolerance."""
+    """Secant steps with a guard beyond each (bisections without one where α at hi is not a
+    number), inside [lo, hi], until hi.d − lo.d ≤ the tolerance."""
     tol = run.push.d0_tolerance * run.length
     extra: list[_State] = []
     while hi.d - lo.d > tol:
@@ -276,7 +277,10 @@ def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_St
         secant = _secant(lo, hi)
         d = secant if math.isfinite(secant) else 0.5 * (lo.d + hi.d)
         d = min(max(d, lo.d + 0.25 * tol), hi.d - 0.25 * tol)
-        for target in (d, None):
+        # the guard closes the bracket when the secant lands near the root; a bisection's point
+        # (no secant: α is not a number at hi, a loss of equilibrium) is no nearer the end than
+        # any other, so it goes without one
+        for target in (d, None) if math.isfinite(secant) else (d,):
             if target is None:  # the guard: just across the root from the secant's point
                 target = d + 0.5 * tol if lo.d == d else d - 0.5 * tol
                 if not lo.d < target < hi.d:

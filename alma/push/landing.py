@@ -26,8 +26,13 @@ from alma.geometry.scene import Scene
 def overlap_depths(scene: Scene) -> dict[tuple[int, int], float]:
     """Each pair of blocks (i < j) whose outlines overlap, with the overlap's depth (mm)."""
     counts = [len(b.vertices) for b in scene.blocks]
-    owner = np.repeat(np.arange(len(counts)), counts)
-    a, b, depth = outline_overlaps(np.concatenate([b.vertices for b in scene.blocks]), owner)
+    return depths(np.concatenate([b.vertices for b in scene.blocks]), np.repeat(np.arange(len(counts)), counts))
+
+
+def depths(vertices: np.ndarray, owner: np.ndarray, among: np.ndarray | None = None) -> dict[tuple[int, int], float]:
+    """:func:`overlap_depths` of outlines given as ``vertices`` (V, 2) mm and the block of each
+    (V,); ``among`` (bool per block): only the pairs with at least one such block."""
+    a, b, depth = outline_overlaps(vertices, owner, among)
     return {(int(x), int(y)): float(z) for x, y, z in zip(a, b, depth, strict=True) if z > 0}
 
 

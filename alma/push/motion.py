@@ -105,10 +105,8 @@ def displaced(scene: Scene, pose: Pose) -> Scene:
     geometry (:mod:`alma.push.carried`; whether it is slack is the curve's history, not the pose's).
     """
     origin = _centroids(scene)
-    counts = np.array([len(b.vertices) for b in scene.blocks])
-    rows = np.repeat(np.arange(counts.size), counts)
-    moved = carry(np.concatenate([b.vertices for b in scene.blocks]), rows, pose.angle, pose.shift, origin)
-    parts = np.split(moved, np.cumsum(counts)[:-1])
+    moved, rows = outlines(scene, pose, origin)
+    parts = np.split(moved, np.cumsum(np.bincount(rows, minlength=len(scene.blocks)))[:-1])
     blocks = tuple(dataclasses.replace(b, vertices=v) for b, v in zip(scene.blocks, parts, strict=True))
     return dataclasses.replace(
         scene,
@@ -117,6 +115,15 @@ def displaced(scene: Scene, pose: Pose) -> Scene:
         ties=moved_ties(scene, pose.angle, pose.shift, origin),
         validated=True,
     )
+
+
+def outlines(scene: Scene, pose: Pose, origin: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The blocks' outlines moved by ``pose``: their vertices (V, 2) mm one block after the other,
+    and the block of each (V,); ``origin``: the blocks' centroids in ``scene`` when known."""
+    origin = _centroids(scene) if origin is None else origin
+    counts = np.array([len(b.vertices) for b in scene.blocks])
+    rows = np.repeat(np.arange(counts.size), counts)
+    return carry(np.concatenate([b.vertices for b in scene.blocks]), rows, pose.angle, pose.shift, origin), rows
 
 
 def bodies_of(scene: Scene, result: Result) -> Bodies:

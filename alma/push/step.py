@@ -20,8 +20,8 @@ from collections.abc import Callable
 import numpy as np
 
 from alma.push.corrector import corrected, one_hinge_opened
-from alma.push.landing import grown, landing, overlap_depths
-from alma.push.motion import Bodies, Contacts, MotionError, _moved, _rotate, advance, displaced, predictor
+from alma.push.landing import depths, grown, landing
+from alma.push.motion import Bodies, Contacts, MotionError, _moved, _rotate, advance, outlines, predictor
 from alma.push.result import _Run, _State
 
 
@@ -106,8 +106,11 @@ def landed(
     a, b = state.contacts.a[crushing], state.contacts.b[crushing]
     ignored = set(zip(np.minimum(a, b).tolist(), np.maximum(a, b).tolist(), strict=True))
 
+    # a pair of blocks the step leaves still keeps the overlap its configuration was accepted with
+    moving = state.bodies.of_block >= 0
+
     def growth(z: np.ndarray) -> float:
-        after = overlap_depths(displaced(scene0, advance(state.pose, scene0, state.bodies, z)))
+        after = depths(*outlines(scene0, advance(state.pose, scene0, state.bodies, z)), moving)
         return grown(before, {pair: depth for pair, depth in after.items() if pair not in ignored})
 
     if growth(z) <= 0.5 * snap:
