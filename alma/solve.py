@@ -194,6 +194,53 @@ def _crisp(built: Model, lp, settings: Settings, timings: dict[str, float]):
     return dataclasses.replace(lp, mechanism=u, message=f"{lp.message}; {why}")
 
 
+#: A followed mechanism moves its block at least this fraction of the interior point's speed
+#: below it: the interior point's own mechanism lies on the face only to its tolerance.
+FOLLOW_SLACK = 1e-6
+
+
+def solve_following(built: Model, settings: Settings | None, block: int, sense: float) -> AssociativeResult:
+    """Eq. 10 of the prebuilt ``built`` (as :func:`solve`), its mechanism one that keeps moving
+    the scene's block ``block`` along x with sign ``sense`` (a capacity curve's control block).
+
+    Where the interior point's mechanism only translates (``sliding``), the optimal face holds
+    every part of the wall that can slide at that α, and the interior point returns their blend,
+    its blocks moving at different rates.  The mechanism is then the sparsest vertex of the face
+    (:mod:`alma.associative.crisp`) that moves ``block`` at least as fast as the blend does; α,
+    its bounds and the stress field stay.  Any other mechanism is the interior point's.
+    """
+    s = _settings(settings, None, None, None)
+    lp = solve_lp(built, s.associative, time_limit=s.time_limit)
+    timings = {"joints_s": 0.0, "build_s": 0.0, "solve_s": lp.solve_time, "certify_s": lp.certify_time}
+    lp = _crisp(built, lp, s, timings)
+    blend = dataclasses.replace(associative_result(built, lp, timings), warnings=built.joints.warnings)
+    row = int(built.free_index[block])
+    if blend.mechanism_class != "sliding" or row < 0 or built.n_bounded or built.crushes:
+        return blend
+    toward = np.zeros(built.equilibrium.shape[0])
+    toward[3 * row] = sense
+    speed = sense * lp.mechanism[3 * row] / float(built.live @ lp.mechanism)
+    if not speed > 0:
+        return blend
+    t0 = time.perf_counter()
+    u, why = crisp_mechanism(
+        built,
+        lp.upper,
+        s.associative.gap_tolerance * 5e-3,
+        lp.multipliers,
+        lp.mechanism,
+        max_blocks_capped=s.associative.crisp_capped_blocks,
+        time_limit=s.time_limit,
+        keep=(toward, (1.0 - FOLLOW_SLACK) * speed),
+    )
+    timings["crisp_s"] = time.perf_counter() - t0
+    if u is None:
+        return dataclasses.replace(blend, message=f"{blend.message}; {why}, the interior point's mechanism is kept")
+    moving = f"{why}, the one that keeps block '{built.scene.block_ids[block]}' moving"
+    followed = dataclasses.replace(lp, mechanism=u, message=f"{lp.message}; {moving}")
+    return dataclasses.replace(associative_result(built, followed, timings), warnings=built.joints.warnings)
+
+
 def _build(scene: Scene | Model, joints: Joints | None) -> tuple[Model, dict[str, float]]:
     """The model of ``scene`` and the seconds of its joints and build; a scene not validated yet
     is validated here, and its ``joints_s`` is the validation's, whose joints the model uses."""

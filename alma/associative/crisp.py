@@ -44,26 +44,33 @@ def crisp_mechanism(
     *,
     max_blocks_capped: int,
     time_limit: float | None = None,
+    keep: tuple[np.ndarray, float] | None = None,
 ) -> tuple[np.ndarray | None, str]:
     """The sparsest mechanism (f_Lᵀu = 1) of the optimal face of the certified ``alpha``, from
     the interior point's pair (``multipliers``, ``mechanism``); (None, why) when none is found.
 
     The capped form (no complementarity) runs only up to ``max_blocks_capped`` free blocks: it
-    costs tens of solves on the largest panels.
+    costs tens of solves on the largest panels.  ``keep`` = (r, v): only mechanisms with
+    rᵀu ≥ v (f_Lᵀu = 1), e.g. a control block's velocity at least the interior point's.
     """
     H = model.equilibrium
     power = np.maximum(H.T @ mechanism, 0.0)
     tight = multipliers / max(float(multipliers.max(initial=0.0)), 1e-300) > SUPPORT * power / max(
         float(power.max(initial=0.0)), 1e-300
     )
-    u, why = _solve(model, alpha, slack, tight, time_limit)
+    u, why = _solve(model, alpha, slack, tight, time_limit, keep)
     if u is None and model.n_free <= max_blocks_capped:
-        u, why = _solve(model, alpha, slack, np.zeros_like(tight), time_limit)
+        u, why = _solve(model, alpha, slack, np.zeros_like(tight), time_limit, keep)
     return u, why
 
 
 def _solve(
-    model: Model, alpha: float, slack: float, tight: np.ndarray, time_limit: float | None
+    model: Model,
+    alpha: float,
+    slack: float,
+    tight: np.ndarray,
+    time_limit: float | None,
+    keep: tuple[np.ndarray, float] | None = None,
 ) -> tuple[np.ndarray | None, str]:
     H = model.equilibrium
     scale = CRISP_NORMALISATION * model.n_free
@@ -71,9 +78,20 @@ def _solve(
     # With the equalities the face is fixed and the cap is redundant (and a round-off away from
     # making the LP infeasible); without them the cap on the dead load's work defines the face.
     cap = [] if k else [sp.csr_matrix(-model.dead)]
-    A = sp.vstack([sp.csr_matrix(model.live), -H.T[np.flatnonzero(tight)], *cap, -H.T[np.flatnonzero(~tight)]]).tocsc()
+    kept = [] if keep is None else [sp.csr_matrix(-keep[0])]
+    A = sp.vstack(
+        [sp.csr_matrix(model.live), -H.T[np.flatnonzero(tight)], *cap, -H.T[np.flatnonzero(~tight)], *kept]
+    ).tocsc()
     limit = (alpha + slack * max(1.0, abs(alpha))) * scale
-    b = np.concatenate([[scale], np.zeros(k), [] if k else [limit], np.zeros(int((~tight).sum()))])
+    b = np.concatenate(
+        [
+            [scale],
+            np.zeros(k),
+            [] if k else [limit],
+            np.zeros(int((~tight).sum())),
+            [] if keep is None else [-keep[1] * scale],
+        ]
+    )
     cost = np.asarray(H @ np.ones(H.shape[1])).ravel()
     sol = solve_conic_form(cost, A, b, 1 + k, time_limit=time_limit, solver="ipm")
     form = "complementary" if k else "capped"

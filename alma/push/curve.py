@@ -44,7 +44,7 @@ from alma.push.step import increment, landed
 from alma.push.stop import lost_equilibrium
 from alma.results.types import Result
 from alma.settings import PushSettings, Settings
-from alma.solve import solve
+from alma.solve import solve, solve_following
 from alma.status import Status
 
 PUSH_MODELS = ("associative", "nonassociative")
@@ -110,15 +110,8 @@ def push(
     free = np.array([not b.fixed for b in scene.blocks])
     length = float(np.sqrt(np.abs(areas[free]).sum()))
     pose = Pose.rest(len(scene.blocks))
-    solved = _solve(
-        scene,
-        pose,
-        find_joints(scene) if joints is None else joints,
-        model,
-        settings,
-        tie_lengths(scene.ties),
-        p.tie_slack * length,
-    )
+    start = (scene, pose, find_joints(scene) if joints is None else joints, model, settings, tie_lengths(scene.ties))
+    solved = _solve(*start, p.tie_slack * length)
     first = solved[0]
     if first.status not in (Status.OPTIMAL, Status.FEASIBLE):
         return PushResult(
@@ -133,6 +126,9 @@ def push(
             first,
         )
     index, sense = _control(scene, first, control)
+    if model == "associative" and first.mechanism_class == "sliding":
+        # the blend of every part that can slide: the curve starts on the one moving the control
+        solved = _solve(*start, p.tie_slack * length, (index, sense))
     snap = contact_lengths(scene, scene_edges(scene))[0]
     run = _Run(scene, model, settings, p, length, index, sense, snap=snap, overlaps=overlap_depths(scene))
     return _curve(run, _state(run, 0.0, pose, solved))
@@ -159,12 +155,23 @@ def _control(scene: Scene, result: Result, control: str | None) -> tuple[int, fl
 
 
 def _solve(
-    scene: Scene, pose: Pose, joints: Joints, model: str, settings: Settings | None, rest: np.ndarray, slack: float
+    scene: Scene,
+    pose: Pose,
+    joints: Joints,
+    model: str,
+    settings: Settings | None,
+    rest: np.ndarray,
+    slack: float,
+    follow: tuple[int, float] | None = None,
 ) -> tuple[Result, Model, np.ndarray]:
     """The limit analysis of ``scene`` at ``pose`` without the ties that are slack there (shorter
-    than their ``rest`` lengths by more than ``slack`` mm), and the rest lengths after it."""
+    than their ``rest`` lengths by more than ``slack`` mm), and the rest lengths after it.
+    ``follow`` = (control block, sense): an associative sliding mechanism is the one that keeps
+    moving it (:func:`alma.solve.solve_following`)."""
     current, after = without_slack(displaced(scene, pose), rest, slack)
     built = build_model(current, joints)
+    if follow is not None and model == "associative":
+        return solve_following(built, settings, *follow), built, after
     # PUSH_MODELS: one model, never "both", so no Comparison comes back.
     return cast(Result, solve(built, model=model, settings=settings)), built, after
 
@@ -329,9 +336,9 @@ def _move(run: _Run, state: _State, d: float) -> _State:
     d, z = landed(run, state, d, increment(run, state, d, rate, where), rate, where)
     pose = advance(state.pose, scene0, bodies, z)
     joints = joints_after(displaced(scene0, pose), state.contacts, bodies, z)
-    return _state(
-        run, d, pose, _solve(scene0, pose, joints, run.model, run.settings, state.rest, run.push.tie_slack * run.length)
-    )
+    follow = (run.control, run.sense)
+    slack = run.push.tie_slack * run.length
+    return _state(run, d, pose, _solve(scene0, pose, joints, run.model, run.settings, state.rest, slack, follow))
 
 
 def _usable(state: _State) -> bool:
