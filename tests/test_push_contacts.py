@@ -9,6 +9,7 @@ its first main step.
 from __future__ import annotations
 
 import importlib
+import itertools
 
 import numpy as np
 import pytest
@@ -51,7 +52,7 @@ def test_a_sliding_panel_follows_one_sliding_part_to_alpha_zero():
     sliding = [p for p in curve.curve if p.mechanism_class == "sliding"]
     assert len(sliding) >= 5 and all(p.alpha == pytest.approx(0.27, abs=1e-9) for p in sliding)
     regular = PushSettings().flat_step * float(sum(b.area for b in panel.blocks if not b.fixed)) ** 0.5
-    steps = [b.d - a.d for a, b in zip(sliding[1:], sliding[2:], strict=False)]
+    steps = [b.d - a.d for a, b in itertools.pairwise(sliding[1:])]
     assert steps and all(step == pytest.approx(regular, rel=1e-9) for step in steps)  # none landed
     assert curve.d0 > len(steps) * regular
 
