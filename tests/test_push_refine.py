@@ -7,6 +7,8 @@ import importlib
 import math
 from pathlib import Path
 
+import pytest
+
 import alma
 
 curve_module = importlib.import_module("alma.push.curve")
@@ -30,5 +32,29 @@ def test_a_loss_of_equilibrium_is_bracketed_by_one_solve_per_halving(monkeypatch
     refining = len(calls) - first - 1
     # with a guard beside each bisection point it took 28 solves for these 15 halvings
     assert refining <= halvings
+    low, high = curve.end["bracket"]
+    assert 0 < high - low <= tol
+
+
+def test_a_refining_step_the_corrector_cannot_take_is_halved(monkeypatch):
+    # running 2:1 2:1 f = 1 ended `not_converged` where its refinement's first point could not
+    # be reached from the bracket's low end; a point halfway to it splits the bracket as well
+    real, calls, lost = curve_module._move, [], []
+
+    def move(run, lo, d):
+        locked = bool(lost) and not any(c[2] for c in calls)
+        calls.append((lo.d, d, locked, run.push.d0_tolerance * run.length))
+        if locked:
+            raise curve_module.MotionError("locked over this step")
+        s = real(run, lo, d)
+        lost.extend([] if math.isfinite(s.alpha) else [d])
+        return s
+
+    monkeypatch.setattr(curve_module, "_move", move)
+    curve = alma.push(alma.load_scene(ROOT / "examples" / "arch.json"), steps=20)
+    k = next(k for k, c in enumerate(calls) if c[2])
+    (lo, target, _, tol), (lo_next, halfway, _, _) = calls[k], calls[k + 1]
+    assert lo_next == lo and halfway - lo == pytest.approx((target - lo) / 2, rel=1e-12)
+    assert curve.status == alma.Status.OPTIMAL and curve.end["reason"] == "no_equilibrium", curve.message
     low, high = curve.end["bracket"]
     assert 0 < high - low <= tol

@@ -248,12 +248,12 @@ def _curve(run: _Run, start: _State) -> PushResult:
     )
 
 
-def _advanced(run: _Run, state: _State, step: float) -> _State:
+def _advanced(run: _Run, state: _State, step: float, floor: float | None = None) -> _State:
     """The configuration ``step`` mm past ``state``, the step halved while the corrector finds no
     motion over it (a mechanism that turns from sliding to rocking can lock over a long step),
-    down to the probe step; below that the corrector's :class:`MotionError` stands.  The next step
-    is the curve's own again."""
-    floor = run.push.probe * run.length
+    down to ``floor`` mm (default the probe step); below that the corrector's
+    :class:`MotionError` stands.  The next step is the curve's own again."""
+    floor = run.push.probe * run.length if floor is None else floor
     while True:
         try:
             return (run.mover or _move)(run, state, state.d + step)
@@ -292,8 +292,8 @@ def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_St
                 target = d + 0.5 * tol if lo.d == d else d - 0.5 * tol
                 if not lo.d < target < hi.d:
                     break
-            try:
-                s = (run.mover or _move)(run, lo, target)
+            try:  # a point nearer lo where the corrector cannot reach the target is as good a split
+                s = _advanced(run, lo, target - lo.d, 0.25 * tol)
             except MotionError as exc:
                 return lo, hi, extra, (Status.NOT_CONVERGED, f"refining d₀ at {target:.9g} mm: {exc}")
             if not _usable(s):
