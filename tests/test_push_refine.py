@@ -39,7 +39,9 @@ def test_a_loss_of_equilibrium_is_bracketed_by_one_solve_per_halving(monkeypatch
 def test_a_refining_step_the_corrector_cannot_take_is_halved(monkeypatch):
     # running 2:1 2:1 f = 1 ended `not_converged` where its refinement's first point could not
     # be reached from the bracket's low end; a point halfway to it splits the bracket as well
-    real, calls, lost = curve_module._move, [], []
+    real = curve_module._move
+    calls: list[tuple[float, float, bool, float]] = []
+    lost: list[float] = []
 
     def move(run, lo, d):
         locked = bool(lost) and not any(c[2] for c in calls)
