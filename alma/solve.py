@@ -171,12 +171,15 @@ def _settings(
     return s
 
 
-def _crisp(built: Model, lp, settings: Settings, timings: dict[str, float]):
-    """``lp`` with the crisp mechanism of its optimal face (:mod:`alma.associative.crisp`) in place
-    of the interior point's blend; α, bounds and the stress field stay.  The non-associative
-    search keeps starting from the interior point's mechanism."""
+def _crisp(
+    built: Model, lp, settings: Settings, timings: dict[str, float], keep: tuple[np.ndarray, float] | None = None
+):
+    """``lp`` with the crisp mechanism of its optimal face (:mod:`alma.associative.crisp`, with the
+    row ``keep`` when given) in place of the interior point's blend; α, bounds and the stress
+    field stay.  The non-associative search keeps starting from the interior point's mechanism."""
     s = settings.associative
-    if not (s.crisp_mechanism and lp.status == "optimal" and not built.n_bounded and not built.crushes):
+    wanted = s.crisp_mechanism or keep is not None
+    if not (wanted and lp.status == "optimal" and not built.n_bounded and not built.crushes):
         return lp
     t0 = time.perf_counter()
     u, why = crisp_mechanism(
@@ -187,6 +190,7 @@ def _crisp(built: Model, lp, settings: Settings, timings: dict[str, float]):
         lp.mechanism,
         max_blocks_capped=s.crisp_capped_blocks,
         time_limit=settings.time_limit,
+        keep=keep,
     )
     timings["crisp_s"] = time.perf_counter() - t0
     if u is None:
@@ -210,35 +214,20 @@ def solve_following(built: Model, settings: Settings | None, block: int, sense: 
     its bounds and the stress field stay.  Any other mechanism is the interior point's.
     """
     s = _settings(settings, None, None, None)
+    timings = _build(built, None)[1]
     lp = solve_lp(built, s.associative, time_limit=s.time_limit)
-    timings = {"joints_s": 0.0, "build_s": 0.0, "solve_s": lp.solve_time, "certify_s": lp.certify_time}
+    timings.update(solve_s=lp.solve_time, certify_s=lp.certify_time)
     lp = _crisp(built, lp, s, timings)
-    blend = dataclasses.replace(associative_result(built, lp, timings), warnings=built.joints.warnings)
     row = int(built.free_index[block])
-    if blend.mechanism_class != "sliding" or row < 0 or built.n_bounded or built.crushes:
-        return blend
+    result = associative_result(built, lp, timings)
+    if result.mechanism_class != "sliding" or row < 0:
+        return dataclasses.replace(result, warnings=built.joints.warnings)
     toward = np.zeros(built.equilibrium.shape[0])
     toward[3 * row] = sense
-    speed = sense * lp.mechanism[3 * row] / float(built.live @ lp.mechanism)
-    if not speed > 0:
-        return blend
-    t0 = time.perf_counter()
-    u, why = crisp_mechanism(
-        built,
-        lp.upper,
-        s.associative.gap_tolerance * 5e-3,
-        lp.multipliers,
-        lp.mechanism,
-        max_blocks_capped=s.associative.crisp_capped_blocks,
-        time_limit=s.time_limit,
-        keep=(toward, (1.0 - FOLLOW_SLACK) * speed),
-    )
-    timings["crisp_s"] = time.perf_counter() - t0
-    if u is None:
-        return dataclasses.replace(blend, message=f"{blend.message}; {why}, the interior point's mechanism is kept")
-    moving = f"{why}, the one that keeps block '{built.scene.block_ids[block]}' moving"
-    followed = dataclasses.replace(lp, mechanism=u, message=f"{lp.message}; {moving}")
-    return dataclasses.replace(associative_result(built, followed, timings), warnings=built.joints.warnings)
+    speed = float(toward @ lp.mechanism) / float(built.live @ lp.mechanism)  # f_Lᵀu > 0 on a mechanism
+    if speed > 0:
+        result = associative_result(built, _crisp(built, lp, s, timings, (toward, (1 - FOLLOW_SLACK) * speed)), timings)
+    return dataclasses.replace(result, warnings=built.joints.warnings)
 
 
 def _build(scene: Scene | Model, joints: Joints | None) -> tuple[Model, dict[str, float]]:
