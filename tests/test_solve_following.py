@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 
 import alma
 from alma.geometry.contacts import find_joints
@@ -41,3 +43,29 @@ def test_a_mechanism_that_turns_is_the_interior_points(sliding):
     moving = next(i for i, b in enumerate(scene.blocks) if not b.fixed)
     followed = solve_following(built, None, moving, 1.0)
     assert [b.u for b in followed.blocks] == [b.u for b in plain.blocks]
+
+
+@settings(max_examples=3, deadline=None)
+@given(
+    scale=st.sampled_from([0.1, 1.0, 25.4]),
+    shift=st.tuples(st.floats(-1e4, 1e4), st.floats(-1e4, 1e4)),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_the_followed_sliding_curve_does_not_depend_on_the_drawing(scale, shift, seed):
+    # the vertex a degenerate face gives must not follow the order of blocks or vertices
+    scene = paper_panel("running", "2:1", "2:1", 0.27)
+    base = alma.push(scene, steps=20)
+    rng = np.random.default_rng(seed)
+    data = scene.to_dict()
+    for block in data["blocks"]:
+        block["vertices"] = (np.array(block["vertices"]) * scale + shift).tolist()
+        k = int(rng.integers(len(block["vertices"])))
+        block["vertices"] = block["vertices"][k:] + block["vertices"][:k]
+    data["blocks"] = [data["blocks"][i] for i in rng.permutation(len(data["blocks"]))]
+    data["unit_weight"] /= scale**3  # the same weights
+    data["thickness"] *= scale
+    other = alma.push(alma.Scene.from_dict(data), steps=20)
+    assert other.end["reason"] == base.end["reason"] == "alpha_zero" and other.control == base.control
+    assert len(other.curve) == len(base.curve)
+    assert np.allclose([p.alpha for p in other.curve], [p.alpha for p in base.curve], atol=1e-7)
+    assert other.d0 / scale == pytest.approx(base.d0, rel=1e-6)
