@@ -60,3 +60,35 @@ def test_a_refining_step_the_corrector_cannot_take_is_halved(monkeypatch):
     assert curve.status == alma.Status.OPTIMAL and curve.end["reason"] == "no_equilibrium", curve.message
     low, high = curve.end["bracket"]
     assert 0 < high - low <= tol
+
+
+def test_a_refining_point_whose_alpha_is_not_certified_is_replaced_by_one_nearer_the_low_end(monkeypatch):
+    # examples/wall_with_window.json ended `not_converged` where an LP next to its loss of
+    # equilibrium did not certify (Clarabel's gap 1.3e-8); a usable point halfway splits as well
+    real_move, real_usable, real_refine = curve_module._move, curve_module._usable, curve_module._refine
+    calls: list[tuple[float, float]] = []
+    refining: list[bool] = []
+    refused: list[float] = []
+
+    def move(run, lo, d):
+        calls.append((lo.d, d))
+        return real_move(run, lo, d)
+
+    def refine(run, lo, hi):
+        refining.append(True)
+        return real_refine(run, lo, hi)
+
+    def usable(state):  # the refinement's first point is taken as not certified
+        if refining and not refused:
+            refused.append(state.d)
+            return False
+        return real_usable(state)
+
+    monkeypatch.setattr(curve_module, "_move", move)
+    monkeypatch.setattr(curve_module, "_refine", refine)
+    monkeypatch.setattr(curve_module, "_usable", usable)
+    curve = alma.push(alma.load_scene(ROOT / "examples" / "arch.json"), steps=20)
+    k = next(k for k, c in enumerate(calls) if c[1] == refused[0])
+    (lo, target), (lo_next, halfway) = calls[k], calls[k + 1]
+    assert lo_next == lo and halfway - lo == pytest.approx((target - lo) / 2, rel=1e-12)
+    assert curve.status == alma.Status.OPTIMAL and curve.end["reason"] == "no_equilibrium", curve.message

@@ -292,8 +292,8 @@ def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_St
                 target = d + 0.5 * tol if lo.d == d else d - 0.5 * tol
                 if not lo.d < target < hi.d:
                     break
-            try:  # a point nearer lo where the corrector cannot reach the target is as good a split
-                s = _advanced(run, lo, target - lo.d, 0.25 * tol)
+            try:
+                s = _split(run, lo, target, 0.25 * tol)
             except MotionError as exc:
                 return lo, hi, extra, (Status.NOT_CONVERGED, f"refining d₀ at {target:.9g} mm: {exc}")
             if not _usable(s):
@@ -303,6 +303,19 @@ def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_St
             if hi.d - lo.d <= tol:
                 break
     return lo, hi, extra, None
+
+
+def _split(run: _Run, lo: _State, target: float, floor: float) -> _State:
+    """The configuration at ``target`` mm from ``lo``, or, where the corrector cannot reach it or
+    its α is not certified (an LP next to a loss of equilibrium), one nearer ``lo``: the step
+    halved down to ``floor`` mm.  Any configuration between a bracket's ends splits it as well.
+    The last one tried when none is usable; the corrector's :class:`MotionError` below ``floor``."""
+    step = target - lo.d
+    while True:
+        s = _advanced(run, lo, step, floor)
+        step = 0.5 * (s.d - lo.d)
+        if _usable(s) or not step >= floor:
+            return s
 
 
 def _control_end(state: _State, left: ControlLeft) -> dict:
