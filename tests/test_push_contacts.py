@@ -57,6 +57,18 @@ def test_a_sliding_panel_follows_one_sliding_part_to_alpha_zero():
     assert curve.d0 > len(steps) * regular
 
 
+def test_a_pair_already_in_contact_is_not_landed_again_at_every_step():
+    # measured from the drawing, a pair a landing left 0.46 tolerances deep crossed half the
+    # tolerance at the next motion along its contact: every later step landed within 1.2e-9 mm of
+    # its start (179.2040524 mm) and the curve ended by the time limit.  Measured from the step's
+    # start it moves on, to the loss of equilibrium just beyond, and stays within the tolerance.
+    panel = paper_panel("english", "2:1", "4:1", 1.0)
+    curve = alma.push(panel, steps=20)
+    assert curve.status == alma.Status.OPTIMAL and curve.end["reason"] == "no_equilibrium", curve.message
+    assert curve.curve[-1].d > 179.205
+    assert _growth(panel, curve) <= 1.0
+
+
 @pytest.mark.parametrize("stalls", [False, True])
 def test_the_landing_bisects_to_where_the_overlap_first_grows(stalls):
     # a corner meets a face at d = 3 and enters it at unit rate; a stand-in corrector that fails

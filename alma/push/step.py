@@ -99,7 +99,10 @@ def landed(
 ) -> tuple[float, np.ndarray]:
     """``(d, z)``, or where the step first drives a block into one it does not touch (an overlap
     of the drawing's outlines, ``run.overlaps``, grown by more than half ``run.snap``) the
-    shorter step to where they touch (:func:`alma.push.landing.landing`) and its increments."""
+    shorter step to where they touch (:func:`alma.push.landing.landing`) and its increments.
+    A pair of blocks in contact at the step's start grows from its overlap there: a landing left
+    it up to half ``run.snap`` deep, and measured from the drawing any motion along that contact
+    would land again at once (the corrector keeps its held points within a tenth of it)."""
     scene0, before, snap = run.scene, run.overlaps, run.snap
     crushing = state.contacts.crushing
     # a crushing joint's blocks overlap by design (the crushed zone)
@@ -113,6 +116,13 @@ def landed(
         after = depths(*outlines(scene0, advance(state.pose, scene0, state.bodies, z)), moving)
         return grown(before, {pair: depth for pair, depth in after.items() if pair not in ignored})
 
+    if growth(z) <= 0.5 * snap:
+        return d, z
+    # a pair in contact at the step's start was landed earlier: its overlap is measured from there
+    start = depths(*outlines(scene0, state.pose), moving)
+    a, b = state.contacts.a, state.contacts.b
+    touching = set(zip(np.minimum(a, b).tolist(), np.maximum(a, b).tolist(), strict=True))
+    before = before | {pair: max(v, before.get(pair, 0.0)) for pair, v in start.items() if pair in touching}
     if growth(z) <= 0.5 * snap:
         return d, z
 
