@@ -60,8 +60,7 @@ class CrushingSettings:
     anchor_factor: float = 10.0
     #: ... plus this absolute room (block weights): a violation of round-off size still gets room.
     anchor_margin: float = 1e-8
-    #: ... plus this share of the joint's N: the solver's error on a loaded joint grows with N
-    #: (4.8e-8 N on the 5,005-block wall's ground joint).
+    #: ... plus this share of the joint's N: the solver's error grows with N (4.8e-8 N on the 5,005-block wall's base).
     anchor_load_margin: float = 1e-7
 
 
@@ -112,8 +111,7 @@ class AssociativeSettings:
     #: blend of all of them; off by default: it costs 4.6x the solve over the 108 paper panels (HiGHS's interior point
     #: with crossover), and the blend is the same mechanism wherever the optimal face is a single one.
     crisp_mechanism: bool = False
-    #: Free blocks up to which the crisp LP may fall back to its capped form (tens of solves on
-    #: the largest panels; the complementary form costs about one).
+    #: Free blocks up to which the crisp LP may fall back to its capped form (tens of solves on the biggest panels).
     crisp_capped_blocks: int = 1000
     #: Iterative refinement in Clarabel's cone program of finite compressive strength: with it the
     #: single block recovers b/h to 7e-10 at σ_c = 1e7 MPa (3e-9 without; docs/compressive.md).
@@ -308,6 +306,8 @@ class PushSettings:
     landing_iterations: int = 40
     #: Re-solves of a step holding the points it drove into a neighbour (each round holds all).
     unilateral_rounds: int = 5
+    #: Re-linearisations of the unilateral step (alma.push.projection): its gaps are quadratic in the step.
+    projection_rounds: int = 8
     #: Width of the bracket of d₀ that ends its refinement: d₀ is stated to this accuracy.
     d0_tolerance: float = 1e-7
     #: LP solves the refinement of d₀ may spend (each halves the bracket at worst).

@@ -7,7 +7,8 @@ which holds the mechanism's hinges and sliding points).  The corrector's equatio
 those points; a contact point the mechanism opens at first order can still close past its
 neighbour over a finite step (a joint opening by rotation while a held sliding point pulls the
 block back).  Such a point is held as well (zero normal gap, free slip) and the step solved
-again, up to ``PushSettings.unilateral_rounds`` times.  :func:`landed` handles the contacts the
+again, up to ``PushSettings.unilateral_rounds`` times; a mechanism no closure can follow takes
+the unilateral step of :mod:`alma.push.projection`.  :func:`landed` handles the contacts the
 configuration does not have yet: where the step drives a corner into a block it does not touch,
 the step is shortened to where they first touch (:mod:`alma.push.landing`).
 """
@@ -22,6 +23,7 @@ import numpy as np
 from alma.push.corrector import corrected, one_hinge_opened
 from alma.push.landing import depths, grown, landing
 from alma.push.motion import Bodies, Contacts, MotionError, _moved, _rotate, advance, outlines, predictor
+from alma.push.projection import projected_step
 from alma.push.result import _Run, _State
 
 
@@ -66,7 +68,9 @@ def increment(run: _Run, state: _State, d: float, rate: float, where: np.ndarray
     mechanism (``rate``: the control point's speed per unit of the mechanism; ``where``: its
     position), no contact point closing past a tenth of the contact tolerance (``run.snap``, mm).
     When no way of holding them moves the bodies, the first motion found without them stands:
-    the landing (:func:`landed`) then shortens the step to where the point touches."""
+    the landing (:func:`landed`) then shortens the step to where the point touches.  When no
+    closure moves them at all (a first-order mechanism), the motion nearest the mechanism with
+    every contact unilateral does (:func:`alma.push.projection.projected_step`)."""
     bodies, push = state.bodies, run.push
     z0 = predictor(bodies, (d - state.d) / rate)
     args = (z0, (run.control, where), (d - state.d) * run.sense, run.length, push)
@@ -91,7 +95,8 @@ def increment(run: _Run, state: _State, d: float, rate: float, where: np.ndarray
     except MotionError:
         if unheld:
             return unheld[0]
-        raise
+    # a first-order mechanism of many bodies: its contacts are unilateral, any of them may open
+    return projected_step(bodies, state.contacts, z0, (run.control, where), args[2], run.length, push, tolerance)
 
 
 def landed(
@@ -100,9 +105,10 @@ def landed(
     """``(d, z)``, or where the step first drives a block into one it does not touch (an overlap
     of the drawing's outlines, ``run.overlaps``, grown by more than half ``run.snap``) the
     shorter step to where they touch (:func:`alma.push.landing.landing`) and its increments.
-    A pair of blocks in contact at the step's start grows from its overlap there: a landing left
-    it up to half ``run.snap`` deep, and measured from the drawing any motion along that contact
-    would land again at once (the corrector keeps its held points within a tenth of it)."""
+    A pair of blocks in contact at the step's start grows from its overlap there, up to
+    ``run.snap`` past the drawing's in all: a landing left it up to half ``run.snap`` deep, and
+    measured from the drawing any motion along that contact would land again at once (the
+    corrector keeps its held points within a tenth of it)."""
     scene0, before, snap = run.scene, run.overlaps, run.snap
     crushing = state.contacts.crushing
     # a crushing joint's blocks overlap by design (the crushed zone)
@@ -122,7 +128,12 @@ def landed(
     start = depths(*outlines(scene0, state.pose), moving)
     a, b = state.contacts.a, state.contacts.b
     touching = set(zip(np.minimum(a, b).tolist(), np.maximum(a, b).tolist(), strict=True))
-    before = before | {pair: max(v, before.get(pair, 0.0)) for pair, v in start.items() if pair in touching}
+    # ... up to the contact tolerance past the drawing's, beyond which it would be no contact
+    before = before | {
+        pair: max(before.get(pair, 0.0), min(v, before.get(pair, 0.0) + 0.5 * snap))
+        for pair, v in start.items()
+        if pair in touching
+    }
     if growth(z) <= 0.5 * snap:
         return d, z
 
