@@ -36,7 +36,10 @@ def test_ferris_and_tin_lois_wall_3_keeps_its_blocks_apart():
     wall = alma.coursed_wall(WALLS[3], 400.0, 175.0, friction=FRICTION, thickness=1000.0, unit_weight=10.0)
     curve = alma.push(wall, steps=20)
     assert _growth(wall, curve) <= 0.5
-    assert curve.status == alma.Status.OPTIMAL and curve.end["reason"] == "no_equilibrium", curve.message
+    assert curve.end["reason"] == "no_equilibrium", curve.message
+    # measured: a step from the bracket's low end (34.1133 mm) keeps the contacts the longer step
+    # dropped at the tolerance, so the loss is not proven on the curve's way
+    assert "low_end_step" in curve.end and curve.status == alma.Status.NOT_CONVERGED
     assert len(curve.curve) >= 10 and curve.curve[-1].d > 10.0
 
 
@@ -64,7 +67,8 @@ def test_a_pair_already_in_contact_is_not_landed_again_at_every_step():
     # start it moves on, to the loss of equilibrium just beyond, and stays within the tolerance.
     panel = paper_panel("english", "2:1", "4:1", 1.0)
     curve = alma.push(panel, steps=20)
-    assert curve.status == alma.Status.OPTIMAL and curve.end["reason"] == "no_equilibrium", curve.message
+    assert curve.end["reason"] == "no_equilibrium", curve.message
+    assert "low_end_step" in curve.end and curve.status == alma.Status.NOT_CONVERGED  # as wall 3's
     assert curve.curve[-1].d > 179.205
     assert _growth(panel, curve) <= 1.0
 

@@ -1,8 +1,10 @@
 """The refinement of a capacity curve's end: a loss of equilibrium is bracketed by bisection,
-one solve per halving (a secant's guard point only where α has a value on both sides)."""
+one solve per halving (a secant's guard point only where α has a value on both sides), and
+proven by a step from the bracket's low end."""
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
 import math
 from pathlib import Path
@@ -29,11 +31,14 @@ def test_a_loss_of_equilibrium_is_bracketed_by_one_solve_per_halving(monkeypatch
     first = next(k for k, c in enumerate(calls) if not (math.isfinite(c[2]) and c[2] > 0))
     lo, hi, _, tol = calls[first]
     halvings = math.ceil(math.log2((hi - lo) / tol))
-    refining = len(calls) - first - 1
+    refining = len(calls) - first - 2
     # with a guard beside each bisection point it took 28 solves for these 15 halvings
     assert refining <= halvings
     low, high = curve.end["bracket"]
     assert 0 < high - low <= tol
+    # and one more: the loss is proven where a step from the bracket's low end goes
+    assert calls[-1][:2] == (low, high) and not math.isfinite(calls[-1][2])
+    assert curve.status == alma.Status.OPTIMAL and "low_end_step" not in curve.end
 
 
 def test_a_refining_step_the_corrector_cannot_take_is_halved(monkeypatch):
@@ -92,3 +97,42 @@ def test_a_refining_point_whose_alpha_is_not_certified_is_replaced_by_one_nearer
     (lo, target), (lo_next, halfway) = calls[k], calls[k + 1]
     assert lo_next == lo and halfway - lo == pytest.approx((target - lo) / 2, rel=1e-12)
     assert curve.status == alma.Status.OPTIMAL and curve.end["reason"] == "no_equilibrium", curve.message
+
+
+def test_a_loss_only_a_long_step_shows_is_not_proven(monkeypatch):
+    # a long step's configuration can lose contacts that the curve's own short steps keep (a
+    # sliding joint opened past the tolerance): here every step longer than 0.15 d0 into the
+    # second half of a rocking block's curve finds "no equilibrium".  The end is bisected, the
+    # step from its low end finds equilibrium, and the curve says the loss is the longer step's
+    scene = alma.Scene.from_dict(
+        {
+            "thickness": 120,
+            "unit_weight": 18,
+            "friction": 0.8,
+            "blocks": [
+                {"id": "ground", "vertices": [[-1000, -100], [1000, -100], [1000, 0], [-1000, 0]], "fixed": True},
+                {"id": "block", "vertices": [[0, 0], [200, 0], [200, 600], [0, 600]]},
+            ],
+        }
+    )
+    clean = alma.push(scene, steps=5)
+    assert clean.status == alma.Status.OPTIMAL and clean.end["reason"] == "alpha_zero"
+    real = curve_module._move
+    faults: list[float] = []
+
+    def move(run, state, d):
+        s = real(run, state, d)
+        if d - state.d > 0.15 * clean.d0 and d > 0.5 * clean.d0:
+            faults.append(d)
+            lost = dataclasses.replace(s.result, status=alma.Status.NO_EQUILIBRIUM, alpha=-math.inf)
+            return dataclasses.replace(s, result=lost)
+        return s
+
+    monkeypatch.setattr(curve_module, "_move", move)
+    curve = alma.push(scene, steps=5)
+    assert faults and curve.end["reason"] == "no_equilibrium"
+    low, high = curve.end["bracket"]
+    step = curve.end["low_end_step"]
+    assert step["d"] == high and step["alpha"] > 0
+    assert curve.status == alma.Status.NOT_CONVERGED and "not proven on the curve's way" in curve.message
+    assert all(math.isfinite(p.alpha) for p in curve.curve)

@@ -18,7 +18,13 @@ d₀ by a secant through α_c; the curve then advances in steps of that estimate
 ``max_step`` × L; ``flat_step`` × L when α does not fall over the probe).  The
 last interval (α > 0 at its start, α ≤ 0 at its end) is refined by secant steps, each followed
 by a guard step ``d0_tolerance`` × L / 2 beyond it, until the bracket of d₀ is narrower than
-``d0_tolerance`` × L: d₀ is stated to that accuracy.  Every number of the analysis is relative
+``d0_tolerance`` × L: d₀ is stated to that accuracy.  A loss of equilibrium is bisected the same
+way and then proven on the configuration a step from the bracket's low end reaches: a far end
+reached by a longer step carries other contacts (a long step opens a sliding joint further
+past the tolerance).  Where the step from the low end finds equilibrium the loss is not proven
+on the curve's own way: the end then says so (``end["low_end_step"]``) and the curve is not
+``optimal``.
+Every number of the analysis is relative
 to L, so a drawing in other units, moved or with its blocks listed in another order takes the
 same steps.  The work is counted in LP solves, never in seconds.
 """
@@ -27,7 +33,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import cast
+from typing import NamedTuple, cast
 
 import numpy as np
 
@@ -186,66 +192,88 @@ def _state(run: _Run, d: float, pose: Pose, solved: tuple[Result, Model, np.ndar
     return _State(d, pose, result, bodies, contacts, signature(current, result, contacts), built, rest)
 
 
-def _curve(run: _Run, start: _State) -> PushResult:
-    p = run.push
-    states = [start]
-    state, step = start, p.probe * run.length
-    budget = p.steps * p.max_steps_factor + 1
-    solves, bracket, failure, reason = 1, None, None, "step_budget"
+class _Walk(NamedTuple):
+    """What :func:`_walk` went through: its configurations, the bracket of α = 0 (the last with
+    α > 0, the first without; None when it stopped without one), the step, its LP solves, and
+    when it stopped without a bracket, the failure, the end's reason and the control's end."""
+
+    states: list[_State]
+    bracket: tuple[_State, _State] | None
+    step: float
+    solves: int
+    failure: tuple[Status, str] | None = None
+    reason: str = ""
     left: ControlLeft | None = None
-    while bracket is None:
-        if len(states) > budget:
-            failure = (
-                Status.LIMIT_REACHED,
-                f"α is still {state.alpha:.6g} > 0 after {len(states) - 1} steps "
-                f"(d = {state.d:.6g} mm): the step budget ran out",
-            )
-            break
+
+
+def _curve(run: _Run, start: _State) -> PushResult:
+    walk = _walk(run, start, run.push.probe * run.length, 1)
+    states, solves = [start, *walk.states], 1 + walk.solves
+    if walk.bracket is None:
+        failure = walk.failure
+        end = _control_end(states[-1], walk.left) if walk.left is not None else {"reason": walk.reason}
+        if walk.left is None:
+            end["text"] = cast("tuple[Status, str]", failure)[1]
+        return _result(run, states, failure, (math.nan, math.nan), math.nan, solves, end)
+    lo, hi, extra, failure = _refine(run, *walk.bracket)
+    states, solves = states + extra, solves + len(extra)
+    if not math.isfinite(hi.alpha):
+        again = _from_low_end(run, lo, hi) if failure is None else hi
+        solves += int(again is not hi)
+        if again is not hi and not again.alpha > 0:
+            states, hi = [*states, again], again
+        end = lost_equilibrium((lo.d, hi.d), lo.alpha, lo.model, hi.model, lo.result.joints)
+        if again is not hi:  # a step from lo keeps the equilibrium the longer step lost
+            end |= {"low_end_step": {"d": again.d, "alpha": again.alpha}}
+        return _result(run, [s for s in states if s.d < hi.d], failure, (math.nan, math.nan), math.nan, solves, end)
+    root = _secant(lo, hi)
+    kept = [s for s in states if s.d <= hi.d]
+    return _result(run, kept, failure, (lo.d, hi.d), root, solves, {"reason": "alpha_zero", "d": root})
+
+
+def _walk(run: _Run, state: _State, step: float, count: int) -> _Walk:
+    """The configurations past ``state`` (the curve's ``count``-th point) at the curve's step until
+    α ≤ 0, a failure, the control's end or the step budget.  From the curve's first point the
+    first step is the probe, after which the step draws the curve in ``PushSettings.steps`` steps
+    to the secant's d₀."""
+    p = run.push
+    budget, walked = p.steps * p.max_steps_factor + 1, list[_State]()
+    while True:
+        if count + len(walked) > budget:
+            text = f"α is still {state.alpha:.6g} > 0 after {count + len(walked) - 1} steps (d = {state.d:.6g} mm)"
+            failure = (Status.LIMIT_REACHED, text + ": the step budget ran out")
+            return _Walk(walked, None, step, len(walked), failure, "step_budget")
         try:
             nxt = _advanced(run, state, step)
         except ControlLeft as exc:
-            left = exc
-            break
+            return _Walk(walked, None, step, len(walked), left=exc)
         except MotionError as exc:
-            failure, reason = (Status.NOT_CONVERGED, f"at d = {state.d:.6g} mm: {exc}"), "motion"
-            break
-        solves += 1
+            failure = (Status.NOT_CONVERGED, f"at d = {state.d:.6g} mm: {exc}")
+            return _Walk(walked, None, step, len(walked), failure, "motion")
         if not _usable(nxt):
-            failure, reason = (Status.NOT_CONVERGED, f"at d = {nxt.d:.6g} mm: {nxt.result.message}"), "solver"
-            break
-        states.append(nxt)
+            failure = (Status.NOT_CONVERGED, f"at d = {nxt.d:.6g} mm: {nxt.result.message}")
+            return _Walk(walked, None, step, len(walked) + 1, failure, "solver")
+        walked.append(nxt)
         if nxt.alpha <= 0:
-            bracket = (state, nxt)
-        elif len(states) == 2:
-            drop = start.alpha - nxt.alpha
-            flat = drop <= 1e-9 * max(1.0, abs(start.alpha))
-            step = p.flat_step * run.length if flat else nxt.d * start.alpha / drop / p.steps
+            return _Walk(walked, (state, nxt), step, len(walked))
+        if count == 1 and len(walked) == 1:
+            drop = state.alpha - nxt.alpha
+            flat = drop <= 1e-9 * max(1.0, abs(state.alpha))
+            step = p.flat_step * run.length if flat else nxt.d * state.alpha / drop / p.steps
             step = min(max(step, p.probe * run.length), p.max_step * run.length)
         state = nxt
-    if bracket is None:  # the loop leaves without a bracket only by a break: a failure or a control end
-        end = (
-            _control_end(state, left)
-            if left is not None
-            else {"reason": reason, "text": cast("tuple[Status, str]", failure)[1]}
-        )
-        return _result(run, states, failure, (math.nan, math.nan), math.nan, solves, end)
-    lo, hi, extra, failure = _refine(run, *bracket)
-    states += extra
-    if not math.isfinite(hi.alpha):
-        end = lost_equilibrium((lo.d, hi.d), lo.alpha, lo.model, hi.model, lo.result.joints)
-        return _result(
-            run, [s for s in states if s.d < hi.d], failure, (math.nan, math.nan), math.nan, solves + len(extra), end
-        )
-    root = _secant(lo, hi)
-    return _result(
-        run,
-        [s for s in states if s.d <= hi.d],
-        failure,
-        (lo.d, hi.d),
-        root,
-        solves + len(extra),
-        {"reason": "alpha_zero", "d": root},
-    )
+
+
+def _from_low_end(run: _Run, lo: _State, hi: _State) -> _State:
+    """``hi`` (a configuration without equilibrium), or the configuration at its d reached by a
+    step from ``lo`` when that differs: a long step's carried contacts open further than the
+    short steps of the refinement, so the loss is proven on the way the curve went; ``hi`` when
+    the step fails or lands on it."""
+    try:
+        again = (run.mover or _move)(run, lo, hi.d)
+    except MotionError:
+        return hi
+    return again if _usable(again) and again.d > lo.d else hi
 
 
 def _advanced(run: _Run, state: _State, step: float, floor: float | None = None) -> _State:

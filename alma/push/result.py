@@ -184,6 +184,13 @@ def _status_stopped(
 ) -> tuple[Status, str]:
     """A curve that stops with α > 0 (:data:`STOPPED_ENDS`): d₀ is not defined, the stop is stated."""
     text = f"{end['text']}; {len(states)} configurations, the mechanism changed {changes} time(s)"
+    if "low_end_step" in end:
+        step = end["low_end_step"]
+        return Status.NOT_CONVERGED, (
+            f"{text}; not proven on the curve's way: a step from the bracket's low end to "
+            f"{step['d']:.9g} mm finds equilibrium there (α = {step['alpha']:.6g}), so the loss is the "
+            "longer step's (contacts it opened past the contact tolerance) and the end depends on the step"
+        )
     if failure is not None:
         return failure[0], f"{text}; the bracket of the loss is not closed ({failure[1]})"
     if run.model == "nonassociative":
