@@ -194,12 +194,11 @@ def _state(run: _Run, d: float, pose: Pose, solved: tuple[Result, Model, np.ndar
 
 class _Walk(NamedTuple):
     """What :func:`_walk` went through: its configurations, the bracket of α = 0 (the last with
-    α > 0, the first without; None when it stopped without one), the step, its LP solves, and
-    when it stopped without a bracket, the failure, the end's reason and the control's end."""
+    α > 0, the first without; None when it stopped without one), its LP solves, and when it
+    stopped without a bracket, the failure, the end's reason and the control's end."""
 
     states: list[_State]
     bracket: tuple[_State, _State] | None
-    step: float
     solves: int
     failure: tuple[Status, str] | None = None
     reason: str = ""
@@ -207,7 +206,7 @@ class _Walk(NamedTuple):
 
 
 def _curve(run: _Run, start: _State) -> PushResult:
-    walk = _walk(run, start, run.push.probe * run.length, 1)
+    walk = _walk(run, start)
     states, solves = [start, *walk.states], 1 + walk.solves
     if walk.bracket is None:
         failure = walk.failure
@@ -231,44 +230,44 @@ def _curve(run: _Run, start: _State) -> PushResult:
     return _result(run, kept, failure, (lo.d, hi.d), root, solves, {"reason": "alpha_zero", "d": root})
 
 
-def _walk(run: _Run, state: _State, step: float, count: int) -> _Walk:
-    """The configurations past ``state`` (the curve's ``count``-th point) at the curve's step until
-    α ≤ 0, a failure, the control's end or the step budget.  From the curve's first point the
-    first step is the probe, after which the step draws the curve in ``PushSettings.steps`` steps
-    to the secant's d₀."""
+def _walk(run: _Run, start: _State) -> _Walk:
+    """The configurations past ``start`` until α ≤ 0, a failure, the control's end or the step
+    budget: the probe first, then the step that draws the curve in ``PushSettings.steps`` steps
+    to the probe's secant d₀."""
     p = run.push
     budget, walked = p.steps * p.max_steps_factor + 1, list[_State]()
+    state, step = start, p.probe * run.length
     while True:
-        if count + len(walked) > budget:
-            text = f"α is still {state.alpha:.6g} > 0 after {count + len(walked) - 1} steps (d = {state.d:.6g} mm)"
-            failure = (Status.LIMIT_REACHED, text + ": the step budget ran out")
-            return _Walk(walked, None, step, len(walked), failure, "step_budget")
+        if 1 + len(walked) > budget:
+            text = f"α is still {state.alpha:.6g} > 0 after {len(walked)} steps (d = {state.d:.6g} mm)"
+            return _Walk(
+                walked, None, len(walked), (Status.LIMIT_REACHED, text + ": the step budget ran out"), "step_budget"
+            )
         try:
             nxt = _advanced(run, state, step)
         except ControlLeft as exc:
-            return _Walk(walked, None, step, len(walked), left=exc)
+            return _Walk(walked, None, len(walked), left=exc)
         except MotionError as exc:
             failure = (Status.NOT_CONVERGED, f"at d = {state.d:.6g} mm: {exc}")
-            return _Walk(walked, None, step, len(walked), failure, "motion")
+            return _Walk(walked, None, len(walked), failure, "motion")
         if not _usable(nxt):
             failure = (Status.NOT_CONVERGED, f"at d = {nxt.d:.6g} mm: {nxt.result.message}")
-            return _Walk(walked, None, step, len(walked) + 1, failure, "solver")
+            return _Walk(walked, None, len(walked) + 1, failure, "solver")
         walked.append(nxt)
         if nxt.alpha <= 0:
-            return _Walk(walked, (state, nxt), step, len(walked))
-        if count == 1 and len(walked) == 1:
-            drop = state.alpha - nxt.alpha
-            flat = drop <= 1e-9 * max(1.0, abs(state.alpha))
-            step = p.flat_step * run.length if flat else nxt.d * state.alpha / drop / p.steps
+            return _Walk(walked, (state, nxt), len(walked))
+        if len(walked) == 1:
+            drop = start.alpha - nxt.alpha
+            flat = drop <= 1e-9 * max(1.0, abs(start.alpha))
+            step = p.flat_step * run.length if flat else nxt.d * start.alpha / drop / p.steps
             step = min(max(step, p.probe * run.length), p.max_step * run.length)
         state = nxt
 
 
 def _from_low_end(run: _Run, lo: _State, hi: _State) -> _State:
-    """``hi`` (a configuration without equilibrium), or the configuration at its d reached by a
-    step from ``lo`` when that differs: a long step's carried contacts open further than the
-    short steps of the refinement, so the loss is proven on the way the curve went; ``hi`` when
-    the step fails or lands on it."""
+    """The configuration at ``hi``'s d (``hi`` has no equilibrium) that a step from ``lo`` reaches,
+    where the loss is proven on the curve's own way (a longer step's carried contacts open
+    further than a short one's); ``hi`` itself when that step fails or lands no further than lo."""
     try:
         again = (run.mover or _move)(run, lo, hi.d)
     except MotionError:
