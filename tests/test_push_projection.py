@@ -112,3 +112,18 @@ def test_a_step_no_motion_allows_is_an_error_that_says_so() -> None:
     )
     with pytest.raises(MotionError, match="no motion of the step"):
         _step(bodies, walled)
+
+
+@given(scale=st.floats(0.01, 100.0), dx=st.floats(-1e4, 1e4), dy=st.floats(-1e4, 1e4))
+@settings(max_examples=15, deadline=None)
+def test_the_step_does_not_depend_on_the_units_or_the_origin(scale: float, dx: float, dy: float) -> None:
+    # the linkage drawn in other units (lengths × scale) and elsewhere: the same turns, shifts × scale
+    bodies, contacts = _linkage(resting=True)
+    z = _step(bodies, contacts)
+    shift = np.array([dx, dy])
+    moved = Bodies(bodies.of_block, bodies.centre * scale + shift, bodies.omega, bodies.velocity * scale)
+    placed = dataclasses.replace(contacts, point=contacts.point * scale + shift)
+    where = np.array([2.0, 0.5]) * scale + shift
+    z2 = projected_step(moved, placed, np.zeros((3, 3)), (2, where), TARGET * scale, scale, SETTINGS, ENTERING * scale)
+    assert np.allclose(z2[:, 0], z[:, 0], rtol=0.0, atol=1e-9)
+    assert np.allclose(z2[:, 1:] / scale, z[:, 1:], rtol=0.0, atol=1e-9)
