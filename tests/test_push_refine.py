@@ -136,3 +136,14 @@ def test_a_loss_only_a_long_step_shows_is_not_proven(monkeypatch):
     assert low < step["d"] == high and step["alpha"] > 0
     assert curve.status == alma.Status.NOT_CONVERGED and "not proven on the curve's way" in curve.message
     assert all(math.isfinite(p.alpha) for p in curve.curve)
+
+
+def test_a_refining_point_whose_mechanism_turns_the_control_back_ends_the_curve_there():
+    # running 1:1 1:1 f = 0.6: the walk's step from 15.44 mm lands at 17.63 mm without equilibrium;
+    # the bisection's first point, 16.53 mm (α 0.2055), has a mechanism that moves the control
+    # block backwards.  That is the walk's own control end, not a failure of the refinement
+    # (before: `not_converged`, "the bracket of the loss is not closed")
+    curve = alma.push(alma.paper_panel(bond="running", panel_ratio="1:1", block_ratio="1:1", friction=0.6), steps=20)
+    assert curve.status == alma.Status.OPTIMAL and curve.end["reason"] == "control_reverses", curve.message
+    assert curve.end["d"] == curve.curve[-1].d and 16.5 < curve.end["d"] < 16.6
+    assert curve.end["alpha"] == curve.curve[-1].alpha > 0

@@ -209,13 +209,16 @@ def _curve(run: _Run, start: _State) -> PushResult:
     walk = _walk(run, start)
     states, solves = [start, *walk.states], 1 + walk.solves
     if walk.bracket is None:
-        failure = walk.failure
         end = _control_end(states[-1], walk.left) if walk.left is not None else {"reason": walk.reason}
         if walk.left is None:
-            end["text"] = cast("tuple[Status, str]", failure)[1]
-        return _result(run, states, failure, (math.nan, math.nan), math.nan, solves, end)
-    lo, hi, extra, failure = _refine(run, *walk.bracket)
+            end["text"] = cast("tuple[Status, str]", walk.failure)[1]
+        return _result(run, states, walk.failure, (math.nan, math.nan), math.nan, solves, end)
+    lo, hi, extra, stop = _refine(run, *walk.bracket)
     states, solves = states + extra, solves + len(extra)
+    if isinstance(stop, ControlLeft):
+        kept = [s for s in states if s.d <= lo.d]
+        return _result(run, kept, None, (math.nan, math.nan), math.nan, solves, _control_end(lo, stop))
+    failure = stop
     if not math.isfinite(hi.alpha):
         again = _from_low_end(run, lo, hi) if failure is None else hi
         solves += int(again is not hi)
@@ -292,9 +295,13 @@ def _advanced(run: _Run, state: _State, step: float, floor: float | None = None)
             step /= 2
 
 
-def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_State], tuple | None]:
+def _refine(
+    run: _Run, lo: _State, hi: _State
+) -> tuple[_State, _State, list[_State], tuple[Status, str] | ControlLeft | None]:
     """Secant steps with a guard beyond each (bisections without one where α at hi is not a
-    number), inside [lo, hi], until hi.d − lo.d ≤ the tolerance."""
+    number), inside [lo, hi], until hi.d − lo.d ≤ the tolerance.  The last item: None, the
+    failure that stopped it, or the :class:`ControlLeft` of a low end whose mechanism does not
+    move the control block on (the curve ends there, as the walk's would)."""
     tol = run.push.d0_tolerance * run.length
     extra: list[_State] = []
     while hi.d - lo.d > tol:
@@ -321,6 +328,8 @@ def _refine(run: _Run, lo: _State, hi: _State) -> tuple[_State, _State, list[_St
                     break
             try:
                 s = _split(run, lo, target, 0.25 * tol)
+            except ControlLeft as exc:  # lo's mechanism does not move the control on: an end
+                return lo, hi, extra, exc
             except MotionError as exc:
                 return lo, hi, extra, (Status.NOT_CONVERGED, f"refining d₀ at {target:.9g} mm: {exc}")
             if not _usable(s):
