@@ -63,13 +63,13 @@ def projected_step(
     scale = np.tile([size / length, size, size], bodies.count)
     target_tol = settings.corrector_tolerance * 1e3 * length
     z = start.copy()
+    gaps, jacobian = _equations(bodies, every, z, control, target)
     for _ in range(settings.projection_rounds):
-        gaps, jacobian = _equations(bodies, every, z, control, target)
         x = _qp(z, start, gaps, jacobian, scale)
         if x is None:
             raise MotionError("no motion of the step keeps the contacts from entering each other")
         z = z + (x * scale).reshape(-1, 3)
-        gaps = _equations(bodies, every, z, control, target)[0]
+        gaps, jacobian = _equations(bodies, every, z, control, target)  # the next round's linearisation too
         if gaps[:-1].min(initial=0.0) >= -entering and abs(gaps[-1]) <= target_tol:
             return z
     raise MotionError(

@@ -118,11 +118,12 @@ def landed(
     # a pair of blocks the step leaves still keeps the overlap its configuration was accepted with
     moving = state.bodies.of_block >= 0
 
-    def growth(z: np.ndarray) -> float:
+    def overlaps(z: np.ndarray) -> dict[tuple[int, int], float]:
         after = depths(*outlines(scene0, advance(state.pose, scene0, state.bodies, z)), moving)
-        return grown(before, {pair: depth for pair, depth in after.items() if pair not in ignored})
+        return {pair: depth for pair, depth in after.items() if pair not in ignored}
 
-    if growth(z) <= 0.5 * snap:
+    reached = overlaps(z)
+    if grown(before, reached) <= 0.5 * snap:
         return d, z
     # a pair in contact at the step's start was landed earlier: its overlap is measured from there
     start = depths(*outlines(scene0, state.pose), moving)
@@ -134,12 +135,12 @@ def landed(
         for pair, v in start.items()
         if pair in touching
     }
-    if growth(z) <= 0.5 * snap:
+    if grown(before, reached) <= 0.5 * snap:
         return d, z
 
     def growth_at(x: float) -> float | None:
         try:
-            return growth(increment(run, state, x, rate, where))
+            return grown(before, overlaps(increment(run, state, x, rate, where)))
         except MotionError:
             return None
 
