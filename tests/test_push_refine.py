@@ -138,12 +138,30 @@ def test_a_loss_only_a_long_step_shows_is_not_proven(monkeypatch):
     assert all(math.isfinite(p.alpha) for p in curve.curve)
 
 
-def test_a_refining_point_whose_mechanism_turns_the_control_back_ends_the_curve_there():
-    # running 1:1 1:1 f = 0.6: the walk's step from 15.44 mm lands at 17.63 mm without equilibrium;
-    # the bisection's first point, 16.53 mm (α 0.2055), has a mechanism that moves the control
-    # block backwards.  That is the walk's own control end, not a failure of the refinement
-    # (before: `not_converged`, "the bracket of the loss is not closed")
-    curve = alma.push(alma.paper_panel(bond="running", panel_ratio="1:1", block_ratio="1:1", friction=0.6), steps=20)
+def test_a_refining_point_whose_mechanism_turns_the_control_back_ends_the_curve_there(monkeypatch):
+    # measured on running 1:1 1:1 f = 0.6 (before contacts were measured on the displaced
+    # geometry): the walk's step from 15.44 mm landed at 17.63 mm without equilibrium, and the
+    # bisection's first point, 16.53 mm (α 0.2055), had a mechanism that moves the control block
+    # backwards: the walk's own control end, not a failure of the refinement (before:
+    # `not_converged`, "the bracket of the loss is not closed").  Here the arch's refining points
+    # are made to have such a mechanism.
+    real = curve_module._move
+    refining: list = []
+    lost: list[float] = []
+
+    def move(run, state, d):
+        if any(state is s for s in refining):
+            raise curve_module.ControlLeft("control_reverses", "its mechanism moves the control block backwards")
+        s = real(run, state, d)
+        if not (math.isfinite(s.alpha) and s.alpha > 0):
+            lost.append(d)
+        elif lost:
+            refining.append(s)
+        return s
+
+    monkeypatch.setattr(curve_module, "_move", move)
+    curve = alma.push(alma.load_scene(ROOT / "examples" / "arch.json"), steps=20)
+    assert lost and refining
     assert curve.status == alma.Status.OPTIMAL and curve.end["reason"] == "control_reverses", curve.message
-    assert curve.end["d"] == curve.curve[-1].d and 16.5 < curve.end["d"] < 16.6
+    assert curve.end["d"] == curve.curve[-1].d == refining[0].d
     assert curve.end["alpha"] == curve.curve[-1].alpha > 0

@@ -22,6 +22,7 @@ from alma.geometry.edges import Edges, previous_edge
 
 if TYPE_CHECKING:  # pragma: no cover
     from alma.geometry.contacts import Joints
+    from alma.geometry.scene import Scene
 
 
 def corner_contacts(
@@ -123,3 +124,22 @@ def covered(found: Joints, a: np.ndarray, b: np.ndarray, points: np.ndarray, sna
     out = np.zeros(a.size, dtype=bool)
     np.logical_or.at(out, owner, near)
     return out
+
+
+def outline_distances(scene: Scene, blocks: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per point of ``points`` (k, 2) mm: its distance (mm) to the outline of its block ``blocks``
+    (k,) of ``scene``, and to that outline's nearest vertex."""
+    counts = np.array([len(blk.vertices) for blk in scene.blocks])
+    width = int(counts.max())
+    row = np.repeat(np.arange(len(counts)), counts)
+    col = np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
+    # each outline padded with its first vertex: the padding's edges have no length
+    padded = np.repeat(np.array([blk.vertices[0] for blk in scene.blocks], dtype=float)[:, None, :], width, axis=1)
+    padded[row, col] = np.concatenate([blk.vertices for blk in scene.blocks])
+    start = padded[blocks]
+    seg = np.roll(start, -1, axis=1) - start
+    rel = points[:, None, :] - start
+    t = np.clip((rel * seg).sum(axis=2) / np.maximum((seg * seg).sum(axis=2), 1e-300), 0.0, 1.0)
+    to_edge = np.hypot(*(rel - t[:, :, None] * seg).transpose(2, 0, 1)).min(axis=1)
+    to_vertex = np.hypot(*rel.transpose(2, 0, 1)).min(axis=1)
+    return to_edge, to_vertex

@@ -13,8 +13,10 @@ the first centres would leave at second order.
 
 Contacts after the step: :func:`alma.geometry.contacts.find_joints` on the displaced geometry
 (the flat joints: those that stayed flat, and new flat contacts), plus the contact points of the
-previous configuration that stayed closed (|T_a(p) − T_b(p)| ≤ the contact tolerance) and are not
-on a flat joint: the hinge about which a joint turned becomes a point contact (start = end),
+previous configuration that stayed closed (|T_a(p) − T_b(p)| ≤ the contact tolerance over the
+step, and the point, at the corner where one block has it, within the tolerance of both displaced
+outlines: a gap is measured on the geometry, not summed step by step) and are not on a flat
+joint: the hinge about which a joint turned becomes a point contact (start = end),
 whose normal is the face's that the other block's corner bears on (the bisector when two
 corners meet).  A joint with a finite compressive strength turns about its *crushing hinge*
 (the end its stress block presses in, :func:`classify`) and keeps its length on that face,
@@ -30,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
-from alma.geometry.corners import covered
+from alma.geometry.corners import covered, outline_distances
 from alma.geometry.edges import contact_lengths, scene_edges
 from alma.geometry.scene import Scene
 from alma.push.carried import carry, moved_loads, moved_ties
@@ -225,7 +227,15 @@ def joints_after(scene: Scene, contacts: Contacts, bodies: Bodies, z: np.ndarray
     pa = _moved(bodies, z, contacts.a, contacts.point)
     pb = _moved(bodies, z, contacts.b, contacts.point)
     gap = pb - pa
-    closed = np.hypot(*gap.T) <= snap
+    corner_a, corner_b = _at_vertex(scene, contacts.a, pa, snap), _at_vertex(scene, contacts.b, pb, snap)
+    # a corner that slid on a face is where the contact is (the midpoint would leave the face)
+    point = np.where(
+        (corner_b & ~corner_a)[:, None], pb, np.where((corner_a & ~corner_b)[:, None], pa, 0.5 * (pa + pb))
+    )
+    # ... and it is a contact while it lies on both outlines: the copies' drift over one step
+    # alone would let a gap grow a tolerance per step
+    on_both = np.maximum(outline_distances(scene, contacts.a, point)[0], outline_distances(scene, contacts.b, point)[0])
+    closed = (np.hypot(*gap.T) <= snap) & ((on_both <= snap) | contacts.crushing)
     # a sliding point stays a contact where it opened by no more than the associative dilatancy
     normal = contacts.normal
     opening = (gap * normal).sum(axis=1)
@@ -237,14 +247,7 @@ def joints_after(scene: Scene, contacts: Contacts, bodies: Bodies, z: np.ndarray
     if not closed.any():
         return found
     keep = np.flatnonzero(closed)
-    # a corner that slid on a face is where the contact is (the midpoint would leave the face)
-    corner_a = _at_vertex(scene, contacts.a[keep], pa[keep], snap)
-    corner_b = _at_vertex(scene, contacts.b[keep], pb[keep], snap)
-    point = np.where(
-        (corner_b & ~corner_a)[:, None],
-        pb[keep],
-        np.where((corner_a & ~corner_b)[:, None], pa[keep], 0.5 * (pa + pb)[keep]),
-    )
+    point = point[keep]
     normal = _hinge_normal(scene, bodies, z, contacts, keep, snap)
     a, b = contacts.a[keep], contacts.b[keep]
     # one joint per pair of closed points of one previous joint, else a point contact
@@ -365,12 +368,4 @@ def _hinge_normal(
 
 def _at_vertex(scene: Scene, blocks: np.ndarray, points: np.ndarray, snap: float) -> np.ndarray:
     """Per point: it is within ``snap`` of a vertex of its block (in the displaced scene)."""
-    counts = np.array([len(blk.vertices) for blk in scene.blocks])
-    width = int(counts.max())
-    padded = np.full((len(scene.blocks), width, 2), np.inf)
-    flat = np.concatenate([blk.vertices for blk in scene.blocks])
-    row = np.repeat(np.arange(len(counts)), counts)
-    col = np.arange(flat.shape[0]) - np.repeat(np.cumsum(counts) - counts, counts)
-    padded[row, col] = flat
-    d = np.hypot(*(padded[blocks] - points[:, None, :]).transpose(2, 0, 1))
-    return d.min(axis=1) <= snap
+    return outline_distances(scene, blocks, points)[1] <= snap
