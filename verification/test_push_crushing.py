@@ -178,6 +178,8 @@ def test_a_joint_crushing_over_its_whole_length_ends_the_curve_and_is_named():
     assert result.end["reason"] == "no_equilibrium" and math.isnan(result.d0)
     assert result.end["crushed_lost_joints"] == [["ground", "pier_r"]]
     assert "crushed over its whole length" in result.message
+    # a step from the bracket's low end keeps the equilibrium, but the curve does not go on
+    assert "low_end_step" in result.end and result.status == alma.Status.NOT_CONVERGED
 
 
 def test_a_per_joint_strength_on_the_ground_joint_gives_the_same_curve(base):

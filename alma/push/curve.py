@@ -15,15 +15,16 @@ tie shorter than its rest length is slack, left out of that configuration's anal
 
 Steps: a probe of ``PushSettings.probe`` × L (L = √(total area of the free blocks)) estimates
 d₀ by a secant through α_c; the curve then advances in steps of that estimate / ``steps`` (at most
-``max_step`` × L; ``flat_step`` × L when α does not fall over the probe).  The
-last interval (α > 0 at its start, α ≤ 0 at its end) is refined by secant steps, each followed
-by a guard step ``d0_tolerance`` × L / 2 beyond it, until the bracket of d₀ is narrower than
-``d0_tolerance`` × L: d₀ is stated to that accuracy.  A loss of equilibrium is bisected the same
-way and then proven on the configuration a step from the bracket's low end reaches: a far end
-reached by a longer step carries other contacts (a long step opens a sliding joint further
-past the tolerance).  Where the step from the low end finds equilibrium the loss is not proven
-on the curve's own way: the end then says so (``end["low_end_step"]``) and the curve is not
-``optimal``.
+``max_step`` × L; ``flat_step`` × L when α does not fall over the probe).  The last interval
+(α > 0 at its start, α ≤ 0 at its end) is refined by secant steps, each followed by a guard step
+``d0_tolerance`` × L / 2 beyond it, until the bracket of d₀ is narrower than ``d0_tolerance`` × L:
+d₀ is stated to that accuracy.  A loss of equilibrium is bisected (without guards: α has no value
+at its far end) and then proven on the configuration a step from the bracket's low end reaches:
+a far end reached by a longer step, along an earlier mechanism, carries other contacts.  Where
+the step from the low end finds equilibrium, the curve goes on from that configuration, probing
+again (the step budget counts the steps of every walk), unless the contact lost is a support
+crushed over its whole length, which sank: the rigid geometry does not follow it, and the end
+says so (``end["low_end_step"]``, not ``optimal``).
 Every number of the analysis is relative
 to L, so a drawing in other units, moved or with its blocks listed in another order takes the
 same steps.  The work is counted in LP solves, never in seconds.
@@ -43,28 +44,18 @@ from alma.geometry.scene import Scene
 from alma.geometry.validation import validated
 from alma.mechanics.model import Model, build_model
 from alma.push.carried import tie_lengths, without_slack
+from alma.push.control import ControlLeft, control_block, control_end
 from alma.push.landing import overlap_depths
 from alma.push.motion import MotionError, Pose, advance, bodies_of, classify, displaced, joints_after, signature
 from alma.push.result import PushResult, _result, _Run, _State
 from alma.push.step import increment, landed
-from alma.push.stop import lost_equilibrium
+from alma.push.stop import lost_equilibrium, sunk
 from alma.results.types import Result
 from alma.settings import PushSettings, Settings
 from alma.solve import solve, solve_following
 from alma.status import Status
 
 PUSH_MODELS = ("associative", "nonassociative")
-
-
-class ControlLeft(MotionError):
-    """The mechanism at a point leaves the control block still (``reason`` "control_still") or
-    moves it backwards ("control_reverses"): the structure there collapses, at that point's α, by
-    a mechanism the control point does not follow, so the curve of d ends.  A finding of the
-    analysis, not a failure of the step."""
-
-    def __init__(self, reason: str, text: str) -> None:
-        super().__init__(text)
-        self.reason = reason
 
 
 def push(
@@ -131,33 +122,13 @@ def push(
             1,
             first,
         )
-    index, sense = _control(scene, first, control)
+    index, sense = control_block(scene, first, control)
     if model == "associative" and first.mechanism_class == "sliding":
         # the blend of every part that can slide: the curve starts on the one moving the control
         solved = _solve(*start, p.tie_slack * length, (index, sense))
     snap = contact_lengths(scene, scene_edges(scene))[0]
     run = _Run(scene, model, settings, p, length, index, sense, snap=snap, overlaps=overlap_depths(scene))
     return _curve(run, _state(run, 0.0, pose, solved))
-
-
-def _control(scene: Scene, result: Result, control: str | None) -> tuple[int, float]:
-    """The control block's scene index and the sense of its horizontal motion."""
-    ids = scene.block_ids
-    ux = {b.id: b.u[0] for b in result.blocks}
-    top = max(abs(v) for v in ux.values()) if ux else 0.0
-    if control is None:
-        if not top > 0:
-            raise ValueError("the collapse mechanism moves no block horizontally: give --control")
-        control = min((k for k, v in ux.items() if abs(v) >= top * (1 - 1e-9)))
-    if control not in ids:
-        raise ValueError(f"control block '{control}': no such block")
-    if control not in ux:
-        raise ValueError(f"control block '{control}': a fixed block does not move")
-    if not abs(ux[control]) > 1e-6 * top:
-        raise ValueError(
-            f"control block '{control}': its centroid does not move horizontally in the collapse mechanism"
-        )
-    return ids.index(control), math.copysign(1.0, ux[control])
 
 
 def _solve(
@@ -206,43 +177,51 @@ class _Walk(NamedTuple):
 
 
 def _curve(run: _Run, start: _State) -> PushResult:
-    walk = _walk(run, start)
-    states, solves = [start, *walk.states], 1 + walk.solves
-    if walk.bracket is None:
-        end = _control_end(states[-1], walk.left) if walk.left is not None else {"reason": walk.reason}
-        if walk.left is None:
-            end["text"] = cast("tuple[Status, str]", walk.failure)[1]
-        return _result(run, states, walk.failure, (math.nan, math.nan), math.nan, solves, end)
-    lo, hi, extra, stop = _refine(run, *walk.bracket)
-    states, solves = states + extra, solves + len(extra)
-    if isinstance(stop, ControlLeft):
-        kept = [s for s in states if s.d <= lo.d]
-        return _result(run, kept, None, (math.nan, math.nan), math.nan, solves, _control_end(lo, stop))
-    failure = stop
-    if not math.isfinite(hi.alpha):
+    states, solves, state, walked = [start], 1, start, 0
+    while True:
+        walk = _walk(run, state, walked)
+        states, solves, walked = states + walk.states, solves + walk.solves, walked + len(walk.states)
+        if walk.bracket is None:
+            end = control_end(states[-1], walk.left) if walk.left is not None else {"reason": walk.reason}
+            if walk.left is None:
+                end["text"] = cast("tuple[Status, str]", walk.failure)[1]
+            return _result(run, states, walk.failure, (math.nan, math.nan), math.nan, solves, end)
+        lo, hi, extra, stop = _refine(run, *walk.bracket)
+        states, solves = states + extra, solves + len(extra)
+        if isinstance(stop, ControlLeft):
+            kept = [s for s in states if s.d <= lo.d]
+            return _result(run, kept, None, (math.nan, math.nan), math.nan, solves, control_end(lo, stop))
+        failure = stop
+        if math.isfinite(hi.alpha):
+            kept, root = [s for s in states if s.d <= hi.d], _secant(lo, hi)
+            return _result(run, kept, failure, (lo.d, hi.d), root, solves, {"reason": "alpha_zero", "d": root})
         again = _from_low_end(run, lo, hi) if failure is None else hi
         solves += int(again is not hi)
-        if again is not hi and not again.alpha > 0:
+        kept_up = again is not hi and again.alpha > 0
+        if kept_up and not sunk(lo.model, hi.model, lo.result.joints):
+            # a step from lo keeps the equilibrium the longer step lost (the contacts a
+            # configuration has depend on the mechanism it was reached by): the curve goes on
+            states, state = [*(s for s in states if s.d <= lo.d), again], again
+            continue
+        if again is not hi and not kept_up:  # the loss is proven on the curve's own way
             states, hi = [*states, again], again
         end = lost_equilibrium((lo.d, hi.d), lo.alpha, lo.model, hi.model, lo.result.joints)
-        if again is not hi:  # a step from lo keeps the equilibrium the longer step lost
+        if kept_up:  # a support crushed whole sank: the rigid geometry does not follow it
             end |= {"low_end_step": {"d": again.d, "alpha": again.alpha}}
-        return _result(run, [s for s in states if s.d < hi.d], failure, (math.nan, math.nan), math.nan, solves, end)
-    root = _secant(lo, hi)
-    kept = [s for s in states if s.d <= hi.d]
-    return _result(run, kept, failure, (lo.d, hi.d), root, solves, {"reason": "alpha_zero", "d": root})
+        kept = [s for s in states if s.d < hi.d]
+        return _result(run, kept, failure, (math.nan, math.nan), math.nan, solves, end)
 
 
-def _walk(run: _Run, start: _State) -> _Walk:
+def _walk(run: _Run, start: _State, spent: int = 0) -> _Walk:
     """The configurations past ``start`` until α ≤ 0, a failure, the control's end or the step
-    budget: the probe first, then the step that draws the curve in ``PushSettings.steps`` steps
-    to the probe's secant d₀."""
+    budget (``spent`` of it by the curve before ``start``): the probe first, then the step that
+    draws the curve in ``PushSettings.steps`` steps to the probe's secant d₀."""
     p = run.push
-    budget, walked = p.steps * p.max_steps_factor + 1, list[_State]()
+    budget, walked = p.steps * p.max_steps_factor + 1 - spent, list[_State]()
     state, step = start, p.probe * run.length
     while True:
         if 1 + len(walked) > budget:
-            text = f"α is still {state.alpha:.6g} > 0 after {len(walked)} steps (d = {state.d:.6g} mm)"
+            text = f"α is still {state.alpha:.6g} > 0 after {spent + len(walked)} steps (d = {state.d:.6g} mm)"
             return _Walk(
                 walked, None, len(walked), (Status.LIMIT_REACHED, text + ": the step budget ran out"), "step_budget"
             )
@@ -262,7 +241,8 @@ def _walk(run: _Run, start: _State) -> _Walk:
         if len(walked) == 1:
             drop = start.alpha - nxt.alpha
             flat = drop <= 1e-9 * max(1.0, abs(start.alpha))
-            step = p.flat_step * run.length if flat else nxt.d * start.alpha / drop / p.steps
+            d0 = start.d + (nxt.d - start.d) * start.alpha / drop if not flat else math.nan
+            step = p.flat_step * run.length if flat else d0 / p.steps
             step = min(max(step, p.probe * run.length), p.max_step * run.length)
         state = nxt
 
@@ -352,15 +332,6 @@ def _split(run: _Run, lo: _State, target: float, floor: float) -> _State:
         step = 0.5 * (s.d - lo.d)
         if _usable(s) or not step >= floor:
             return s
-
-
-def _control_end(state: _State, left: ControlLeft) -> dict:
-    """The ``end`` of a curve whose last point's mechanism leaves the control block (``left``)."""
-    text = (
-        f"the curve ends at d = {state.d:.6g} mm with α = {state.alpha:.4g} > 0: {left}, so the "
-        "structure collapses there by a mechanism the control point does not follow (d₀ is not defined)"
-    )
-    return {"reason": left.reason, "d": state.d, "alpha": state.alpha, "text": text}
 
 
 def _secant(lo: _State, hi: _State) -> float:

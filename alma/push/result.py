@@ -188,8 +188,8 @@ def _status_stopped(
         step = end["low_end_step"]
         return Status.NOT_CONVERGED, (
             f"{text}; not proven on the curve's way: a step from the bracket's low end to "
-            f"{step['d']:.9g} mm finds equilibrium there (α = {step['alpha']:.6g}), so the loss is the "
-            "longer step's (contacts it opened past the contact tolerance) and the end depends on the step"
+            f"{step['d']:.9g} mm finds equilibrium there (α = {step['alpha']:.6g}), but the curve does not "
+            "go on past a joint crushed over its whole length"
         )
     if failure is not None:
         return failure[0], f"{text}; the bracket of the loss is not closed ({failure[1]})"

@@ -112,6 +112,12 @@ def crushed_lost(joints: Iterable[JointResult], lost: list[tuple[str, str]]) -> 
     return [p for p in lost if p in crushing]
 
 
+def sunk(before: Model, after: Model, joints: Iterable[JointResult]) -> list[tuple[str, str]]:
+    """The block pairs in contact in ``before`` and not in ``after`` whose joint crushed over its
+    whole length in ``before``'s result (``joints``): a support sinking, not a contact left behind."""
+    return crushed_lost(joints, lost_joints(before, after, tuple(before.scene.block_ids)))
+
+
 def describe(
     d: tuple[float, float],
     alpha: float,
