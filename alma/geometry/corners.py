@@ -126,17 +126,22 @@ def covered(found: Joints, a: np.ndarray, b: np.ndarray, points: np.ndarray, sna
     return out
 
 
-def outline_distances(scene: Scene, blocks: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Per point of ``points`` (k, 2) mm: its distance (mm) to the outline of its block ``blocks``
-    (k,) of ``scene``, and to that outline's nearest vertex."""
+def padded_outlines(scene: Scene) -> np.ndarray:
+    """The blocks' outlines as one array (n, width, 2) mm, each padded with its first vertex up
+    to the widest outline (the padding's edges have no length)."""
     counts = np.array([len(blk.vertices) for blk in scene.blocks])
-    width = int(counts.max())
     row = np.repeat(np.arange(len(counts)), counts)
     col = np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
-    # each outline padded with its first vertex: the padding's edges have no length
-    padded = np.repeat(np.array([blk.vertices[0] for blk in scene.blocks], dtype=float)[:, None, :], width, axis=1)
+    first = np.array([blk.vertices[0] for blk in scene.blocks], dtype=float)
+    padded = np.repeat(first[:, None, :], int(counts.max()), axis=1)
     padded[row, col] = np.concatenate([blk.vertices for blk in scene.blocks])
-    start = padded[blocks]
+    return padded
+
+
+def outline_distances(outlines: np.ndarray, blocks: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per point of ``points`` (k, 2) mm: its distance (mm) to the outline of its block ``blocks``
+    (k,) in ``outlines`` (:func:`padded_outlines`), and to that outline's nearest vertex."""
+    start = outlines[blocks]
     seg = np.roll(start, -1, axis=1) - start
     rel = points[:, None, :] - start
     t = np.clip((rel * seg).sum(axis=2) / np.maximum((seg * seg).sum(axis=2), 1e-300), 0.0, 1.0)

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
-from alma.geometry.corners import covered, outline_distances
+from alma.geometry.corners import covered, outline_distances, padded_outlines
 from alma.geometry.edges import contact_lengths, scene_edges
 from alma.geometry.scene import Scene
 from alma.push.carried import carry, moved_loads, moved_ties
@@ -227,14 +227,15 @@ def joints_after(scene: Scene, contacts: Contacts, bodies: Bodies, z: np.ndarray
     pa = _moved(bodies, z, contacts.a, contacts.point)
     pb = _moved(bodies, z, contacts.b, contacts.point)
     gap = pb - pa
-    corner_a, corner_b = _at_vertex(scene, contacts.a, pa, snap), _at_vertex(scene, contacts.b, pb, snap)
+    drawn = padded_outlines(scene)
+    corner_a, corner_b = _at_vertex(drawn, contacts.a, pa, snap), _at_vertex(drawn, contacts.b, pb, snap)
     # a corner that slid on a face is where the contact is (the midpoint would leave the face)
     point = np.where(
         (corner_b & ~corner_a)[:, None], pb, np.where((corner_a & ~corner_b)[:, None], pa, 0.5 * (pa + pb))
     )
     # ... and it is a contact while it lies on both outlines: the copies' drift over one step
     # alone would let a gap grow a tolerance per step
-    on_both = np.maximum(outline_distances(scene, contacts.a, point)[0], outline_distances(scene, contacts.b, point)[0])
+    on_both = np.maximum(outline_distances(drawn, contacts.a, point)[0], outline_distances(drawn, contacts.b, point)[0])
     closed = (np.hypot(*gap.T) <= snap) & ((on_both <= snap) | contacts.crushing)
     # a sliding point stays a contact where it opened by no more than the associative dilatancy
     normal = contacts.normal
@@ -248,7 +249,7 @@ def joints_after(scene: Scene, contacts: Contacts, bodies: Bodies, z: np.ndarray
         return found
     keep = np.flatnonzero(closed)
     point = point[keep]
-    normal = _hinge_normal(scene, bodies, z, contacts, keep, snap)
+    normal = _hinge_normal(bodies, z, contacts, keep, corner_a[keep], corner_b[keep])
     a, b = contacts.a[keep], contacts.b[keep]
     # one joint per pair of closed points of one previous joint, else a point contact
     joint = keep // 2
@@ -279,7 +280,8 @@ def face_first(scene: Scene, contacts: Contacts) -> Contacts:
     if contacts.a.size == 0:
         return contacts
     snap, _ = contact_lengths(scene, scene_edges(scene))
-    swap = _at_vertex(scene, contacts.a, contacts.point, snap) & ~_at_vertex(scene, contacts.b, contacts.point, snap)
+    drawn = padded_outlines(scene)
+    swap = _at_vertex(drawn, contacts.a, contacts.point, snap) & ~_at_vertex(drawn, contacts.b, contacts.point, snap)
     if not swap.any():
         return contacts
     a, b = np.where(swap, contacts.b, contacts.a), np.where(swap, contacts.a, contacts.b)
@@ -349,23 +351,23 @@ def _without_carried_corners(found: Joints, a: np.ndarray, b: np.ndarray, points
 
 
 def _hinge_normal(
-    scene: Scene, bodies: Bodies, z: np.ndarray, contacts: Contacts, keep: np.ndarray, snap: float
+    bodies: Bodies, z: np.ndarray, contacts: Contacts, keep: np.ndarray, corner_a: np.ndarray, corner_b: np.ndarray
 ) -> np.ndarray:
     """The normal of each kept point contact after the step: the face's of the block the other's
-    corner bears on; the bisector of the two turned normals where two corners meet."""
+    corner bears on (``corner_a``, ``corner_b``: the point is a corner of that block after the
+    step); the bisector of the two turned normals where two corners meet."""
     a, b, n = contacts.a[keep], contacts.b[keep], contacts.normal[keep]
     angle = lambda blocks: np.where(  # noqa: E731
         bodies.of_block[blocks] >= 0, z[np.maximum(bodies.of_block[blocks], 0), 0] if bodies.count else 0.0, 0.0
     )
     na, nb = _rotate(n, angle(a)), _rotate(n, angle(b))
-    corner_a = _at_vertex(scene, a, _moved(bodies, z, a, contacts.point[keep]), snap)
-    corner_b = _at_vertex(scene, b, _moved(bodies, z, b, contacts.point[keep]), snap)
     bisector = na + nb
     bisector /= np.hypot(bisector[:, 0], bisector[:, 1])[:, None]
     out = np.where((corner_b & ~corner_a)[:, None], na, bisector)
     return np.where((corner_a & ~corner_b)[:, None], nb, out)
 
 
-def _at_vertex(scene: Scene, blocks: np.ndarray, points: np.ndarray, snap: float) -> np.ndarray:
-    """Per point: it is within ``snap`` of a vertex of its block (in the displaced scene)."""
-    return outline_distances(scene, blocks, points)[1] <= snap
+def _at_vertex(drawn: np.ndarray, blocks: np.ndarray, points: np.ndarray, snap: float) -> np.ndarray:
+    """Per point: it is within ``snap`` of a vertex of its block (``drawn``: the displaced scene's
+    :func:`alma.geometry.corners.padded_outlines`)."""
+    return outline_distances(drawn, blocks, points)[1] <= snap
