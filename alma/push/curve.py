@@ -107,7 +107,7 @@ def push(
     free = np.array([not b.fixed for b in scene.blocks])
     length = float(np.sqrt(np.abs(areas[free]).sum()))
     pose = Pose.rest(len(scene.blocks))
-    start = (scene, pose, find_joints(scene) if joints is None else joints, model, settings, tie_lengths(scene.ties))
+    start = (scene, find_joints(scene) if joints is None else joints, model, settings, tie_lengths(scene.ties))
     solved = _solve(*start, p.tie_slack * length)
     first = solved[0]
     if first.status not in (Status.OPTIMAL, Status.FEASIBLE):
@@ -132,8 +132,7 @@ def push(
 
 
 def _solve(
-    scene: Scene,
-    pose: Pose,
+    current: Scene,
     joints: Joints,
     model: str,
     settings: Settings | None,
@@ -141,11 +140,12 @@ def _solve(
     slack: float,
     follow: tuple[int, float] | None = None,
 ) -> tuple[Result, Model, np.ndarray]:
-    """The limit analysis of ``scene`` at ``pose`` without the ties that are slack there (shorter
-    than their ``rest`` lengths by more than ``slack`` mm), and the rest lengths after it.
-    ``follow`` = (control block, sense): an associative sliding mechanism is the one that keeps
-    moving it (:func:`alma.solve.solve_following`)."""
-    current, after = without_slack(displaced(scene, pose), rest, slack)
+    """The limit analysis of ``current`` (a configuration, :func:`alma.push.motion.displaced`)
+    without the ties that are slack there (shorter than their ``rest`` lengths by more than
+    ``slack`` mm), and the rest lengths after it.  ``follow`` = (control block, sense): an
+    associative sliding mechanism is the one that keeps moving it
+    (:func:`alma.solve.solve_following`)."""
+    current, after = without_slack(current, rest, slack)
     built = build_model(current, joints)
     if follow is not None and model == "associative":
         return solve_following(built, settings, *follow), built, after
@@ -348,17 +348,18 @@ def _move(run: _Run, state: _State, d: float) -> _State:
     if bodies.count == 0 or bodies.of_block[run.control] < 0:
         raise ControlLeft("control_still", "its mechanism leaves the control block still")
     scene0 = run.scene
-    here = displaced(scene0, state.pose)
-    where = block_areas_and_centroids(here)[1][run.control]
+    # the configuration's own blocks (its model leaves out slack ties only)
+    where = block_areas_and_centroids(state.model.scene)[1][run.control]
     rate = bodies.velocity_at(np.array([run.control]), where[None, :])[0, 0] * run.sense
     if not rate > 0:
         raise ControlLeft("control_reverses", "its mechanism moves the control block backwards")
     d, z = landed(run, state, d, increment(run, state, d, rate, where), rate, where)
     pose = advance(state.pose, scene0, bodies, z)
-    joints = joints_after(displaced(scene0, pose), state.contacts, bodies, z)
+    current = displaced(scene0, pose)
+    joints = joints_after(current, state.contacts, bodies, z)
     follow = (run.control, run.sense)
     slack = run.push.tie_slack * run.length
-    return _state(run, d, pose, _solve(scene0, pose, joints, run.model, run.settings, state.rest, slack, follow))
+    return _state(run, d, pose, _solve(current, joints, run.model, run.settings, state.rest, slack, follow))
 
 
 def _usable(state: _State) -> bool:
