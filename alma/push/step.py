@@ -26,11 +26,15 @@ from alma.push.motion import Bodies, Contacts, MotionError, _moved, _rotate, adv
 from alma.push.projection import projected_step
 from alma.push.result import _Run, _State
 
+#: How far (in contact tolerances) a step may close a point of a pair already as deep as a
+#: landing may leave it: round-off only.
+ENTERING_AT_CAP = 1e-6
 
-def entering(bodies: Bodies, contacts: Contacts, z: np.ndarray, tolerance: float) -> np.ndarray:
+
+def entering(bodies: Bodies, contacts: Contacts, z: np.ndarray, tolerance: float | np.ndarray) -> np.ndarray:
     """Per contact point: neither a hinge nor sliding nor on a crushing joint, and the increments
-    ``z`` carry its two blocks into each other by more than ``tolerance`` mm along its normal
-    (turned with block a)."""
+    ``z`` carry its two blocks into each other by more than ``tolerance`` mm (per point or one
+    for all) along its normal (turned with block a)."""
     pa = _moved(bodies, z, contacts.a, contacts.point)
     pb = _moved(bodies, z, contacts.b, contacts.point)
     g = bodies.of_block[contacts.a]
@@ -44,7 +48,7 @@ def _held_apart(
     solve: Callable[[Contacts], np.ndarray],
     bodies: Bodies,
     contacts: Contacts,
-    tolerance: float,
+    tolerance: float | np.ndarray,
     rounds: int,
     unheld: list[np.ndarray],
 ) -> np.ndarray:
@@ -66,7 +70,8 @@ def _held_apart(
 def increment(run: _Run, state: _State, d: float, rate: float, where: np.ndarray) -> np.ndarray:
     """The bodies' increments (g, 3) from ``state`` to control displacement ``d`` (mm) along its
     mechanism (``rate``: the control point's speed per unit of the mechanism; ``where``: its
-    position), no contact point closing past a tenth of the contact tolerance (``run.snap``, mm).
+    position), no contact point closing past a tenth of the contact tolerance (``run.snap``, mm;
+    none for a pair already as deep as a landing may leave it, :func:`_entering_tolerance`).
     When no way of holding them moves the bodies, the first motion found without them stands:
     the landing (:func:`landed`) then shortens the step to where the point touches.  When no
     closure moves them at all (a first-order mechanism), the motion nearest the mechanism with
@@ -78,7 +83,7 @@ def increment(run: _Run, state: _State, d: float, rate: float, where: np.ndarray
     def solve(contacts: Contacts) -> np.ndarray:
         return corrected(bodies, contacts, *args)
 
-    tolerance, unheld = 0.1 * run.snap, list[np.ndarray]()
+    tolerance, unheld = _entering_tolerance(run, state), list[np.ndarray]()
     try:
         return _held_apart(solve, bodies, state.contacts, tolerance, push.unilateral_rounds, unheld)
     except MotionError:
@@ -96,7 +101,23 @@ def increment(run: _Run, state: _State, d: float, rate: float, where: np.ndarray
         if unheld:
             return unheld[0]
     # a first-order mechanism of many bodies: its contacts are unilateral, any of them may open
-    return projected_step(bodies, state.contacts, z0, (run.control, where), args[2], run.length, push, tolerance)
+    return projected_step(bodies, state.contacts, z0, (run.control, where), args[2], run.length, push, 0.1 * run.snap)
+
+
+def _entering_tolerance(run: _Run, state: _State) -> np.ndarray:
+    """Per contact point of ``state``, how far (mm) a step may close it before it is held: a tenth
+    of the contact tolerance, and none for a pair already as deep as a landing may leave it (half
+    the tolerance past the drawing's overlap), whose every further closing would land the step
+    at once (:func:`landed`)."""
+    contacts, n = state.contacts, len(run.scene.blocks)
+    start = depths(*outlines(run.scene, state.pose), state.bodies.of_block >= 0)
+    pairs = np.array(list(start), dtype=np.int64).reshape(-1, 2)
+    depth = np.fromiter(start.values(), dtype=float, count=len(start))
+    drawn = np.fromiter((run.overlaps.get(p, 0.0) for p in start), dtype=float, count=len(start))
+    deep = pairs[depth >= drawn + 0.5 * run.snap]
+    keys = np.minimum(contacts.a, contacts.b).astype(np.int64) * n + np.maximum(contacts.a, contacts.b)
+    at_cap = np.isin(keys, deep[:, 0] * n + deep[:, 1])
+    return np.where(at_cap, ENTERING_AT_CAP * run.snap, 0.1 * run.snap)
 
 
 def landed(
