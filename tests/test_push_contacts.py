@@ -140,7 +140,7 @@ def test_a_pair_already_in_contact_is_not_landed_again_at_every_step(monkeypatch
     state = _State(0.0, pose, None, bodies, contacts, (), None)  # type: ignore[arg-type]
     z = np.array([[0.0, 1.0, -sink * snap]])
     # a stand-in for the corrector: the motion is proportional to the control displacement
-    monkeypatch.setattr(step_module, "increment", lambda run, state, d, rate, where: d * z)
+    monkeypatch.setattr(step_module, "increment", lambda run, state, d, rate, where, tolerance: d * z)
     d, _ = landed(run, state, 1.0, z, 1.0, np.array([50.0, 50.0]))
     assert (d == 1.0) == whole and 0.0 < d <= 1.0
 

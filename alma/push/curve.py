@@ -48,7 +48,7 @@ from alma.push.control import ControlLeft, control_block, control_end
 from alma.push.landing import overlap_depths
 from alma.push.motion import MotionError, Pose, advance, bodies_of, classify, displaced, joints_after, signature
 from alma.push.result import PushResult, _result, _Run, _State
-from alma.push.step import increment, landed
+from alma.push.step import entering_tolerance, increment, landed
 from alma.push.stop import lost_equilibrium, sunk
 from alma.results.types import Result
 from alma.settings import PushSettings, Settings
@@ -353,7 +353,8 @@ def _move(run: _Run, state: _State, d: float) -> _State:
     rate = bodies.velocity_at(np.array([run.control]), where[None, :])[0, 0] * run.sense
     if not rate > 0:
         raise ControlLeft("control_reverses", "its mechanism moves the control block backwards")
-    d, z = landed(run, state, d, increment(run, state, d, rate, where), rate, where)
+    held = entering_tolerance(run, state)  # the same for every trial step from this state
+    d, z = landed(run, state, d, increment(run, state, d, rate, where, held), rate, where, held)
     pose = advance(state.pose, scene0, bodies, z)
     current = displaced(scene0, pose)
     joints = joints_after(current, state.contacts, bodies, z)

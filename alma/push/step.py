@@ -67,11 +67,14 @@ def _held_apart(
     return z
 
 
-def increment(run: _Run, state: _State, d: float, rate: float, where: np.ndarray) -> np.ndarray:
+def increment(
+    run: _Run, state: _State, d: float, rate: float, where: np.ndarray, tolerance: np.ndarray | None = None
+) -> np.ndarray:
     """The bodies' increments (g, 3) from ``state`` to control displacement ``d`` (mm) along its
     mechanism (``rate``: the control point's speed per unit of the mechanism; ``where``: its
     position), no contact point closing past a tenth of the contact tolerance (``run.snap``, mm;
-    none for a pair already as deep as a landing may leave it, :func:`_entering_tolerance`).
+    none for a pair already as deep as a landing may leave it: ``tolerance``, per point, by default
+    :func:`entering_tolerance`).
     When no way of holding them moves the bodies, the first motion found without them stands:
     the landing (:func:`landed`) then shortens the step to where the point touches.  When no
     closure moves them at all (a first-order mechanism), the motion nearest the mechanism with
@@ -83,7 +86,8 @@ def increment(run: _Run, state: _State, d: float, rate: float, where: np.ndarray
     def solve(contacts: Contacts) -> np.ndarray:
         return corrected(bodies, contacts, *args)
 
-    tolerance, unheld = _entering_tolerance(run, state), list[np.ndarray]()
+    tolerance = entering_tolerance(run, state) if tolerance is None else tolerance
+    unheld = list[np.ndarray]()
     try:
         return _held_apart(solve, bodies, state.contacts, tolerance, push.unilateral_rounds, unheld)
     except MotionError:
@@ -104,7 +108,7 @@ def increment(run: _Run, state: _State, d: float, rate: float, where: np.ndarray
     return projected_step(bodies, state.contacts, z0, (run.control, where), args[2], run.length, push, 0.1 * run.snap)
 
 
-def _entering_tolerance(run: _Run, state: _State) -> np.ndarray:
+def entering_tolerance(run: _Run, state: _State) -> np.ndarray:
     """Per contact point of ``state``, how far (mm) a step may close it before it is held: a tenth
     of the contact tolerance, and none for a pair already as deep as a landing may leave it (half
     the tolerance past the drawing's overlap), whose every further closing would land the step
@@ -121,7 +125,13 @@ def _entering_tolerance(run: _Run, state: _State) -> np.ndarray:
 
 
 def landed(
-    run: _Run, state: _State, d: float, z: np.ndarray, rate: float, where: np.ndarray
+    run: _Run,
+    state: _State,
+    d: float,
+    z: np.ndarray,
+    rate: float,
+    where: np.ndarray,
+    tolerance: np.ndarray | None = None,
 ) -> tuple[float, np.ndarray]:
     """``(d, z)``, or where the step first drives a block into one it does not touch (an overlap
     of the drawing's outlines, ``run.overlaps``, grown by more than half ``run.snap``) the
@@ -159,13 +169,15 @@ def landed(
     if grown(before, reached) <= 0.5 * snap:
         return d, z
 
+    tolerance = entering_tolerance(run, state) if tolerance is None else tolerance
+
     def growth_at(x: float) -> float | None:
         try:
-            return grown(before, overlaps(increment(run, state, x, rate, where)))
+            return grown(before, overlaps(increment(run, state, x, rate, where, tolerance)))
         except MotionError:
             return None
 
     touch = landing(growth_at, state.d, d, snap, run.push.landing_iterations)
     if touch is None:
         raise MotionError(f"the step to d = {d:.6g} mm drives a block into another from its start")
-    return touch, increment(run, state, touch, rate, where)
+    return touch, increment(run, state, touch, rate, where, tolerance)
