@@ -48,7 +48,7 @@ from alma.push.control import ControlLeft, control_block, control_end
 from alma.push.landing import overlap_depths
 from alma.push.motion import MotionError, Pose, advance, bodies_of, classify, displaced, joints_after, signature
 from alma.push.result import PushResult, _result, _Run, _State
-from alma.push.step import entering_tolerance, increment, landed
+from alma.push.step import held_at, increment, landed
 from alma.push.stop import lost_equilibrium, sunk
 from alma.results.types import Result
 from alma.settings import PushSettings, Settings
@@ -249,8 +249,9 @@ def _walk(run: _Run, start: _State, spent: int = 0) -> _Walk:
 
 def _from_low_end(run: _Run, lo: _State, hi: _State) -> _State:
     """The configuration at ``hi``'s d (``hi`` has no equilibrium) that a step from ``lo`` reaches,
-    where the loss is proven on the curve's own way (a longer step's carried contacts open
-    further than a short one's); ``hi`` itself when that step fails or lands no further than lo."""
+    where the loss is proven on the curve's own way (a longer step, along an earlier mechanism,
+    reaches a configuration with other contacts); ``hi`` itself when that step fails or lands no
+    further than lo."""
     try:
         again = (run.mover or _move)(run, lo, hi.d)
     except MotionError:
@@ -353,8 +354,8 @@ def _move(run: _Run, state: _State, d: float) -> _State:
     rate = bodies.velocity_at(np.array([run.control]), where[None, :])[0, 0] * run.sense
     if not rate > 0:
         raise ControlLeft("control_reverses", "its mechanism moves the control block backwards")
-    held = entering_tolerance(run, state)  # the same for every trial step from this state
-    d, z = landed(run, state, d, increment(run, state, d, rate, where, held), rate, where, held)
+    held = held_at(run, state)  # the same for every trial step from this state
+    d, z = landed(run, state, d, increment(run, state, d, rate, where, held.tolerance), rate, where, held)
     pose = advance(state.pose, scene0, bodies, z)
     current = displaced(scene0, pose)
     joints = joints_after(current, state.contacts, bodies, z)

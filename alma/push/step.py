@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 
@@ -74,7 +75,7 @@ def increment(
     mechanism (``rate``: the control point's speed per unit of the mechanism; ``where``: its
     position), no contact point closing past a tenth of the contact tolerance (``run.snap``, mm;
     none for a pair already as deep as a landing may leave it: ``tolerance``, per point, by default
-    :func:`entering_tolerance`).
+    :func:`held_at`).
     When no way of holding them moves the bodies, the first motion found without them stands:
     the landing (:func:`landed`) then shortens the step to where the point touches.  When no
     closure moves them at all (a first-order mechanism), the motion nearest the mechanism with
@@ -86,7 +87,7 @@ def increment(
     def solve(contacts: Contacts) -> np.ndarray:
         return corrected(bodies, contacts, *args)
 
-    tolerance = entering_tolerance(run, state) if tolerance is None else tolerance
+    tolerance = held_at(run, state).tolerance if tolerance is None else tolerance
     unheld = list[np.ndarray]()
     try:
         return _held_apart(solve, bodies, state.contacts, tolerance, push.unilateral_rounds, unheld)
@@ -108,13 +109,27 @@ def increment(
     return projected_step(bodies, state.contacts, z0, (run.control, where), args[2], run.length, push, 0.1 * run.snap)
 
 
-def entering_tolerance(run: _Run, state: _State) -> np.ndarray:
+class Held(NamedTuple):
+    """What every trial step from one state shares: the overlaps (mm) at the state of the pairs
+    with a block its mechanism moves, and per contact point the closing (mm) past which a step
+    holds it (:func:`entering_tolerance`)."""
+
+    start: dict[tuple[int, int], float]
+    tolerance: np.ndarray
+
+
+def held_at(run: _Run, state: _State) -> Held:
+    """:class:`Held` of ``state``, measured once."""
+    start = depths(*outlines(run.scene, state.pose), state.bodies.of_block >= 0)
+    return Held(start, entering_tolerance(run, state, start))
+
+
+def entering_tolerance(run: _Run, state: _State, start: dict[tuple[int, int], float]) -> np.ndarray:
     """Per contact point of ``state``, how far (mm) a step may close it before it is held: a tenth
     of the contact tolerance, and none for a pair already as deep as a landing may leave it (half
-    the tolerance past the drawing's overlap), whose every further closing would land the step
-    at once (:func:`landed`)."""
+    the tolerance past the drawing's overlap; ``start``: the overlaps at the state), whose every
+    further closing would land the step at once (:func:`landed`)."""
     contacts, n = state.contacts, len(run.scene.blocks)
-    start = depths(*outlines(run.scene, state.pose), state.bodies.of_block >= 0)
     pairs = np.array(list(start), dtype=np.int64).reshape(-1, 2)
     depth = np.fromiter(start.values(), dtype=float, count=len(start))
     drawn = np.fromiter((run.overlaps.get(p, 0.0) for p in start), dtype=float, count=len(start))
@@ -125,13 +140,7 @@ def entering_tolerance(run: _Run, state: _State) -> np.ndarray:
 
 
 def landed(
-    run: _Run,
-    state: _State,
-    d: float,
-    z: np.ndarray,
-    rate: float,
-    where: np.ndarray,
-    tolerance: np.ndarray | None = None,
+    run: _Run, state: _State, d: float, z: np.ndarray, rate: float, where: np.ndarray, held: Held | None = None
 ) -> tuple[float, np.ndarray]:
     """``(d, z)``, or where the step first drives a block into one it does not touch (an overlap
     of the drawing's outlines, ``run.overlaps``, grown by more than half ``run.snap``) the
@@ -139,7 +148,8 @@ def landed(
     A pair of blocks in contact at the step's start grows from its overlap there, up to
     ``run.snap`` past the drawing's in all: a landing left it up to half ``run.snap`` deep, and
     measured from the drawing any motion along that contact would land again at once (the
-    corrector keeps its held points within a tenth of it)."""
+    corrector keeps its held points within a tenth of it).  ``held``: :func:`held_at` of ``state``
+    when the caller has it."""
     scene0, before, snap = run.scene, run.overlaps, run.snap
     crushing = state.contacts.crushing
     # a crushing joint's blocks overlap by design (the crushed zone)
@@ -157,7 +167,8 @@ def landed(
     if grown(before, reached) <= 0.5 * snap:
         return d, z
     # a pair in contact at the step's start was landed earlier: its overlap is measured from there
-    start = depths(*outlines(scene0, state.pose), moving)
+    held = held_at(run, state) if held is None else held
+    start = held.start
     a, b = state.contacts.a, state.contacts.b
     touching = set(zip(np.minimum(a, b).tolist(), np.maximum(a, b).tolist(), strict=True))
     # ... up to the contact tolerance past the drawing's, beyond which it would be no contact
@@ -169,7 +180,7 @@ def landed(
     if grown(before, reached) <= 0.5 * snap:
         return d, z
 
-    tolerance = entering_tolerance(run, state) if tolerance is None else tolerance
+    tolerance = held.tolerance
 
     def growth_at(x: float) -> float | None:
         try:
