@@ -8,7 +8,7 @@ from typing import Literal, cast, overload
 
 import numpy as np
 
-from alma.associative.crisp import crisp_mechanism
+from alma.associative.crisp import crisp_mechanism, on_face
 from alma.associative.lp import solve_lp
 from alma.associative.radenkovic import radenkovic_lower_bound
 from alma.certify.milp import certify as certify_milp
@@ -21,6 +21,7 @@ from alma.mechanics.canonical import snapped
 from alma.mechanics.model import Model, build_model
 from alma.nonassociative.search import NonAssociativeSolution, carried_back, solve_nonassociative
 from alma.results.build import associative_result, comparison, nonassociative_result
+from alma.results.joints import model_mechanism
 from alma.results.types import AssociativeResult, Comparison, NonAssociativeResult
 from alma.settings import Effort, Settings
 from alma.status import Status
@@ -172,20 +173,33 @@ def _settings(
 
 
 def _crisp(
-    built: Model, lp, settings: Settings, timings: dict[str, float], keep: tuple[np.ndarray, float] | None = None
+    built: Model,
+    lp,
+    settings: Settings,
+    timings: dict[str, float],
+    keep: tuple[np.ndarray, float] | None = None,
+    previous: np.ndarray | None = None,
 ):
     """``lp`` with the crisp mechanism of its optimal face (:mod:`alma.associative.crisp`, with the
     row ``keep`` when given) in place of the interior point's blend; α, bounds and the stress
-    field stay.  The non-associative search keeps starting from the interior point's mechanism."""
+    field stay.  A ``previous`` mechanism (block motions, as :func:`model_mechanism` takes them)
+    still on that face with ``keep`` is kept instead, with no LP.  The non-associative search
+    keeps starting from the interior point's mechanism."""
     s = settings.associative
     wanted = s.crisp_mechanism or keep is not None
     if not (wanted and lp.status == "optimal" and not built.n_bounded and not built.crushes):
         return lp
+    slack = s.gap_tolerance * 5e-3
     t0 = time.perf_counter()
+    kept = None if previous is None else on_face(built, lp.upper, slack, model_mechanism(built, previous), keep)
+    if kept is not None:
+        timings["crisp_s"] = time.perf_counter() - t0
+        why = "the previous configuration's mechanism, still on the optimal face"
+        return dataclasses.replace(lp, mechanism=kept, message=f"{lp.message}; {why}")
     u, why = crisp_mechanism(
         built,
         lp.upper,
-        s.gap_tolerance * 5e-3,
+        slack,
         lp.multipliers,
         lp.mechanism,
         max_blocks_capped=s.crisp_capped_blocks,
@@ -203,7 +217,9 @@ def _crisp(
 FOLLOW_SLACK = 1e-6
 
 
-def solve_following(built: Model, settings: Settings | None, block: int, sense: float) -> AssociativeResult:
+def solve_following(
+    built: Model, settings: Settings | None, block: int, sense: float, previous: np.ndarray | None = None
+) -> AssociativeResult:
     """Eq. 10 of the prebuilt ``built`` (as :func:`solve`), its mechanism one that keeps moving
     the scene's block ``block`` along x with sign ``sense`` (a capacity curve's control block).
 
@@ -211,7 +227,9 @@ def solve_following(built: Model, settings: Settings | None, block: int, sense: 
     every part of the wall that can slide at that α, and the interior point returns their blend,
     its blocks moving at different rates.  The mechanism is then the sparsest vertex of the face
     (:mod:`alma.associative.crisp`) that moves ``block`` at least as fast as the blend does; α,
-    its bounds and the stress field stay.  Any other mechanism is the interior point's.
+    its bounds and the stress field stay, and ``previous`` (block motions (n_blocks, 3) in the
+    scene's order, mm and rad: the mechanism followed so far) is kept instead where it is still
+    such a mechanism of the face.  Any other mechanism is the interior point's.
     """
     s = _settings(settings, None, None, None)
     timings = _build(built, None)[1]
@@ -226,7 +244,8 @@ def solve_following(built: Model, settings: Settings | None, block: int, sense: 
     toward[3 * row] = sense
     speed = float(toward @ lp.mechanism) / float(built.live @ lp.mechanism)  # f_Lᵀu > 0 on a mechanism
     if speed > 0:
-        result = associative_result(built, _crisp(built, lp, s, timings, (toward, (1 - FOLLOW_SLACK) * speed)), timings)
+        keep = (toward, (1 - FOLLOW_SLACK) * speed)
+        result = associative_result(built, _crisp(built, lp, s, timings, keep, previous), timings)
     return dataclasses.replace(result, warnings=built.joints.warnings)
 
 

@@ -98,10 +98,37 @@ def _solve(
     if sol.status != Status.OPTIMAL:
         return None, f"crisp mechanism ({form}): {sol.solver} {sol.raw_status}"
     u = sol.x[: H.shape[0]] / scale
+    why = _off_face(model, alpha, slack, u)
+    if why:
+        return None, f"crisp mechanism ({form}): {why}"
+    return u / dot(model.live, u), f"crisp mechanism: a vertex of the optimal face ({form} form)"
+
+
+def on_face(
+    model: Model, alpha: float, slack: float, u: np.ndarray, keep: tuple[np.ndarray, float] | None = None
+) -> np.ndarray | None:
+    """``u`` normalised to f_Lᵀu = 1 where it is a mechanism of the optimal face of the certified
+    ``alpha`` by the tests a crisp vertex meets (flow rule to 1e-9, its own α within 2 ``slack``)
+    and keeps rᵀu ≥ v (``keep`` = (r, v), as :func:`crisp_mechanism`); None otherwise.
+
+    A capacity curve's next configuration keeps its mechanism this way while that mechanism is
+    still optimal there, and needs no crisp LP.
+    """
+    if not (u.shape == model.live.shape and dot(model.live, u) > 0):
+        return None
+    u = u / dot(model.live, u)
+    if _off_face(model, alpha, slack, u) or (keep is not None and float(keep[0] @ u) < keep[1]):
+        return None
+    return u
+
+
+def _off_face(model: Model, alpha: float, slack: float, u: np.ndarray) -> str:
+    """Why the mechanism ``u`` (f_Lᵀu > 0) is not on the optimal face of ``alpha``; "" if it is."""
+    H = model.equilibrium
     size = float((abs(H.T) @ np.abs(u)).max(initial=0.0))
     if -float((H.T @ u).min(initial=0.0)) > 1e-9 * max(size, 1e-300):
-        return None, f"crisp mechanism ({form}): breaks the flow rule beyond 1e-9"
+        return "breaks the flow rule beyond 1e-9"
     own = -dot(model.dead, u) / dot(model.live, u)
     if abs(own - alpha) > 2 * slack * max(1.0, abs(alpha)):
-        return None, f"crisp mechanism ({form}): α {own:.12g} off the certified {alpha:.12g}"
-    return u / dot(model.live, u), f"crisp mechanism: a vertex of the optimal face ({form} form)"
+        return f"α {own:.12g} off the certified {alpha:.12g}"
+    return ""

@@ -46,7 +46,17 @@ from alma.mechanics.model import Model, build_model
 from alma.push.carried import tie_lengths, without_slack
 from alma.push.control import ControlLeft, control_block, control_end
 from alma.push.landing import overlap_depths
-from alma.push.motion import MotionError, Pose, advance, bodies_of, classify, displaced, joints_after, signature
+from alma.push.motion import (
+    MotionError,
+    Pose,
+    advance,
+    block_motions,
+    bodies_of,
+    classify,
+    displaced,
+    joints_after,
+    signature,
+)
 from alma.push.result import PushResult, _result, _Run, _State
 from alma.push.step import held_at, increment, landed
 from alma.push.stop import lost_equilibrium, sunk
@@ -139,16 +149,17 @@ def _solve(
     rest: np.ndarray,
     slack: float,
     follow: tuple[int, float] | None = None,
+    previous: np.ndarray | None = None,
 ) -> tuple[Result, Model, np.ndarray]:
     """The limit analysis of ``current`` (a configuration, :func:`alma.push.motion.displaced`)
     without the ties that are slack there (shorter than their ``rest`` lengths by more than
     ``slack`` mm), and the rest lengths after it.  ``follow`` = (control block, sense): an
-    associative sliding mechanism is the one that keeps moving it
-    (:func:`alma.solve.solve_following`)."""
+    associative sliding mechanism is the one that keeps moving it, ``previous`` (the block motions
+    followed so far) where that still is one (:func:`alma.solve.solve_following`)."""
     current, after = without_slack(current, rest, slack)
     built = build_model(current, joints)
     if follow is not None and model == "associative":
-        return solve_following(built, settings, *follow), built, after
+        return solve_following(built, settings, *follow, previous), built, after
     # PUSH_MODELS: one model, never "both", so no Comparison comes back.
     return cast(Result, solve(built, model=model, settings=settings)), built, after
 
@@ -215,10 +226,12 @@ def _curve(run: _Run, start: _State) -> PushResult:
 def _walk(run: _Run, start: _State, spent: int = 0) -> _Walk:
     """The configurations past ``start`` until α ≤ 0, a failure, the control's end or the step
     budget (``spent`` of it by the curve before ``start``): the probe first, then the step that
-    draws the curve in ``PushSettings.steps`` steps to the probe's secant d₀."""
+    draws the curve in ``PushSettings.steps`` steps to the probe's secant d₀.  A flat walk (α
+    does not fall over the probe: sliding) takes the flat step until α falls, and probes the
+    mechanism it then follows."""
     p = run.push
     budget, walked = p.steps * p.max_steps_factor + 1 - spent, list[_State]()
-    state, step = start, p.probe * run.length
+    state, step, probing, flat = start, p.probe * run.length, True, False
     while True:
         if 1 + len(walked) > budget:
             text = f"α is still {state.alpha:.6g} > 0 after {spent + len(walked)} steps (d = {state.d:.6g} mm)"
@@ -238,12 +251,15 @@ def _walk(run: _Run, start: _State, spent: int = 0) -> _Walk:
         walked.append(nxt)
         if nxt.alpha <= 0:
             return _Walk(walked, (state, nxt), len(walked))
-        if len(walked) == 1:
-            drop = start.alpha - nxt.alpha
-            flat = drop <= 1e-9 * max(1.0, abs(start.alpha))
-            d0 = start.d + (nxt.d - start.d) * start.alpha / drop if not flat else math.nan
-            step = p.flat_step * run.length if flat else d0 / p.steps
+        drop = state.alpha - nxt.alpha
+        falls = drop > 1e-9 * max(1.0, abs(state.alpha))
+        if probing:
+            d0 = state.d + (nxt.d - state.d) * state.alpha / drop if falls else math.nan
+            step = d0 / p.steps if falls else p.flat_step * run.length
             step = min(max(step, p.probe * run.length), p.max_step * run.length)
+            probing, flat = False, not falls
+        elif flat and falls:  # the sliding has ended: the next mechanism's own probe
+            step, probing = p.probe * run.length, True
         state = nxt
 
 
@@ -361,7 +377,8 @@ def _move(run: _Run, state: _State, d: float) -> _State:
     joints = joints_after(current, state.contacts, bodies, z)
     follow = (run.control, run.sense)
     slack = run.push.tie_slack * run.length
-    return _state(run, d, pose, _solve(current, joints, run.model, run.settings, state.rest, slack, follow))
+    previous = block_motions(state.model.scene, state.result)
+    return _state(run, d, pose, _solve(current, joints, run.model, run.settings, state.rest, slack, follow, previous))
 
 
 def _usable(state: _State) -> bool:

@@ -136,9 +136,7 @@ def bodies_of(scene: Scene, result: Result) -> Bodies:
     for group, macro in enumerate(result.macro_blocks):
         of_block[[index[k] for k in macro.blocks]] = group
     count = len(result.macro_blocks)
-    u = np.zeros((n, 3))
-    rows = [index[b.id] for b in result.blocks]
-    u[rows] = np.array([b.u for b in result.blocks], dtype=float).reshape(-1, 3)
+    u = block_motions(scene, result)
     centroid = _centroids(scene)
     members = np.flatnonzero(of_block >= 0)
     g = of_block[members]
@@ -149,6 +147,16 @@ def bodies_of(scene: Scene, result: Result) -> Bodies:
     v = u[members, :2] + u[members, 2, None] * np.column_stack([-r[:, 1], r[:, 0]])
     velocity = np.column_stack([np.bincount(g, v[:, i], count) for i in (0, 1)]) / size[:, None]
     return Bodies(of_block, centre, omega, velocity)
+
+
+def block_motions(scene: Scene, result: Result) -> np.ndarray:
+    """The motion (u_x, u_y, ω) of every block of ``scene`` in ``result``'s mechanism, in the
+    scene's block order (mm, rad; zero for the supports)."""
+    index = {block.id: i for i, block in enumerate(scene.blocks)}
+    u = np.zeros((len(scene.blocks), 3))
+    rows = [index[b.id] for b in result.blocks]
+    u[rows] = np.array([b.u for b in result.blocks], dtype=float).reshape(-1, 3)
+    return u
 
 
 def classify(joints: Joints, bodies: Bodies, friction: np.ndarray, crushing: np.ndarray | None = None) -> Contacts:

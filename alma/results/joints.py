@@ -139,6 +139,15 @@ def physical(
     return Physical(blocks, _joint_table(model, normal, shear, states, rel), klass, macros)
 
 
+def model_mechanism(model: Model, motions: np.ndarray) -> np.ndarray:
+    """The mechanism vector of ``model`` (3 n_free, dimensionless) whose free blocks move as
+    ``motions`` (n_blocks, 3) in the scene's block order, in :func:`physical`'s units (mm, rad):
+    the inverse of its scaling, up to the normalisation f_Lᵀu = 1."""
+    motion = np.array(motions, dtype=float)[model.free_blocks]
+    motion[:, 2] *= model.length_scale
+    return motion.ravel() / model.n_free
+
+
 def _crushing_states(model: Model, normal: np.ndarray, states: np.ndarray, rel: np.ndarray) -> np.ndarray:
     """``states`` with ``crushing`` where a moving joint's stress block spans it (N ≥ σ_c l t up to
     :data:`CRUSHING_FRACTION`) or where the mechanism closes both its ends (the joint shortens
