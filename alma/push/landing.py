@@ -15,6 +15,7 @@ zero length) and the next analysis carries it.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -42,18 +43,32 @@ def grown(before: dict[tuple[int, int], float], after: dict[tuple[int, int], flo
 
 
 def landing(
-    growth_at: Callable[[float], float | None], lo: float, hi: float, snap: float, iterations: int
+    growth_at: Callable[[float], float | None],
+    lo: float,
+    hi: float,
+    snap: float,
+    iterations: int,
+    at_hi: float | None = None,
 ) -> float | None:
-    """The control displacement in (lo, hi) where the first new contact touches, by bisection.
+    """The control displacement in (lo, hi) where the first new contact touches.
 
     ``growth_at(d)``: the overlaps' largest growth at d (mm), None where no motion reaches d;
-    at ``lo`` none has grown, at ``hi`` one has grown by more than ``snap`` / 2.  Returns a d
-    where the growth lies in (``snap`` / 8, ``snap`` / 2], else the largest d reached with
-    less growth, or None when no d past ``lo`` was reached within ``iterations`` bisections.
+    at ``lo`` none has grown, at ``hi`` one has grown by more than ``snap`` / 2 (``at_hi`` when
+    the caller measured it).  Returns a d where the growth lies in (``snap`` / 8, ``snap`` / 2],
+    else the largest d reached with less growth, or None when no d past ``lo`` was reached
+    within ``iterations`` trials.
+
+    The growth is zero until the blocks touch and then about proportional to d: once two
+    trials have grown, the next is the secant's point of the band's middle (``snap`` / 4)
+    through the two nearest it; until then, and where that point leaves (lo, hi), the bisection.
     """
-    best = None
+    best, grew = None, [] if at_hi is None else [(hi, at_hi)]
     for _ in range(iterations):
         mid = 0.5 * (lo + hi)
+        if len(grew) >= 2:
+            (d1, g1), (d2, g2) = sorted(grew)[:2]
+            guess = d1 + (0.25 * snap - g1) * (d2 - d1) / (g2 - g1) if g2 != g1 else math.nan
+            mid = guess if lo < guess < hi else mid
         growth = growth_at(mid)
         if growth is None or growth > 0.5 * snap:
             hi = mid
@@ -61,4 +76,6 @@ def landing(
             return mid
         else:
             lo = best = mid
+        if growth is not None and growth > 0:
+            grew.append((mid, growth))
     return best

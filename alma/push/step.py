@@ -177,7 +177,8 @@ def landed(
         for pair, v in start.items()
         if pair in touching
     }
-    if grown(before, reached) <= 0.5 * snap:
+    at_d = grown(before, reached)
+    if at_d <= 0.5 * snap:
         return d, z
 
     tolerance = held.tolerance
@@ -188,7 +189,7 @@ def landed(
         except MotionError:
             return None
 
-    touch = landing(growth_at, state.d, d, snap, run.push.landing_iterations)
+    touch = landing(growth_at, state.d, d, snap, run.push.landing_iterations, at_d)
     if touch is None:
         raise MotionError(f"the step to d = {d:.6g} mm drives a block into another from its start")
     return touch, increment(run, state, touch, rate, where, tolerance)
