@@ -114,7 +114,7 @@ def on_face(
     A capacity curve's next configuration keeps its mechanism this way while that mechanism is
     still optimal there, and needs no crisp LP.
     """
-    if not (u.shape == model.live.shape and dot(model.live, u) > 0):
+    if not dot(model.live, u) > 0:
         return None
     u = u / dot(model.live, u)
     if _off_face(model, alpha, slack, u) or (keep is not None and float(keep[0] @ u) < keep[1]):

@@ -253,9 +253,8 @@ def _walk(run: _Run, start: _State, spent: int = 0) -> _Walk:
             return _Walk(walked, (state, nxt), len(walked))
         drop = state.alpha - nxt.alpha
         falls = drop > 1e-9 * max(1.0, abs(state.alpha))
-        if probing:
-            d0 = state.d + (nxt.d - state.d) * state.alpha / drop if falls else math.nan
-            step = d0 / p.steps if falls else p.flat_step * run.length
+        if probing:  # the step that reaches the secant's d₀ in ``steps`` steps, or the flat step
+            step = (state.d + (nxt.d - state.d) * state.alpha / drop) / p.steps if falls else p.flat_step * run.length
             step = min(max(step, p.probe * run.length), p.max_step * run.length)
             probing, flat = False, not falls
         elif flat and falls:  # the sliding has ended: the next mechanism's own probe

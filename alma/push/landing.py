@@ -60,7 +60,8 @@ def landing(
 
     The growth is zero until the blocks touch and then about proportional to d: once two
     trials have grown, the next is the secant's point of the band's middle (``snap`` / 4)
-    through the two nearest it; until then, and where that point leaves (lo, hi), the bisection.
+    through the two grown trials of least d (nearest the touch); until then, and where that
+    point leaves (lo, hi), the bisection.
     """
     best, grew = None, [] if at_hi is None else [(hi, at_hi)]
     for _ in range(iterations):
