@@ -20,6 +20,13 @@ import json
 from dataclasses import dataclass, field
 from typing import Any, Literal, get_args
 
+# The settings that change no result (pictures, reading drawings) live apart, reached here too.
+from alma.display_settings import (
+    DRAWING as DRAWING,
+    DrawingSettings as DrawingSettings,
+    PictureSettings as PictureSettings,
+)
+
 # The interior point's settings are plain data of alma.engine, which imports nothing of alma.
 from alma.engine.types import FACTORISATIONS as FACTORISATIONS, IPMSettings
 
@@ -296,8 +303,12 @@ class PushSettings:
     steps: int = 40
     #: The probe step that estimates d₀ by a secant: small enough to stay on the first mechanism.
     probe: float = 1e-3
-    #: The step when α does not fall over the probe (a sliding mechanism): the curve still advances.
-    flat_step: float = 1e-2
+    #: The step when α does not fall over the probe (a sliding mechanism): the longest step, since
+    #: where α starts to fall is located to ``turn_tolerance`` whatever the step.
+    flat_step: float = 0.05
+    #: Width to which a flat walk's end (where α starts to fall) is located: the mechanism that follows
+    #: starts there whatever the flat step, to a ten-thousandth of the structure's size.
+    turn_tolerance: float = 1e-4
     #: The longest step: a secant through a nearly flat start would otherwise leap past the structure.
     max_step: float = 0.05
     #: Main steps the analysis may take, as a multiple of ``steps`` (a work budget).
@@ -349,52 +360,3 @@ class Settings:
         data.pop("time_limit")
         text = json.dumps(data, sort_keys=True, default=repr)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
-
-
-@dataclass(frozen=True)
-class PictureSettings:
-    """How ``alma.report`` draws a mechanism (PNG and HTML alike).  Not part of :class:`Settings`:
-    no number here changes a result, so none enters its digest."""
-
-    #: Largest displacement drawn, as a share of the scene size: large enough to see a hinge open,
-    #: small enough that the blocks keep their place.
-    displacement: float = 0.08
-    #: Margin around everything drawn, as a share of the scene size (the picture fits the structure).
-    margin: float = 0.04
-    #: A block moves when its speed reaches this share of the fastest block's (the header's count).
-    moving: float = 1e-3
-    #: Macro-blocks slower than this share of the fastest block are not outlined (they barely move).
-    slow: float = 0.1
-    #: Macro-blocks outlined and marked, the largest first: more only clutter the picture.
-    max_marked: int = 12
-    #: Rigid parts smaller than this share of the largest one's blocks are not marked: they are
-    #: the small change of a blended mechanism, and marking them hides the large parts.
-    part_share: float = 0.1
-    #: Rigid parts of one block are marked only when the mechanism has at most this many parts:
-    #: a blend of many single-block parts reads as noise, a few are the mechanism.
-    single_parts: int = 4
-    #: Significant digits of the numbers a person reads (the JSON keeps the full precision).
-    digits: int = 4
-    #: Length of a load arrow, as a share of the scene size.
-    arrow: float = 0.07
-    #: Height of a label's letters, as a share of the scene size (SVG and PNG alike).
-    font: float = 0.022
-
-
-@dataclass(frozen=True)
-class DrawingSettings:
-    """Reading DXF drawings (``alma.geometry.dxf``); not part of an analysis's settings."""
-
-    #: Sagitta of the chords that replace an arc (bulge) side, as a fraction of its radius: a
-    #: 1.6° step; the chords miss 0.014 % of a circular sector's area (below masonry's tolerances).
-    arc_sagitta: float = 1e-4
-    #: Largest |bulge| read (an arc of 359.5°): beyond it the arc is a whole circle drawn through
-    #: two nearly equal points, no side of a block.
-    max_bulge: float = 1e3
-    #: Spread of z, relative to the outline's size, under which a 3-D polyline is plane: CAD
-    #: round-off, not a drawing out of the plane.
-    plane_tolerance: float = 1e-9
-
-
-#: The drawing settings in use.
-DRAWING = DrawingSettings()

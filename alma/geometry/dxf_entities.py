@@ -29,8 +29,8 @@ from typing import Any
 
 import numpy as np
 
+from alma.display_settings import DRAWING
 from alma.geometry.parsing import SceneError
-from alma.settings import DRAWING
 
 #: Millimetres per drawing unit for each ``$INSUNITS`` code (exact definitions, not ezdxf's
 #: rounded table); 0 (unitless) is read as mm.

@@ -15,7 +15,8 @@ tie shorter than its rest length is slack, left out of that configuration's anal
 
 Steps: a probe of ``PushSettings.probe`` × L (L = √(total area of the free blocks)) estimates
 d₀ by a secant through α_c; the curve then advances in steps of that estimate / ``steps`` (at most
-``max_step`` × L; ``flat_step`` × L when α does not fall over the probe).  The last interval
+``max_step`` × L; ``flat_step`` × L when α does not fall over the probe, a sliding part, whose
+turn, where α starts to fall, is bisected to ``turn_tolerance`` × L).  The last interval
 (α > 0 at its start, α ≤ 0 at its end) is refined by secant steps, each followed by a guard step
 ``d0_tolerance`` × L / 2 beyond it, until the bracket of d₀ is narrower than ``d0_tolerance`` × L:
 d₀ is stated to that accuracy.  A loss of equilibrium is bisected (without guards: α has no value
@@ -38,31 +39,19 @@ from typing import NamedTuple, cast
 
 import numpy as np
 
-from alma.geometry.contacts import Joints, block_areas_and_centroids, find_joints
+from alma.geometry.contacts import block_areas_and_centroids, find_joints
 from alma.geometry.edges import contact_lengths, scene_edges
 from alma.geometry.scene import Scene
 from alma.geometry.validation import validated
-from alma.mechanics.model import Model, build_model
-from alma.push.carried import tie_lengths, without_slack
+from alma.push.carried import tie_lengths
+from alma.push.configuration import solve_at, state_at
 from alma.push.control import ControlLeft, control_block, control_end
 from alma.push.landing import overlap_depths
-from alma.push.motion import (
-    MotionError,
-    Pose,
-    advance,
-    block_motions,
-    bodies_of,
-    classify,
-    displaced,
-    joints_after,
-    signature,
-)
+from alma.push.motion import MotionError, Pose, advance, block_motions, displaced, joints_after
 from alma.push.result import PushResult, _result, _Run, _State
 from alma.push.step import held_at, increment, landed
 from alma.push.stop import lost_equilibrium, sunk
-from alma.results.types import Result
 from alma.settings import PushSettings, Settings
-from alma.solve import solve, solve_following
 from alma.status import Status
 
 PUSH_MODELS = ("associative", "nonassociative")
@@ -118,7 +107,7 @@ def push(
     length = float(np.sqrt(np.abs(areas[free]).sum()))
     pose = Pose.rest(len(scene.blocks))
     start = (scene, find_joints(scene) if joints is None else joints, model, settings, tie_lengths(scene.ties))
-    solved = _solve(*start, p.tie_slack * length)
+    solved = solve_at(*start, p.tie_slack * length)
     first = solved[0]
     if first.status not in (Status.OPTIMAL, Status.FEASIBLE):
         return PushResult(
@@ -135,53 +124,22 @@ def push(
     index, sense = control_block(scene, first, control)
     if model == "associative" and first.mechanism_class == "sliding":
         # the blend of every part that can slide: the curve starts on the one moving the control
-        solved = _solve(*start, p.tie_slack * length, (index, sense))
+        solved = solve_at(*start, p.tie_slack * length, (index, sense))
     snap = contact_lengths(scene, scene_edges(scene))[0]
     run = _Run(scene, model, settings, p, length, index, sense, snap=snap, overlaps=overlap_depths(scene))
-    return _curve(run, _state(run, 0.0, pose, solved))
-
-
-def _solve(
-    current: Scene,
-    joints: Joints,
-    model: str,
-    settings: Settings | None,
-    rest: np.ndarray,
-    slack: float,
-    follow: tuple[int, float] | None = None,
-    previous: np.ndarray | None = None,
-) -> tuple[Result, Model, np.ndarray]:
-    """The limit analysis of ``current`` (a configuration, :func:`alma.push.motion.displaced`)
-    without the ties that are slack there (shorter than their ``rest`` lengths by more than
-    ``slack`` mm), and the rest lengths after it.  ``follow`` = (control block, sense): an
-    associative sliding mechanism is the one that keeps moving it, ``previous`` (the block motions
-    followed so far) where that still is one (:func:`alma.solve.solve_following`)."""
-    current, after = without_slack(current, rest, slack)
-    built = build_model(current, joints)
-    if follow is not None and model == "associative":
-        return solve_following(built, settings, *follow, previous), built, after
-    # PUSH_MODELS: one model, never "both", so no Comparison comes back.
-    return cast(Result, solve(built, model=model, settings=settings)), built, after
-
-
-def _state(run: _Run, d: float, pose: Pose, solved: tuple[Result, Model, np.ndarray]) -> _State:
-    result, built, rest = solved
-    current = built.scene
-    bodies = bodies_of(current, result)
-    contacts = classify(
-        built.joints, bodies, built.friction, np.isfinite(built.crushing) if built.crushing.size else None
-    )
-    return _State(d, pose, result, bodies, contacts, signature(current, result, contacts), built, rest)
+    return _curve(run, state_at(run, 0.0, pose, solved))
 
 
 class _Walk(NamedTuple):
     """What :func:`_walk` went through: its configurations, the bracket of α = 0 (the last with
     α > 0, the first without; None when it stopped without one), its LP solves, and when it
-    stopped without a bracket, the failure, the end's reason and the control's end."""
+    stopped without a bracket, the failure, the end's reason and the control's end.  ``taken``:
+    its main steps (the step budget's count; a turn's bisection is bounded by its tolerance)."""
 
     states: list[_State]
     bracket: tuple[_State, _State] | None
     solves: int
+    taken: int
     failure: tuple[Status, str] | None = None
     reason: str = ""
     left: ControlLeft | None = None
@@ -191,7 +149,7 @@ def _curve(run: _Run, start: _State) -> PushResult:
     states, solves, state, walked = [start], 1, start, 0
     while True:
         walk = _walk(run, state, walked)
-        states, solves, walked = states + walk.states, solves + walk.solves, walked + len(walk.states)
+        states, solves, walked = states + walk.states, solves + walk.solves, walked + walk.taken
         if walk.bracket is None:
             end = control_end(states[-1], walk.left) if walk.left is not None else {"reason": walk.reason}
             if walk.left is None:
@@ -227,39 +185,70 @@ def _walk(run: _Run, start: _State, spent: int = 0) -> _Walk:
     """The configurations past ``start`` until α ≤ 0, a failure, the control's end or the step
     budget (``spent`` of it by the curve before ``start``): the probe first, then the step that
     draws the curve in ``PushSettings.steps`` steps to the probe's secant d₀.  A flat walk (α
-    does not fall over the probe: sliding) takes the flat step until α falls, and probes the
-    mechanism it then follows."""
+    does not fall over the probe: sliding) takes the flat step until α falls, locates where it
+    starts to fall (:func:`_turn`), and probes the mechanism it then follows."""
     p = run.push
-    budget, walked = p.steps * p.max_steps_factor + 1 - spent, list[_State]()
+    budget, walked, solves, taken = p.steps * p.max_steps_factor + 1 - spent, list[_State](), 0, 0
     state, step, probing, flat = start, p.probe * run.length, True, False
     while True:
-        if 1 + len(walked) > budget:
-            text = f"α is still {state.alpha:.6g} > 0 after {spent + len(walked)} steps (d = {state.d:.6g} mm)"
+        if 1 + taken > budget:
+            text = f"α is still {state.alpha:.6g} > 0 after {spent + taken} steps (d = {state.d:.6g} mm)"
             return _Walk(
-                walked, None, len(walked), (Status.LIMIT_REACHED, text + ": the step budget ran out"), "step_budget"
+                walked, None, solves, taken, (Status.LIMIT_REACHED, text + ": the step budget ran out"), "step_budget"
             )
         try:
             nxt = _advanced(run, state, step)
         except ControlLeft as exc:
-            return _Walk(walked, None, len(walked), left=exc)
+            return _Walk(walked, None, solves, taken, left=exc)
         except MotionError as exc:
             failure = (Status.NOT_CONVERGED, f"at d = {state.d:.6g} mm: {exc}")
-            return _Walk(walked, None, len(walked), failure, "motion")
+            return _Walk(walked, None, solves, taken, failure, "motion")
+        solves, taken = solves + 1, taken + 1
         if not _usable(nxt):
             failure = (Status.NOT_CONVERGED, f"at d = {nxt.d:.6g} mm: {nxt.result.message}")
-            return _Walk(walked, None, len(walked) + 1, failure, "solver")
+            return _Walk(walked, None, solves, taken, failure, "solver")
+        falls = _falls(state, nxt)
+        if flat and falls:  # the sliding has ended: where, then the next mechanism's probe (or α = 0's bracket)
+            turned, extra = _turn(run, state, nxt)
+            walked, solves, step, probing = walked + turned[:-1], solves + extra, p.probe * run.length, True
+            state, nxt = (turned[-2] if len(turned) > 1 else state), turned[-1]
         walked.append(nxt)
         if nxt.alpha <= 0:
-            return _Walk(walked, (state, nxt), len(walked))
-        drop = state.alpha - nxt.alpha
-        falls = drop > 1e-9 * max(1.0, abs(state.alpha))
-        if probing:  # the step that reaches the secant's d₀ in ``steps`` steps, or the flat step
+            return _Walk(walked, (state, nxt), solves, taken)
+        if probing and not (flat and falls):  # the step to the secant's d₀ in ``steps`` steps, or the flat step
+            drop = state.alpha - nxt.alpha
             step = (state.d + (nxt.d - state.d) * state.alpha / drop) / p.steps if falls else p.flat_step * run.length
             step = min(max(step, p.probe * run.length), p.max_step * run.length)
             probing, flat = False, not falls
-        elif flat and falls:  # the sliding has ended: the next mechanism's own probe
-            step, probing = p.probe * run.length, True
+        elif flat and falls:
+            flat = False
         state = nxt
+
+
+def _falls(state: _State, nxt: _State) -> bool:
+    """α at ``nxt`` is below ``state``'s by more than round-off."""
+    return state.alpha - nxt.alpha > 1e-9 * max(1.0, abs(state.alpha))
+
+
+def _turn(run: _Run, lo: _State, hi: _State) -> tuple[list[_State], int]:
+    """Where a flat walk's α starts to fall (a sliding part starts to tip), bisected along the flat
+    mechanism between ``lo`` (flat) and ``hi`` (fallen) to ``PushSettings.turn_tolerance`` × L, so
+    that the mechanism that follows starts there whatever the flat step: the flat configurations
+    found, then the first fallen one (the last item), and the LP solves spent."""
+    tol, flat, solves = run.push.turn_tolerance * run.length, list[_State](), 0
+    while hi.d - lo.d > tol:
+        try:
+            s = _split(run, lo, 0.5 * (lo.d + hi.d), 0.25 * tol)
+        except (ControlLeft, MotionError):
+            break  # the bracket stays as wide as the trials left it
+        solves += 1
+        if not (_usable(s) and lo.d < s.d < hi.d):
+            break
+        if _falls(lo, s):
+            hi = s
+        else:
+            flat, lo = [*flat, s], s
+    return [*flat, hi], solves
 
 
 def _from_low_end(run: _Run, lo: _State, hi: _State) -> _State:
@@ -377,7 +366,9 @@ def _move(run: _Run, state: _State, d: float) -> _State:
     follow = (run.control, run.sense)
     slack = run.push.tie_slack * run.length
     previous = block_motions(state.model.scene, state.result)
-    return _state(run, d, pose, _solve(current, joints, run.model, run.settings, state.rest, slack, follow, previous))
+    return state_at(
+        run, d, pose, solve_at(current, joints, run.model, run.settings, state.rest, slack, follow, previous)
+    )
 
 
 def _usable(state: _State) -> bool:

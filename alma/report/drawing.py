@@ -10,12 +10,12 @@ from typing import Any
 
 import numpy as np
 
+from alma.display_settings import PictureSettings
 from alma.geometry.scene import Scene
 from alma.report.load_marks import load_marks
 from alma.report.marks import LEGEND, MOVING_FILL, REST_FILL, STATE_COLOURS, SUPPORT_FILL, Mark
 from alma.report.mechanism_marks import mechanism_marks, tint
 from alma.report.motion import Motion, joint_arrays
-from alma.settings import PictureSettings
 from alma.status import SOLVED
 
 

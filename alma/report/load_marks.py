@@ -9,10 +9,10 @@ from typing import Any
 
 import numpy as np
 
+from alma.display_settings import PictureSettings
 from alma.geometry.scene import Scene
 from alma.report.marks import DEAD_COLOUR, LIVE_COLOUR, SETTLEMENT_COLOUR, TIE_COLOUR, Mark, arrow, label
 from alma.report.numbers import number
-from alma.settings import PictureSettings
 
 
 def load_marks(

@@ -8,10 +8,10 @@ from typing import Any
 import numpy as np
 from shapely import Polygon, unary_union
 
+from alma.display_settings import PictureSettings
 from alma.geometry.scene import Scene
 from alma.report.marks import MACRO_COLOURS, THRUST_COLOUR, Mark, arrow
 from alma.report.motion import Motion, joint_arrays
-from alma.settings import PictureSettings
 
 
 def mechanism_marks(

@@ -7,7 +7,7 @@ import math
 from decimal import ROUND_CEILING, ROUND_FLOOR, Context, Decimal
 from typing import Any
 
-from alma.settings import PictureSettings
+from alma.display_settings import PictureSettings
 
 #: What a person reads where no number is proven (a missing or infinite bound, NaN).
 NOT_PROVEN = "—"

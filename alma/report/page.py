@@ -14,9 +14,9 @@ from typing import Any
 
 import numpy as np
 
+from alma.display_settings import PictureSettings
 from alma.report.drawing import Drawing
 from alma.report.svg import legend_html, render_svg
-from alma.settings import PictureSettings
 
 
 @dataclass(frozen=True)

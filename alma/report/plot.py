@@ -10,12 +10,12 @@ from typing import Any
 
 import numpy as np
 
+from alma.display_settings import PictureSettings
 from alma.geometry.scene import Scene
 from alma.report.drawing import Drawing, draw
 from alma.report.mpl import legend_handles, render_axes
 from alma.report.picture import MechanismPicture, PictureJoint
 from alma.report.summary import caption, parts
-from alma.settings import PictureSettings
 
 __all__ = ["MechanismPicture", "PictureJoint", "plot_drawings", "plot_mechanism", "plot_side_by_side"]
 
