@@ -145,6 +145,40 @@ def test_a_sliding_block_never_reaches_zero_and_says_so():
     assert np.allclose(last[:, 1].min(), 0.0, atol=1e-6) and last[0, 0] == pytest.approx(result.curve[-1].d)
 
 
+def test_a_block_sliding_off_its_support_turns_where_the_closed_form_says_and_rocks_about_its_corner():
+    # a 240 × 60 block (f = 0.6, centroid at x_c = 120, half-height c = 30) on a support that ends
+    # at x_e = 400, under αW at its centroid: it slides at α = f until the resultant reaches the
+    # support's corner, (x_e − x_c − d)/c = f, at d_t = 262 mm; then it rocks about that corner:
+    # with x = x_e − x_c − d the centroid's lever arm and r the corner-centroid distance at the
+    # first rocking point (x₁ = a, unrotated), α = x/√(r² − x²) (the rocking block's α(θ) with
+    # b/2 → a), zero at d₀ = x_e − x_c = 280 mm.  Before the turn was located the flat steps of
+    # 0.01 L ran out of the step budget at 192 mm (examples/single_block.json)
+    f, c, x_e, x_c = 0.6, 30.0, 400.0, 120.0
+    scene = alma.Scene.from_dict(
+        {
+            "thickness": 120,
+            "unit_weight": 18,
+            "friction": f,
+            "blocks": [
+                {"id": "support", "vertices": _rect(-100, -50, 500, 50), "fixed": True},
+                {"id": "brick", "vertices": _rect(0, 0, 240, 60)},
+            ],
+        }
+    )
+    result, length = push(scene), _length(scene)
+    assert result.status == alma.Status.OPTIMAL and result.end["reason"] == "alpha_zero", result.message
+    assert result.d0 == pytest.approx(x_e - x_c, abs=PushSettings().d0_tolerance * length)
+    sliding = [p for p in result.curve if p.mechanism_class == "sliding"]
+    rocking = result.curve[len(sliding) :]
+    assert result.curve[: len(sliding)] == tuple(sliding) and rocking[0].mechanism_changed
+    assert max(abs(p.alpha - f) for p in sliding) <= 1e-9
+    turn = x_e - x_c - f * c
+    assert sliding[-1].d <= turn <= rocking[0].d <= sliding[-1].d + PushSettings().turn_tolerance * length
+    r2 = (x_e - x_c - rocking[0].d) ** 2 + c**2
+    errors = [abs(p.alpha - (x_e - x_c - p.d) / math.sqrt(r2 - (x_e - x_c - p.d) ** 2)) for p in rocking]
+    assert len(rocking) >= 3 and max(errors) <= 1e-6
+
+
 @pytest.mark.parametrize(
     "kwargs, word",
     [
