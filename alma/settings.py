@@ -313,7 +313,8 @@ class PushSettings:
     max_step: float = 0.05
     #: Main steps the analysis may take, as a multiple of ``steps`` (a work budget).
     max_steps_factor: int = 4
-    #: Bisections landing a step where blocks first touch (alma.push.landing): 1e-12 of the step.
+    #: Trials landing a step where blocks first touch (alma.push.landing), which also stops when its
+    #: bracket is ``d0_tolerance`` × L wide: 40 bisections reach 1e-12 of the step.
     landing_iterations: int = 40
     #: Re-solves of a step holding the points it drove into a neighbour (each round holds all).
     unilateral_rounds: int = 5

@@ -23,6 +23,11 @@ import numpy as np
 from alma.geometry.polygons import overlap_depths as outline_overlaps
 from alma.geometry.scene import Scene
 
+#: A trial's growth that the landing's secant uses, as a share of the contact tolerance: the
+#: overlaps' round-off (1e-10 to 1e-5 of it, measured on the paper panels) would send the secant
+#: anywhere; real growth past the touch is linear from there.
+GREW = 1e-2
+
 
 def overlap_depths(scene: Scene) -> dict[tuple[int, int], float]:
     """Each pair of blocks (i < j) whose outlines overlap, with the overlap's depth (mm)."""
@@ -49,6 +54,7 @@ def landing(
     snap: float,
     iterations: int,
     at_hi: float | None = None,
+    width: float = 0.0,
 ) -> float | None:
     """The control displacement in (lo, hi) where the first new contact touches.
 
@@ -56,15 +62,18 @@ def landing(
     at ``lo`` none has grown, at ``hi`` one has grown by more than ``snap`` / 2 (``at_hi`` when
     the caller measured it).  Returns a d where the growth lies in (``snap`` / 8, ``snap`` / 2],
     else the largest d reached with less growth, or None when no d past ``lo`` was reached
-    within ``iterations`` trials.
+    within ``iterations`` trials or before the bracket is ``width`` mm wide (where the growth
+    jumps across the band, as where the corrector's motion changes branch, no trial lands in it).
 
     The growth is zero until the blocks touch and then about proportional to d: once two
-    trials have grown, the next is the secant's point of the band's middle (``snap`` / 4)
-    through the two grown trials of least d (nearest the touch); until then, and where that
-    point leaves (lo, hi), the bisection.
+    trials have grown by more than ``GREW`` × ``snap``, the next is the secant's point of the
+    band's middle (``snap`` / 4) through the two such trials of least d (nearest the touch);
+    until then, and where that point leaves (lo, hi), the bisection.
     """
     best, grew = None, [] if at_hi is None else [(hi, at_hi)]
     for _ in range(iterations):
+        if hi - lo <= width:
+            break
         mid = 0.5 * (lo + hi)
         if len(grew) >= 2:
             (d1, g1), (d2, g2) = sorted(grew)[:2]
@@ -77,6 +86,6 @@ def landing(
             return mid
         else:
             lo = best = mid
-        if growth is not None and growth > 0:
+        if growth is not None and growth > GREW * snap:
             grew.append((mid, growth))
     return best

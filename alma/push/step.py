@@ -189,7 +189,8 @@ def landed(
         except MotionError:
             return None
 
-    touch = landing(growth_at, state.d, d, snap, run.push.landing_iterations, at_d)
+    width = run.push.d0_tolerance * run.length  # no landing is located more finely than d₀
+    touch = landing(growth_at, state.d, d, snap, run.push.landing_iterations, at_d, width)
     if touch is None:
         raise MotionError(f"the step to d = {d:.6g} mm drives a block into another from its start")
     return touch, increment(run, state, touch, rate, where, tolerance)
