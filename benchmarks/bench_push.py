@@ -5,8 +5,9 @@ one associative solve, one solve a configuration.  Both are timed in the same ru
 absolute times, are what a shared machine can measure); the curve's LP solves, its status and
 its cost per configuration (in single solves: ``per_configuration``, the target's 1) are printed
 beside them, since a curve that loses its equilibrium early has few configurations (that
-panel's ends at 0.54 mm; ``--bond stack --block-ratio 1:1 --friction 0.27``, 576 blocks, rocks
-to α = 0 over 40 steps).
+panel's ends at 0.49 mm; ``--bond stack --block-ratio 1:1 --friction 0.27``, 576 blocks, rocks
+to α = 0 over 40 steps; ``--bond running --panel-ratio 1:2 --block-ratio 1:1 --friction 0.27``,
+1,176 blocks, loses its equilibrium at 71 mm after 22 configurations).
 With ``--model nonassociative`` each step and each single solve is the friction search.
 
     python benchmarks/bench_push.py [--bond english --panel-ratio 1:1 --block-ratio 2:1 --steps 40]
