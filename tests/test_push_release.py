@@ -9,6 +9,8 @@ the released corners overlapping.
 from __future__ import annotations
 
 import dataclasses
+import importlib
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -18,6 +20,7 @@ from alma.push.motion import Bodies, Contacts, MotionError, _moved
 from alma.settings import PushSettings
 
 SETTINGS = PushSettings()
+step_module = importlib.import_module("alma.push.step")
 TARGET = 0.01  # mm of the control point (the middle link's centre), along +x
 
 
@@ -108,3 +111,39 @@ def test_a_linkage_no_single_release_frees_is_an_error_that_says_so() -> None:
     )
     with pytest.raises(MotionError, match="nor with any one of its 6 hinges opened"):
         one_hinge_opened(bodies, extra, *_args(bodies))
+
+
+def _stand_ins(bodies: Bodies, contacts: Contacts) -> tuple[SimpleNamespace, SimpleNamespace]:
+    """The run and state :func:`alma.push.step.increment` reads, for the linkage pushed by its
+    middle link's centre from d = 0."""
+    run = SimpleNamespace(push=SETTINGS, control=2, length=1.0, sense=1.0)
+    return run, SimpleNamespace(bodies=bodies, contacts=contacts, d=0.0)
+
+
+def test_a_step_whose_hinges_lock_opens_one_of_them() -> None:
+    bodies, contacts = _linkage()
+    run, state = _stand_ins(bodies, contacts)
+    z = step_module.increment(run, state, TARGET, 1.0, np.array([2.0, 0.5]), np.full(4, 1e-3))
+    assert np.array_equal(z, one_hinge_opened(bodies, contacts, *_args(bodies)))
+
+
+def test_a_step_whose_hinges_close_but_whose_held_points_do_not_opens_none(monkeypatch) -> None:
+    # measured on flemish 1:2 1:1 f = 0.27: the hinges closed and only the re-solves holding the
+    # points a step drove into their neighbours stalled, yet every step released each of its
+    # 159 hinges in turn (77 of 127 s); the motion found without the held points stands, and
+    # the landing shortens the step to where they touch
+    bodies, contacts = _linkage()
+    run, state = _stand_ins(bodies, contacts)
+    found = [np.full((3, 3), 1.0), np.full((3, 3), 2.0)]
+
+    def held_apart(solve, bodies, contacts, tolerance, rounds, unheld):
+        unheld.append(found[len(unheld)])
+        raise MotionError("a held point stalls the corrector")
+
+    def no_release(*args):
+        pytest.fail("no hinge locks: none is released")
+
+    monkeypatch.setattr(step_module, "_held_apart", held_apart)
+    monkeypatch.setattr(step_module, "one_hinge_opened", no_release)
+    z = step_module.increment(run, state, TARGET, 1.0, np.array([2.0, 0.5]), np.full(4, 1e-3))
+    assert z is found[0]

@@ -77,9 +77,11 @@ def increment(
     none for a pair already as deep as a landing may leave it: ``tolerance``, per point, by default
     :func:`held_at`).
     When no way of holding them moves the bodies, the first motion found without them stands:
-    the landing (:func:`landed`) then shortens the step to where the point touches.  When no
-    closure moves them at all (a first-order mechanism), the motion nearest the mechanism with
-    every contact unilateral does (:func:`alma.push.projection.projected_step`)."""
+    the landing (:func:`landed`) then shortens the step to where the point touches.  When the
+    hinges themselves do not close (they close to first order only, and lock), one of them opens
+    (:func:`alma.push.corrector.one_hinge_opened`); when no single one frees them (a first-order
+    mechanism), the motion nearest the mechanism with every contact unilateral moves the bodies
+    (:func:`alma.push.projection.projected_step`)."""
     bodies, push = state.bodies, run.push
     z0 = predictor(bodies, (d - state.d) / rate)
     args = (z0, (run.control, where), (d - state.d) * run.sense, run.length, push)
@@ -100,11 +102,12 @@ def increment(
         return _held_apart(solve, bodies, free, tolerance, push.unilateral_rounds, unheld)
     except MotionError:
         pass
+    if unheld:  # the hinges close (without the held points): no lock, the landing shortens the step
+        return unheld[0]
     try:  # hinges that close only to first order lock: one of them opens
         return one_hinge_opened(bodies, free, *args)
     except MotionError:
-        if unheld:
-            return unheld[0]
+        pass
     # a first-order mechanism of many bodies: its contacts are unilateral, any of them may open
     return projected_step(bodies, state.contacts, z0, (run.control, where), args[2], run.length, push, 0.1 * run.snap)
 
