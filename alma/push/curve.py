@@ -208,20 +208,25 @@ def _walk(run: _Run, start: _State, spent: int = 0) -> _Walk:
             failure = (Status.NOT_CONVERGED, f"at d = {nxt.d:.6g} mm: {nxt.result.message}")
             return _Walk(walked, None, solves, taken, failure, "solver")
         falls = _falls(state, nxt)
-        if flat and falls:  # the sliding has ended: where, then the next mechanism's probe (or α = 0's bracket)
+        turns = flat and falls
+        if turns:  # the sliding has ended: where, then the next mechanism's probe (or α = 0's bracket)
             turned, extra = _turn(run, state, nxt)
-            walked, solves, step, probing = walked + turned[:-1], solves + extra, p.probe * run.length, True
+            walked, solves, step, probing, flat = (
+                walked + turned[:-1],
+                solves + extra,
+                p.probe * run.length,
+                True,
+                False,
+            )
             state, nxt = (turned[-2] if len(turned) > 1 else state), turned[-1]
         walked.append(nxt)
         if nxt.alpha <= 0:
             return _Walk(walked, (state, nxt), solves, taken)
-        if probing and not (flat and falls):  # the step to the secant's d₀ in ``steps`` steps, or the flat step
+        if probing and not turns:  # the step to the secant's d₀ in ``steps`` steps, or the flat step
             drop = state.alpha - nxt.alpha
             step = (state.d + (nxt.d - state.d) * state.alpha / drop) / p.steps if falls else p.flat_step * run.length
             step = min(max(step, p.probe * run.length), p.max_step * run.length)
             probing, flat = False, not falls
-        elif flat and falls:
-            flat = False
         state = nxt
 
 
