@@ -43,6 +43,9 @@ def solve_at(
 
 
 def state_at(run: _Run, d: float, pose: Pose, solved: tuple[Result, Model, np.ndarray]) -> _State:
+    """The configuration at control displacement ``d`` (mm) and ``pose``, from :func:`solve_at`'s
+    ``solved``: its mechanism's bodies, its contacts classified (hinges, sliding, crushing) and
+    the signature that tells a change of mechanism."""
     result, built, rest = solved
     current = built.scene
     bodies = bodies_of(current, result)
