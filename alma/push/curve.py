@@ -211,14 +211,9 @@ def _walk(run: _Run, start: _State, spent: int = 0) -> _Walk:
         turns = flat and falls
         if turns:  # the sliding has ended: where, then the next mechanism's probe (or α = 0's bracket)
             turned, extra = _turn(run, state, nxt)
-            walked, solves, step, probing, flat = (
-                walked + turned[:-1],
-                solves + extra,
-                p.probe * run.length,
-                True,
-                False,
-            )
+            walked, solves = walked + turned[:-1], solves + extra
             state, nxt = (turned[-2] if len(turned) > 1 else state), turned[-1]
+            step, probing, flat = p.probe * run.length, True, False
         walked.append(nxt)
         if nxt.alpha <= 0:
             return _Walk(walked, (state, nxt), solves, taken)
