@@ -43,7 +43,7 @@ def _wall(k: int) -> alma.Scene:
 
 def test_the_thorough_plan_is_the_measured_one():
     names = [start_name(kind, SearchSettings(), "thorough") for kind in plan(SearchSettings(), "thorough")]
-    fixed = [n for n in names if n.startswith(("gilbert(", "tilt("))]
+    fixed = [n for n in names if n.startswith(("gilbert(", "tilt(")) and "±" not in n]
     assert fixed == [
         "gilbert(N̄=0·N_LP, r=1, steps=1)",
         "gilbert(N̄=1·N_LP, r=0.5, steps=0)",

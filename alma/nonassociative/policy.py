@@ -17,7 +17,9 @@
   :attr:`~alma.settings.SearchSettings.tilt_degrees_rows` (none by default), their sloped LP
   written with the yield conditions as rows (``…, rows``): the same LP as the generators' form of
   :class:`~alma.nonassociative.cap_lp.CapLP`, whose other vertices lead the iteration to other
-  states, at the price of a few small LPs; ``gilbert-projected`` when no start other
+  states, at the price of a few small LPs; :attr:`~alma.settings.SearchSettings.thorough_restarts`
+  restarts of :attr:`~alma.settings.SearchSettings.restart_start` from N_LP spread point by point
+  (:mod:`alma.nonassociative.spread`); ``gilbert-projected`` when no start other
   than ``rocking`` verified (it can go below a rocking state); ``ipopt`` up to
   :attr:`~alma.settings.SearchSettings.ipopt_blocks` free blocks (none by default: the polish
   runs when asked for); and ``milp`` up to :attr:`~alma.settings.SearchSettings.milp_start_blocks`
@@ -97,7 +99,8 @@ def plan(settings: SearchSettings, effort: str) -> list[str]:
     gilbert = [f"gilbert:{k}" for k in range(len(_gilbert(settings, effort, rows=False)))]
     rows = [f"gilbert:{k}:rows" for k in range(len(_gilbert(settings, effort, rows=True)))]
     rows += [f"tilt:{k}:rows" for k in range(len(_turns(settings, effort, rows=True)))]
-    return ["lp", "rocking", *gilbert, *turns, *rows, "projected", "ipopt", "milp"]
+    restarts = [f"restart:{k}" for k in range(settings.thorough_restarts if effort == "thorough" else 0)]
+    return ["lp", "rocking", *gilbert, *turns, *rows, *restarts, "projected", "ipopt", "milp"]
 
 
 def parse_kind(kind: str) -> tuple[str, int | None]:
@@ -134,7 +137,7 @@ def wanted(kind: str, ctx: Context, polish: bool | None = None) -> bool:
     if kind == "projected":
         others = [c for c in ctx.verified() if not thorough or c.start != "rocking"]
         return not others
-    if parse_kind(kind)[0] in ("gilbert", "tilt") and (_rocking_ends(ctx) or _too_many_points(ctx)):
+    if parse_kind(kind)[0] in ("gilbert", "tilt", "restart") and (_rocking_ends(ctx) or _too_many_points(ctx)):
         return False
     if kind == "ipopt":
         return (thorough and ctx.model.n_free <= s.ipopt_blocks) if polish is None else polish
@@ -191,6 +194,10 @@ def make_start(kind: str, ctx: Context) -> Start:
         scale, relaxation, steps = _gilbert(s, ctx.effort, rows_kind(kind))[index]
         work = _floored(gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count), ctx)
         return GilbertStart(scale, relaxation, steps, work, yield_rows=rows_kind(kind))
+    if family == "restart" and index is not None:
+        scale, relaxation, steps = s.restart_start
+        work = _floored(gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count), ctx)
+        return GilbertStart(scale, relaxation, steps, work, restart=index, spread=s.restart_spread)
     if family == "tilt" and index is not None:
         return TiltStart(
             _turns(s, ctx.effort, rows_kind(kind))[index],
@@ -213,6 +220,9 @@ def start_name(kind: str, settings: SearchSettings, effort: str) -> str:
     if family == "gilbert" and index is not None:
         scale, relaxation, steps = _gilbert(settings, effort, rows_kind(kind))[index]
         return GilbertStart(scale, relaxation, steps, Work(), yield_rows=rows_kind(kind)).name
+    if family == "restart" and index is not None:
+        scale, relaxation, steps = settings.restart_start
+        return GilbertStart(scale, relaxation, steps, Work(), restart=index, spread=settings.restart_spread).name
     if family == "tilt" and index is not None:
         return TiltStart(_turns(settings, effort, rows_kind(kind))[index], Work(), yield_rows=rows_kind(kind)).name
     return {"lp": "lp", "rocking": "rocking", "projected": "gilbert-projected", "ipopt": "ipopt", "milp": "milp"}[kind]

@@ -57,6 +57,7 @@ _TIMING_KEYS = {
     "ipopt": "ipopt_s",
     "milp": "milp_start_s",
     "tilt": "tilt_s",
+    "restart": "gilbert_s",
 }
 
 
@@ -133,7 +134,7 @@ def _run_starts(ctx: Context, polish: bool | None) -> tuple[list[StartRecord], l
             skipped.append(f"{start.name} (cut short)")
         key = _TIMING_KEYS[parse_kind(kind)[0]]
         timings[key] = timings.get(key, 0.0) + elapsed
-        if parse_kind(kind)[0] in ("gilbert", "projected"):
+        if parse_kind(kind)[0] in ("gilbert", "projected", "restart"):
             timings["gilbert_iterations"] = timings.get("gilbert_iterations", 0.0) + iterations
     return records, skipped, timings
 

@@ -22,6 +22,7 @@ from alma.nonassociative.gilbert import gilbert, projected_gilbert
 from alma.nonassociative.limits import Cap, Work, no_cap
 from alma.nonassociative.nlp import ipopt_polish
 from alma.nonassociative.rocking import rocking_candidates
+from alma.nonassociative.spread import spread_factors
 from alma.nonassociative.states import CollapseState, ExactLimits, Tally, lowest
 from alma.settings import CertifySettings, SearchSettings
 
@@ -178,24 +179,34 @@ class RockingStart:
 
 @dataclass(frozen=True)
 class GilbertStart:
-    """Gilbert's iteration from N̄ = scale · N_LP with relaxation r and slope-halving steps."""
+    """Gilbert's iteration from N̄ = scale · N_LP with relaxation r and slope-halving steps;
+    a restart (``restart`` not None) scales each point's N_LP by its factor 1 ± ``spread``
+    (:func:`~alma.nonassociative.spread.spread_factors`), to take another path."""
 
     scale: float
     relaxation: float
     slope_steps: int
     work: Work
     yield_rows: bool = False  # the sloped LP with its yield conditions as rows (:class:`CapLP`)
+    restart: int | None = None
+    spread: float = 0.0
 
     @property
     def name(self) -> str:
         rows = ", rows" if self.yield_rows else ""
-        return f"gilbert(N̄={self.scale:g}·N_LP, r={self.relaxation:g}, steps={self.slope_steps}{rows})"
+        field = f"{self.scale:g}·N_LP"
+        if self.restart is not None:
+            field += f"·(1±{self.spread:g})#{self.restart}"
+        return f"gilbert(N̄={field}, r={self.relaxation:g}, steps={self.slope_steps}{rows})"
 
     def run(self, ctx: Context, tally: Tally) -> tuple[CollapseState | None, int]:
+        initial = self.scale * ctx.associative_normal
+        if self.restart is not None:
+            initial = initial * spread_factors(initial.size, self.restart, self.spread)
         return gilbert(
             ctx.model,
             ctx.points,
-            self.scale * ctx.associative_normal,
+            initial,
             start=self.name,
             relaxation=self.relaxation,
             slope_steps=self.slope_steps,
