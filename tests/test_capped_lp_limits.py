@@ -22,7 +22,7 @@ from alma.backends import highs_warm
 from alma.backends.termination import Termination
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import build_model
-from alma.nonassociative.cap_lp import CapLP
+from alma.nonassociative.cap_lp import DUAL_TOLERANCE, CapLP, live_total
 from alma.nonassociative.limits import Work
 from alma.nonassociative.policy import _floored
 from alma.nonassociative.tilted import turned
@@ -43,16 +43,18 @@ def _two_solves(model, points, cap, **kwargs) -> tuple:
     return first, lp.solve(np.zeros(points.count), 0.01 * cap)
 
 
-def test_a_capped_lp_proven_below_its_floor_stops_failed():
+@pytest.mark.parametrize("scaled", [False, True], ids=["cost 1", "cost Σ|f_L|"])
+def test_a_capped_lp_proven_below_its_floor_stops_failed(scaled):
     model, points, cap = _turned_panel()
-    first, low = _two_solves(model, points, cap)
+    cost = {"alpha_cost": live_total(model)} if scaled else {}
+    first, low = _two_solves(model, points, cap, **cost)
     assert first.status == low.status == "optimal"
     assert low.alpha < 0 < first.alpha  # a hundredth of the shear capacity: the turned weight must be pulled back
     margin = 0.01 * abs(low.alpha)
-    above_floor = _two_solves(model, points, cap, alpha_floor=low.alpha - margin)
+    above_floor = _two_solves(model, points, cap, alpha_floor=low.alpha - margin, **cost)
     assert [s.status for s in above_floor] == ["optimal", "optimal"]
     assert above_floor[1].alpha == pytest.approx(low.alpha, rel=1e-9)
-    below_floor = _two_solves(model, points, cap, alpha_floor=low.alpha + margin)
+    below_floor = _two_solves(model, points, cap, alpha_floor=low.alpha + margin, **cost)
     assert below_floor[0].alpha == pytest.approx(first.alpha, rel=1e-9)
     assert below_floor[1].status == "error" and below_floor[1].mechanism is None
 
@@ -151,3 +153,23 @@ class _Event:
 
     def interrupt(self, value: bool = True) -> None:
         self.interrupted = value
+
+
+def test_alpha_costing_the_live_load_reads_the_mechanism_to_the_lps_tolerance():
+    """The same capped LP with α's cost Σ|f_L| (the projected iteration's): the same α, and its
+    duals' mechanism interpenetrates by at most the LP's tolerance of its own velocities (with
+    cost 1, HiGHS's absolute dual tolerance allows δ Σ|f_L|: 2.0e-7 on this 1,560-block panel)."""
+    model = build_model(alma.paper_panel("flemish", "1:2", "1:1", 0.27))
+    points = ContactPoints.from_model(model)
+    cap = points.friction * solve_lp(model).multipliers.reshape(-1, 2).sum(axis=1)
+    assert live_total(model) == pytest.approx(float(np.abs(model.live).sum()))  # horizontal weights
+    plain = CapLP(model, points).solve(np.zeros(points.count), cap)
+    scaled = CapLP(model, points, alpha_cost=live_total(model)).solve(np.zeros(points.count), cap)
+    assert plain.status == scaled.status == "optimal"
+    # the same α to cost 1's accuracy: its absolute dual tolerance is δ Σ|f_L| of α's cost
+    assert scaled.alpha == pytest.approx(plain.alpha, rel=DUAL_TOLERANCE * live_total(model))
+    u = scaled.mechanism
+    assert float(model.live @ u) == pytest.approx(model.n_free)
+    opening = points.normal.T @ u
+    scale = float(np.abs(np.concatenate([opening, points.tangent.T @ u])).max())
+    assert float(np.maximum(-opening, 0).max()) <= 10 * DUAL_TOLERANCE * scale

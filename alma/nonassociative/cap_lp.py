@@ -35,6 +35,20 @@ from alma.nonassociative.static_lps import StaticLP, failed
 DUAL_TOLERANCE = 1e-10
 
 
+def live_total(model: Model) -> float:
+    """The live load's total force Σ|f_L| over the blocks' force components (not their moments).
+
+    The projected iteration's cost of α in the capped LP.  Its duals y are the mechanism up to
+    scale, u = y n_free / (f_Lᵀy), and f_Lᵀy is α's cost, so HiGHS's absolute dual feasibility δ
+    leaves openings down to −δ n_free / cost; a mechanism normalised so, moving its blocks by about
+    n_free / Σ|f_L|, then interpenetrates by δ Σ|f_L| / cost of its own velocities: δ at this cost,
+    whatever the scene's size and units (with cost 1, 1.25e-7 on a 1,560-block panel: over the
+    verification's 1e-7).
+    """
+    forces = np.abs(model.live.reshape(-1, 3)[:, :2]).ravel()
+    return max(float(forces.sum()), 1e-300)
+
+
 class CapLP:
     """Persistent HiGHS models of the capped static LP (see module docstring).
 
@@ -42,6 +56,8 @@ class CapLP:
     generators (λ⁺, λ⁻, κ) while the slope is positive (the first Gilbert steps), and on
     (N, T) with −c ≤ T ≤ c at slope zero, which has a column per point fewer.  ``yield_rows``:
     the sloped model keeps the yield conditions as rows instead (the same LP; other vertices).
+    ``alpha_cost``: α's cost, 1 or :func:`live_total` (the same LP; its duals, the mechanism,
+    feasible to ``DUAL_TOLERANCE`` of the mechanism's own velocities, and other vertices).
     """
 
     def __init__(
@@ -52,9 +68,11 @@ class CapLP:
         max_pivots: int = 200_000,
         yield_rows: bool = False,
         alpha_floor: float = -INF,
+        alpha_cost: float = 1.0,
     ) -> None:
         self.model = model
         self.alpha_floor = float(alpha_floor)
+        self._alpha_cost = float(alpha_cost)
         self.yield_rows = yield_rows
         self.points = points
         self._n = model.dead.shape[0]
@@ -77,7 +95,8 @@ class CapLP:
         """A persistent HiGHS model of ``max α`` on the equilibrium rows (and ``A_ub x ≤ 0``),
         the bounded forces' columns appended, cold-solved first by interior point with crossover
         (about twice as fast as simplex here; a basis for the warm re-solves), every later solve
-        dual simplex."""
+        dual simplex.  α's cost (``cost[0]``) is set here: −``alpha_cost``."""
+        cost = np.concatenate([[-self._alpha_cost], cost[1:]])
         b_eq = -self.model.dead
         m = 0 if A_ub is None else A_ub.shape[0]
         A = A_eq if A_ub is None else sp.vstack([A_eq, A_ub])
@@ -90,14 +109,14 @@ class CapLP:
         # The mechanism is read from the duals: HiGHS's default dual feasibility (1e-7, absolute)
         # leaves interpenetrations of ~1e-5 of the largest velocity on large panels, more than
         # the verification accepts.
-        # The dual simplex stops once its objective (−α of a dual feasible point) proves α below
+        # The dual simplex stops once its objective (−α × α's cost, of a dual feasible point) proves α below
         # ``alpha_floor``, where the search gives its iterate up: on a displaced linkage such
         # runs went on for seconds a pivot (numerically singular bases).
         h = WarmLP(
             lp_model(cost, lower, upper, A, row_lower, row_upper),
             dual_feasibility_tolerance=DUAL_TOLERANCE,
             primal_feasibility_tolerance=DUAL_TOLERANCE,
-            objective_bound=-self.alpha_floor if np.isfinite(self.alpha_floor) else INF,
+            objective_bound=-self._alpha_cost * self.alpha_floor if np.isfinite(self.alpha_floor) else INF,
         )
         h.set_option("solver", "ipm")
         return h
@@ -107,7 +126,6 @@ class CapLP:
         P = self.points.count
         live = sp.csc_matrix(self.model.live[:, None])
         cost = np.zeros(1 + 2 * P)
-        cost[0] = -1.0
         lower = np.concatenate([[-INF], np.zeros(P), np.full(P, -INF)])
         A_eq = sp.hstack([live, self.points.normal, self.points.tangent])
         return self._warm(cost, lower, np.full(1 + 2 * P, INF), A_eq)
@@ -126,7 +144,6 @@ class CapLP:
             [live, self._generator_columns(slope, 1.0), self._generator_columns(slope, -1.0), self.points.tangent]
         )
         cost = np.zeros(1 + 3 * P)
-        cost[0] = -1.0
         lower = np.concatenate([[-INF], np.zeros(2 * P), np.full(P, -INF)])
         return self._warm(cost, lower, np.full(1 + 3 * P, INF), A_eq)
 
@@ -154,7 +171,6 @@ class CapLP:
         if self._sloped is None:
             A_eq, _, A_ub = self.points.static_constraints(self.model, slope)
             cost = np.zeros(1 + 2 * P)
-            cost[0] = -1.0
             lower = np.concatenate([[-INF], np.zeros(P), np.full(P, -INF)])
             self._sloped = self._warm(cost, lower, np.full(1 + 2 * P, INF), A_eq, A_ub)
         else:
