@@ -80,6 +80,15 @@ class WarmLP:
         """A new coefficient of the constraint matrix."""
         self._h.changeCoeff(int(row), int(col), float(value))
 
+    def basis(self) -> Any:
+        """The current basis (a ``highspy.HighsBasis``), for :meth:`set_basis` of a model with the
+        same rows and columns."""
+        return self._h.getBasis()
+
+    def set_basis(self, basis: Any) -> None:
+        """Start the next run from ``basis``."""
+        self._h.setBasis(basis)
+
     def clear_solver(self) -> None:
         """Forget the basis and factorisation (the next run starts cold)."""
         self._h.clearSolver()

@@ -38,7 +38,7 @@ DUAL_TOLERANCE = 1e-10
 def live_total(model: Model) -> float:
     """The live load's total force Σ|f_L| over the blocks' force components (not their moments).
 
-    The projected iteration's cost of α in the capped LP.  Its duals y are the mechanism up to
+    α's cost in :meth:`CapLP.clean_mechanism`.  The capped LP's duals y are the mechanism up to
     scale, u = y n_free / (f_Lᵀy), and f_Lᵀy is α's cost, so HiGHS's absolute dual feasibility δ
     leaves openings down to −δ n_free / cost; a mechanism normalised so, moving its blocks by about
     n_free / Σ|f_L|, then interpenetrates by δ Σ|f_L| / cost of its own velocities: δ at this cost,
@@ -56,8 +56,8 @@ class CapLP:
     generators (λ⁺, λ⁻, κ) while the slope is positive (the first Gilbert steps), and on
     (N, T) with −c ≤ T ≤ c at slope zero, which has a column per point fewer.  ``yield_rows``:
     the sloped model keeps the yield conditions as rows instead (the same LP; other vertices).
-    ``alpha_cost``: α's cost, 1 or :func:`live_total` (the same LP; its duals, the mechanism,
-    feasible to ``DUAL_TOLERANCE`` of the mechanism's own velocities, and other vertices).
+    :meth:`clean_mechanism` re-optimises the last slope-zero vertex at α's cost :func:`live_total`
+    on a second model, for a mechanism feasible to ``DUAL_TOLERANCE`` of its own velocities.
     """
 
     def __init__(
@@ -68,11 +68,9 @@ class CapLP:
         max_pivots: int = 200_000,
         yield_rows: bool = False,
         alpha_floor: float = -INF,
-        alpha_cost: float = 1.0,
     ) -> None:
         self.model = model
         self.alpha_floor = float(alpha_floor)
-        self._alpha_cost = float(alpha_cost)
         self.yield_rows = yield_rows
         self.points = points
         self._n = model.dead.shape[0]
@@ -80,6 +78,7 @@ class CapLP:
         self._slope = np.zeros(points.count)
         self._sloped: WarmLP | None = None
         self._bounded: WarmLP | None = None
+        self._clean: WarmLP | None = None
         P = points.count
         self._shear_cols = np.arange(1 + P, 1 + 2 * P, dtype=np.int32)
         self._kappa_cols = np.arange(1 + 2 * P, 1 + 3 * P, dtype=np.int32)
@@ -90,13 +89,19 @@ class CapLP:
         self._entry_tangent = np.asarray(points.tangent.tocsr()[pattern.row, pattern.col]).ravel()
 
     def _warm(
-        self, cost: np.ndarray, lower: np.ndarray, upper: np.ndarray, A_eq: sp.spmatrix, A_ub: sp.spmatrix | None = None
+        self,
+        cost: np.ndarray,
+        lower: np.ndarray,
+        upper: np.ndarray,
+        A_eq: sp.spmatrix,
+        A_ub: sp.spmatrix | None = None,
+        alpha_cost: float = 1.0,
     ) -> WarmLP:
         """A persistent HiGHS model of ``max α`` on the equilibrium rows (and ``A_ub x ≤ 0``),
         the bounded forces' columns appended, cold-solved first by interior point with crossover
         (about twice as fast as simplex here; a basis for the warm re-solves), every later solve
         dual simplex.  α's cost (``cost[0]``) is set here: −``alpha_cost``."""
-        cost = np.concatenate([[-self._alpha_cost], cost[1:]])
+        cost = np.concatenate([[-alpha_cost], cost[1:]])
         b_eq = -self.model.dead
         m = 0 if A_ub is None else A_ub.shape[0]
         A = A_eq if A_ub is None else sp.vstack([A_eq, A_ub])
@@ -116,19 +121,19 @@ class CapLP:
             lp_model(cost, lower, upper, A, row_lower, row_upper),
             dual_feasibility_tolerance=DUAL_TOLERANCE,
             primal_feasibility_tolerance=DUAL_TOLERANCE,
-            objective_bound=-self._alpha_cost * self.alpha_floor if np.isfinite(self.alpha_floor) else INF,
+            objective_bound=-alpha_cost * self.alpha_floor if np.isfinite(self.alpha_floor) else INF,
         )
         h.set_option("solver", "ipm")
         return h
 
-    def _new_bounded(self) -> WarmLP:
+    def _new_bounded(self, alpha_cost: float = 1.0) -> WarmLP:
         """x = (α, N, T[, τ]): N ≥ 0, T free until the caps are set."""
         P = self.points.count
         live = sp.csc_matrix(self.model.live[:, None])
         cost = np.zeros(1 + 2 * P)
         lower = np.concatenate([[-INF], np.zeros(P), np.full(P, -INF)])
         A_eq = sp.hstack([live, self.points.normal, self.points.tangent])
-        return self._warm(cost, lower, np.full(1 + 2 * P, INF), A_eq)
+        return self._warm(cost, lower, np.full(1 + 2 * P, INF), A_eq, alpha_cost=alpha_cost)
 
     def _generator_columns(self, slope: np.ndarray, sign: float) -> sp.csc_matrix:
         """normal + sign · s · tangent on the fixed pattern (explicit zeros kept)."""
@@ -229,6 +234,26 @@ class CapLP:
         normal, shear, tau = self._forces(sol.x, slope)
         bounded = np.clip(tau, 0.0, self.model.capacity)  # empty without cohesion and ties
         return StaticLP(Termination.OPTIMAL, float(sol.x[0]), normal, shear, mechanism, pivots, bounded)
+
+    def clean_mechanism(self, cap: np.ndarray, max_pivots: int, seconds: float = INF) -> tuple[np.ndarray | None, int]:
+        """The mechanism of the last slope-zero solve (at caps ``cap``) re-optimised at α's cost
+        :func:`live_total`: a second model started from its basis, a few simplex pivots to the
+        scaled cost's dual feasibility, so that its duals interpenetrate by at most
+        ``DUAL_TOLERANCE`` of their own velocities; the first model and its path are untouched.
+        Returns the mechanism (None when the re-solve does not end optimal) and its pivots."""
+        if self._bounded is None:
+            return None, 0
+        if self._clean is None:
+            self._clean = self._new_bounded(alpha_cost=live_total(self.model))
+            self._clean.set_option("solver", "simplex")
+        self._clean.change_col_bounds(self._shear_cols, -cap, cap)
+        self._clean.set_basis(self._bounded.basis())
+        sol = self._clean.run(max(1, int(max_pivots)), seconds=seconds)
+        if sol.termination is not Termination.OPTIMAL:
+            return None, sol.iterations
+        y = sol.duals[: self._n]
+        work = dot(self.model.live, y)
+        return (y * (self.model.n_free / work) if work > 0 else None), sol.iterations
 
     def _forces(self, x: np.ndarray, slope: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(N, T, τ) of a solution: read off at slope zero, from λ± and κ otherwise."""

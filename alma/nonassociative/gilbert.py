@@ -18,7 +18,7 @@ import numpy as np
 from alma.floats import least_squares, times
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
-from alma.nonassociative.cap_lp import CapLP, ClosestField, live_total
+from alma.nonassociative.cap_lp import CapLP, ClosestField
 from alma.nonassociative.exact_states import exact_state_by
 from alma.nonassociative.fixed_set_lps import FixedSetLPs
 from alma.nonassociative.limits import Cap, Work, no_cap
@@ -190,6 +190,33 @@ class _Anderson:
         return np.maximum(n_bar + step - times(gamma, (d_x + d_g).T), 0.0)
 
 
+def _projected_state(
+    cap_lp: CapLP,
+    lp: StaticLP,
+    field: tuple[np.ndarray, np.ndarray, np.ndarray],
+    caps: np.ndarray,
+    start: str,
+    work: Work,
+    tally: Tally,
+    cap: Cap,
+) -> CollapseState | None:
+    """The projected iterate ``field`` (N, T, τ) at the LP's α as a verified state: with the LP's
+    mechanism, or, where its forces pass and the mechanism alone fails, with the mechanism
+    re-optimised at α's cost Σ|f_L| (:meth:`CapLP.clean_mechanism`): the duals of a vertex at
+    cost 1 are feasible only to the LP's tolerance times Σ|f_L| (1.25e-7 of their velocities on a
+    1,560-block panel, over the verification's 1e-7)."""
+    model, points, tol = cap_lp.model, cap_lp.points, work.tolerances
+    normal, shear, tau = field
+    residuals, ok = verify(model, points, lp.alpha, normal, shear, cast(np.ndarray, lp.mechanism), tau, tol)
+    if ok or residuals["equilibrium"] > tol.equilibrium or residuals["yield"] > tol.yield_violation:
+        return _as_state(model, points, lp.alpha, normal, shear, cast(np.ndarray, lp.mechanism), start, tau, tol)
+    clean, pivots = cap_lp.clean_mechanism(caps, max_pivots=work.lp_limit(tally), seconds=cap.remaining())
+    tally.add(pivots)
+    if clean is None:
+        return None
+    return _as_state(model, points, lp.alpha, normal, shear, clean, start, tau, tol)
+
+
 def projected_gilbert(
     model: Model,
     points: ContactPoints,
@@ -225,9 +252,7 @@ def projected_gilbert(
     cap, tally = cap or no_cap(), tally if tally is not None else Tally()
     f = points.friction
     n_bar = np.maximum(initial_normal, 0.0)
-    # The iterate is verified with the duals' mechanism: α's cost Σ|f_L| makes it exact to the
-    # LP's tolerance of its own velocities (with cost 1 a 1,560-block panel's missed the 1e-7).
-    cap_lp = CapLP(model, points, max_pivots=work.lp_pivots, alpha_floor=work.alpha_floor, alpha_cost=live_total(model))
+    cap_lp = CapLP(model, points, max_pivots=work.lp_pivots, alpha_floor=work.alpha_floor)
     closest, anderson = None, _Anderson(memory)
     best, lp, used = None, None, 0
     plain_left, projected_run, restarted = plain_steps, 0, False
@@ -250,7 +275,7 @@ def projected_gilbert(
             if nearest is None:
                 break
             normal, shear, tau = nearest
-        best = _as_state(model, points, lp.alpha, normal, shear, lp.mechanism, start, tau, work.tolerances)
+        best = _projected_state(cap_lp, lp, (normal, shear, tau), f * n_bar, start, work, tally, cap)
         if best is not None:
             break
         step = normal - n_bar
