@@ -43,9 +43,11 @@ def _as_state(
     start: str,
     bounded: np.ndarray,
     tolerances: StateTolerances,
+    checked: tuple[dict[str, float], bool] | None = None,
 ) -> CollapseState | None:
-    """The iterate itself (``bounded``: its τ) as a verified collapse state, or None if it fails."""
-    residuals, ok = verify(model, points, alpha, normal, shear, mechanism, bounded, tolerances)
+    """The iterate itself (``bounded``: its τ) as a verified collapse state, or None if it fails
+    (``checked``: its :func:`verify` already done)."""
+    residuals, ok = checked or verify(model, points, alpha, normal, shear, mechanism, bounded, tolerances)
     if not ok:
         return None
     return CollapseState(
@@ -207,9 +209,11 @@ def _projected_state(
     1,560-block panel, over the verification's 1e-7)."""
     model, points, tol = cap_lp.model, cap_lp.points, work.tolerances
     normal, shear, tau = field
-    residuals, ok = verify(model, points, lp.alpha, normal, shear, cast(np.ndarray, lp.mechanism), tau, tol)
+    mechanism = cast(np.ndarray, lp.mechanism)
+    checked = verify(model, points, lp.alpha, normal, shear, mechanism, tau, tol)
+    residuals, ok = checked
     if ok or residuals["equilibrium"] > tol.equilibrium or residuals["yield"] > tol.yield_violation:
-        return _as_state(model, points, lp.alpha, normal, shear, cast(np.ndarray, lp.mechanism), start, tau, tol)
+        return _as_state(model, points, lp.alpha, normal, shear, mechanism, start, tau, tol, checked)
     clean, pivots = cap_lp.clean_mechanism(caps, max_pivots=work.lp_limit(tally), seconds=cap.remaining())
     tally.add(pivots)
     if clean is None:
