@@ -121,8 +121,11 @@ def gilbert(
             break
         last = lp
         if ratio == 0.0:
-            state = _as_state(
-                model, points, lp.alpha, lp.normal, lp.shear, lp.mechanism, start, lp.bounded, work.tolerances
+            field = (lp.normal, lp.shear, lp.bounded)
+            state = (
+                _as_state(model, points, lp.alpha, *field[:2], lp.mechanism, start, lp.bounded, work.tolerances)
+                if interior
+                else _iterate_state(cast(CapLP, cap_lp), lp, field, f * n_bar, start, work, tally, cap)
             )
             if state is not None and (best is None or state.alpha < best.alpha):
                 best = state
@@ -192,7 +195,7 @@ class _Anderson:
         return np.maximum(n_bar + step - times(gamma, (d_x + d_g).T), 0.0)
 
 
-def _projected_state(
+def _iterate_state(
     cap_lp: CapLP,
     lp: StaticLP,
     field: tuple[np.ndarray, np.ndarray, np.ndarray],
@@ -202,7 +205,7 @@ def _projected_state(
     tally: Tally,
     cap: Cap,
 ) -> CollapseState | None:
-    """The projected iterate ``field`` (N, T, τ) at the LP's α as a verified state: with the LP's
+    """A slope-zero iterate's ``field`` (N, T, τ) at the LP's α as a verified state: with the LP's
     mechanism, or, where its forces pass and the mechanism alone fails, with the mechanism
     re-optimised at α's cost Σ|f_L| (:meth:`CapLP.clean_mechanism`): the duals of a vertex at
     cost 1 are feasible only to the LP's tolerance times Σ|f_L| (1.25e-7 of their velocities on a
@@ -279,7 +282,7 @@ def projected_gilbert(
             if nearest is None:
                 break
             normal, shear, tau = nearest
-        best = _projected_state(cap_lp, lp, (normal, shear, tau), f * n_bar, start, work, tally, cap)
+        best = _iterate_state(cap_lp, lp, (normal, shear, tau), f * n_bar, start, work, tally, cap)
         if best is not None:
             break
         step = normal - n_bar
