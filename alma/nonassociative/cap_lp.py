@@ -228,9 +228,7 @@ class CapLP:
             return failed(Termination.INFEASIBLE, P, pivots)
         if sol.termination is not Termination.OPTIMAL:
             return failed(Termination.ERROR, P, pivots)
-        y = sol.duals[: self._n]  # ∂(−α)/∂b of the equilibrium rows: u with f_Lᵀu = 1
-        work = dot(self.model.live, y)
-        mechanism = y * (self.model.n_free / work) if work > 0 else None
+        mechanism = self._mechanism(sol)
         normal, shear, tau = self._forces(sol.x, slope)
         bounded = np.clip(tau, 0.0, self.model.capacity)  # empty without cohesion and ties
         return StaticLP(Termination.OPTIMAL, float(sol.x[0]), normal, shear, mechanism, pivots, bounded)
@@ -251,9 +249,14 @@ class CapLP:
         sol = self._clean.run(max(1, int(max_pivots)), seconds=seconds)
         if sol.termination is not Termination.OPTIMAL:
             return None, sol.iterations
+        return self._mechanism(sol), sol.iterations
+
+    def _mechanism(self, sol: SolverResult) -> np.ndarray | None:
+        """The mechanism u of an optimal solve, f_Lᵀu = n_free, from the equilibrium rows' duals
+        (∂(−cost)/∂b, whose f_Lᵀy is α's cost); None when the live load does no work on them."""
         y = sol.duals[: self._n]
         work = dot(self.model.live, y)
-        return (y * (self.model.n_free / work) if work > 0 else None), sol.iterations
+        return y * (self.model.n_free / work) if work > 0 else None
 
     def _forces(self, x: np.ndarray, slope: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(N, T, τ) of a solution: read off at slope zero, from λ± and κ otherwise."""

@@ -121,11 +121,14 @@ def gilbert(
             break
         last = lp
         if ratio == 0.0:
-            field = (lp.normal, lp.shear, lp.bounded)
             state = (
-                _as_state(model, points, lp.alpha, *field[:2], lp.mechanism, start, lp.bounded, work.tolerances)
+                _as_state(
+                    model, points, lp.alpha, lp.normal, lp.shear, lp.mechanism, start, lp.bounded, work.tolerances
+                )
                 if interior
-                else _iterate_state(cast(CapLP, cap_lp), lp, field, f * n_bar, start, work, tally, cap)
+                else _iterate_state(
+                    cast(CapLP, cap_lp), lp, (lp.normal, lp.shear, lp.bounded), f * n_bar, start, work, tally, cap
+                )
             )
             if state is not None and (best is None or state.alpha < best.alpha):
                 best = state
