@@ -192,3 +192,23 @@ def test_cleaning_a_mechanism_leaves_the_iterations_path_alone():
     plain, cleaned = runs[0].mechanism, runs[1].mechanism
     assert plain is not None and cleaned is not None
     assert np.array_equal(runs[0].normal, runs[1].normal) and np.array_equal(plain, cleaned)
+
+
+def test_a_cap_a_round_off_below_zero_bounds_its_shear_to_zero(monkeypatch):
+    """A cap f N̄ from a normal force HiGHS returned a round-off below zero: the shear's bounds go
+    to HiGHS consistent (0 ≤ 0, not [1e-15, −1e-15]), and the solve is the one at cap zero."""
+    model, points, cap = _turned_panel()
+    negative = np.where(np.arange(points.count) % 3 == 0, -1e-15, cap)
+    sent = []
+    change = highs_warm.WarmLP.change_col_bounds
+
+    def spy(self, cols, lower, upper):
+        sent.append((np.array(lower), np.array(upper)))
+        change(self, cols, lower, upper)
+
+    monkeypatch.setattr(highs_warm.WarmLP, "change_col_bounds", spy)
+    solved = CapLP(model, points).solve(np.zeros(points.count), negative)
+    assert sent and all(np.all(lower <= upper) for lower, upper in sent)
+    zeroed = CapLP(model, points).solve(np.zeros(points.count), np.maximum(negative, 0.0))
+    assert solved.status == zeroed.status == "optimal"
+    assert solved.alpha == zeroed.alpha

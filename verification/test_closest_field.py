@@ -13,7 +13,8 @@ def test_closest_field_returns_a_field_that_is_already_admissible():
     from alma.associative.lp import solve_lp
     from alma.mechanics.contact_points import ContactPoints
     from alma.mechanics.model import build_model
-    from alma.nonassociative.cap_lp import CapLP, ClosestField
+    from alma.nonassociative.cap_lp import CapLP
+    from alma.nonassociative.closest_field import ClosestField
 
     model = build_model(alma.paper_panel("running", "2:1", "2:1", 0.6))
     points = ContactPoints.from_model(model)
@@ -51,7 +52,8 @@ def test_closest_field_on_the_lps_face_is_the_projection_onto_that_face():
     from alma.associative.lp import solve_lp
     from alma.mechanics.contact_points import ContactPoints
     from alma.mechanics.model import build_model
-    from alma.nonassociative.cap_lp import CapLP, ClosestField
+    from alma.nonassociative.cap_lp import CapLP
+    from alma.nonassociative.closest_field import ClosestField
     from alma.nonassociative.states import active_set
 
     model = build_model(alma.paper_panel("running", "2:1", "2:1", 0.6))

@@ -18,7 +18,8 @@ import numpy as np
 from alma.floats import least_squares, times
 from alma.mechanics.contact_points import ContactPoints
 from alma.mechanics.model import Model
-from alma.nonassociative.cap_lp import CapLP, ClosestField
+from alma.nonassociative.cap_lp import CapLP
+from alma.nonassociative.closest_field import ClosestField
 from alma.nonassociative.exact_states import exact_state_by
 from alma.nonassociative.fixed_set_lps import FixedSetLPs
 from alma.nonassociative.limits import Cap, Work, no_cap
