@@ -7,14 +7,16 @@ and, with cohesion and ties, their forces G τ in the equilibrium with 0 ≤ τ 
 fictitious cohesion c = (f − s) N̄ of Gilbert's iteration adds to the real one.
 
 Between Gilbert iterations only the caps c = (f − s) N̄ change and, during the first steps, the
-slopes s.  Both models keep the equilibrium rows only, every yield condition a column bound:
+slopes s.  The models keep the equilibrium rows only, every yield condition a column bound
+(except the sloped model's ``yield_rows`` form):
 at s = 0 |T| ≤ c bounds T itself; at s > 0 the force is written on the generators of its
 yield domain, (N, T) = λ⁺ (1, s) + λ⁻ (1, −s) + (0, κ) with λ± ≥ 0 and |κ| ≤ c (every
 (N, T) with N ≥ 0 and |T| ≤ s N + c is one: κ = clip(T, ±c)), so a new slope changes the λ±
 columns' coefficients and a new cap κ's bounds.  HiGHS keeps its basis, so each re-solve is a
 dual-simplex run from the previous vertex instead of a cold solve, and the cold first solve is
 a third of the time it takes with the yield conditions as 2 rows per contact point.  The
-mechanism u is read from the equilibrium rows' duals.
+mechanism u is read from the equilibrium rows' duals; a third model, the slope-zero one at α's
+cost Σ|f_L|, cleans a vertex's mechanism (:meth:`CapLP.clean_mechanism`).
 """
 
 from __future__ import annotations
@@ -58,12 +60,12 @@ def _caps(cap: np.ndarray) -> np.ndarray:
 class CapLP:
     """Persistent HiGHS models of the capped static LP (see module docstring).
 
-    Two models, each built on first use and then re-solved warm: on the yield domain's
+    Three models, each built on first use and then re-solved warm: on the yield domain's
     generators (λ⁺, λ⁻, κ) while the slope is positive (the first Gilbert steps), and on
     (N, T) with −c ≤ T ≤ c at slope zero, which has a column per point fewer.  ``yield_rows``:
     the sloped model keeps the yield conditions as rows instead (the same LP; other vertices).
     :meth:`clean_mechanism` re-optimises the last slope-zero vertex at α's cost :func:`live_total`
-    on a second model, for a mechanism feasible to ``DUAL_TOLERANCE`` of its own velocities.
+    on a third, for a mechanism feasible to ``DUAL_TOLERANCE`` of its own velocities.
     """
 
     def __init__(
@@ -106,7 +108,8 @@ class CapLP:
         """A persistent HiGHS model of ``max α`` on the equilibrium rows (and ``A_ub x ≤ 0``),
         the bounded forces' columns appended, cold-solved first by interior point with crossover
         (about twice as fast as simplex here; a basis for the warm re-solves), every later solve
-        dual simplex.  α's cost (``cost[0]``) is set here: −``alpha_cost``."""
+        dual simplex (a caller may set another solver before the first run, as
+        :meth:`clean_mechanism` does).  α's cost (``cost[0]``) is set here: −``alpha_cost``."""
         cost = np.concatenate([[-alpha_cost], cost[1:]])
         b_eq = -self.model.dead
         m = 0 if A_ub is None else A_ub.shape[0]
@@ -122,7 +125,7 @@ class CapLP:
         # the verification accepts.
         # The dual simplex stops once its objective (−α × α's cost, of a dual feasible point) proves α below
         # ``alpha_floor``, where the search gives its iterate up: on a displaced linkage such
-        # runs went on for seconds a pivot (numerically singular bases).
+        # runs can take seconds a pivot (numerically singular bases).
         h = WarmLP(
             lp_model(cost, lower, upper, A, row_lower, row_upper),
             dual_feasibility_tolerance=DUAL_TOLERANCE,
@@ -213,7 +216,7 @@ class CapLP:
     def solve(
         self, slope: np.ndarray, cap: np.ndarray, max_pivots: int | None = None, seconds: float = INF
     ) -> StaticLP:
-        """Re-solve with new slopes and caps within ``max_pivots`` iterations (default: the model's)
+        """Re-solve with new slopes and caps within ``max_pivots`` iterations (default: the constructor's)
         and what is left of a user's hard cap (``seconds``).  An α proven below ``alpha_floor`` is
         a failed solve."""
         P = self.points.count
@@ -266,7 +269,8 @@ class CapLP:
         return y * (self.model.n_free / work) if work > 0 else None
 
     def _forces(self, x: np.ndarray, slope: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(N, T, τ) of a solution: read off at slope zero, from λ± and κ otherwise."""
+        """(N, T, τ) of a solution: read off at slope zero or with ``yield_rows``, from λ± and κ
+        otherwise."""
         P = self.points.count
         if not np.any(slope) or self.yield_rows:
             return x[1 : 1 + P].copy(), x[1 + P : 1 + 2 * P].copy(), x[1 + 2 * P :]

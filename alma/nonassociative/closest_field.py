@@ -25,7 +25,7 @@ class ClosestField:
     the LP's mechanism, so N = 0 where it opens and T = −sign(γ) cap where it slips (T = 0 where
     the cap is 0) are fixed and only the other forces are unknowns; without these fixings the
     fields at α (the LP's optimum less a hair) form a sliver around the face, with slabs of no
-    width where caps are 0, where Clarabel took 50–170 iterations instead of 31–60 on average.  When that
+    width where caps are 0, where Clarabel needs 50–170 iterations instead of 31–60 on average.  When that
     QP does not solve, or without a face, one Clarabel QP over every force, kept between calls
     (only q (N̄) and b (α, caps) change), decides.
     """

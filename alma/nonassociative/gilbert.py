@@ -81,12 +81,12 @@ def gilbert(
 ) -> tuple[CollapseState | None, int]:
     """Iterative LP of Gilbert, Casapulla & Ahmed (2006) on Eqs. 3 and 5.
 
-    The friction slope is halved each step down to zero while the rest of the shear capacity
+    The friction slope is halved for ``slope_steps`` steps, then zero, while the rest of the shear capacity
     is a fictitious cohesion (f − slope) N̄ from the previous normal forces.  An iterate whose
     own forces already satisfy Coulomb's law with its mechanism (:func:`verify`) is an exact
     collapse state; the loop stops when N = N̄, when an active set that came back verifies, or
-    when ``work`` is spent.  Scenes up to ``ipm_above`` contact points re-solve one persistent
-    HiGHS model warm (:class:`CapLP`, its sloped model with the yield conditions as rows when
+    when ``work`` is spent.  Scenes up to ``ipm_above`` contact points re-solve :class:`CapLP`'s
+    persistent HiGHS models warm (its sloped model with the yield conditions as rows when
     ``yield_rows``); larger ones use Clarabel.  Returns the best verified state (or the exact
     state of the last mechanism) and the LP solves used.  ``lps``: the search's store of
     ``model``'s fixed-set LPs, for the exact states (None: their own).
@@ -300,7 +300,7 @@ def projected_gilbert(
         if projected_run >= restart_after and not restarted and restart_plain_steps > 0:
             plain_left, projected_run, restarted = restart_plain_steps, 0, True
             anderson.reset()
-            n_bar = np.maximum(initial_normal, 0.0)  # the earlier path: plain steps from the start field
+            n_bar = np.maximum(initial_normal, 0.0)  # the first path again: plain steps from the start field
             continue
         n_bar = anderson.step(n_bar, step)
     if lp is None or lp.mechanism is None:

@@ -23,8 +23,8 @@
   than ``rocking`` verified (it can go below a rocking state); ``ipopt`` up to
   :attr:`~alma.settings.SearchSettings.ipopt_blocks` free blocks (none by default: the polish
   runs when asked for); and ``milp`` up to :attr:`~alma.settings.SearchSettings.milp_start_blocks`
-  free blocks, within :attr:`~alma.settings.SearchSettings.milp_start_work` nodes × (free
-  blocks + bounded columns).
+  free blocks, within :attr:`~alma.settings.SearchSettings.milp_start_work` / (free blocks +
+  bounded columns) branch-and-bound nodes.
 
 Every start takes cohesion and ties (bounded forces): ``ipopt`` (:mod:`alma.nonassociative.nlp`)
 and ``milp`` (:mod:`alma.certify.rows`) write them as bounded columns with their flow rule.
@@ -173,9 +173,9 @@ def _too_many_points(ctx: Context) -> bool:
 
 
 def _floored(work: Work, ctx: Context) -> Work:
-    """``work`` whose capped LPs stop once their α is proven below −:attr:`~alma.settings.SearchSettings.
-    capped_alpha_floor` × max(1, |α_LP|): a cut, not a proof (an iterate there is given up), far
-    below every state met, where such LPs ran for minutes."""
+    """``work`` whose capped LPs stop once their α is proven below
+    −:attr:`~alma.settings.SearchSettings.capped_alpha_floor` × max(1, |α_LP|): a cut, not a proof
+    (an iterate there is given up), far below every state met, where such LPs can run for minutes."""
     alpha = ctx.associative_alpha
     if alpha is None or not np.isfinite(alpha):
         return work

@@ -11,7 +11,10 @@ from several starts (:mod:`alma.nonassociative.starts`; which run is the
   slips;
 - ``rocking``: macro-blocks turning about a support point, lowest lifting bound first;
 - ``gilbert(...)``: the iterative LP of Gilbert, Casapulla & Ahmed (2006) from several initial
-  shear caps, relaxations and slope schedules;
+  shear caps, relaxations and slope schedules, and on small scenes its restarts from a start
+  field spread point by point (``…·(1±δ)#k``);
+- ``tilt(θ°)``: the same iteration on the table turned by θ, its states carried back to the
+  level table (:mod:`alma.nonassociative.tilted`);
 - ``gilbert-projected``: the same iteration at slope zero with the normal forces projected onto
   the static fields that carry the LP's α, Anderson-accelerated;
 - ``ipopt``: a CasADi/IPOPT polish with a Scholtes relaxation, on small scenes;
@@ -228,10 +231,10 @@ def carried_back(
 ) -> NonAssociativeSolution:
     """The canonical search's answer as an answer for the drawing's ``model``.
 
-    The verified canonical states are tried lowest α first, until one verifies on ``model``
-    itself; that state is the answer and takes its candidate's place.  Each one's mechanism is
-    carried to ``model``'s frame and blocks (:func:`~alma.mechanics.canonical.mechanism_to_drawing`)
-    and made exact there, its active set fixed
+    The verified canonical states are tried lowest α first (at most ``carry_back_tries`` of
+    them), until one verifies on ``model`` itself; that state is the answer and takes its
+    candidate's place.  Each one's mechanism is carried to ``model``'s frame and blocks
+    (:func:`~alma.mechanics.canonical.mechanism_to_drawing`) and made exact there, its active set fixed
     (:func:`~alma.nonassociative.exact_states.fast_exact_state`), so that α is exact on the
     drawing's own data (the bounds and proofs are computed there).  When that does not verify, the
     state is taken to its own fixed-set floor on the canonical model (:func:`_at_its_floor`) and

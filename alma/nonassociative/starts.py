@@ -187,7 +187,8 @@ class GilbertStart:
     relaxation: float
     slope_steps: int
     work: Work
-    yield_rows: bool = False  # the sloped LP with its yield conditions as rows (:class:`CapLP`)
+    #: The sloped LP with its yield conditions as rows (:class:`~alma.nonassociative.cap_lp.CapLP`).
+    yield_rows: bool = False
     restart: int | None = None
     spread: float = 0.0
 
