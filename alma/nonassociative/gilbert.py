@@ -101,8 +101,7 @@ def gilbert(
         else CapLP(model, points, max_pivots=work.lp_pivots, yield_rows=yield_rows, alpha_floor=work.alpha_floor)
     )
     last, best, used = None, None, 0
-    seen: set[tuple[bytes, ...]] = set()
-    tried: set[tuple[bytes, ...]] = set()
+    returning = _ReturningSets()
     for iteration in range(work.iterations):
         if cap.expired() or work.spent(tally):
             break
@@ -122,43 +121,15 @@ def gilbert(
             break
         last = lp
         if ratio == 0.0:
-            state = (
-                _as_state(
-                    model, points, lp.alpha, lp.normal, lp.shear, lp.mechanism, start, lp.bounded, work.tolerances
-                )
-                if interior
-                else _iterate_state(
-                    cast(CapLP, cap_lp), lp, (lp.normal, lp.shear, lp.bounded), f * n_bar, start, work, tally, cap
-                )
-            )
+            state = _zero_slope_state(model, points, cap_lp, lp, f * n_bar, start, work, tally, cap)
             if state is not None and (best is None or state.alpha < best.alpha):
                 best = state
             if _settled(lp, n_bar, tolerance):
                 break
         if ratio == 0.0 and not interior:
-            # Once an active set comes back (the iterates settle or cycle), its exact state usually
-            # verifies: try each such set once, and stop at the first verified state.
-            active, linkage = work.tolerances.active, work.tolerances.linkage
-            sets = (
-                *active_set(model, points, lp.mechanism, tolerance=active, linkage=linkage),
-                bounded_active_set(model, points, lp.mechanism, active, linkage),
-            )
-            current = tuple(part.tobytes() for part in sets)
-            if current in seen and current not in tried:
-                tried.add(current)
-                state = exact_state_by(
-                    work.exact_method,
-                    model,
-                    points,
-                    lp.mechanism,
-                    start,
-                    limits=work.exact_limits(tally),
-                    tally=tally,
-                    lps=lps,
-                )
-                if state is not None and state.verified:
-                    return lower(state, best), used
-            seen.add(current)
+            state = returning.exact_state(model, points, lp.mechanism, start, work, tally, lps)
+            if state is not None:
+                return lower(state, best), used
         n_bar = n_bar + relaxation * (lp.normal - n_bar)
     if last is None:
         return best, used
@@ -173,6 +144,69 @@ def gilbert(
         lps=lps,
     )
     return lower(final, best), used
+
+
+def _zero_slope_state(
+    model: Model,
+    points: ContactPoints,
+    cap_lp: CapLP | None,
+    lp: StaticLP,
+    caps: np.ndarray,
+    start: str,
+    work: Work,
+    tally: Tally,
+    cap: Cap,
+) -> CollapseState | None:
+    """A slope-zero iterate as a verified state, or None: as it is on Clarabel's path (no
+    ``cap_lp``), with its mechanism cleaned where only that fails on warm HiGHS's
+    (:func:`_iterate_state`)."""
+    mechanism = cast(np.ndarray, lp.mechanism)
+    if cap_lp is None:
+        return _as_state(model, points, lp.alpha, lp.normal, lp.shear, mechanism, start, lp.bounded, work.tolerances)
+    return _iterate_state(cap_lp, lp, (lp.normal, lp.shear, lp.bounded), caps, start, work, tally, cap)
+
+
+class _ReturningSets:
+    """The active sets a Gilbert run has met.  Once a set comes back (the iterates settle or
+    cycle), its exact state usually verifies: each such set is tried once."""
+
+    def __init__(self) -> None:
+        self.seen: set[tuple[bytes, ...]] = set()
+        self.tried: set[tuple[bytes, ...]] = set()
+
+    def exact_state(
+        self,
+        model: Model,
+        points: ContactPoints,
+        mechanism: np.ndarray,
+        start: str,
+        work: Work,
+        tally: Tally,
+        lps: FixedSetLPs | None,
+    ) -> CollapseState | None:
+        """The verified exact state of ``mechanism``'s active set when that set came back and was
+        not tried yet; None otherwise (the set is remembered)."""
+        active, linkage = work.tolerances.active, work.tolerances.linkage
+        sets = (
+            *active_set(model, points, mechanism, tolerance=active, linkage=linkage),
+            bounded_active_set(model, points, mechanism, active, linkage),
+        )
+        current = tuple(part.tobytes() for part in sets)
+        state = None
+        if current in self.seen and current not in self.tried:
+            self.tried.add(current)
+            state = exact_state_by(
+                work.exact_method,
+                model,
+                points,
+                mechanism,
+                start,
+                limits=work.exact_limits(tally),
+                tally=tally,
+                lps=lps,
+            )
+        self.seen.add(current)
+        return state if state is not None and state.verified else None
 
 
 class _Anderson:
@@ -228,6 +262,18 @@ def _iterate_state(
     return _as_state(model, points, lp.alpha, normal, shear, clean, start, tau, tol)
 
 
+def _projected(
+    closest: ClosestField, lp: StaticLP, caps: np.ndarray, n_bar: np.ndarray, work: Work
+) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """The static field closest to ``n_bar`` on the face of the capped LP's mechanism, at its α
+    less a hair (the face at α exactly is only feasible to the LP's tolerance); None when the
+    projection QP does not solve."""
+    tol = work.tolerances
+    mechanism = cast(np.ndarray, lp.mechanism)
+    face = active_set(closest.model, closest.points, mechanism, tolerance=tol.active, linkage=tol.linkage)
+    return closest.solve(lp.alpha - 1e-9 * max(1.0, abs(lp.alpha)), caps, n_bar, face)
+
+
 def projected_gilbert(
     model: Model,
     points: ContactPoints,
@@ -278,11 +324,7 @@ def projected_gilbert(
         normal, shear, tau = lp.normal, lp.shear, lp.bounded
         if plain_left == 0:
             closest = closest or ClosestField(model, points, max_iter=work.interior_iterations)
-            # α* less a hair: the face at α* exactly is only feasible to the LP's tolerance.
-            face = active_set(
-                model, points, lp.mechanism, tolerance=work.tolerances.active, linkage=work.tolerances.linkage
-            )
-            nearest = closest.solve(lp.alpha - 1e-9 * max(1.0, abs(lp.alpha)), f * n_bar, n_bar, face)
+            nearest = _projected(closest, lp, f * n_bar, n_bar, work)
             if nearest is None:
                 break
             normal, shear, tau = nearest
