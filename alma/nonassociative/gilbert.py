@@ -121,7 +121,8 @@ def gilbert(
             break
         last = lp
         if ratio == 0.0:
-            state = _zero_slope_state(model, points, cap_lp, lp, f * n_bar, start, work, tally, cap)
+            field = (lp.normal, lp.shear, lp.bounded)
+            state = _iterate_state(model, points, cap_lp, lp, field, f * n_bar, start, work, tally, cap)
             if state is not None and (best is None or state.alpha < best.alpha):
                 best = state
             if _settled(lp, n_bar, tolerance):
@@ -144,26 +145,6 @@ def gilbert(
         lps=lps,
     )
     return lower(final, best), used
-
-
-def _zero_slope_state(
-    model: Model,
-    points: ContactPoints,
-    cap_lp: CapLP | None,
-    lp: StaticLP,
-    caps: np.ndarray,
-    start: str,
-    work: Work,
-    tally: Tally,
-    cap: Cap,
-) -> CollapseState | None:
-    """A slope-zero iterate as a verified state, or None: as it is on Clarabel's path (no
-    ``cap_lp``), with its mechanism cleaned where only that fails on warm HiGHS's
-    (:func:`_iterate_state`)."""
-    mechanism = cast(np.ndarray, lp.mechanism)
-    if cap_lp is None:
-        return _as_state(model, points, lp.alpha, lp.normal, lp.shear, mechanism, start, lp.bounded, work.tolerances)
-    return _iterate_state(cap_lp, lp, (lp.normal, lp.shear, lp.bounded), caps, start, work, tally, cap)
 
 
 class _ReturningSets:
@@ -234,7 +215,9 @@ class _Anderson:
 
 
 def _iterate_state(
-    cap_lp: CapLP,
+    model: Model,
+    points: ContactPoints,
+    cap_lp: CapLP | None,
     lp: StaticLP,
     field: tuple[np.ndarray, np.ndarray, np.ndarray],
     caps: np.ndarray,
@@ -247,13 +230,14 @@ def _iterate_state(
     mechanism, or, where its forces pass and the mechanism alone fails, with the mechanism
     re-optimised at α's cost Σ|f_L| (:meth:`CapLP.clean_mechanism`): the duals of a vertex at
     cost 1 are feasible only to the LP's tolerance times Σ|f_L| (1.25e-7 of their velocities on a
-    1,560-block panel, over the verification's 1e-7)."""
-    model, points, tol = cap_lp.model, cap_lp.points, work.tolerances
+    1,560-block panel, over the verification's 1e-7).  Without ``cap_lp`` (Clarabel's path) the
+    iterate is taken as it is."""
+    tol = work.tolerances
     normal, shear, tau = field
     mechanism = cast(np.ndarray, lp.mechanism)
     checked = verify(model, points, lp.alpha, normal, shear, mechanism, tau, tol)
     residuals, ok = checked
-    if ok or residuals["equilibrium"] > tol.equilibrium or residuals["yield"] > tol.yield_violation:
+    if cap_lp is None or ok or residuals["equilibrium"] > tol.equilibrium or residuals["yield"] > tol.yield_violation:
         return _as_state(model, points, lp.alpha, normal, shear, mechanism, start, tau, tol, checked)
     clean, pivots = cap_lp.clean_mechanism(caps, max_pivots=work.lp_limit(tally), seconds=cap.remaining())
     tally.add(pivots)
@@ -328,7 +312,7 @@ def projected_gilbert(
             if nearest is None:
                 break
             normal, shear, tau = nearest
-        best = _iterate_state(cap_lp, lp, (normal, shear, tau), f * n_bar, start, work, tally, cap)
+        best = _iterate_state(model, points, cap_lp, lp, (normal, shear, tau), f * n_bar, start, work, tally, cap)
         if best is not None:
             break
         step = normal - n_bar
