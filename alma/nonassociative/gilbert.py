@@ -131,7 +131,7 @@ def gilbert(
             state = returning.exact_state(model, points, lp.mechanism, start, work, tally, lps)
             if state is not None:
                 return lower(state, best), used
-        n_bar = n_bar + relaxation * (lp.normal - n_bar)
+        n_bar = np.maximum(n_bar + relaxation * (lp.normal - n_bar), 0.0)  # N̄ ≥ 0 past HiGHS's round-off
     if last is None:
         return best, used
     final = exact_state_by(
@@ -318,7 +318,7 @@ def projected_gilbert(
         step = normal - n_bar
         if plain_left > 0:
             plain_left -= 1
-            n_bar = n_bar + 0.5 * step
+            n_bar = np.maximum(n_bar + 0.5 * step, 0.0)
             continue
         if float(np.abs(step).max(initial=0.0)) <= tolerance * max(1.0, float(np.abs(normal).max(initial=0.0))):
             break

@@ -182,6 +182,16 @@ def _floored(work: Work, ctx: Context) -> Work:
     return replace(work, alpha_floor=-ctx.settings.capped_alpha_floor * max(1.0, abs(float(alpha))))
 
 
+def _gilbert_start(kind: str, index: int, settings: SearchSettings, effort: str, work: Work) -> GilbertStart:
+    """The fixed Gilbert start or the restart of this kind (``gilbert:k[:rows]``, ``restart:k``),
+    ``index`` its k."""
+    if parse_kind(kind)[0] == "restart":
+        scale, relaxation, steps = settings.restart_start
+        return GilbertStart(scale, relaxation, steps, work, restart=index, spread=settings.restart_spread)
+    scale, relaxation, steps = _gilbert(settings, effort, rows_kind(kind))[index]
+    return GilbertStart(scale, relaxation, steps, work, yield_rows=rows_kind(kind))
+
+
 def make_start(kind: str, ctx: Context) -> Start:
     """The start of this kind, with the work the policy gives it now."""
     s = ctx.settings
@@ -190,14 +200,9 @@ def make_start(kind: str, ctx: Context) -> Start:
         return LpStart()
     if kind == "rocking":
         return RockingStart()
-    if family == "gilbert" and index is not None:
-        scale, relaxation, steps = _gilbert(s, ctx.effort, rows_kind(kind))[index]
+    if family in ("gilbert", "restart") and index is not None:
         work = _floored(gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count), ctx)
-        return GilbertStart(scale, relaxation, steps, work, yield_rows=rows_kind(kind))
-    if family == "restart" and index is not None:
-        scale, relaxation, steps = s.restart_start
-        work = _floored(gilbert_work(s, ctx.effort, bool(ctx.verified()), ctx.points.count), ctx)
-        return GilbertStart(scale, relaxation, steps, work, restart=index, spread=s.restart_spread)
+        return _gilbert_start(kind, index, s, ctx.effort, work)
     if family == "tilt" and index is not None:
         return TiltStart(
             _turns(s, ctx.effort, rows_kind(kind))[index],
@@ -217,12 +222,8 @@ def make_start(kind: str, ctx: Context) -> Start:
 def start_name(kind: str, settings: SearchSettings, effort: str) -> str:
     """The name a start of this kind reports (for the list of skipped starts)."""
     family, index = parse_kind(kind)
-    if family == "gilbert" and index is not None:
-        scale, relaxation, steps = _gilbert(settings, effort, rows_kind(kind))[index]
-        return GilbertStart(scale, relaxation, steps, Work(), yield_rows=rows_kind(kind)).name
-    if family == "restart" and index is not None:
-        scale, relaxation, steps = settings.restart_start
-        return GilbertStart(scale, relaxation, steps, Work(), restart=index, spread=settings.restart_spread).name
+    if family in ("gilbert", "restart") and index is not None:
+        return _gilbert_start(kind, index, settings, effort, Work()).name
     if family == "tilt" and index is not None:
         return TiltStart(_turns(settings, effort, rows_kind(kind))[index], Work(), yield_rows=rows_kind(kind)).name
     return {"lp": "lp", "rocking": "rocking", "projected": "gilbert-projected", "ipopt": "ipopt", "milp": "milp"}[kind]
